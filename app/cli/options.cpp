@@ -1,0 +1,42 @@
+#include "options.h"
+
+#include <CLI/CLI.hpp>
+#include <charconv>
+
+namespace fray::cli {
+
+void addImportFlags(CLI::App* cmd, ImportFlags& flags) {
+    cmd->add_option("--units", flags.units, "Source length unit: m, cm, mm, inch, cmu, or metres per unit (default: detect)");
+    cmd->add_option("--up", flags.up, "Source up axis: y or z (default: detect)");
+    cmd->add_option("--animation", flags.animation, "Animation to import from multi-animation files (default: first)");
+    cmd->add_flag("--raw", flags.raw, "Keep file units and axes (no normalisation)");
+}
+
+Result<LoadOptions> toLoadOptions(const ImportFlags& flags) {
+    LoadOptions o;
+    o.animation = flags.animation;
+    o.doNormalize = !flags.raw;
+    if (!flags.units.empty()) {
+        const std::string& u = flags.units;
+        if (u == "m") o.normalize.unitScale = 1.0;
+        else if (u == "cm") o.normalize.unitScale = 0.01;
+        else if (u == "mm") o.normalize.unitScale = 0.001;
+        else if (u == "inch" || u == "in") o.normalize.unitScale = 0.0254;
+        else if (u == "cmu") o.normalize.unitScale = 0.056444;
+        else {
+            double v = 0;
+            auto [p, ec] = std::from_chars(u.data(), u.data() + u.size(), v);
+            if (ec != std::errc() || p != u.data() + u.size() || !(v > 0))
+                return makeError("--units: expected m, cm, mm, inch, cmu or a positive number, got '" + u + "'");
+            o.normalize.unitScale = v;
+        }
+    }
+    if (!flags.up.empty()) {
+        if (flags.up == "y" || flags.up == "Y") o.normalize.upAxis = UpAxis::Y;
+        else if (flags.up == "z" || flags.up == "Z") o.normalize.upAxis = UpAxis::Z;
+        else return makeError("--up: expected y or z, got '" + flags.up + "'");
+    }
+    return o;
+}
+
+}  // namespace fray::cli

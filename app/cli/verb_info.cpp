@@ -1,0 +1,112 @@
+// fray-cli info FILE [--json]: what is in a capture file.
+#include <algorithm>
+#include <cstdio>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "fray/core/joint_guess.h"
+#include "fray/core/kinematics.h"
+#include "options.h"
+#include "verbs.h"
+
+namespace fray::cli {
+namespace {
+
+struct InfoArgs {
+    std::string file;
+    bool json = false;
+    ImportFlags flags;
+};
+
+nlohmann::json describe(const Motion& m) {
+    const Skeleton& sk = m.skeleton();
+    nlohmann::json j;
+    j["file"] = m.source().path;
+    j["format"] = m.source().format;
+    j["joints"] = sk.jointCount();
+    j["joint_names"] = sk.names;
+    j["frames"] = m.frameCount();
+    j["fps"] = m.fps();
+    j["duration_s"] = m.duration();
+    j["units"] = m.source().unitName;
+    j["unit_scale_to_m"] = m.source().unitScale;
+    j["up_axis"] = m.source().sourceUp == UpAxis::Z ? "Z" : "Y";
+    j["normalized"] = m.source().normalized;
+    j["channels"] = sk.channelCount();
+    j["warnings"] = m.source().warnings;
+    nlohmann::json layout = nlohmann::json::array();
+    for (int i = 0; i < sk.jointCount(); ++i) {
+        std::string s;
+        for (Channel c : sk.channels[static_cast<std::size_t>(i)]) s += (s.empty() ? "" : " ") + std::string(toString(c));
+        layout.push_back({{"joint", sk.names[static_cast<std::size_t>(i)]},
+                          {"channels", sk.channels[static_cast<std::size_t>(i)].size()},
+                          {"order", std::string(toString(sk.rotationOrders[static_cast<std::size_t>(i)]))},
+                          {"layout", s}});
+    }
+    j["channel_layout"] = layout;
+    // Root path extent on the floor (X/Z after normalisation) and height range.
+    glm::vec3 lo(1e30f), hi(-1e30f);
+    double path = 0;
+    for (int f = 0; f < m.frameCount(); ++f) {
+        const glm::vec3 p = m.rootTranslation(f);
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+        if (f > 0) {
+            const glm::vec3 d = p - m.rootTranslation(f - 1);
+            path += std::sqrt(static_cast<double>(d.x * d.x + d.z * d.z));
+        }
+    }
+    if (m.frameCount() == 0) lo = hi = glm::vec3(0);
+    j["root_extent"] = {{"min", {lo.x, lo.y, lo.z}}, {"max", {hi.x, hi.y, hi.z}}, {"floor_path_length", path}};
+    const StandardJoints sj = guessStandardJoints(sk);
+    auto nameOf = [&](int i) { return i >= 0 ? nlohmann::json(sk.names[static_cast<std::size_t>(i)]) : nlohmann::json(nullptr); };
+    j["standard_joints"] = {{"pelvis", nameOf(sj.pelvis)},     {"head", nameOf(sj.head)},
+                            {"left_hand", nameOf(sj.leftHand)}, {"right_hand", nameOf(sj.rightHand)},
+                            {"left_foot", nameOf(sj.leftFoot)}, {"right_foot", nameOf(sj.rightFoot)},
+                            {"left_toe", nameOf(sj.leftToe)},   {"right_toe", nameOf(sj.rightToe)}};
+    return j;
+}
+
+void run(const InfoArgs& a) {
+    auto opts = toLoadOptions(a.flags);
+    if (!opts) return fail(opts.error().message, 2);
+    auto motion = loadMotion(a.file, *opts);
+    if (!motion) return fail(motion.error().message);
+    const nlohmann::json j = describe(*motion);
+    if (a.json) {
+        std::printf("%s\n", j.dump(2).c_str());
+        return;
+    }
+    const auto& ext = j["root_extent"];
+    std::printf("file        %s (%s)\n", j["file"].get<std::string>().c_str(), j["format"].get<std::string>().c_str());
+    std::printf("frames      %d at %.3f fps (%.2f s)\n", motion->frameCount(), motion->fps(), motion->duration());
+    std::printf("units       %s (x%g to metres), up axis %s%s\n", j["units"].get<std::string>().c_str(),
+                motion->source().unitScale, j["up_axis"].get<std::string>().c_str(),
+                motion->source().normalized ? ", normalised to metres Y-up" : ", raw");
+    std::printf("joints      %d, %d channels\n", motion->jointCount(), motion->skeleton().channelCount());
+    for (const auto& l : j["channel_layout"])
+        std::printf("  %-24s %d  %s\n", l["joint"].get<std::string>().c_str(), l["channels"].get<int>(),
+                    l["layout"].get<std::string>().c_str());
+    std::printf("root extent x [%.3f, %.3f]  y [%.3f, %.3f]  z [%.3f, %.3f], floor path %.2f\n",
+                ext["min"][0].get<double>(), ext["max"][0].get<double>(), ext["min"][1].get<double>(),
+                ext["max"][1].get<double>(), ext["min"][2].get<double>(), ext["max"][2].get<double>(),
+                ext["floor_path_length"].get<double>());
+    std::string sj;
+    for (auto& [k, v] : j["standard_joints"].items())
+        sj += " " + k + "=" + (v.is_null() ? std::string("?") : v.get<std::string>());
+    std::printf("standard   %s\n", sj.c_str());
+    for (const auto& w : motion->source().warnings) std::printf("warning     %s\n", w.c_str());
+}
+
+}  // namespace
+
+void registerInfo(CLI::App& app) {
+    auto args = std::make_shared<InfoArgs>();
+    auto* cmd = app.add_subcommand("info", "Describe a capture file: skeleton, frames, fps, units, up axis, channels");
+    cmd->add_option("file", args->file, "BVH, FBX, glTF/GLB or DAE file")->required();
+    cmd->add_flag("--json", args->json, "Print JSON");
+    addImportFlags(cmd, args->flags);
+    cmd->callback([args] { run(*args); });
+}
+
+}  // namespace fray::cli

@@ -1,0 +1,19 @@
+#pragma once
+// Each fray-cli verb registers its subcommand here. A verb's callback returns
+// the process exit code; errors go to stderr as one line.
+#include <CLI/CLI.hpp>
+
+namespace fray::cli {
+
+// Set by a verb's callback; main() returns it.
+int& exitCode();
+
+void registerInfo(CLI::App& app);
+void registerConvert(CLI::App& app);
+void registerBench(CLI::App& app);
+void registerDemoLibrary(CLI::App& app);
+
+// Prints "fray-cli: <message>" on stderr and sets a failing exit code.
+void fail(const std::string& message, int code = 1);
+
+}  // namespace fray::cli

@@ -1,0 +1,17 @@
+#pragma once
+// Euler angle <-> quaternion conversions for every BVH rotation order.
+// Convention: an order "ZXY" means the channel values are applied as
+// R = Rz(z) * Rx(x) * Ry(y) (intrinsic, the BVH convention).
+#include <glm/gtc/quaternion.hpp>
+#include <glm/vec3.hpp>
+
+#include "fray/core/skeleton.h"
+
+namespace fray {
+
+// Angles in degrees, indexed by axis (x, y, z).
+glm::quat eulerToQuat(const glm::dvec3& degreesXYZ, RotationOrder order);
+// Inverse of eulerToQuat: returns degrees indexed by axis (x, y, z).
+glm::dvec3 quatToEuler(const glm::dquat& q, RotationOrder order);
+
+}  // namespace fray
