@@ -62,7 +62,8 @@ glm::dvec3 quatToEuler(const glm::dquat& qIn, RotationOrder order) {
     const double s = ax.parity;
     const double sb = std::clamp(s * m[i][k], -1.0, 1.0);
     double a = 0, b = std::asin(sb), c = 0;
-    if (std::abs(sb) < 0.9999999) {
+    // The general formulas stay accurate until cos(b) is at rounding level.
+    if (std::abs(sb) < 1.0 - 1e-12) {
         a = std::atan2(-s * m[j][k], m[k][k]);
         c = std::atan2(-s * m[i][j], m[i][i]);
     } else {
