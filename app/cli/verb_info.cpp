@@ -44,21 +44,26 @@ nlohmann::json describe(const Motion& m) {
                           {"layout", s}});
     }
     j["channel_layout"] = layout;
-    // Root path extent on the floor (X/Z after normalisation) and height range.
-    glm::vec3 lo(1e30f), hi(-1e30f);
+    // Path extent of the pelvis (not the file's root, which may be a static
+    // helper joint) on the floor and in height.
+    const StandardJoints sj = guessStandardJoints(sk);
+    const auto pelvis = static_cast<std::size_t>(sj.pelvis >= 0 ? sj.pelvis : 0);
+    glm::vec3 lo(1e30f), hi(-1e30f), prev(0);
     double path = 0;
+    std::vector<glm::vec3> pos(static_cast<std::size_t>(m.jointCount()));
     for (int f = 0; f < m.frameCount(); ++f) {
-        const glm::vec3 p = m.rootTranslation(f);
+        worldPositions(m, f, pos);
+        const glm::vec3 p = pos[pelvis];
         lo = glm::min(lo, p);
         hi = glm::max(hi, p);
         if (f > 0) {
-            const glm::vec3 d = p - m.rootTranslation(f - 1);
+            const glm::vec3 d = p - prev;
             path += std::sqrt(static_cast<double>(d.x * d.x + d.z * d.z));
         }
+        prev = p;
     }
     if (m.frameCount() == 0) lo = hi = glm::vec3(0);
-    j["root_extent"] = {{"min", {lo.x, lo.y, lo.z}}, {"max", {hi.x, hi.y, hi.z}}, {"floor_path_length", path}};
-    const StandardJoints sj = guessStandardJoints(sk);
+    j["root_extent"] = {{"joint", sk.names[pelvis]}, {"min", {lo.x, lo.y, lo.z}}, {"max", {hi.x, hi.y, hi.z}}, {"floor_path_length", path}};
     auto nameOf = [&](int i) { return i >= 0 ? nlohmann::json(sk.names[static_cast<std::size_t>(i)]) : nlohmann::json(nullptr); };
     j["standard_joints"] = {{"pelvis", nameOf(sj.pelvis)},     {"head", nameOf(sj.head)},
                             {"left_hand", nameOf(sj.leftHand)}, {"right_hand", nameOf(sj.rightHand)},
@@ -87,8 +92,8 @@ void run(const InfoArgs& a) {
     for (const auto& l : j["channel_layout"])
         std::printf("  %-24s %d  %s\n", l["joint"].get<std::string>().c_str(), l["channels"].get<int>(),
                     l["layout"].get<std::string>().c_str());
-    std::printf("root extent x [%.3f, %.3f]  y [%.3f, %.3f]  z [%.3f, %.3f], floor path %.2f\n",
-                ext["min"][0].get<double>(), ext["max"][0].get<double>(), ext["min"][1].get<double>(),
+    std::printf("%s extent x [%.3f, %.3f]  y [%.3f, %.3f]  z [%.3f, %.3f], floor path %.2f\n",
+                ext["joint"].get<std::string>().c_str(), ext["min"][0].get<double>(), ext["max"][0].get<double>(), ext["min"][1].get<double>(),
                 ext["max"][1].get<double>(), ext["min"][2].get<double>(), ext["max"][2].get<double>(),
                 ext["floor_path_length"].get<double>());
     std::string sj;

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -20,6 +21,9 @@ namespace fray {
 namespace {
 
 constexpr std::size_t kChunk = std::size_t{1} << 20;
+// Larger magnitudes are no capture (a billion cm or degrees) and would turn
+// into infinities once stored as float.
+constexpr double kMaxValue = 1e9;
 
 // Printable excerpt of a token for messages (binary junk must not reach a terminal raw).
 std::string excerpt(std::string_view s) {
@@ -85,6 +89,38 @@ public:
         return true;
     }
 
+    // Next non-blank line as [begin, end) without its line break; false at end
+    // of input. The whole line is in the buffer, so callers scan it without
+    // bounds checks against the chunk. Used for frame rows (the hot path).
+    bool nextLine(const char*& begin, const char*& end) {
+        for (;;) {
+            while (p_ < e_ && (*p_ == '\n' || isBlank(*p_))) {
+                if (*p_ == '\n') ++line_;
+                ++p_;
+            }
+            if (p_ < e_) break;
+            if (!refill()) return false;
+        }
+        for (;;) {
+            const void* nl = std::memchr(p_, '\n', static_cast<std::size_t>(e_ - p_));
+            if (nl || eof_) {
+                begin = p_;
+                end = nl ? static_cast<const char*>(nl) : e_;
+                p_ = end;  // the '\n' itself is counted by the next call
+                return true;
+            }
+            const std::size_t have = static_cast<std::size_t>(e_ - p_);
+            if (have >= kChunk / 2) {
+                tooLong_ = true;
+                return false;
+            }
+            std::memmove(buf_.get(), p_, have);
+            p_ = buf_.get();
+            e_ = p_ + have;
+            readMore();
+        }
+    }
+
     // Rest of the current line after the last token (trimmed); used for joint
     // names, which may contain spaces.
     std::string restOfLine() {
@@ -124,12 +160,56 @@ private:
     bool tooLong_ = false;
 };
 
-bool parseNumber(std::string_view tok, double& out) {
-    if (!tok.empty() && tok.front() == '+') tok.remove_prefix(1);
+// Slow path: any token std::from_chars accepts (exponents, long mantissas,
+// nan/inf), with an optional leading '+'.
+bool parseNumberSlow(std::string_view tok, double& out) {
     const char* b = tok.data();
     const char* e = b + tok.size();
+    if (b < e && *b == '+') ++b;
     auto [ptr, ec] = std::from_chars(b, e, out);
     return ec == std::errc() && ptr == e;
+}
+
+// Parses the number starting at q (a non-blank character) and moves q past
+// its token. Exact fast path for plain decimals (Clinger): a mantissa below
+// 2^53 and a power of ten up to 1e22 are both exact in a double, so one divide
+// gives the correctly rounded value. Anything else goes to from_chars.
+inline bool parseNumberAt(const char*& q, const char* end, double& out, std::string_view& token) {
+    static constexpr double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
+                                        1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+    const char* start = q;
+    const char* p = q;
+    const bool neg = *p == '-';
+    if (*p == '-' || *p == '+') ++p;
+    std::uint64_t mant = 0;
+    const char* d0 = p;
+    unsigned d;
+    while (p < end && (d = static_cast<unsigned>(*p - '0')) < 10u) mant = mant * 10 + d, ++p;
+    int intDigits = static_cast<int>(p - d0), fracDigits = 0;
+    if (p < end && *p == '.') {
+        const char* f0 = ++p;
+        while (p < end && (d = static_cast<unsigned>(*p - '0')) < 10u) mant = mant * 10 + d, ++p;
+        fracDigits = static_cast<int>(p - f0);
+    }
+    if ((p == end || isBlank(*p)) && intDigits + fracDigits > 0 && intDigits + fracDigits <= 19 &&
+        mant <= (std::uint64_t{1} << 53) && fracDigits <= 22) {
+        const double v = static_cast<double>(mant) / kPow10[fracDigits];
+        out = neg ? -v : v;
+        q = p;
+        return true;
+    }
+    while (p < end && !isBlank(*p)) ++p;
+    q = p;
+    token = std::string_view(start, static_cast<std::size_t>(p - start));
+    return parseNumberSlow(token, out);
+}
+
+bool parseNumber(std::string_view tok, double& out) {
+    if (tok.empty()) return false;
+    const char* q = tok.data();
+    const char* end = q + tok.size();
+    std::string_view t;
+    return parseNumberAt(q, end, out, t) && q == end;
 }
 
 class BvhParser {
@@ -167,6 +247,7 @@ private:
             double v;
             if (!parseNumber(tok, v)) return fail(std::string(what) + ": expected a number, found '" + excerpt(tok) + "'");
             if (!std::isfinite(v)) return fail(std::string(what) + ": value '" + excerpt(tok) + "' is not finite");
+            if (std::abs(v) > kMaxValue) return fail(std::string(what) + ": value '" + excerpt(tok) + "' is out of range");
             out[i] = static_cast<float>(v);
         }
         return {};
@@ -306,24 +387,34 @@ private:
         std::vector<glm::quat> r(jc);
         const Skeleton& sk = sk_;
         const std::size_t expected = totalChannels_;
-        bool have = lex_.next(tok);
+        const char* lb = nullptr;
+        const char* le = nullptr;
         for (std::size_t f = 0; f < frameCount; ++f) {
-            if (!have) {
-                if (lex_.tooLong()) return fail("token too long (binary data?)");
+            if (!lex_.nextLine(lb, le)) {
+                if (lex_.tooLong()) return fail("line too long (binary data?)");
                 return fail("expected " + std::to_string(frameCount) + " frames, found " + std::to_string(f) +
                             " (file truncated?)");
             }
             const int rowLine = lex_.line();
             std::size_t n = 0;
-            // One row = the tokens up to the next line break.
-            do {
+            const char* q = lb;
+            for (;;) {
+                while (q < le && isBlank(*q)) ++q;
+                if (q == le) break;
+                const char* t0 = q;
+                std::string_view num;
                 double v;
-                if (!parseNumber(tok, v)) return fail("frame " + std::to_string(f) + ": expected a number, found '" + excerpt(tok) + "'");
-                if (!std::isfinite(v)) return fail("frame " + std::to_string(f) + ": value '" + excerpt(tok) + "' is not finite");
+                if (!parseNumberAt(q, le, v, num)) {
+                    return fail("frame " + std::to_string(f) + ": expected a number, found '" + excerpt(num) + "'");
+                }
+                if (!std::isfinite(v) || std::abs(v) > kMaxValue) {
+                    num = std::string_view(t0, static_cast<std::size_t>(q - t0));
+                    return fail("frame " + std::to_string(f) + ": value '" + excerpt(num) + "' is " +
+                                (std::isfinite(v) ? "out of range" : "not finite"));
+                }
                 if (n < expected) values[n] = v;
                 ++n;
-                have = lex_.next(tok);
-            } while (have && !lex_.newlineBefore());
+            }
             if (n != expected)
                 return makeError(std::string(name_) + ":" + std::to_string(rowLine) + ": expected " +
                                  std::to_string(expected) + " channel values, found " + std::to_string(n));
@@ -344,15 +435,15 @@ private:
                     }
                 }
                 t[j] = pos;
-                r[j] = sk.channels[j].empty() ? glm::quat(1, 0, 0, 0) : eulerToQuat(euler, sk.rotationOrders[j]);
+                r[j] = sk.channels[j].empty() ? glm::quat(1, 0, 0, 0) : eulerToQuatFast(euler, sk.rotationOrders[j]);
             }
             motion.appendFrame(t, r);
         }
-        if (have) {
+        if (lex_.nextLine(lb, le)) {
             return fail("more frame rows than 'Frames: " + std::to_string(frameCount) + "' declares (found '" +
-                        excerpt(tok) + "')");
+                        excerpt(std::string_view(lb, static_cast<std::size_t>(le - lb))) + "')");
         }
-        if (lex_.tooLong()) return fail("token too long (binary data?)");
+        if (lex_.tooLong()) return fail("line too long (binary data?)");
         if (opt_.ignoreForeignJointPositions) dropForeignPositions(motion);
         return motion;
     }

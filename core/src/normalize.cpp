@@ -59,7 +59,7 @@ UnitGuess guessUnits(const Motion& motion) {
     if (heights.empty()) return g;
     // A high percentile: the actor standing upright, not crouched or lying down.
     std::sort(heights.begin(), heights.end());
-    const double h = heights[std::min(heights.size() - 1, heights.size() * 9 / 10)];
+    const double h = static_cast<double>(heights[std::min(heights.size() - 1, heights.size() * 9 / 10)]);
     g.heightInFileUnits = h;
     struct Unit {
         double scale;

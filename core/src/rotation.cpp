@@ -53,6 +53,17 @@ glm::quat eulerToQuat(const glm::dvec3& degreesXYZ, RotationOrder order) {
     return glm::quat(q);
 }
 
+glm::quat eulerToQuatFast(const glm::dvec3& degreesXYZ, RotationOrder order) {
+    const OrderAxes a = axesOf(order);
+    auto axis = [](int ax, double degrees) {
+        const float h = static_cast<float>(degrees * (kDeg * 0.5));
+        glm::quat q(std::cos(h), 0.0f, 0.0f, 0.0f);
+        q[ax] = std::sin(h);
+        return q;
+    };
+    return axis(a.i, degreesXYZ[a.i]) * axis(a.j, degreesXYZ[a.j]) * axis(a.k, degreesXYZ[a.k]);
+}
+
 glm::dvec3 quatToEuler(const glm::dquat& qIn, RotationOrder order) {
     // R = Ri(a) Rj(b) Rk(c). For an even permutation m[i][k] = sin(b); odd flips signs.
     const OrderAxes ax = axesOf(order);

@@ -11,6 +11,8 @@ namespace fray {
 
 // Angles in degrees, indexed by axis (x, y, z).
 glm::quat eulerToQuat(const glm::dvec3& degreesXYZ, RotationOrder order);
+// Same in single precision (about 1e-7 rad off); the BVH reader's hot path.
+glm::quat eulerToQuatFast(const glm::dvec3& degreesXYZ, RotationOrder order);
 // Inverse of eulerToQuat: returns degrees indexed by axis (x, y, z).
 glm::dvec3 quatToEuler(const glm::dquat& q, RotationOrder order);
 
