@@ -14,6 +14,7 @@
 //   lerp for translations, shortest-path slerp for rotations);
 // - ignores scale (keys and rest transforms) with a warning in
 //   Motion::source().warnings, and keeps file units and axes (no global scale).
+#include <cstddef>
 #include <filesystem>
 #include <string>
 
@@ -30,6 +31,8 @@ struct AssimpImportOptions {
     // (AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS). They are folded into the real
     // joints either way; false (the default) lets Assimp bake them itself.
     bool preserveFbxPivots = false;
+    // Refuse animations whose sampled motion would exceed this many bytes.
+    std::size_t maxMotionBytes = std::size_t{4} << 30;
 };
 
 // Converts the chosen skeleton and animation to a Motion in file units/axes
