@@ -199,3 +199,11 @@ TEST(JointGuess, NamingConventions) {
     EXPECT_FALSE(s.complete());
     EXPECT_NE(s.missing(anon).find("leftFoot"), std::string::npos);
 }
+
+TEST(JointGuess, FindsStandardJointsInUnityNamedFbx) {
+    auto m = loadMotion(fray::test::sharedMocap() / "cmu_fbx/135_02.fbx");
+    ASSERT_TRUE(m.ok()) << m.error().message;
+    const StandardJoints sj = guessStandardJoints(m->skeleton());
+    EXPECT_TRUE(sj.complete()) << sj.missing(m->skeleton());
+    EXPECT_EQ(m->skeleton().names[static_cast<std::size_t>(sj.pelvis)], "Neo_Hips");
+}

@@ -45,7 +45,7 @@ NameParts split(std::string_view raw) {
     // Drop namespaces ("mixamorig:LeftHand") and rig prefixes ("Bip01 L Hand").
     if (auto c = s.rfind(':'); c != std::string::npos) s = s.substr(c + 1);
     s = lowerAlnum(s);
-    for (std::string_view prefix : {"bip01", "bip001", "mixamorig", "character1", "def-", "def_"})
+    for (std::string_view prefix : {"bip01", "bip001", "mixamorig", "character1", "def-", "def_", "neo"})
         if (startsWith(s, prefix)) s = s.substr(prefix.size());
     while (!s.empty() && (s.front() == '_' || s.front() == ' ' || s.front() == '.' || s.front() == '-'))
         s.erase(s.begin());
