@@ -170,6 +170,23 @@ bool parseNumberSlow(std::string_view tok, double& out) {
     return ec == std::errc() && ptr == e;
 }
 
+// Appends the digits at p to mant, four at a time while four digits are
+// available (SWAR: one load, two checks and three multiplies per block), then
+// one at a time.
+inline void readDigits(const char*& p, const char* end, std::uint64_t& mant) {
+    while (end - p >= 4) {
+        std::uint32_t v;
+        std::memcpy(&v, p, 4);
+        if ((v & 0xF0F0F0F0u) != 0x30303030u || ((v + 0x06060606u) & 0xF0F0F0F0u) != 0x30303030u) break;
+        std::uint32_t t = v - 0x30303030u;    // bytes d0 d1 d2 d3 (d0 first in memory)
+        t = t * 10 + (t >> 8);                // byte0 = 10*d0 + d1, byte2 = 10*d2 + d3
+        mant = mant * 10000 + (t & 0xFFu) * 100 + ((t >> 16) & 0xFFu);
+        p += 4;
+    }
+    unsigned d;
+    while (p < end && (d = static_cast<unsigned>(*p - '0')) < 10u) mant = mant * 10 + d, ++p;
+}
+
 // Parses the number starting at q (a non-blank character) and moves q past
 // its token. Exact fast path for plain decimals (Clinger): a mantissa below
 // 2^53 and a power of ten up to 1e22 are both exact in a double, so one divide
@@ -183,12 +200,11 @@ inline bool parseNumberAt(const char*& q, const char* end, double& out, std::str
     if (*p == '-' || *p == '+') ++p;
     std::uint64_t mant = 0;
     const char* d0 = p;
-    unsigned d;
-    while (p < end && (d = static_cast<unsigned>(*p - '0')) < 10u) mant = mant * 10 + d, ++p;
+    readDigits(p, end, mant);
     int intDigits = static_cast<int>(p - d0), fracDigits = 0;
     if (p < end && *p == '.') {
         const char* f0 = ++p;
-        while (p < end && (d = static_cast<unsigned>(*p - '0')) < 10u) mant = mant * 10 + d, ++p;
+        readDigits(p, end, mant);
         fracDigits = static_cast<int>(p - f0);
     }
     if ((p == end || isBlank(*p)) && intDigits + fracDigits > 0 && intDigits + fracDigits <= 19 &&
@@ -462,6 +478,7 @@ private:
         if (candidates.empty() || frames == 0) return;
         auto& T = motion.allTranslations();
         auto& R = motion.allRotations();
+        std::vector<std::size_t> chain;
         for (std::size_t j : candidates) {
             double toOffset = 0, toWorld = 0;
             for (std::size_t f = 0; f < frames; ++f) {
@@ -471,7 +488,7 @@ private:
                 const std::size_t p = static_cast<std::size_t>(sk.parents[j]);
                 glm::vec3 pp(0);
                 glm::quat pr(1, 0, 0, 0);
-                std::vector<std::size_t> chain;
+                chain.clear();
                 for (std::size_t a = p;; a = static_cast<std::size_t>(sk.parents[a])) {
                     chain.push_back(a);
                     if (sk.parents[a] < 0) break;
