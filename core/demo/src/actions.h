@@ -1,0 +1,60 @@
+#pragma once
+// The action generators. Each appends one action (or one locomotion step) at
+// b.now(), records its ground truth and leaves the body in a known mode.
+#include "builder.h"
+
+namespace fray::demo::detail {
+
+// Fighting set (actions_fight.cpp). All start and end in Mode::Guard, except
+// toGuard (from Stand) and toStand (to Stand).
+void jab(Builder& b);
+void cross(Builder& b);
+void hook(Builder& b, int side);       // 0 left (lead), 1 right (rear)
+void uppercut(Builder& b, int side);
+void frontKick(Builder& b);            // rear (right) leg
+void roundhouse(Builder& b, int side); // kicking leg
+void kneeStrike(Builder& b);           // rear (right) knee
+void blockHigh(Builder& b);
+void blockLow(Builder& b);
+void parry(Builder& b);
+void slip(Builder& b, int side);       // head moves to this side
+void duck(Builder& b);
+void swayBack(Builder& b);
+void guardStep(Builder& b, int direction);  // 0 forward, 1 back, 2 left, 3 right
+void pivot(Builder& b, int side);           // 0 turn left, 1 turn right
+void guardIdle(Builder& b, double seconds);
+void toGuard(Builder& b);
+void toStand(Builder& b);
+void headSnap(Builder& b);
+void bodyStagger(Builder& b);
+void knockedBack(Builder& b);
+void knockedDown(Builder& b);  // hit, fall, lie, get up, back to guard
+
+// Falls (actions_falls.cpp): start in Stand (or Guard), end lying; getUp ends in Stand.
+void fallForward(Builder& b);
+void fallBackward(Builder& b);
+void fallSideways(Builder& b);
+void fallPushed(Builder& b);
+void getUp(Builder& b);
+// Pieces shared with knockedDown. They return the time they end at.
+double sitFallBackward(Builder& b, double t0, double k);        // standing -> lying on the back, knees up
+double getUpFromSupine(Builder& b, double t0, double k, Mode endMode);
+
+// Locomotion (actions_move.cpp).
+enum class Gait : std::uint8_t { Walk, Jog, Run, Backpedal, Carry };
+// One step. speed (m/s, along the heading; negative = backwards) and yawRate
+// (rad/s) are the targets at the end of the step; `name` is the action kind.
+void locoStep(Builder& b, Gait gait, double speed, double yawRate, const char* name);
+// Last step: the swing foot lands beside the other one and the body stops.
+void locoStop(Builder& b, Gait gait, const char* name);
+void idleStand(Builder& b, double seconds);
+// Turning on the spot by small steps (Stand or Carry mode).
+void turnInPlace(Builder& b, double angle, const char* name);
+
+// Carrying (actions_carry.cpp): Stand <-> Carry.
+void pickUpBox(Builder& b);
+void putDown(Builder& b);
+void handOver(Builder& b);
+void receiveBox(Builder& b);
+
+}  // namespace fray::demo::detail

@@ -1,0 +1,84 @@
+// Carrying a box (about 40 x 35 cm): pick up from the floor, put down, hand
+// over to someone in front, receive from someone. The box itself is not part
+// of the skeleton; the hands hold its sides.
+#include "actions.h"
+#include "rig.h"
+
+namespace fray::demo::detail {
+
+using glm::dvec3;
+
+namespace {
+
+// Squat over a box on the floor in front; hands on its sides at grasp height.
+Pose squatPose() {
+    Pose p;
+    p.set(Height, 0.46).set(PelvisPitch, 0.55).set(SpinePitch, 0.70).set(ShiftZ, -0.10).set(ShiftX, 0);
+    p.set(HeadPitch, -0.35).set(Gaze, 0.2).set(PelvisYaw, 0).set(SpineYaw, 0);
+    p.setPole(0, {0.8, -0.5, -0.3}).setPole(1, {-0.8, -0.5, -0.3});
+    return p;
+}
+
+dvec3 graspPoint(const Builder& b, double t, int side, double out) {
+    return b.base(t) + rotY(b.heading(t)) * dvec3(sideSign(side) * out, 0.26, 0.42);
+}
+
+}  // namespace
+
+void pickUpBox(Builder& b) {
+    const double t0 = b.now(), k = b.rng.jitter(0.06);
+    const double tDown = t0 + 0.85 * k, tGrip = tDown + 0.25 * k, tUp = tGrip + 0.85 * k;
+    b.pose(t0, tDown, squatPose());
+    for (int side = 0; side < 2; ++side) {
+        b.handWorld(side, t0 + 0.25 * k, tDown - 0.1 * k, graspPoint(b, tDown, side, 0.26));
+        b.handWorld(side, tDown - 0.1 * k, tGrip, graspPoint(b, tGrip, side, 0.20));
+    }
+    b.pose(tGrip, tUp, b.modePose(Mode::Carry));
+    b.mode = Mode::Carry;
+    b.finish("pick_up_box", b.endOf(tUp + 0.05));
+}
+
+void putDown(Builder& b) {
+    const double t0 = b.now(), k = b.rng.jitter(0.06);
+    const double tDown = t0 + 0.90 * k, tOpen = tDown + 0.25 * k, tUp = tOpen + 0.85 * k;
+    b.pose(t0, tDown, squatPose());
+    for (int side = 0; side < 2; ++side) {
+        b.handWorld(side, t0 + 0.1 * k, tDown, graspPoint(b, tDown, side, 0.20));
+        b.handWorld(side, tDown, tOpen, graspPoint(b, tOpen, side, 0.28));
+    }
+    b.pose(tOpen, tUp, b.modePose(Mode::Stand));
+    b.mode = Mode::Stand;
+    b.finish("put_down", b.endOf(tUp + 0.05));
+}
+
+void handOver(Builder& b) {
+    const double t0 = b.now(), k = b.rng.jitter(0.06);
+    const double tOut = t0 + 0.50 * k, tHold = tOut + 0.30 * k, tOpen = tHold + 0.15 * k, tBack = tOpen + 0.50 * k;
+    Pose out = b.modePose(Mode::Carry);
+    out.setHand(0, {0.20, -0.10, 0.52}).setHand(1, {-0.20, -0.10, 0.52}).set(SpinePitch, 0.12).set(ShiftZ, 0.04);
+    out.setPole(0, {0.5, -1.0, 0.0}).setPole(1, {-0.5, -1.0, 0.0});
+    Pose open = out;
+    open.setHand(0, {0.28, -0.12, 0.48}).setHand(1, {-0.28, -0.12, 0.48});
+    b.pose(t0, tOut, out);
+    b.pose(tHold, tOpen, open);
+    b.pose(tOpen, tBack, b.modePose(Mode::Stand));
+    b.mode = Mode::Stand;
+    b.finish("hand_over", b.endOf(tBack + 0.05));
+}
+
+void receiveBox(Builder& b) {
+    const double t0 = b.now(), k = b.rng.jitter(0.06);
+    const double tOut = t0 + 0.50 * k, tGrip = tOut + 0.20 * k, tHold = tGrip + 0.15 * k, tIn = tHold + 0.50 * k;
+    Pose reach = b.modePose(Mode::Stand);
+    reach.setHand(0, {0.27, -0.08, 0.50}).setHand(1, {-0.27, -0.08, 0.50}).set(SpinePitch, 0.12).set(ShiftZ, 0.04);
+    reach.setPole(0, {0.5, -1.0, 0.0}).setPole(1, {-0.5, -1.0, 0.0});
+    Pose grip = reach;
+    grip.setHand(0, {0.20, -0.10, 0.50}).setHand(1, {-0.20, -0.10, 0.50});
+    b.pose(t0, tOut, reach);
+    b.pose(tOut, tGrip, grip);
+    b.pose(tHold, tIn, b.modePose(Mode::Carry));
+    b.mode = Mode::Carry;
+    b.finish("receive", b.endOf(tIn + 0.05));
+}
+
+}  // namespace fray::demo::detail
