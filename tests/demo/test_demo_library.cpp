@@ -174,6 +174,30 @@ TEST(DemoLibrary, AttackSpeedsAreRealistic) {
     EXPECT_EQ(checked.size(), 10u);
 }
 
+TEST(DemoLibrary, AttackVectorsMatchTheirDirection) {
+    // Heading frame: x left, y up, z forward. "from_left" travels to the right.
+    int n = 0;
+    for (const Take& t : library().takes)
+        for (const TruthAction& a : t.truth.actions) {
+            if (!a.attackVector || !a.attackDirection) continue;
+            const auto& v = *a.attackVector;
+            EXPECT_NEAR(std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]), 1.0, 1e-3);
+            const std::string& d = *a.attackDirection;
+            if (d == "straight") {
+                EXPECT_GT(v[2], 0.8) << a.name;
+            } else if (d == "from_left") {
+                EXPECT_LT(v[0], -0.1) << a.name;
+            } else if (d == "from_right") {
+                EXPECT_GT(v[0], 0.1) << a.name;
+            } else if (d == "upward") {
+                EXPECT_GT(v[1], 0.2) << a.name;
+            }
+            EXPECT_GT(v[2], 0.3) << a.name << ": attacks go toward the opponent";
+            ++n;
+        }
+    EXPECT_GT(n, 20);
+}
+
 TEST(DemoLibrary, DurationsAreRealistic) {
     int jabs = 0, kicks = 0, falls = 0;
     for (const Take& t : library().takes)

@@ -44,6 +44,32 @@ double angularSpeed(const Motion& m, int f, int joint) {
 
 bool isAttack(const TruthAction& a) { return a.has("punch") || a.has("kick"); }
 
+struct Peak {
+    double speed = 0;
+    glm::dvec3 velocity{0.0};
+    int frame = -1;
+};
+
+// The strike of an attack: fastest frame of the attacking joint before its
+// apex (a hand farthest from the chest; a kicking foot or knee at its
+// highest), so the retraction and the landing do not count.
+Peak strikePeak(const Positions& P, int frames, double fps, const TruthAction& a, int joint, const Skeleton& sk) {
+    const bool kick = a.has("kick");
+    const int chest = sk.find("Spine2");
+    int apex = a.firstFrame;
+    double best = -1e30;
+    for (int f = a.firstFrame; f <= a.lastFrame; ++f) {
+        const double reach = kick ? P.at(f, joint).y : glm::length(P.at(f, joint) - P.at(f, chest));
+        if (reach > best) best = reach, apex = f;
+    }
+    Peak peak;
+    for (int f = a.firstFrame; f <= apex; ++f) {
+        const glm::dvec3 v = velocity(P, frames, fps, f, joint);
+        if (glm::length(v) > peak.speed) peak = {glm::length(v), v, f};
+    }
+    return peak;
+}
+
 }  // namespace
 
 namespace detail {
@@ -55,17 +81,11 @@ void measureAttacks(const Motion& motion, const Timeline& tl, std::vector<TruthA
         if (!isAttack(a) || a.joints.empty()) continue;
         const int j = motion.skeleton().find(a.joints.front());
         if (j < 0) continue;
-        double best = -1;
-        glm::dvec3 bestV(0.0);
-        int bestF = a.firstFrame;
-        for (int f = a.firstFrame; f <= a.lastFrame; ++f) {
-            const glm::dvec3 v = velocity(P, motion.frameCount(), motion.fps(), f, j);
-            if (glm::length(v) > best) best = glm::length(v), bestV = v, bestF = f;
-        }
-        const double h = tl[Heading].value(bestF / motion.fps());
-        const glm::dvec3 local = glm::inverse(rotY(h)) * (best > 0 ? bestV / best : glm::dvec3(0, 0, 1));
+        const Peak pk = strikePeak(P, motion.frameCount(), motion.fps(), a, j, motion.skeleton());
+        const double h = tl[Heading].value(std::max(pk.frame, 0) / motion.fps());
+        const glm::dvec3 local = glm::inverse(rotY(h)) * (pk.speed > 0 ? pk.velocity / pk.speed : glm::dvec3(0, 0, 1));
         a.attackVector = std::array<double, 3>{local.x, local.y, local.z};
-        a.peakSpeed = best;
+        a.peakSpeed = pk.speed;
     }
 }
 
@@ -106,9 +126,9 @@ TakeMetrics measureTake(const Motion& m, const GroundTruth& truth) {
         am.style = a.style;
         am.seconds = a.frameCount() / truth.fps;
         const int eff = a.joints.empty() ? -1 : sk.find(a.joints.front());
+        if (eff >= 0 && isAttack(a))
+            am.peakEffectorSpeed = strikePeak(P, n, m.fps(), a, eff, sk).speed;
         for (int f = std::max(1, a.firstFrame); f <= a.lastFrame; ++f) {
-            if (eff >= 0 && isAttack(a))
-                am.peakEffectorSpeed = std::max(am.peakEffectorSpeed, glm::length(velocity(P, n, m.fps(), f, eff)));
             for (int j = 1; j < m.jointCount(); ++j) {
                 const double w = angularSpeed(m, f, j);
                 if (w > am.maxAngularSpeed) am.maxAngularSpeed = w, am.fastestJoint = sk.names[static_cast<std::size_t>(j)];

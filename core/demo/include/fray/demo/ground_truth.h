@@ -21,10 +21,11 @@ struct TruthAction {
     std::vector<std::string> annotations;  // punch, kick, avoid, dodge, block, step, ...
     std::vector<std::string> joints;       // joints used, skeleton names ("LeftHand")
     std::optional<std::string> attackDirection;  // attacks and hit reactions: "straight", "from_left", ...
-    // Unit direction of the attacking joint at its peak speed, in the actor's
-    // heading frame (x left, y up, z forward). Attacks only.
+    // Unit direction of the attacking joint at its peak speed on the way to the
+    // apex of the attack (retraction excluded), in the actor's heading frame
+    // (x left, y up, z forward) at that frame. Attacks only.
     std::optional<std::array<double, 3>> attackVector;
-    std::optional<double> peakSpeed;             // m/s of the attacking joint (attacks only)
+    std::optional<double> peakSpeed;             // m/s of the attacking joint then (attacks only)
     std::optional<std::string> targetPart;       // attacks: part aimed at; reactions: part hit
     std::optional<std::string> defendedPart;     // defences: "head", "torso"
 

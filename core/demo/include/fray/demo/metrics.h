@@ -14,7 +14,7 @@ struct ActionMetrics {
     std::string name;
     std::string style;
     double seconds = 0;
-    double peakEffectorSpeed = 0;  // m/s of the first joint in `joints` (attacks)
+    double peakEffectorSpeed = 0;  // attacks: m/s of the first joint in `joints` before the apex
     double maxAngularSpeed = 0;    // deg/s, largest over non-root joints
     std::string fastestJoint;
 };
