@@ -1,8 +1,6 @@
 #include "solver.h"
 
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <cmath>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -114,10 +112,8 @@ struct Limb {
 // Two-bone IK: root -> target with bone lengths a, b; the middle joint bends
 // toward `pole`. restDir is both bones' rest direction, restNormal the hinge
 // axis in the rest pose (the middle joint then rotates about it only).
-// `fallback` is a second pole direction, blended in when `pole` comes close
-// to the limb direction, so the bone twist never flips quickly.
-Limb solveLimb(const dvec3& root, const dvec3& target, const dvec3& poleIn, const dvec3& fallback, double a, double b,
-               const dvec3& restDir, const dvec3& restNormal, bool soft) {
+Limb solveLimb(const dvec3& root, const dvec3& target, const dvec3& pole, double a, double b, const dvec3& restDir,
+               const dvec3& restNormal, bool soft) {
     dvec3 v = target - root;
     double d = glm::length(v);
     const dvec3 dir = d > 1e-9 ? v / d : -restNormal;
@@ -125,11 +121,7 @@ Limb solveLimb(const dvec3& root, const dvec3& target, const dvec3& poleIn, cons
     // pelvis guarantees to supporting legs (RigDims::legReach), soft beyond.
     d = soft ? smin(d, (a + b) * 0.985, 0.05) : smin(d, (a + b) * 0.998, (a + b) * 0.0125);
     d = std::max(d, std::abs(a - b) + 0.14);
-    const dvec3 pole = glm::normalize(poleIn);
-    const double sinPole = glm::length(glm::cross(pole, dir));
-    if (std::getenv("DBGARM") && soft) std::fprintf(stderr, "  d=%.3f dir(%.2f %.2f %.2f) pole(%.2f %.2f %.2f) sin=%.2f\n", d, dir.x, dir.y, dir.z, pole.x, pole.y, pole.z, sinPole);
-    const dvec3 blended = pole + (1.0 - smoothstep(sinPole / 0.45)) * 1.5 * glm::normalize(fallback);
-    dvec3 perp = blended - glm::dot(blended, dir) * dir;
+    dvec3 perp = pole - glm::dot(pole, dir) * dir;
     if (glm::length(perp) < 1e-6) perp = glm::cross(dir, std::abs(dir.x) < 0.9 ? dvec3(1, 0, 0) : dvec3(0, 0, 1));
     perp = glm::normalize(perp);
     const double cosA = std::clamp((a * a + d * d - b * b) / (2 * a * d), -1.0, 1.0);
@@ -224,8 +216,8 @@ void solveFrame(const Timeline& tl, double t, SolvedFrame& out) {
         dvec3 p0 = pc - glm::dot(pc, d0) * d0;
         p0 = glm::length(p0) > 1e-6 ? glm::normalize(p0) : glm::normalize(dvec3(sg * 0.3, -0.8, -0.5));
         const dvec3 pole = Q[kSpine2] * (glm::rotation(d0, reach) * p0);
-        const Limb limb = solveLimb(W[arm], target, pole, pole, D::upperArm, D::foreArm, dvec3(sg, 0, 0),
-                                    dvec3(0, -sg, 0), true);
+        const Limb limb =
+            solveLimb(W[arm], target, pole, D::upperArm, D::foreArm, dvec3(sg, 0, 0), dvec3(0, -sg, 0), true);
         Q[arm] = limb.upper;
         Q[fore] = limb.lower;
         L[arm] = glm::inverse(Q[clav]) * Q[arm];
@@ -284,8 +276,7 @@ void solveFrame(const Timeline& tl, double t, SolvedFrame& out) {
         const dvec3 toAnkle = target - W[up];
         const dvec3 legDir = glm::length(toAnkle) > 1e-6 ? glm::normalize(toAnkle) : dvec3(0, -1, 0);
         const dvec3 pole = glm::rotation(dvec3(0, -1, 0), legDir) * pole0;
-        const Limb limb =
-            solveLimb(W[up], target, pole, pole, D::thigh, D::shin, dvec3(0, -1, 0), dvec3(1, 0, 0), false);
+        const Limb limb = solveLimb(W[up], target, pole, D::thigh, D::shin, dvec3(0, -1, 0), dvec3(1, 0, 0), false);
         Q[up] = limb.upper;
         Q[knee] = limb.lower;
         // Planted / swinging feet are oriented in the world; a free foot keeps
@@ -318,13 +309,11 @@ void solveFrame(const Timeline& tl, double t, SolvedFrame& out) {
 
 Motion synthesize(const Timeline& timeline, int frameCount, std::vector<std::uint8_t>& leftContact,
                   std::vector<std::uint8_t>& rightContact) {
-    const int dbg0 = std::getenv("DBGF0") ? std::atoi(std::getenv("DBGF0")) : -1, dbg1 = std::getenv("DBGF1") ? std::atoi(std::getenv("DBGF1")) : -1;
     Motion motion(makeDemoSkeleton(), kDemoFps, frameCount);
     leftContact.assign(static_cast<std::size_t>(frameCount), 0);
     rightContact.assign(static_cast<std::size_t>(frameCount), 0);
     SolvedFrame sf;
     for (int f = 0; f < frameCount; ++f) {
-        if (f >= dbg0 && f <= dbg1) { setenv("DBGARM", "1", 1); std::fprintf(stderr, "f%d\n", f); } else unsetenv("DBGARM");
         solveFrame(timeline, f / kDemoFps, sf);
         auto T = motion.translations(f);
         auto R = motion.rotations(f);
