@@ -1,5 +1,6 @@
-# Runs `fray-cli demo-library` then `fray-cli info` on every written take.
-file(REMOVE_RECURSE "${OUT}")
+# Runs `fray-cli demo-library` twice with the same seed (files must be
+# byte-identical), then `fray-cli info` on every written take.
+file(REMOVE_RECURSE "${OUT}" "${OUT}_again")
 execute_process(COMMAND "${CLI}" demo-library "${OUT}" --seed 5 --minutes 1.5
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT rc EQUAL 0)
@@ -8,6 +9,19 @@ endif()
 if(NOT err MATCHES "\\[6/6\\]")
   message(FATAL_ERROR "no progress on stderr: ${err}")
 endif()
+execute_process(COMMAND "${CLI}" demo-library "${OUT}_again" --seed 5 --minutes 1.5
+                RESULT_VARIABLE rc OUTPUT_QUIET ERROR_QUIET)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "second demo-library run failed (${rc})")
+endif()
+file(GLOB written RELATIVE "${OUT}" "${OUT}/*")
+foreach(f IN LISTS written)
+  file(SHA256 "${OUT}/${f}" a)
+  file(SHA256 "${OUT}_again/${f}" b)
+  if(NOT a STREQUAL b)
+    message(FATAL_ERROR "${f} differs between two runs with the same seed")
+  endif()
+endforeach()
 file(GLOB takes "${OUT}/*.bvh")
 list(LENGTH takes n)
 if(NOT n EQUAL 6)

@@ -5,8 +5,6 @@
 
 namespace fray::demo::detail {
 
-constexpr double kPi = 3.14159265358979323846;
-
 void Curve::key(double t, double value, double slope, Interp in) {
     auto it = std::lower_bound(keys_.begin(), keys_.end(), t, [](const Key& k, double x) { return k.t < x; });
     if (it != keys_.end() && std::abs(it->t - t) < 1e-9) {
@@ -80,11 +78,6 @@ double smoothstep(double u) {
 double smootherstep(double u) {
     u = clamp01(u);
     return u * u * u * (u * (6 * u - 15) + 10);
-}
-double bump(double u) {
-    if (u <= 0 || u >= 1) return 0.0;
-    const double s = std::sin(kPi * u);
-    return s * s;
 }
 double pulse(double u) {
     if (u <= 0 || u >= 1) return 0.0;

@@ -44,7 +44,6 @@ private:
 // Easing helpers on [0, 1].
 double smoothstep(double u);    // cubic, zero slope at the ends
 double smootherstep(double u);  // quintic, zero slope and acceleration at the ends
-double bump(double u);          // sin^2(pi u) on [0,1], 0 outside: a C1 pulse
 double pulse(double u);         // 64 u^3 (1-u)^3 on [0,1], 0 outside: a C2 pulse peaking at 1
 // C2 smooth minimum / maximum with blending width k.
 double smin(double a, double b, double k);
