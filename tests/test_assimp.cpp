@@ -792,8 +792,9 @@ TEST(AssimpGltf, AnimationChosenByNameAndFallbackRate) {
     opt.animation = "Idle";
     auto idle = importWithAssimp(file, opt);
     ASSERT_TRUE(idle.ok()) << idle.error().message;
-    // Only Spine is keyed: it is the whole skeleton, placed by Armature and Hips.
-    EXPECT_EQ(idle->skeleton().names, (std::vector<std::string>{"Spine"}));
+    // Only Spine is keyed: it is the skeleton root, placed by Armature and Hips;
+    // the unkeyed bone below it (Head) stays a joint.
+    EXPECT_EQ(idle->skeleton().names, (std::vector<std::string>{"Spine", "Head"}));
     EXPECT_LT(glm::length(idle->skeleton().offsets[0] - glm::vec3(2, 1.5f, 0)), 1e-5f);
     // Keys 2 s apart (0.5 fps) are not a frame rate: 30 fps over 2 s, with a warning.
     EXPECT_NEAR(idle->fps(), 30.0, 1e-9);

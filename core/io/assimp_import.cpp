@@ -286,13 +286,25 @@ private:
         return {};
     }
 
-    // The root, its animated descendants and the nodes between, in pre-order.
+    // BVH "End Site" nodes and exporters' end bones ("HeadTop_End"): leaf
+    // markers, not joints (our BVH reader keeps them as end-site offsets).
+    static bool isEndMarker(std::string_view name) {
+        std::string n;
+        for (char c : name) n.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(c))));
+        return n.rfind("endsite", 0) == 0 || (n.size() >= 3 && n.compare(n.size() - 3, 3, "end") == 0);
+    }
+
+    // The root and every bone below it (animated or not: a toe without keys is
+    // still a joint the later steps need), in pre-order. Nodes carrying meshes
+    // are geometry, not bones.
     void selectJoints(int root) {
         std::vector<char> keep(nodes_.size(), 0);
         keep[static_cast<std::size_t>(root)] = 1;
         bool anyAnimated = nodes_[static_cast<std::size_t>(root)].animated;
         for (std::size_t i = static_cast<std::size_t>(root) + 1; i < nodes_.size(); ++i) {
-            if (nodes_[i].helper || !nodes_[i].animated) continue;
+            if (nodes_[i].helper || nodes_[i].ai->mNumMeshes > 0) continue;
+            if (!nodes_[i].animated && nodes_[i].ai->mNumChildren == 0 && isEndMarker(nodes_[i].ai->mName.C_Str()))
+                continue;
             // Is i below the root? Walk up real parents (depth bounds the walk).
             std::vector<int> path;
             int a = static_cast<int>(i);
@@ -301,7 +313,7 @@ private:
                 a = nodes_[static_cast<std::size_t>(a)].realParent;
             }
             if (a != root) continue;
-            anyAnimated = true;
+            anyAnimated = anyAnimated || nodes_[i].animated;
             for (int p : path) keep[static_cast<std::size_t>(p)] = 1;
         }
         if (!anyAnimated)
