@@ -1,7 +1,7 @@
 #include <charconv>
-#include <fstream>
 #include <string>
 
+#include "fray/core/atomic_file.h"
 #include "fray/core/rotation.h"
 #include "fray/io/bvh.h"
 
@@ -81,25 +81,7 @@ std::string writeBvhToString(const Motion& motion, const BvhWriteOptions& option
 
 Status writeBvh(const Motion& motion, const std::filesystem::path& path, const BvhWriteOptions& options) {
     if (auto bad = motion.skeleton().validate()) return makeError(path.string() + ": cannot write BVH: " + *bad);
-    const std::string text = writeBvhToString(motion, options);
-    // Write beside the target and rename, so a failure never leaves a half file.
-    std::filesystem::path tmp = path;
-    tmp += ".tmp";
-    {
-        std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-        if (!f) return makeError(path.string() + ": cannot open for writing");
-        f.write(text.data(), static_cast<std::streamsize>(text.size()));
-        f.flush();
-        if (!f) {
-            std::error_code ec;
-            std::filesystem::remove(tmp, ec);
-            return makeError(path.string() + ": write failed (disk full?)");
-        }
-    }
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) return makeError(path.string() + ": cannot rename temporary file: " + ec.message());
-    return {};
+    return writeFileAtomically(path, writeBvhToString(motion, options));
 }
 
 }  // namespace fray

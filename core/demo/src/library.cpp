@@ -1,36 +1,12 @@
 #include "fray/demo/library.h"
 
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <system_error>
 
+#include "fray/core/atomic_file.h"
 #include "fray/io/bvh.h"
 
 namespace fray::demo {
-
-namespace {
-
-Status writeText(const std::filesystem::path& path, const std::string& text) {
-    std::filesystem::path tmp = path;
-    tmp += ".tmp";
-    {
-        std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-        if (!f) return makeError(path.string() + ": cannot open for writing");
-        f.write(text.data(), static_cast<std::streamsize>(text.size()));
-        f.flush();
-        if (!f) {
-            std::error_code ec;
-            std::filesystem::remove(tmp, ec);
-            return makeError(path.string() + ": write failed (disk full?)");
-        }
-    }
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) return makeError(path.string() + ": cannot rename temporary file: " + ec.message());
-    return {};
-}
-
-}  // namespace
 
 Result<std::vector<WrittenTake>> writeDemoLibrary(const std::filesystem::path& outDir, const LibraryOptions& options,
                                                   const ProgressFn& progress) {
@@ -56,7 +32,7 @@ Result<std::vector<WrittenTake>> writeDemoLibrary(const std::filesystem::path& o
         w.frames = take.motion.frameCount();
         w.actions = static_cast<int>(take.truth.actions.size());
         if (auto st = writeBvh(take.motion, w.bvh); !st) return st.error();
-        if (auto st = writeText(w.truth, toJson(take.truth)); !st) return st.error();
+        if (auto st = writeFileAtomically(w.truth, toJson(take.truth)); !st) return st.error();
         index["takes"].push_back({{"name", spec.name},
                                   {"kind", std::string(toString(spec.kind))},
                                   {"style", std::string(toString(spec.style))},
@@ -67,7 +43,7 @@ Result<std::vector<WrittenTake>> writeDemoLibrary(const std::filesystem::path& o
         written.push_back(w);
         if (progress) progress(static_cast<int>(i + 1), static_cast<int>(plan.size()), spec.name);
     }
-    if (auto st = writeText(outDir / "demo_library.json", index.dump(2) + "\n"); !st) return st.error();
+    if (auto st = writeFileAtomically(outDir / "demo_library.json", index.dump(2) + "\n"); !st) return st.error();
     return written;
 }
 
