@@ -1,9 +1,11 @@
 // fray-cli demo-library OUTDIR [--seed N] [--minutes M] [--report]: writes the
 // procedural demo actor's takes (BVH) and their ground truth (JSON).
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <map>
 #include <memory>
+#include <string>
 
 #include "fray/demo/demo_actor.h"
 #include "fray/demo/library.h"
@@ -20,38 +22,50 @@ struct DemoArgs {
     bool report = false;
 };
 
-// Quality figures per take (the thresholds the tests check).
-void printReport(const demo::LibraryOptions& options) {
-    std::printf("%-22s %9s %9s %9s %10s %-16s\n", "take", "skate_mm", "min_y_mm", "contact%", "max_deg/s", "fastest");
-    std::map<std::string, std::pair<double, double>> speed;  // kind -> min, max peak speed
-    std::map<std::string, std::pair<double, int>> dur[2];    // kind -> sum seconds, count (energetic, tired)
-    for (const auto& spec : demo::planLibrary(options)) {
-        const demo::Take take = demo::generateTake(spec, demo::takeSeed(options.seed, spec.name));
+// Quality figures per take (the thresholds the tests check), gathered while
+// the library is written.
+class Report {
+public:
+    void add(const demo::Take& take) {
         const demo::TakeMetrics m = demo::measureTake(take.motion, take.truth);
-        std::printf("%-22s %9.3f %9.1f %9.1f %10.0f %-16s\n", spec.name.c_str(), m.maxSkate * 1000, m.minJointHeight * 1000,
-                    100.0 * m.contactFrames / std::max(1, take.motion.frameCount()), m.maxAngularSpeed, m.fastestJoint.c_str());
+        char line[160];
+        std::snprintf(line, sizeof line, "%-22s %9.3f %9.1f %9.1f %10.0f %-16s\n", take.spec.name.c_str(),
+                      m.maxSkate * 1000, m.minJointHeight * 1000,
+                      100.0 * m.contactFrames / std::max(1, take.motion.frameCount()), m.maxAngularSpeed,
+                      m.fastestJoint.c_str());
+        takes_ += line;
         for (const auto& a : m.actions) {
             if (a.peakEffectorSpeed > 0) {
-                auto [it, fresh] = speed.try_emplace(a.name, a.peakEffectorSpeed, a.peakEffectorSpeed);
+                auto [it, fresh] = speed_.try_emplace(a.name, a.peakEffectorSpeed, a.peakEffectorSpeed);
                 if (!fresh) it->second = {std::min(it->second.first, a.peakEffectorSpeed), std::max(it->second.second, a.peakEffectorSpeed)};
             }
             if (a.style == "energetic" || a.style == "tired") {
-                auto& d = dur[a.style == "tired" ? 1 : 0][a.name];
+                auto& d = dur_[a.style == "tired" ? 1 : 0][a.name];
                 d.first += a.seconds;
                 d.second += 1;
             }
         }
     }
-    std::printf("\n%-18s %8s %8s\n", "attack", "min m/s", "max m/s");
-    for (const auto& [k, v] : speed) std::printf("%-18s %8.2f %8.2f\n", k.c_str(), v.first, v.second);
-    std::printf("\n%-18s %8s %8s %6s\n", "fighting action", "energ s", "tired s", "ratio");
-    for (const auto& [k, e] : dur[0]) {
-        const auto t = dur[1].find(k);
-        if (t == dur[1].end()) continue;
-        const double me = e.first / e.second, mt = t->second.first / t->second.second;
-        std::printf("%-18s %8.3f %8.3f %6.2f\n", k.c_str(), me, mt, me / mt);
+
+    void print() const {
+        std::printf("%-22s %9s %9s %9s %10s %-16s\n%s", "take", "skate_mm", "min_y_mm", "contact%", "max_deg/s",
+                    "fastest", takes_.c_str());
+        std::printf("\n%-18s %8s %8s\n", "attack", "min m/s", "max m/s");
+        for (const auto& [k, v] : speed_) std::printf("%-18s %8.2f %8.2f\n", k.c_str(), v.first, v.second);
+        std::printf("\n%-18s %8s %8s %6s\n", "fighting action", "energ s", "tired s", "ratio");
+        for (const auto& [k, e] : dur_[0]) {
+            const auto t = dur_[1].find(k);
+            if (t == dur_[1].end()) continue;
+            const double me = e.first / e.second, mt = t->second.first / t->second.second;
+            std::printf("%-18s %8.3f %8.3f %6.2f\n", k.c_str(), me, mt, me / mt);
+        }
     }
-}
+
+private:
+    std::string takes_;
+    std::map<std::string, std::pair<double, double>> speed_;  // kind -> min, max peak speed
+    std::map<std::string, std::pair<double, int>> dur_[2];    // kind -> sum seconds, count (energetic, tired)
+};
 
 void run(const DemoArgs& a) {
     using Clock = std::chrono::steady_clock;
@@ -60,10 +74,13 @@ void run(const DemoArgs& a) {
     options.minutes = a.minutes;
     const auto t0 = Clock::now();
     auto last = t0;
-    auto written = demo::writeDemoLibrary(a.outDir, options, [&](int done, int total, const std::string& name) {
+    Report report;
+    auto written = demo::writeDemoLibrary(a.outDir, options, [&](int done, int total, const demo::Take& take) {
         const auto now = Clock::now();
-        std::fprintf(stderr, "[%d/%d] %s (%.2f s)\n", done, total, name.c_str(), std::chrono::duration<double>(now - last).count());
+        std::fprintf(stderr, "[%d/%d] %s (%.2f s)\n", done, total, take.spec.name.c_str(),
+                     std::chrono::duration<double>(now - last).count());
         last = now;
+        if (a.report) report.add(take);
     });
     if (!written) return fail(written.error().message);
     const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -77,7 +94,7 @@ void run(const DemoArgs& a) {
                 frames / demo::kDemoFps / 60.0, actions, seconds);
     if (a.report) {
         std::printf("\n");
-        printReport(options);
+        report.print();
     }
 }
 

@@ -233,80 +233,67 @@ void kneeStrike(Builder& b) {
     b.finish("knee_strike", tEnd);
 }
 
+// The shape every defence shares: move into `p` by tIn, hold it until tHold,
+// come back to guard by tBack, then recover.
+static void holdThenRecover(Builder& b, std::string_view name, const Pose& p, double tIn, double tHold, double tBack,
+                     double k) {
+    const double t0 = b.now();
+    const double tEnd = b.endOf(tBack + 0.03 * k + b.sp.recovery);
+    b.pose(t0, tIn, p);
+    b.pose(tHold, tBack, b.guardPose());
+    b.finish(name, tEnd);
+}
+
 void blockHigh(Builder& b) {
     const double t0 = b.now(), k = b.k();
     const double tU = t0 + 0.10 * k, tD0 = tU + 0.22 * k, tD1 = tD0 + 0.18 * k;
-    const double tEnd = b.endOf(tD1 + 0.03 * k + b.sp.recovery);
-    const Pose g = b.guardPose();
-    Pose p = g;
+    Pose p = b.guardPose();
     p.add(Height, -0.02).add(SpinePitch, 0.08).add(HeadPitch, 0.15);
     p.setHand(0, {0.07, 0.36 - 0.3 * b.sp.guardDrop, 0.22}).setHand(1, {-0.07, 0.36 - 0.3 * b.sp.guardDrop, 0.22});
     p.setPole(0, {0.5, -1.0, -0.2}).setPole(1, {-0.5, -1.0, -0.2});
-    b.pose(t0, tU, p);
-    b.pose(tD0, tD1, g);
-    b.finish("block_high", tEnd);
+    holdThenRecover(b, "block_high", p, tU, tD0, tD1, k);
 }
 
 void blockLow(Builder& b) {
     const double t0 = b.now(), k = b.k(), A = b.sp.amplitude;
     const double tU = t0 + 0.12 * k, tD0 = tU + 0.20 * k, tD1 = tD0 + 0.20 * k;
-    const double tEnd = b.endOf(tD1 + 0.03 * k + b.sp.recovery);
-    const Pose g = b.guardPose();
-    Pose p = g;
+    Pose p = b.guardPose();
     p.add(Height, -0.05 * A).add(SpinePitch, 0.18 * A).add(PelvisYaw, -0.10 * A);
     p.setHand(0, {0.12, 0.02, 0.17}).setHand(1, {-0.11, 0.04, 0.17});
     p.setPole(0, {0.1, -1.0, 0.2}).setPole(1, {-0.1, -1.0, 0.2});
-    b.pose(t0, tU, p);
-    b.pose(tD0, tD1, g);
-    b.finish("block_low", tEnd);
+    holdThenRecover(b, "block_low", p, tU, tD0, tD1, k);
 }
 
 void parry(Builder& b) {
     const double t0 = b.now(), k = b.k();
     const double tP = t0 + strikeTime(b, 0.09), tH = tP + 0.03 * k, tR = tH + 0.20 * k;
-    const double tEnd = b.endOf(tR + 0.03 * k + b.sp.recovery);
-    const Pose g = b.guardPose();
-    Pose p = g;
+    Pose p = b.guardPose();
     p.add(PelvisYaw, 0.08).setHand(1, {0.10, 0.22, 0.36}).setPole(1, {-0.6, -1.0, 0.0});
-    b.pose(t0, tP, p);
-    b.pose(tH, tR, g);
-    b.finish("parry", tEnd);
+    holdThenRecover(b, "parry", p, tP, tH, tR, k);
 }
 
 void slip(Builder& b, int side) {
     const double t0 = b.now(), k = b.k(), A = b.sp.amplitude, sg = sideSign(side);
     const double tO = t0 + 0.15 * k, tH = tO + 0.08 * k, tB = tH + 0.18 * k;
-    const double tEnd = b.endOf(tB + 0.03 * k + b.sp.recovery);
-    const Pose g = b.guardPose();
-    Pose p = g;
+    Pose p = b.guardPose();
     p.add(Height, -0.04 * A).add(ShiftX, 0.07 * sg * A).add(SpineRoll, -0.22 * sg * A).add(SpineYaw, -0.10 * sg * A);
-    b.pose(t0, tO, p);
-    b.pose(tH, tB, g);
-    b.finish(side == 0 ? "slip_left" : "slip_right", tEnd);
+    holdThenRecover(b, side == 0 ? "slip_left" : "slip_right", p, tO, tH, tB, k);
 }
 
 void duck(Builder& b) {
     const double t0 = b.now(), k = b.k(), A = b.sp.amplitude;
     const double tD = t0 + 0.18 * k, tH = tD + 0.12 * k, tU = tH + 0.25 * k;
-    const double tEnd = b.endOf(tU + 0.03 * k + b.sp.recovery);
-    const Pose g = b.guardPose();
-    Pose p = g;
+    Pose p = b.guardPose();
     p.add(Height, -0.22 * A).add(SpinePitch, 0.30 * A).add(PelvisPitch, 0.12 * A).add(ShiftZ, -0.02);
-    b.pose(t0, tD, p);
-    b.pose(tH, tU, g);
-    b.finish("duck", tEnd);
+    holdThenRecover(b, "duck", p, tD, tH, tU, k);
 }
 
 void swayBack(Builder& b) {
     const double t0 = b.now(), k = b.k(), A = b.sp.amplitude;
     const double tO = t0 + 0.15 * k, tH = tO + 0.10 * k, tB = tH + 0.25 * k;
-    const double tEnd = b.endOf(tB + 0.03 * k + b.sp.recovery);
-    const Pose g = b.guardPose();
-    Pose p = g;
+    Pose p = b.guardPose();
     p.add(ShiftZ, -0.10 * A).add(SpinePitch, -0.32 * A).add(PelvisPitch, -0.12 * A).add(Height, -0.02).add(HeadPitch, 0.10);
-    b.pose(t0, tO, p);
-    b.pose(tH, tB, g);
-    b.finish("sway_back", tEnd);
+    holdThenRecover(b, "sway_back", p, tO, tH, tB, k);
 }
 
 void guardStep(Builder& b, int direction) {

@@ -41,7 +41,7 @@ Result<std::vector<WrittenTake>> writeDemoLibrary(const std::filesystem::path& o
                                   {"frames", w.frames},
                                   {"actions", w.actions}});
         written.push_back(w);
-        if (progress) progress(static_cast<int>(i + 1), static_cast<int>(plan.size()), spec.name);
+        if (progress) progress(static_cast<int>(i + 1), static_cast<int>(plan.size()), take);
     }
     if (auto st = writeFileAtomically(outDir / "demo_library.json", index.dump(2) + "\n"); !st) return st.error();
     return written;

@@ -19,7 +19,9 @@ struct WrittenTake {
 };
 
 // Progress: (takes done, takes total, name of the take just written).
-using ProgressFn = std::function<void(int, int, const std::string&)>;
+// Called after each take is written (done, total, the take), so callers can
+// report on it without generating it again.
+using ProgressFn = std::function<void(int, int, const Take&)>;
 
 // Generates and writes every take of planLibrary(options) into outDir (created
 // if missing). Files are written atomically (temporary + rename).
