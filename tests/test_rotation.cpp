@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
+#include <utility>
 
 #include "fray/core/rotation.h"
 
@@ -38,12 +40,20 @@ TEST(Rotation, OrderMatchesChannelSequence) {
 }
 
 TEST(Rotation, GimbalLockStillRoundTrips) {
-    for (auto order : {RotationOrder::XYZ, RotationOrder::ZYX, RotationOrder::ZXY, RotationOrder::YXZ}) {
-        const glm::dvec3 e(30, 90, -20);
-        glm::dvec3 locked = e;
-        // Put the 90 degrees on the middle axis of the order.
-        const auto q = eulerToQuat(locked, order);
-        const auto back = quatToEuler(glm::dquat(q), order);
-        EXPECT_LT(quatDistance(q, eulerToQuat(back, order)), 1e-6f) << toString(order);
+    // The middle axis of each order at +-90 degrees is the lock; only a +- c is defined there.
+    const std::pair<RotationOrder, int> middle[] = {{RotationOrder::XYZ, 1}, {RotationOrder::XZY, 2},
+                                                    {RotationOrder::YXZ, 0}, {RotationOrder::YZX, 2},
+                                                    {RotationOrder::ZXY, 0}, {RotationOrder::ZYX, 1}};
+    for (const auto& [order, axis] : middle) {
+        for (double lock : {90.0, -90.0}) {
+            glm::dvec3 e(30, -20, 45);
+            e[axis] = lock;
+            const glm::quat q = eulerToQuat(e, order);
+            const glm::dvec3 back = quatToEuler(glm::dquat(q), order);
+            EXPECT_NEAR(std::abs(back[axis]), 90.0, 1e-3) << toString(order);
+            const glm::dquat d = glm::inverse(glm::dquat(q)) * glm::dquat(eulerToQuat(back, order));
+            const double angle = 2.0 * std::atan2(glm::length(glm::dvec3(d.x, d.y, d.z)), std::abs(d.w));
+            EXPECT_LT(angle, 1e-5) << toString(order) << " lock " << lock;
+        }
     }
 }

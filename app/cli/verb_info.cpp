@@ -51,8 +51,9 @@ nlohmann::json describe(const Motion& m) {
     glm::vec3 lo(1e30f), hi(-1e30f), prev(0);
     double path = 0;
     std::vector<glm::vec3> pos(static_cast<std::size_t>(m.jointCount()));
+    std::vector<glm::quat> rot(pos.size());
     for (int f = 0; f < m.frameCount(); ++f) {
-        worldPositions(m, f, pos);
+        worldTransforms(m, f, pos, rot);
         const glm::vec3 p = pos[pelvis];
         lo = glm::min(lo, p);
         hi = glm::max(hi, p);

@@ -478,29 +478,26 @@ private:
         if (candidates.empty() || frames == 0) return;
         auto& T = motion.allTranslations();
         auto& R = motion.allRotations();
-        std::vector<std::size_t> chain;
+        std::vector<std::size_t> chain;  // ancestors of j, root first
         for (std::size_t j : candidates) {
+            chain.clear();
+            for (int a = sk.parents[j]; a >= 0; a = sk.parents[static_cast<std::size_t>(a)])
+                chain.push_back(static_cast<std::size_t>(a));
+            std::reverse(chain.begin(), chain.end());
             double toOffset = 0, toWorld = 0;
             for (std::size_t f = 0; f < frames; ++f) {
-                const std::span<const glm::vec3> t(T.data() + f * jc, jc);
-                const std::span<const glm::quat> r(R.data() + f * jc, jc);
+                const glm::vec3* t = T.data() + f * jc;
+                const glm::quat* r = R.data() + f * jc;
                 // World transform of the parent, then of j placed by its offset.
-                const std::size_t p = static_cast<std::size_t>(sk.parents[j]);
                 glm::vec3 pp(0);
                 glm::quat pr(1, 0, 0, 0);
-                chain.clear();
-                for (std::size_t a = p;; a = static_cast<std::size_t>(sk.parents[a])) {
-                    chain.push_back(a);
-                    if (sk.parents[a] < 0) break;
-                }
-                for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
-                    pp = pp + pr * t[*it];
-                    pr = pr * r[*it];
+                for (std::size_t a : chain) {
+                    pp = pp + pr * t[a];
+                    pr = pr * r[a];
                 }
                 const glm::vec3 world = pp + pr * sk.offsets[j];
-                const glm::vec3 value = t[j];
-                toOffset += static_cast<double>(glm::length(value - sk.offsets[j]));
-                toWorld += static_cast<double>(glm::length(value - world));
+                toOffset += static_cast<double>(glm::length(t[j] - sk.offsets[j]));
+                toWorld += static_cast<double>(glm::length(t[j] - world));
             }
             if (!(toWorld < 0.25 * toOffset)) continue;
             for (std::size_t f = 0; f < frames; ++f) T[f * jc + j] = sk.offsets[j];

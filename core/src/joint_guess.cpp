@@ -90,7 +90,7 @@ std::vector<int> pathUp(const Skeleton& sk, int from, int ancestor) {
 
 }  // namespace
 
-std::string StandardJoints::missing(const Skeleton& /*skeleton*/) const {
+std::string StandardJoints::missing() const {
     std::string out;
     auto add = [&](int v, const char* name) {
         if (v >= 0) return;
@@ -119,7 +119,7 @@ StandardJoints guessStandardJoints(const Skeleton& sk) {
     int leftShoulderWord = -1, rightShoulderWord = -1, lowerNeck = -1, rootLike = -1;
     for (int j = 0; j < n; ++j) {
         const NameParts p = split(sk.names[static_cast<std::size_t>(j)]);
-        const bool L = p.side == Side::Left, R = p.side == Side::Right;
+        const bool L = p.side == Side::Left;
         const std::string& w = p.part;
         if (p.side == Side::None) {
             if (isOneOf(w, {"hips", "pelvis", "hip"})) set(r.pelvis, j);
@@ -139,7 +139,6 @@ StandardJoints guessStandardJoints(const Skeleton& sk) {
         int& arm = L ? leftArm : rightArm;
         int& shoulderWord = L ? leftShoulderWord : rightShoulderWord;
         int& leg = L ? leftLeg : rightLeg;
-        (void)R;
         if (isOneOf(w, {"hand"})) set(hand, j);
         else if (isOneOf(w, {"wrist"})) set(wrist, j);
         else if (isOneOf(w, {"foot", "ankle"})) set(foot, j);

@@ -10,6 +10,8 @@
 namespace fray {
 namespace {
 
+constexpr int kSamples = 64;
+
 // Head-above-ankles vectors on up to `samples` frames spread over the take.
 std::vector<glm::vec3> headVectors(const Motion& motion, int samples) {
     std::vector<glm::vec3> out;
@@ -44,17 +46,15 @@ std::vector<glm::vec3> headVectors(const Motion& motion, int samples) {
     return out;
 }
 
-}  // namespace
-
-UpAxis guessUpAxis(const Motion& motion) {
+UpAxis upAxisFrom(const std::vector<glm::vec3>& vectors) {
     glm::dvec3 sum(0);
-    for (const auto& v : headVectors(motion, 32)) sum += glm::dvec3(v);
+    for (const auto& v : vectors) sum += glm::dvec3(v);
     return std::abs(sum.z) > std::abs(sum.y) ? UpAxis::Z : UpAxis::Y;
 }
 
-UnitGuess guessUnits(const Motion& motion) {
+UnitGuess unitsFrom(const std::vector<glm::vec3>& vectors) {
     std::vector<float> heights;
-    for (const auto& v : headVectors(motion, 64)) heights.push_back(glm::length(v));
+    for (const auto& v : vectors) heights.push_back(glm::length(v));
     UnitGuess g;
     if (heights.empty()) return g;
     // A high percentile: the actor standing upright, not crouched or lying down.
@@ -79,17 +79,25 @@ UnitGuess guessUnits(const Motion& motion) {
     return g;
 }
 
+}  // namespace
+
+UpAxis guessUpAxis(const Motion& motion) { return upAxisFrom(headVectors(motion, kSamples)); }
+UnitGuess guessUnits(const Motion& motion) { return unitsFrom(headVectors(motion, kSamples)); }
+
 void normalize(Motion& motion, const NormalizeOptions& options) {
     SourceInfo& src = motion.source();
     if (src.normalized) return;
-    const UpAxis up = options.upAxis ? *options.upAxis : guessUpAxis(motion);
+    // Measured once, on the raw data, for both guesses.
+    std::vector<glm::vec3> vectors;
+    if (!options.upAxis || !options.unitScale) vectors = headVectors(motion, kSamples);
+    const UpAxis up = options.upAxis ? *options.upAxis : upAxisFrom(vectors);
     double scale = 1.0;
     std::string unitName = "m";
     if (options.unitScale) {
         scale = *options.unitScale;
         unitName = "given";
     } else {
-        const UnitGuess g = guessUnits(motion);
+        const UnitGuess g = unitsFrom(vectors);
         scale = g.scale;
         unitName = g.name;
     }

@@ -50,7 +50,7 @@ TEST(DemoSkeleton, StructureAndChannelLayout) {
 TEST(DemoSkeleton, GuessStandardJointsFindsEveryRole) {
     const Skeleton sk = makeDemoSkeleton();
     const StandardJoints s = guessStandardJoints(sk);
-    ASSERT_TRUE(s.complete()) << s.missing(sk);
+    ASSERT_TRUE(s.complete()) << s.missing();
     auto name = [&](int j) { return j >= 0 ? sk.names[static_cast<std::size_t>(j)] : std::string("?"); };
     EXPECT_EQ(name(s.pelvis), "Hips");
     EXPECT_EQ(name(s.spine), "Spine");

@@ -25,7 +25,7 @@ struct StandardJoints {
     bool hasHands() const { return leftHand >= 0 && rightHand >= 0; }
     bool complete() const { return pelvis >= 0 && head >= 0 && hasFeet() && hasHands(); }
     // Names the roles that could not be found, e.g. "leftToe, rightToe".
-    std::string missing(const Skeleton& skeleton) const;
+    std::string missing() const;
 };
 
 StandardJoints guessStandardJoints(const Skeleton& skeleton);
