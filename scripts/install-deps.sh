@@ -13,6 +13,7 @@ PACKAGES=(
   libsvm-dev libode-dev libtbb-dev nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev googletest libbenchmark-dev
   libpng-dev zlib1g-dev
+  python3
   xvfb xauth x11-utils
 )
 

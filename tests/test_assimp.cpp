@@ -36,21 +36,16 @@
 #include "fray/io/assimp_import.h"
 #include "fray/io/bvh.h"
 #include "fray/io/import.h"
+#include "test_util.h"
 
 namespace fs = std::filesystem;
 using namespace fray;
 
 namespace {
 
-fs::path mocapRoot() { return fs::path(FRAY_SHARED_DIR) / "mocap"; }
-
-// The shared folder is required: its absence fails the calling test.
-bool haveMocap() {
-    if (fs::is_directory(mocapRoot())) return true;
-    ADD_FAILURE() << "shared mocap folder not found at " << mocapRoot()
-                  << " (configure with -DFRAY_SHARED_DIR=...); the Assimp tests need the real captures";
-    return false;
-}
+fs::path mocapRoot() { return fray::test::sharedMocap(); }
+bool haveMocap() { return fray::test::requireSharedMocap(); }
+using fray::test::sharedFiles;
 
 // Frame counts, joints and channels as listed in /work/shared/mocap/README.md.
 struct ListedBvh {
@@ -243,14 +238,6 @@ private:
 void writeText(const fs::path& p, std::string_view text) {
     std::ofstream f(p, std::ios::binary);
     f << text;
-}
-
-std::vector<fs::path> sharedFiles(const std::string& ext) {
-    std::vector<fs::path> out;
-    for (const auto& e : fs::recursive_directory_iterator(mocapRoot()))
-        if (e.is_regular_file() && e.path().extension() == ext) out.push_back(e.path());
-    std::sort(out.begin(), out.end());
-    return out;
 }
 
 }  // namespace
