@@ -1,0 +1,130 @@
+#include "fray/prep/labels.h"
+
+#include <charconv>
+#include <sstream>
+
+namespace fray::prep {
+namespace {
+
+std::string_view trim(std::string_view s) {
+    while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r')) s.remove_prefix(1);
+    while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+    return s;
+}
+
+std::vector<std::string_view> splitCommas(std::string_view line) {
+    std::vector<std::string_view> out;
+    std::size_t start = 0;
+    for (std::size_t i = 0; i <= line.size(); ++i) {
+        if (i == line.size() || line[i] == ',') {
+            out.push_back(trim(line.substr(start, i - start)));
+            start = i + 1;
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
+Result<std::vector<LabelRow>> parseLabelsCsv(std::string_view text, std::string_view fileName) {
+    static const char* const kFields[] = {"motion", "first_frame", "last_frame", "left", "right"};
+    std::vector<LabelRow> rows;
+    int lineNo = 0;
+    bool header = false;
+    std::size_t pos = 0;
+    while (pos < text.size()) {
+        const std::size_t end = std::min(text.find('\n', pos), text.size());
+        const std::string_view line = trim(text.substr(pos, end - pos));
+        pos = end + 1;
+        ++lineNo;
+        const auto where = [&](std::string_view field) {
+            return std::string(fileName) + ":" + std::to_string(lineNo) + ": " + std::string(field);
+        };
+        if (line.empty() || line.front() == '#') continue;
+        const auto cells = splitCommas(line);
+        if (!header) {
+            header = true;
+            if (cells.size() != 5 || cells[0] != "motion") {
+                return makeError(where("header") +
+                                 ": expected \"motion,first_frame,last_frame,left,right\", found \"" +
+                                 std::string(line.substr(0, 80)) + "\"");
+            }
+            for (std::size_t i = 0; i < 5; ++i) {
+                if (cells[i] != kFields[i]) {
+                    return makeError(where("header") + ": column " + std::to_string(i + 1) + " must be \"" +
+                                     kFields[i] + "\", found \"" + std::string(cells[i]) + "\"");
+                }
+            }
+            continue;
+        }
+        if (cells.size() != 5) {
+            return makeError(where("row") + ": expected 5 comma-separated fields, found " +
+                             std::to_string(cells.size()));
+        }
+        LabelRow row;
+        row.motion = std::string(cells[0]);
+        if (row.motion.empty()) return makeError(where("motion") + ": empty motion name");
+        for (int i = 1; i <= 2; ++i) {
+            const auto c = cells[static_cast<std::size_t>(i)];
+            int v = 0;
+            const auto [p, ec] = std::from_chars(c.data(), c.data() + c.size(), v);
+            if (ec != std::errc() || p != c.data() + c.size()) {
+                return makeError(where(kFields[i]) + ": \"" + std::string(c) + "\" is not a frame number");
+            }
+            if (v < 0) return makeError(where(kFields[i]) + ": frame " + std::to_string(v) + " is negative");
+            (i == 1 ? row.label.firstFrame : row.label.lastFrame) = v;
+        }
+        if (row.label.lastFrame < row.label.firstFrame) {
+            return makeError(where("last_frame") + ": " + std::to_string(row.label.lastFrame) +
+                             " is before first_frame " + std::to_string(row.label.firstFrame));
+        }
+        for (int i = 3; i <= 4; ++i) {
+            const auto c = cells[static_cast<std::size_t>(i)];
+            std::optional<bool> v;
+            if (c == "1") v = true;
+            else if (c == "0") v = false;
+            else if (c != "-" && !c.empty()) {
+                return makeError(where(kFields[i]) + ": \"" + std::string(c) + "\" must be 1, 0 or -");
+            }
+            (i == 3 ? row.label.left : row.label.right) = v;
+        }
+        if (!row.label.left && !row.label.right) {
+            return makeError(where("left") + ": the row labels neither foot");
+        }
+        rows.push_back(std::move(row));
+    }
+    if (!header) return makeError(std::string(fileName) + ": empty labels file (no header)");
+    return rows;
+}
+
+std::string labelsToCsv(const std::vector<LabelRow>& rows) {
+    std::ostringstream out;
+    out << "motion,first_frame,last_frame,left,right\n";
+    auto cell = [](const std::optional<bool>& v) { return v ? (*v ? "1" : "0") : "-"; };
+    for (const auto& r : rows) {
+        out << r.motion << ',' << r.label.firstFrame << ',' << r.label.lastFrame << ',' << cell(r.label.left) << ','
+            << cell(r.label.right) << '\n';
+    }
+    return out.str();
+}
+
+Result<FrameLabels> expandLabels(const std::vector<ContactLabel>& labels, int frameCount) {
+    FrameLabels out;
+    out.left.assign(static_cast<std::size_t>(std::max(0, frameCount)), -1);
+    out.right = out.left;
+    for (std::size_t i = 0; i < labels.size(); ++i) {
+        const auto& l = labels[i];
+        if (l.firstFrame < 0 || l.lastFrame >= frameCount || l.lastFrame < l.firstFrame) {
+            return makeError("label " + std::to_string(i + 1) + " covers frames " + std::to_string(l.firstFrame) +
+                             ".." + std::to_string(l.lastFrame) + " but the motion has frames 0.." +
+                             std::to_string(frameCount - 1));
+        }
+        for (int f = l.firstFrame; f <= l.lastFrame; ++f) {
+            if (l.left) out.left[static_cast<std::size_t>(f)] = *l.left ? 1 : 0;
+            if (l.right) out.right[static_cast<std::size_t>(f)] = *l.right ? 1 : 0;
+        }
+    }
+    return out;
+}
+
+}  // namespace fray::prep
