@@ -103,6 +103,17 @@ Result<MotionSignals> computeSignals(const Motion& motion, const StandardJoints&
             ht[i] = y;
         }
     }
+    if (joints.pelvis >= 0 && joints.head >= 0 && joints.hasHands()) {
+        s.posture.resize(static_cast<std::size_t>(frames));
+        for (int f = 0; f < frames; ++f) {
+            const glm::vec3& pelvis = at(f, joints.pelvis);
+            const glm::vec3& head = at(f, joints.head);
+            s.posture[static_cast<std::size_t>(f)] = {pelvis.y, head.y,
+                                                      glm::length(glm::vec2(head.x - pelvis.x, head.z - pelvis.z)),
+                                                      at(f, joints.leftHand).y - pelvis.y,
+                                                      at(f, joints.rightHand).y - pelvis.y};
+        }
+    }
     return s;
 }
 

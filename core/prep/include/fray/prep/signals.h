@@ -30,6 +30,12 @@ struct MotionSignals {
     // the 2nd percentile of that point's height over the take.
     std::array<float, 2> ankleFloor{};
     std::array<float, 2> toeFloor{};
+    // A coarse posture descriptor per frame, invariant to floor position and
+    // heading: pelvis height, head height, horizontal head-pelvis distance,
+    // left and right hand heights relative to the pelvis (m). Segmentation
+    // uses it to prefer cuts at recurring postures. Empty when the skeleton
+    // lacks a head or hands.
+    std::vector<std::array<float, 5>> posture;
 };
 
 // Computes the signals. Fails when the feet cannot be identified or the

@@ -1,0 +1,199 @@
+#include "fray/prep/segmentation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+
+namespace fray::prep {
+namespace {
+
+int framesOf(double seconds, double fps) { return std::max(0, static_cast<int>(std::lround(seconds * fps))); }
+
+// Calls fn(first, last) for every maximal run of frames where pred(f) holds.
+template <class Pred, class Fn>
+void forEachRun(int frames, Pred pred, Fn fn) {
+    int f = 0;
+    while (f < frames) {
+        if (!pred(f)) {
+            ++f;
+            continue;
+        }
+        const int first = f;
+        while (f < frames && pred(f)) ++f;
+        fn(first, f - 1);
+    }
+}
+
+}  // namespace
+
+SegmentationResult segment(const MotionSignals& signals, const FootContacts& contacts,
+                           const SegmentationParams& params) {
+    SegmentationResult r;
+    const int frames = signals.frameCount;
+    const double fps = signals.fps;
+    if (frames < 3) return r;
+    const auto n = static_cast<std::size_t>(frames);
+
+    // Smoothed profile (centred box filter).
+    const int half = framesOf(params.smoothSeconds * 0.5, fps);
+    r.smoothed.resize(n);
+    {
+        double sum = 0.0;
+        int lo = 0, hi = -1;
+        for (int f = 0; f < frames; ++f) {
+            const int a = std::max(0, f - half), b = std::min(frames - 1, f + half);
+            while (hi < b) sum += double(signals.acceleration[static_cast<std::size_t>(++hi)]);
+            while (lo < a) sum -= double(signals.acceleration[static_cast<std::size_t>(lo++)]);
+            r.smoothed[static_cast<std::size_t>(f)] = static_cast<float>(sum / (b - a + 1));
+        }
+    }
+    if (params.highAccelThreshold) {
+        r.threshold = *params.highAccelThreshold;
+    } else {
+        std::vector<float> sorted = r.smoothed;
+        std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(n / 2), sorted.end());
+        r.threshold = params.thresholdFactor * double(sorted[n / 2]);
+    }
+
+    // High-acceleration periods, with short gaps closed.
+    r.highAccel.assign(n, 0);
+    for (std::size_t i = 0; i < n; ++i) r.highAccel[i] = double(r.smoothed[i]) > r.threshold ? 1 : 0;
+    const int gap = framesOf(params.closeGapSeconds, fps);
+    forEachRun(frames, [&](int f) { return r.highAccel[static_cast<std::size_t>(f)] == 0; },
+               [&](int first, int last) {
+                   if (first > 0 && last < frames - 1 && last - first + 1 <= gap) {
+                       for (int f = first; f <= last; ++f) r.highAccel[static_cast<std::size_t>(f)] = 1;
+                   }
+               });
+
+    r.support.resize(n);
+    for (int f = 0; f < frames; ++f) r.support[static_cast<std::size_t>(f)] = supportAt(contacts, f);
+
+    r.support.resize(n);
+    for (int f = 0; f < frames; ++f) r.support[static_cast<std::size_t>(f)] = supportAt(contacts, f);
+
+    // Candidate cuts with a strength; thinning keeps the stronger first.
+    // Rest-derived cuts are the most certain, then quiet-phase cuts by the
+    // phase length, then flight cuts.
+    struct Candidate {
+        int frame;
+        double strength;
+    };
+    std::vector<Candidate> candidates;
+    const int minAction = std::max(1, framesOf(params.minActionSeconds, fps));
+    const double restLevel = params.restFraction * r.threshold;
+    const int minRest = std::max(1, framesOf(params.minRestSeconds, fps));
+    const int idle = std::max(1, framesOf(params.idleSeconds, fps));
+    const int delay = framesOf(params.onsetDelaySeconds, fps);
+    auto acc = [&](int f) { return double(r.smoothed[static_cast<std::size_t>(f)]); };
+    auto quiet = [&](int f) { return r.highAccel[static_cast<std::size_t>(f)] == 0; };
+    forEachRun(frames, [&](int f) { return r.support[static_cast<std::size_t>(f)] == Support::Double && quiet(f); },
+               [&](int first, int last) {
+                   bool rested = false;
+                   forEachRun(last - first + 1, [&](int i) { return acc(first + i) <= restLevel; },
+                              [&](int a, int b) {
+                                  if (b - a + 1 < minRest) return;
+                                  rested = true;
+                                  const int restFirst = first + a, restLast = first + b;
+                                  const double strength = 1e6 + (b - a);
+                                  // Movement starts again after the rest (unless the take ends).
+                                  if (restLast < frames - 1) {
+                                      candidates.push_back({std::min(frames - 1, restLast + delay), strength});
+                                  }
+                                  if (b - a + 1 >= idle && restFirst > 0) candidates.push_back({restFirst, strength});
+                              });
+                   if (rested) return;
+                   int at = (first + last) / 2;
+                   if (params.placement == SegmentationParams::Placement::Minimum) {
+                       for (int f = first; f <= last; ++f) {
+                           if (acc(f) < acc(at)) at = f;
+                       }
+                       at = std::min(frames - 1, at + delay);
+                   }
+                   candidates.push_back({at, double(last - first + 1)});
+               });
+    if (params.cutFlightPhases) {
+        const int window = framesOf(params.flightWindowSeconds, fps);
+        forEachRun(frames, [&](int f) { return r.support[static_cast<std::size_t>(f)] == Support::None && quiet(f); },
+                   [&](int first, int last) {
+                       // A flight phase between two single-support phases of
+                       // opposite feet (a running stride), with no double support near.
+                       if (first == 0 || last == frames - 1) return;
+                       const Support before = r.support[static_cast<std::size_t>(first - 1)];
+                       const Support after = r.support[static_cast<std::size_t>(last + 1)];
+                       if (!((before == Support::Left && after == Support::Right) ||
+                             (before == Support::Right && after == Support::Left))) {
+                           return;
+                       }
+                       for (int f = std::max(0, first - window); f <= std::min(frames - 1, last + window); ++f) {
+                           if (r.support[static_cast<std::size_t>(f)] == Support::Double) return;
+                       }
+                       candidates.push_back({(first + last) / 2, double(last - first + 1)});
+                   });
+    }
+
+    // Thinning: keep candidates at least minAction apart from each other and
+    // from the ends, stronger first (ties: earlier frame).
+    std::stable_sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
+        return a.strength != b.strength ? a.strength > b.strength : a.frame < b.frame;
+    });
+    std::vector<int> kept;
+    for (const auto& c : candidates) {
+        if (c.frame < minAction || c.frame > frames - minAction) continue;
+        const auto it = std::lower_bound(kept.begin(), kept.end(), c.frame);
+        if (it != kept.end() && *it - c.frame < minAction) continue;
+        if (it != kept.begin() && c.frame - *(it - 1) < minAction) continue;
+        kept.insert(it, c.frame);
+    }
+
+    // Recurrence filter.
+    if (params.recurrenceDistance > 0 && signals.posture.size() == n && kept.size() > 1) {
+        const auto need = static_cast<std::size_t>(
+            std::max(1.0, std::floor(params.recurrenceShare * static_cast<double>(kept.size()))));
+        std::vector<int> recurring;
+        for (int c : kept) {
+            const auto& p = signals.posture[static_cast<std::size_t>(c)];
+            std::size_t near = 0;
+            for (int o : kept) {
+                if (o == c) continue;
+                const auto& q = signals.posture[static_cast<std::size_t>(o)];
+                double d = 0.0;
+                for (std::size_t k = 0; k < p.size(); ++k) d += std::abs(double(p[k]) - double(q[k]));
+                if (d < params.recurrenceDistance && ++near >= need) break;
+            }
+            if (near >= need) recurring.push_back(c);
+        }
+        kept = std::move(recurring);
+    }
+    r.cuts = std::move(kept);
+    return r;
+}
+
+BoundaryScore scoreBoundaries(const std::vector<int>& predicted, const std::vector<int>& actual, int tolerance) {
+    BoundaryScore s;
+    s.predicted = static_cast<int>(predicted.size());
+    s.actual = static_cast<int>(actual.size());
+    struct Pair {
+        int distance, p, a;
+    };
+    std::vector<Pair> pairs;
+    for (std::size_t i = 0; i < predicted.size(); ++i) {
+        // Only true cuts within tolerance can pair; both lists are short per window.
+        for (std::size_t j = 0; j < actual.size(); ++j) {
+            const int d = std::abs(predicted[i] - actual[j]);
+            if (d <= tolerance) pairs.push_back({d, static_cast<int>(i), static_cast<int>(j)});
+        }
+    }
+    std::sort(pairs.begin(), pairs.end(), [](const Pair& x, const Pair& y) {
+        return std::tie(x.distance, x.p, x.a) < std::tie(y.distance, y.p, y.a);
+    });
+    std::vector<char> usedP(predicted.size(), 0), usedA(actual.size(), 0);
+    for (const auto& pr : pairs) {
+        if (usedP[static_cast<std::size_t>(pr.p)] || usedA[static_cast<std::size_t>(pr.a)]) continue;
+        usedP[static_cast<std::size_t>(pr.p)] = usedA[static_cast<std::size_t>(pr.a)] = 1;
+        ++s.truePositives;
+    }
+    return s;
+}
+
+}  // namespace fray::prep

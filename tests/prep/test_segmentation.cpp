@@ -1,0 +1,113 @@
+// Segmentation against the demo actor's ground truth (SPEC 1.2).
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "fray/prep/segmentation.h"
+#include "prep_fixture.h"
+
+using namespace fray::prep;
+
+namespace {
+
+std::vector<int> truthCuts(const fray::demo::GroundTruth& truth) {
+    std::vector<int> cuts;
+    for (std::size_t i = 1; i < truth.actions.size(); ++i) cuts.push_back(truth.actions[i].firstFrame);
+    return cuts;
+}
+
+BoundaryScore scoreAll(const SegmentationParams& params, bool print) {
+    BoundaryScore total;
+    for (const auto& [name, t] : fray::test::demoTakes()) {
+        const auto r = segment(t.signals, t.truthContacts, params);
+        const auto s = scoreBoundaries(r.cuts, truthCuts(t.take.truth), 6);
+        if (print) {
+            std::printf("%-22s P %.3f R %.3f F1 %.3f (cuts %d, true %d)\n", name.c_str(), s.precision(), s.recall(),
+                        s.f1(), s.predicted, s.actual);
+        }
+        total += s;
+    }
+    if (print) std::printf("all demo takes: P %.3f R %.3f F1 %.3f\n", total.precision(), total.recall(), total.f1());
+    return total;
+}
+
+}  // namespace
+
+// The issue asks for F1 >= 0.9 (+-6 frames at 60 fps). We reach 0.83 with the
+// true contacts; the floor below guards against regressions and the gap is
+// recorded in docs/STATUS.md.
+TEST(Segmentation, DemoBoundaryF1WithTrueContacts) {
+    const BoundaryScore s = scoreAll({}, true);
+    EXPECT_GE(s.f1(), 0.80);
+    EXPECT_GE(s.precision(), 0.85);
+}
+
+// Each refinement over the thesis' centre-of-double-support rule must earn
+// its place: switching it off must score worse.
+TEST(Segmentation, RefinementsBeatThePlainThesisRule) {
+    const double ours = scoreAll({}, false).f1();
+    SegmentationParams centre;
+    centre.placement = SegmentationParams::Placement::Centre;
+    centre.restFraction = 0.0;
+    centre.idleSeconds = 1e9;
+    EXPECT_LT(scoreAll(centre, false).f1(), ours - 0.05);
+    SegmentationParams noRecurrence;
+    noRecurrence.recurrenceDistance = 0.0;
+    EXPECT_LT(scoreAll(noRecurrence, false).f1(), ours);
+    SegmentationParams noFlight;
+    noFlight.cutFlightPhases = false;
+    EXPECT_LT(scoreAll(noFlight, false).f1(), ours);
+}
+
+TEST(Segmentation, NeverCutsInsideHighAccelerationOrTooClose) {
+    for (const auto& [name, t] : fray::test::demoTakes()) {
+        SegmentationParams params;
+        const auto r = segment(t.signals, t.truthContacts, params);
+        ASSERT_EQ(r.highAccel.size(), t.signals.acceleration.size());
+        const int minAction = static_cast<int>(std::lround(params.minActionSeconds * t.signals.fps));
+        int prev = 0;
+        for (int c : r.cuts) {
+            EXPECT_GE(c - prev, minAction) << name << " cut " << c;
+            prev = c;
+            // The cut lands at most onsetDelay after a quiet frame.
+            const int quietFrame = c - static_cast<int>(std::lround(params.onsetDelaySeconds * t.signals.fps));
+            EXPECT_TRUE(!r.highAccel[static_cast<std::size_t>(c)] || !r.highAccel[static_cast<std::size_t>(quietFrame)])
+                << name << " cut " << c;
+        }
+        EXPECT_GE(t.signals.frameCount - prev, minAction) << name;
+    }
+}
+
+TEST(Segmentation, DeterministicAndThresholdOverride) {
+    const auto& t = fray::test::demoTakes().at("shadowbox_energetic");
+    const auto a = segment(t.signals, t.truthContacts);
+    const auto b = segment(t.signals, t.truthContacts);
+    EXPECT_EQ(a.cuts, b.cuts);
+    SegmentationParams high;
+    high.highAccelThreshold = a.threshold * 100.0;  // nothing is an attack any more
+    const auto c = segment(t.signals, t.truthContacts, high);
+    EXPECT_DOUBLE_EQ(c.threshold, a.threshold * 100.0);
+    EXPECT_EQ(std::count(c.highAccel.begin(), c.highAccel.end(), 1), 0);
+}
+
+TEST(Segmentation, ShortOrStillMotionGivesNoCuts) {
+    MotionSignals s;
+    s.fps = 60;
+    s.frameCount = 2;
+    s.acceleration = {0, 0};
+    FootContacts c{{1, 1}, {1, 1}};
+    EXPECT_TRUE(segment(s, c).cuts.empty());
+    s.frameCount = 600;
+    s.acceleration.assign(600, 0.0f);
+    c.left.assign(600, 1);
+    c.right.assign(600, 1);
+    EXPECT_TRUE(segment(s, c).cuts.empty());  // one long idle, nothing to cut
+}
+
+TEST(Segmentation, BoundaryScoreMatchesOneToOne) {
+    const auto s = scoreBoundaries({10, 12, 50}, {11, 40}, 6);
+    EXPECT_EQ(s.truePositives, 1);
+    EXPECT_EQ(s.predicted, 3);
+    EXPECT_EQ(s.actual, 2);
+    EXPECT_NEAR(s.f1(), 2.0 / 5.0, 1e-12);
+}
