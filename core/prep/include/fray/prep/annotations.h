@@ -1,0 +1,46 @@
+#pragma once
+// Annotation vocabulary and automatic proposals (SPEC 1.4). Proposals are
+// cheap guesses the user confirms in the inspector: they land in
+// ActionInfo::proposed, never in ActionInfo::annotations.
+#include <string>
+#include <vector>
+
+#include "fray/core/joint_guess.h"
+#include "fray/core/motion.h"
+#include "fray/prep/actions.h"
+#include "fray/prep/signals.h"
+
+namespace fray::prep {
+
+// The defaults used by the experiments: punch, kick, avoid, dodge, block,
+// step, transition, falling, pushed, run, jump, tackle, carry, walk, hand,
+// receive, turn, idle. Projects may add their own words.
+const std::vector<std::string>& defaultVocabulary();
+// Lower-case letters, digits, '_' and '-', 1..32 characters.
+bool isValidAnnotation(const std::string& word);
+
+struct ProposalParams {
+    double attackSpeed = 4.0;      // m/s: a hand faster than this proposes "punch", a foot "kick"
+    double fallHeightRatio = 0.45; // pelvis below this share of its standing height proposes "falling"
+    double walkSpeed = 0.5;        // m/s pelvis speed on the floor: "walk"
+    double runSpeed = 2.2;         // m/s: "run"
+    double turnDegrees = 60.0;     // heading change over the action: "turn"
+    double idleSpeed = 0.15;       // m/s: no joint faster than this on average: "idle"
+};
+
+struct Proposal {
+    std::vector<std::string> annotations;
+    std::vector<std::string> joints;  // joints used (the effector that triggered "punch"/"kick")
+};
+
+// Proposes annotations for frames [first, last] of the motion.
+Proposal proposeAnnotations(const Motion& motion, const StandardJoints& joints, const MotionSignals& signals,
+                            int first, int last, const ProposalParams& params = {});
+
+// Fills ActionInfo::proposed (and joints when empty) for every action of doc,
+// leaving confirmed annotations alone. Proposals equal to confirmed
+// annotations are not repeated.
+void proposeAll(MotionActions& doc, const Motion& motion, const StandardJoints& joints, const MotionSignals& signals,
+                const ProposalParams& params = {});
+
+}  // namespace fray::prep

@@ -1,0 +1,83 @@
+#pragma once
+// The data-preparation pipeline over a project: load every motion, compute
+// its signals and foot contacts, segment, propose annotations, build the
+// motion graph. Derived data (contacts, graph) lives in a versioned binary
+// cache beside the project ("<project>.cache") and is rebuilt when stale:
+// every entry carries a key hashed from everything it depends on (file size
+// and time, import overrides, labels, cuts, settings).
+//
+// fray_prep does no file-format work itself: callers pass a MotionLoader
+// (the CLI and the editor pass fray::loadMotion from fray_io).
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fray/core/joint_guess.h"
+#include "fray/core/motion.h"
+#include "fray/core/progress.h"
+#include "fray/prep/project.h"
+#include "fray/prep/segmentation.h"
+#include "fray/prep/signals.h"
+
+namespace fray::prep {
+
+using MotionLoader = std::function<Result<Motion>(const std::filesystem::path& file, const ProjectMotion& entry)>;
+
+enum class ContactSource : std::uint8_t { Heuristic = 0, Svm = 1 };
+
+struct LoadedMotion {
+    std::string id;
+    std::filesystem::path file;
+    std::uint64_t fileKey = 0;  // hash of path, size, mtime and import overrides
+    Motion motion;
+    StandardJoints joints;
+    MotionSignals signals;
+    FootContacts contacts;
+    ContactSource contactSource = ContactSource::Heuristic;
+};
+
+// Loads every motion of the project (in order) and computes its signals.
+// Errors name the project, the motion's JSON path and the problem, e.g.
+// "demo.frayproj: /motions/1/path: cannot open 'takes/walk.bvh'".
+Result<std::vector<LoadedMotion>> loadProjectMotions(const Project& project, const std::filesystem::path& projectFile,
+                                                     const MotionLoader& loader, const ProgressFn& progress = {});
+
+// Derived data kept between runs.
+struct CachedContacts {
+    std::uint64_t key = 0;
+    ContactSource source = ContactSource::Heuristic;
+    FootContacts contacts;
+};
+struct CachedGraph {
+    std::uint64_t key = 0;
+    int nodeCount = 0;
+    std::vector<int> startNode, endNode;  // per action, project order
+};
+struct DerivedCache {
+    static constexpr std::uint32_t kVersion = 1;
+    std::vector<std::pair<std::string, CachedContacts>> contacts;  // by motion id
+    std::optional<CachedGraph> graph;
+    const CachedContacts* findContacts(const std::string& id, std::uint64_t key) const;
+};
+
+std::filesystem::path cachePath(const std::filesystem::path& projectFile);
+std::vector<std::uint8_t> serializeCache(const DerivedCache& cache);
+// Garbage, truncation or another version give an error (callers rebuild).
+Result<DerivedCache> deserializeCache(const std::vector<std::uint8_t>& bytes);
+// A missing or unreadable cache reads as empty (with the reason in *why).
+DerivedCache readCache(const std::filesystem::path& projectFile, std::string* why = nullptr);
+Status writeCache(const std::filesystem::path& projectFile, const DerivedCache& cache);
+
+// FNV-1a 64 over bytes; used for the cache keys.
+std::uint64_t hashBytes(const void* data, std::size_t size, std::uint64_t seed = 1469598103934665603ull);
+std::uint64_t hashString(std::string_view s, std::uint64_t seed = 1469598103934665603ull);
+
+// Key of a motion's contacts: the file key plus the labels that train them.
+std::uint64_t contactsKey(const LoadedMotion& motion, const std::vector<ContactLabel>& labels, bool svm);
+
+SegmentationParams segmentationParams(const ProjectSettings& settings);
+
+}  // namespace fray::prep
