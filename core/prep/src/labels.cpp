@@ -62,6 +62,7 @@ Result<std::vector<LabelRow>> parseLabelsCsv(std::string_view text, std::string_
                              std::to_string(cells.size()));
         }
         LabelRow row;
+        row.line = lineNo;
         row.motion = std::string(cells[0]);
         if (row.motion.empty()) return makeError(where("motion") + ": empty motion name");
         for (int i = 1; i <= 2; ++i) {

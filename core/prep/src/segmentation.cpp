@@ -147,19 +147,34 @@ SegmentationResult segment(const MotionSignals& signals, const FootContacts& con
     }
 
     // Recurrence filter.
-    if (params.recurrenceDistance > 0 && signals.posture.size() == n && kept.size() > 1) {
+    if (params.recurrenceDistance > 0 && signals.posture.size() == n &&
+        static_cast<int>(kept.size()) >= params.recurrenceMinCuts) {
         const auto need = static_cast<std::size_t>(
             std::max(1.0, std::floor(params.recurrenceShare * static_cast<double>(kept.size()))));
+        auto distance = [&](int a, int b) {
+            const auto& p = signals.posture[static_cast<std::size_t>(a)];
+            const auto& q = signals.posture[static_cast<std::size_t>(b)];
+            double d = 0.0;
+            for (std::size_t k = 0; k < p.size(); ++k) d += std::abs(double(p[k]) - double(q[k]));
+            return d;
+        };
+        // The radius adapts to how varied the cut postures are: a real actor
+        // never returns to exactly the same guard, so the radius is at least
+        // recurrenceSpread x the median distance between candidate postures.
+        std::vector<double> pairwise;
+        for (std::size_t i = 0; i < kept.size(); ++i) {
+            for (std::size_t j = i + 1; j < kept.size(); j += 1 + kept.size() / 64) {
+                pairwise.push_back(distance(kept[i], kept[j]));
+            }
+        }
+        std::nth_element(pairwise.begin(), pairwise.begin() + static_cast<std::ptrdiff_t>(pairwise.size() / 2),
+                         pairwise.end());
+        const double radius = std::max(params.recurrenceDistance, params.recurrenceSpread * pairwise[pairwise.size() / 2]);
         std::vector<int> recurring;
         for (int c : kept) {
-            const auto& p = signals.posture[static_cast<std::size_t>(c)];
             std::size_t near = 0;
             for (int o : kept) {
-                if (o == c) continue;
-                const auto& q = signals.posture[static_cast<std::size_t>(o)];
-                double d = 0.0;
-                for (std::size_t k = 0; k < p.size(); ++k) d += std::abs(double(p[k]) - double(q[k]));
-                if (d < params.recurrenceDistance && ++near >= need) break;
+                if (o != c && distance(c, o) < radius && ++near >= need) break;
             }
             if (near >= need) recurring.push_back(c);
         }

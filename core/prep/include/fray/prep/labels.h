@@ -31,6 +31,7 @@ struct ContactLabel {
 struct LabelRow {
     std::string motion;
     ContactLabel label;
+    int line = 0;  // line in the labels file (0 when not read from one)
 };
 
 // Parses a labels file; errors name the file, the line and the field.

@@ -47,10 +47,13 @@ struct SegmentationParams {
     bool cutFlightPhases = true;      // running: cut at the centre of flight phases
     double flightWindowSeconds = 0.4; // ... when no double support lies this close
     // Recurrence filter: a cut survives when at least recurrenceShare of the
-    // other cuts have a posture within recurrenceDistance (L1 over
-    // MotionSignals::posture, m). 0 disables it.
+    // other cuts have a posture within the radius (L1 over
+    // MotionSignals::posture, m): recurrenceDistance, or more for takes
+    // whose cut postures vary widely. recurrenceDistance 0 disables it.
     double recurrenceDistance = 0.05;
     double recurrenceShare = 0.05;
+    double recurrenceSpread = 0.3;  // radius >= this x the median distance between cut postures
+    int recurrenceMinCuts = 20;     // fewer candidate cuts say too little about recurrence: filter off
 };
 
 struct SegmentationResult {
