@@ -1,0 +1,129 @@
+#pragma once
+// Action-level motion graph (SPEC 1.5, thesis 3.3). Every action contributes
+// its start pose and its end pose; K-means groups all of them into clusters
+// whose largest pose-to-centre distance is below a threshold. Each cluster is
+// a node, each action an edge from the node of its start pose to the node of
+// its end pose, and Next(a) is every action that starts where a ends.
+//
+// Pose distance units. Every term is scaled to read roughly as "radians of
+// joint motion", so one threshold works for every skeleton and capture rate:
+//  - upper body: mean over the upper-body joints of the angle (rad) between
+//    the two local rotations. The angle between rotations, not a difference of
+//    Euler angles, so wrapping (179 vs -179 degrees) and the Euler order do
+//    not matter. The pelvis is included as its world tilt with the heading
+//    removed, which tells lying from standing.
+//  - legs: pelvis->ankle vectors in the pelvis heading frame divided by the
+//    leg length (hip to ankle at rest); a leg swinging by x rad about the hip
+//    moves its vector by about x. Mean of the two legs.
+//  - height: pelvis height above the world floor divided by the leg length.
+//  - derivatives: the same quantities per second, times kVelocityScale
+//    (0.1 s), so 1 rad/s of difference counts like 0.1 rad of pose
+//    difference. Finite differences over ~1/60 s whatever the capture rate.
+// The sum of means (instead of the SPEC's plain sums) keeps the scale
+// independent of how many joints the skeleton has. D is a metric (sum of
+// metrics), so two poses in one cluster are at most 2 * threshold apart.
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include <glm/gtc/quaternion.hpp>
+#include <glm/vec3.hpp>
+
+#include "fray/core/joint_guess.h"
+#include "fray/core/motion.h"
+#include "fray/core/progress.h"
+#include "fray/core/result.h"
+
+namespace fray::prep {
+
+// Seconds that turn a rate difference into a pose difference (see above).
+inline constexpr double kVelocityScale = 0.1;
+
+// One action of motions[motion]: frames [firstFrame, lastFrame], inclusive.
+struct ActionRef {
+    int motion = 0;
+    int firstFrame = 0;
+    int lastFrame = 0;
+    friend bool operator==(const ActionRef&, const ActionRef&) = default;
+};
+
+// Weights of the six terms of D (SPEC 1.5: per data set).
+struct GraphWeights {
+    double upper = 1, upperVel = 1, leg = 1, legVel = 1, height = 1, heightVel = 1;
+    static GraphWeights fighting();    // all terms equal
+    static GraphWeights locomotion();  // upper body small: the legs decide
+    // "fighting" or "locomotion"; nullopt for any other name.
+    static std::optional<GraphWeights> preset(std::string_view name);
+    friend bool operator==(const GraphWeights&, const GraphWeights&) = default;
+};
+
+// What D needs of one pose. Values are already normalised (see the top).
+struct PoseFeature {
+    // [0] pelvis world rotation without its heading, then the local rotation
+    // of every upper-body joint (upperBodyJoints order).
+    std::vector<glm::quat> rotations;
+    std::vector<glm::vec3> angularVelocities;  // rad/s, same order, local frames
+    std::array<glm::vec3, 2> legs{};           // [left, right] pelvis->ankle, heading frame, / leg length
+    std::array<glm::vec3, 2> legVelocities{};  // 1/s
+    float height = 0.0f;                       // pelvis height / leg length
+    float heightVelocity = 0.0f;               // 1/s
+};
+
+// Upper-body joints: every joint on the chains from the head and both hands
+// down to (not including) the pelvis, ascending. Fingers are not included.
+std::vector<int> upperBodyJoints(const Skeleton& skeleton, const StandardJoints& joints);
+// Mean rest length hip -> ankle of the two legs (m); 1 when it cannot be measured.
+double legLength(const Skeleton& skeleton, const StandardJoints& joints);
+// Heading (rad about +Y, 0 = facing +Z) of a pose from its world positions:
+// the direction perpendicular to the hip line (right hip -> left hip), on the floor.
+double headingOf(std::span<const glm::vec3> worldPositions, const StandardJoints& joints);
+
+// Feature of one frame. Needs pelvis, head, hands, hips and feet
+// (buildMotionGraph checks; here it is a precondition).
+PoseFeature poseFeature(const Motion& motion, const StandardJoints& joints, int frame);
+// SPEC 1.5 D(A, B). Both features must come from the same skeleton.
+double poseDistance(const PoseFeature& a, const PoseFeature& b, const GraphWeights& weights);
+
+struct GraphOptions {
+    GraphWeights weights;
+    // Largest allowed distance of a pose to its cluster centre, in the units
+    // above (~radians). At 0.2 the demo library's 633 actions give about 30
+    // nodes with 93-95 % of the actions in the largest strongly connected
+    // component (seeds 1-8); lower it for closer joins (more nodes, fewer
+    // connections), raise it for a denser graph.
+    double threshold = 0.2;
+    int maxNodes = 4096;  // K never grows past this; maxClusterDistance then tells how close it got
+    std::uint64_t seed = 1;
+};
+
+struct GraphStats {
+    int nodes = 0, edges = 0;
+    double meanOutDegree = 0;  // edges per node
+    int maxOutDegree = 0;
+    int largestSccActions = 0;  // actions whose start and end nodes both lie in the largest SCC
+    double sccShare = 0;        // largestSccActions / edges
+    int deadEnds = 0;           // actions with an empty Next()
+};
+
+struct MotionGraph {
+    int nodeCount = 0;
+    std::vector<int> startNode, endNode;   // per action (edge)
+    std::vector<std::vector<int>> next;    // per action: actions whose start node is its end node, ascending
+    std::vector<std::uint8_t> inLargestScc;  // per action: both ends in the largest SCC
+    std::vector<PoseFeature> centres;      // per node: the cluster centre
+    GraphStats stats;
+    double maxClusterDistance = 0;  // achieved largest pose-to-centre distance
+    int kmeansRounds = 0;           // K growth rounds it took
+};
+
+// Builds the graph. motions and joints are parallel; every motion must have
+// the same skeleton (names and hierarchy). Deterministic for a seed. Fails
+// with a readable message on bad input, or "cancelled" when progress says so.
+Result<MotionGraph> buildMotionGraph(std::span<const Motion* const> motions, std::span<const StandardJoints> joints,
+                                     std::span<const ActionRef> actions, const GraphOptions& options,
+                                     const ProgressFn& progress = {});
+
+}  // namespace fray::prep
