@@ -334,6 +334,11 @@ public:
     int slot(std::size_t row) const { return slot_[row]; }
     const double* row(std::size_t r) const { return values_.data() + r * columnCount_; }
     double rbf(std::size_t a, std::size_t b) const { return rbfKernel(set_, gamma_, a, b); }
+    double operator()(std::size_t a, std::size_t b) const {
+        if (slot_[b] >= 0) return row(a)[slot_[b]];
+        if (slot_[a] >= 0) return row(b)[slot_[a]];
+        return rbf(a, b);
+    }
 
 private:
     const TrainingSet& set_;
@@ -352,9 +357,16 @@ struct RowModel {
     std::vector<double> otherCoef;
     double rho = 0;
     double operator()(const KernelColumns& k, std::size_t r) const {
+        // Four partial sums (a fixed order, so still deterministic) let the
+        // compiler vectorise the dot product, the hot loop of the checks.
         const double* values = k.row(r);
-        double sum = -rho;
-        for (std::size_t c = 0; c < columnCoef.size(); ++c) sum += columnCoef[c] * values[c];
+        const std::size_t n = columnCoef.size();
+        double part[4] = {0, 0, 0, 0};
+        std::size_t c = 0;
+        for (; c + 4 <= n; c += 4)
+            for (std::size_t j = 0; j < 4; ++j) part[j] += columnCoef[c + j] * values[c + j];
+        double sum = (part[0] + part[1]) + (part[2] + part[3]) - rho;
+        for (; c < n; ++c) sum += columnCoef[c] * values[c];
         for (std::size_t i = 0; i < otherRows.size(); ++i) sum += otherCoef[i] * k.rbf(r, otherRows[i]);
         return sum;
     }
@@ -385,6 +397,34 @@ struct CellResult {
     long long retrains = 0;
     SvmData model;
 };
+
+// Trains on the rows in `use` with libsvm's PRECOMPUTED kernel, the values
+// taken from the cell's kernel columns: the same problem as with the RBF
+// kernel, without an exp() per kernel value in every retraining. Each row's
+// nodes are [serial, K(row, 1..m), end]; `nodes` keeps them alive (and is
+// reused between calls).
+ModelPtr trainPrecomputed(const TrainingSet& set, const std::vector<std::uint8_t>& use, const svm_parameter& rbfParam,
+                          const KernelColumns& kernel, std::vector<std::size_t>& rows, std::vector<svm_node>& nodes) {
+    rows.clear();
+    for (std::size_t r = 0; r < use.size(); ++r)
+        if (use[r]) rows.push_back(r);
+    const std::size_t m = rows.size();
+    nodes.resize(m * (m + 2));
+    std::vector<svm_node*> x(m);
+    std::vector<double> y(m);
+    for (std::size_t i = 0; i < m; ++i) {
+        svm_node* xi = &nodes[i * (m + 2)];
+        xi[0] = {0, static_cast<double>(i + 1)};
+        for (std::size_t j = 0; j < m; ++j) xi[j + 1] = {static_cast<int>(j + 1), kernel(rows[i], rows[j])};
+        xi[m + 1] = {-1, 0.0};
+        x[i] = xi;
+        y[i] = set.y[rows[i]];
+    }
+    svm_parameter param = rbfParam;
+    param.kernel_type = PRECOMPUTED;
+    const svm_problem problem{static_cast<int>(m), y.data(), x.data()};
+    return ModelPtr(svm_train(&problem, &param));
+}
 
 // True when `left` is the only row of its class: without it the problem has
 // one class, and the leave-one-out model predicts the other one.
@@ -429,8 +469,9 @@ bool looWorkingSet(const TrainingSet& set, std::size_t left, std::vector<std::ui
         if (nearest < set.size()) use[nearest] = 1;
     }
     std::vector<std::size_t> rows;
+    std::vector<svm_node> nodes;
     for (;;) {
-        const ModelPtr m = trainRows(set, use, param, &rows);
+        const ModelPtr m = trainPrecomputed(set, use, param, kernel, rows, nodes);
         if (!m) return false;
         const RowModel g = rowModel(m.get(), rows, kernel);
         bool violated = false;
