@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
     fray::cli::registerConvert(app);
     fray::cli::registerBench(app);
     fray::cli::registerDemoLibrary(app);
+    fray::cli::registerPrep(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

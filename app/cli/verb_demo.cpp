@@ -1,13 +1,17 @@
 // fray-cli demo-library OUTDIR [--seed N] [--minutes M] [--report]: writes the
-// procedural demo actor's takes (BVH) and their ground truth (JSON).
+// procedural demo actor's takes (BVH), their ground truth (JSON) and the demo
+// project (demo.frayproj) that references them.
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <cstdio>
 #include <map>
 #include <memory>
 #include <string>
 
+#include "fray/core/atomic_file.h"
 #include "fray/demo/demo_actor.h"
+#include "fray/demo/demo_project.h"
 #include "fray/demo/library.h"
 #include "fray/demo/metrics.h"
 #include "verbs.h"
@@ -75,14 +79,26 @@ void run(const DemoArgs& a) {
     const auto t0 = Clock::now();
     auto last = t0;
     Report report;
+    std::vector<demo::ProjectTake> projectTakes;
     auto written = demo::writeDemoLibrary(a.outDir, options, [&](int done, int total, const demo::Take& take) {
         const auto now = Clock::now();
         std::fprintf(stderr, "[%d/%d] %s (%.2f s)\n", done, total, take.spec.name.c_str(),
                      std::chrono::duration<double>(now - last).count());
         last = now;
         if (a.report) report.add(take);
+        projectTakes.push_back({take.truth, take.truth.motionFile});
     });
     if (!written) return fail(written.error().message);
+    const auto projectFile = std::filesystem::path(a.outDir) / "demo.frayproj";
+    const prep::Project project = demo::makeDemoProject(projectTakes);
+    if (auto st = prep::saveProject(project, projectFile); !st) return fail(st.error().message);
+    // The same labels as a CSV, for `fray-cli contacts P --train` on fresh projects.
+    std::vector<prep::LabelRow> rows;
+    for (const auto& m : project.motions) {
+        for (const auto& l : m.contactLabels) rows.push_back({m.id, l, 0});
+    }
+    const auto labelsFile = std::filesystem::path(a.outDir) / "contact_labels.csv";
+    if (auto st = writeFileAtomically(labelsFile, prep::labelsToCsv(rows)); !st) return fail(st.error().message);
     const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
     int frames = 0, actions = 0;
     for (const auto& w : *written) {
@@ -92,6 +108,7 @@ void run(const DemoArgs& a) {
     }
     std::printf("%zu takes, %.2f min of motion, %d actions, written in %.2f s\n", written->size(),
                 frames / demo::kDemoFps / 60.0, actions, seconds);
+    std::printf("demo project: %s\n", projectFile.string().c_str());
     if (a.report) {
         std::printf("\n");
         report.print();

@@ -1,0 +1,152 @@
+#include "prep_session.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "fray/io/import.h"
+#include "fray/prep/contacts.h"
+#include "fray/prep/labels.h"
+
+namespace fray::cli {
+
+ProgressFn stderrProgress(bool quiet) {
+    if (quiet) return {};
+    struct State {
+        std::string stage;
+        int lastDecile = -1;
+    };
+    auto state = std::make_shared<State>();
+    return [state](double fraction, std::string_view stage) {
+        const int decile = static_cast<int>(std::floor(std::clamp(fraction, 0.0, 1.0) * 10.0));
+        if (stage != state->stage || decile != state->lastDecile) {
+            state->stage = std::string(stage);
+            state->lastDecile = decile;
+            std::fprintf(stderr, "fray-cli: %.*s %d%%\n", static_cast<int>(stage.size()), stage.data(), decile * 10);
+        }
+        return true;
+    };
+}
+
+Result<Motion> loadProjectMotion(const std::filesystem::path& file, const prep::ProjectMotion& entry) {
+    LoadOptions o;
+    if (entry.units == "m") o.normalize.unitScale = 1.0;
+    else if (entry.units == "cm") o.normalize.unitScale = 0.01;
+    else if (entry.units == "mm") o.normalize.unitScale = 0.001;
+    else if (entry.units == "inch") o.normalize.unitScale = 0.0254;
+    else if (entry.units == "cmu") o.normalize.unitScale = 0.056444;
+    if (entry.up == "y") o.normalize.upAxis = UpAxis::Y;
+    else if (entry.up == "z") o.normalize.upAxis = UpAxis::Z;
+    return loadMotion(file, o);
+}
+
+Result<Session> openSession(const std::filesystem::path& file, bool loadMotions, const ProgressFn& progress) {
+    Session s;
+    s.file = file;
+    auto project = prep::loadProject(file);
+    if (!project) return project.error();
+    s.project = std::move(*project);
+    if (loadMotions) {
+        auto motions = prep::loadProjectMotions(s.project, file, loadProjectMotion, progress);
+        if (!motions) return motions.error();
+        s.motions = std::move(*motions);
+    }
+    std::string why;
+    s.cache = prep::readCache(file, &why);
+    return s;
+}
+
+Status importLabels(Session& s, const std::filesystem::path& labelsFile) {
+    std::ifstream in(labelsFile, std::ios::binary);
+    if (!in) return makeError(labelsFile.string() + ": cannot open the labels file");
+    std::ostringstream buf;
+    buf << in.rdbuf();
+    auto rows = prep::parseLabelsCsv(buf.str(), labelsFile.string());
+    if (!rows) return rows.error();
+    std::map<std::string, std::vector<prep::ContactLabel>> byMotion;
+    for (const auto& row : *rows) {
+        const auto* m = s.project.findMotion(row.motion);
+        const std::string where = labelsFile.string() + ":" + std::to_string(row.line) + ": ";
+        if (!m) return makeError(where + "motion: no motion \"" + row.motion + "\" in the project");
+        const int frames = m->actions.frameCount;
+        if (row.label.lastFrame >= frames) {
+            return makeError(where + "last_frame: frame " + std::to_string(row.label.lastFrame) +
+                             " is past the end of \"" + row.motion + "\" (frames 0.." + std::to_string(frames - 1) +
+                             ")");
+        }
+        byMotion[row.motion].push_back(row.label);
+    }
+    for (auto& [id, labels] : byMotion) s.project.findMotion(id)->contactLabels = std::move(labels);
+    return {};
+}
+
+Result<ContactsSummary> computeContacts(Session& s, bool forceHeuristic, const ProgressFn& progress) {
+    ContactsSummary summary;
+    std::vector<prep::ContactLabel> all;  // every label of the project: the SVM depends on all of them
+    for (const auto& m : s.project.motions) all.insert(all.end(), m.contactLabels.begin(), m.contactLabels.end());
+    summary.svm = !forceHeuristic && !all.empty();
+
+    // Fresh cache entries for every motion?
+    std::vector<std::uint64_t> keys;
+    bool allCached = true;
+    for (const auto& m : s.motions) {
+        keys.push_back(prep::contactsKey(m, all, summary.svm));
+        const auto* c = s.cache.findContacts(m.id, keys.back());
+        if (!c || c->contacts.frameCount() != m.signals.frameCount) allCached = false;
+    }
+    if (allCached) {
+        for (std::size_t i = 0; i < s.motions.size(); ++i) {
+            s.motions[i].contacts = s.cache.findContacts(s.motions[i].id, keys[i])->contacts;
+            s.motions[i].contactSource = summary.svm ? prep::ContactSource::Svm : prep::ContactSource::Heuristic;
+        }
+        summary.fromCache = true;
+        return summary;
+    }
+
+    std::optional<prep::ContactSvm> svm;
+    if (summary.svm) {
+        std::vector<prep::TrainingSample> samples;
+        for (std::size_t i = 0; i < s.motions.size(); ++i) {
+            const auto& entry = s.project.motions[i];
+            if (entry.contactLabels.empty()) continue;
+            auto labels = prep::expandLabels(entry.contactLabels, s.motions[i].signals.frameCount);
+            if (!labels) return makeError(s.file.string() + ": motion \"" + entry.id + "\": " + labels.error().message);
+            const auto part = prep::collectSamples(s.motions[i].signals, *labels);
+            samples.insert(samples.end(), part.begin(), part.end());
+        }
+        const auto t0 = std::chrono::steady_clock::now();
+        auto trained = prep::ContactSvm::train(samples, {}, [&](double f, std::string_view) {
+            return reportProgress(progress, f, "svm grid search");
+        });
+        if (!trained) return makeError("contact SVM: " + trained.error().message);
+        summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        const auto& r = trained->report();
+        summary.C = r.C;
+        summary.gamma = r.gamma;
+        summary.looAccuracy = r.looAccuracy;
+        summary.samples = r.samples;
+        summary.supportVectors = r.supportVectors;
+        svm = std::move(*trained);
+    }
+    s.cache.contacts.clear();
+    for (std::size_t i = 0; i < s.motions.size(); ++i) {
+        auto& m = s.motions[i];
+        m.contacts = svm ? svm->classify(m.signals) : prep::heuristicContacts(m.signals);
+        m.contactSource = svm ? prep::ContactSource::Svm : prep::ContactSource::Heuristic;
+        s.cache.contacts.emplace_back(m.id, prep::CachedContacts{keys[i], m.contactSource, m.contacts});
+    }
+    return summary;
+}
+
+Status saveSession(const Session& s) {
+    if (auto st = prep::saveProject(s.project, s.file); !st) return st;
+    if (auto st = prep::writeCache(s.file, s.cache); !st) {
+        // The cache is derived data: losing it costs time, not work.
+        std::fprintf(stderr, "fray-cli: warning: could not write the cache: %s\n", st.error().message.c_str());
+    }
+    return {};
+}
+
+}  // namespace fray::cli

@@ -1,0 +1,50 @@
+#pragma once
+// Shared plumbing of the data-preparation verbs: open a project, load its
+// motions, get foot contacts (from the cache when fresh), report progress on
+// stderr, save the project and the cache.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "fray/core/progress.h"
+#include "fray/prep/pipeline.h"
+#include "fray/prep/project.h"
+
+namespace fray::cli {
+
+// Progress lines on stderr ("fray-cli: load walk_01 40%"), at most one per
+// 10 % step of each stage.
+ProgressFn stderrProgress(bool quiet = false);
+
+// Loads a motion as the project entry says (units/up overrides).
+Result<Motion> loadProjectMotion(const std::filesystem::path& file, const prep::ProjectMotion& entry);
+
+struct Session {
+    std::filesystem::path file;
+    prep::Project project;
+    std::vector<prep::LoadedMotion> motions;
+    prep::DerivedCache cache;
+};
+
+Result<Session> openSession(const std::filesystem::path& file, bool loadMotions, const ProgressFn& progress);
+
+// Imports a labels CSV into the project: rows name motions by id; every
+// range is checked against the motion's frame count. Replaces the labels of
+// the motions the file mentions.
+Status importLabels(Session& s, const std::filesystem::path& labelsFile);
+
+struct ContactsSummary {
+    bool svm = false;
+    bool fromCache = false;
+    double C = 0, gamma = 0, looAccuracy = 0;
+    int samples = 0, supportVectors = 0;
+    double seconds = 0;
+};
+// Fills motions[i].contacts: SVM when the project has labels (unless
+// forceHeuristic), else the heuristic. Uses and refreshes s.cache.
+Result<ContactsSummary> computeContacts(Session& s, bool forceHeuristic, const ProgressFn& progress);
+
+// Saves the project (atomically) and the cache.
+Status saveSession(const Session& s);
+
+}  // namespace fray::cli

@@ -1,0 +1,396 @@
+// Data-preparation verbs: project new, contacts, segment, actions, graph, combos.
+#include <cstdio>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "fray/core/atomic_file.h"
+#include "fray/io/import.h"
+#include "fray/prep/annotations.h"
+#include "fray/prep/contacts.h"
+#include "fray/prep/motion_graph.h"
+#include "fray/prep/segmentation.h"
+#include "options.h"
+#include "prep_session.h"
+#include "verbs.h"
+
+namespace fray::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+// ---- project new ----------------------------------------------------------
+struct NewArgs {
+    std::string project;
+    std::vector<std::string> files;
+    std::string units, up;
+    bool force = false;
+};
+
+void runNew(const NewArgs& a) {
+    const fs::path file(a.project);
+    if (fs::exists(file) && !a.force) {
+        return fail(a.project + ": already exists (use --force to replace it)");
+    }
+    if (!a.units.empty() && a.units != "m" && a.units != "cm" && a.units != "mm" && a.units != "inch" &&
+        a.units != "cmu") {
+        return fail("--units: expected m, cm, mm, inch or cmu, got '" + a.units + "'");
+    }
+    if (!a.up.empty() && a.up != "y" && a.up != "z") return fail("--up: expected y or z, got '" + a.up + "'");
+    prep::Project p = prep::makeProject(file.stem().string());
+    for (const auto& f : a.files) {
+        prep::ProjectMotion m;
+        m.units = a.units;
+        m.up = a.up;
+        auto motion = loadProjectMotion(f, m);
+        if (!motion) return fail(motion.error().message);
+        std::string id = fs::path(f).stem().string();
+        for (int n = 2; p.findMotion(id); ++n) id = fs::path(f).stem().string() + "_" + std::to_string(n);
+        m.id = id;
+        m.path = prep::relativeMotionPath(file, f);
+        m.actions = prep::MotionActions::whole(motion->frameCount());
+        p.motions.push_back(std::move(m));
+        std::fprintf(stderr, "fray-cli: imported %s (%d frames at %g fps)\n", f.c_str(), motion->frameCount(),
+                     motion->fps());
+    }
+    if (auto st = prep::saveProject(p, file); !st) return fail(st.error().message);
+    std::printf("%s: %zu motions\n", a.project.c_str(), p.motions.size());
+}
+
+// ---- contacts ---------------------------------------------------------------
+struct ContactsArgs {
+    std::string project, train;
+    bool heuristic = false, quiet = false;
+};
+
+void runContacts(const ContactsArgs& a) {
+    const auto progress = stderrProgress(a.quiet);
+    auto s = openSession(a.project, true, progress);
+    if (!s) return fail(s.error().message);
+    if (!a.train.empty()) {
+        if (auto st = importLabels(*s, a.train); !st) return fail(st.error().message);
+    }
+    auto summary = computeContacts(*s, a.heuristic, progress);
+    if (!summary) return fail(summary.error().message);
+    if (summary->svm && !summary->fromCache) {
+        std::printf("svm: C %g gamma %g, leave-one-out accuracy %.2f %% on %d samples (%d support vectors), %.2f s\n",
+                    summary->C, summary->gamma, 100.0 * summary->looAccuracy, summary->samples,
+                    summary->supportVectors, summary->seconds);
+    }
+    std::printf("%-24s %8s %8s %8s %10s %s\n", "motion", "frames", "left%", "right%", "agree%", "source");
+    for (const auto& m : s->motions) {
+        const auto heuristic = prep::heuristicContacts(m.signals);
+        auto share = [](const std::vector<std::uint8_t>& v) {
+            return v.empty() ? 0.0 : 100.0 * double(std::count(v.begin(), v.end(), 1)) / double(v.size());
+        };
+        std::printf("%-24s %8d %8.1f %8.1f %10.1f %s%s\n", m.id.c_str(), m.signals.frameCount,
+                    share(m.contacts.left), share(m.contacts.right),
+                    100.0 * prep::contactAgreement(m.contacts, heuristic),
+                    m.contactSource == prep::ContactSource::Svm ? "svm" : "heuristic",
+                    summary->fromCache ? " (cached)" : "");
+    }
+    if (auto st = saveSession(*s); !st) return fail(st.error().message);
+}
+
+// ---- segment ----------------------------------------------------------------
+struct SegmentArgs {
+    std::string project, labels;
+    double thresholdFactor = 0;
+    bool heuristic = false, quiet = false;
+};
+
+void runSegment(const SegmentArgs& a) {
+    const auto progress = stderrProgress(a.quiet);
+    auto s = openSession(a.project, true, progress);
+    if (!s) return fail(s.error().message);
+    if (!a.labels.empty()) {
+        if (auto st = importLabels(*s, a.labels); !st) return fail(st.error().message);
+    }
+    if (a.thresholdFactor > 0) s->project.settings.segmentThresholdFactor = a.thresholdFactor;
+    auto summary = computeContacts(*s, a.heuristic, progress);
+    if (!summary) return fail(summary.error().message);
+    const auto params = prep::segmentationParams(s->project.settings);
+    std::printf("%-24s %8s %8s %10s\n", "motion", "frames", "actions", "mean (s)");
+    int total = 0;
+    for (std::size_t i = 0; i < s->motions.size(); ++i) {
+        auto& m = s->motions[i];
+        auto& entry = s->project.motions[i];
+        reportProgress(progress, double(i) / double(s->motions.size()), "segment");
+        const auto r = prep::segment(m.signals, m.contacts, params);
+        entry.actions = prep::recut(entry.actions, r.cuts);
+        prep::proposeAll(entry.actions, m.motion, m.joints, m.signals);
+        total += entry.actions.actionCount();
+        std::printf("%-24s %8d %8d %10.2f\n", entry.id.c_str(), m.signals.frameCount, entry.actions.actionCount(),
+                    m.signals.frameCount / m.signals.fps / entry.actions.actionCount());
+    }
+    std::printf("total: %d actions\n", total);
+    if (auto st = saveSession(*s); !st) return fail(st.error().message);
+}
+
+// ---- actions ----------------------------------------------------------------
+struct ActionsArgs {
+    std::string project, motion;
+    bool json = false;
+};
+
+void runActions(const ActionsArgs& a) {
+    auto s = openSession(a.project, false, {});
+    if (!s) return fail(s.error().message);
+    nlohmann::ordered_json out = nlohmann::ordered_json::array();
+    bool found = a.motion.empty();
+    for (const auto& m : s->project.motions) {
+        if (!a.motion.empty() && m.id != a.motion) continue;
+        found = true;
+        for (int i = 0; i < m.actions.actionCount(); ++i) {
+            const auto& info = m.actions.actions[static_cast<std::size_t>(i)];
+            if (a.json) {
+                out.push_back({{"motion", m.id},
+                               {"index", i},
+                               {"first_frame", m.actions.firstFrame(i)},
+                               {"last_frame", m.actions.lastFrame(i)},
+                               {"name", info.name},
+                               {"annotations", info.annotations},
+                               {"proposed", info.proposed},
+                               {"joints", info.joints}});
+            } else {
+                std::string ann;
+                for (const auto& w : info.annotations) ann += (ann.empty() ? "" : ",") + w;
+                for (const auto& w : info.proposed) ann += (ann.empty() ? "" : ",") + w + "?";
+                std::printf("%-20s %4d %7d %7d  %-16s %s\n", m.id.c_str(), i, m.actions.firstFrame(i),
+                            m.actions.lastFrame(i), info.name.empty() ? "-" : info.name.c_str(), ann.c_str());
+            }
+        }
+    }
+    if (!found) return fail(a.project + ": no motion \"" + a.motion + "\"");
+    if (a.json) std::printf("%s\n", out.dump(2).c_str());
+}
+
+// ---- graph ------------------------------------------------------------------
+struct GraphArgs {
+    std::string project, preset;
+    double threshold = 0;
+    bool json = false, quiet = false;
+};
+
+void runGraph(const GraphArgs& a) {
+    const auto progress = stderrProgress(a.quiet);
+    auto s = openSession(a.project, true, progress);
+    if (!s) return fail(s.error().message);
+    prep::GraphOptions options;
+    const std::string presetName = a.preset.empty() ? s->project.settings.graphPreset : a.preset;
+    const auto weights = prep::GraphWeights::preset(presetName);
+    if (!weights) return fail("--preset: expected fighting or locomotion, got '" + presetName + "'");
+    options.weights = *weights;
+    if (a.threshold > 0) options.threshold = a.threshold;
+    else if (s->project.settings.graphThreshold) options.threshold = *s->project.settings.graphThreshold;
+
+    std::vector<const Motion*> motions;
+    std::vector<StandardJoints> joints;
+    std::vector<prep::ActionRef> actions;
+    std::uint64_t key = prep::hashString(presetName);
+    key = prep::hashBytes(&options.threshold, sizeof options.threshold, key);
+    for (std::size_t i = 0; i < s->motions.size(); ++i) {
+        motions.push_back(&s->motions[i].motion);
+        joints.push_back(s->motions[i].joints);
+        const auto& doc = s->project.motions[i].actions;
+        key = prep::hashBytes(&s->motions[i].fileKey, sizeof(std::uint64_t), key);
+        for (int c : doc.cuts) key = prep::hashBytes(&c, sizeof c, key);
+        for (int k = 0; k < doc.actionCount(); ++k) {
+            actions.push_back({static_cast<int>(i), doc.firstFrame(k), doc.lastFrame(k)});
+        }
+    }
+    if (actions.empty()) return fail(a.project + ": the project has no actions (import motions first)");
+    auto graph = prep::buildMotionGraph(motions, joints, actions, options, [&](double f, std::string_view stage) {
+        return reportProgress(progress, f, stage);
+    });
+    if (!graph) return fail(graph.error().message);
+    s->cache.graph = prep::CachedGraph{key, graph->nodeCount, graph->startNode, graph->endNode};
+    const auto& st = graph->stats;
+    if (a.json) {
+        nlohmann::ordered_json j;
+        j["preset"] = presetName;
+        j["threshold"] = options.threshold;
+        j["nodes"] = st.nodes;
+        j["edges"] = st.edges;
+        j["mean_out_degree"] = st.meanOutDegree;
+        j["max_out_degree"] = st.maxOutDegree;
+        j["largest_scc_actions"] = st.largestSccActions;
+        j["scc_share"] = st.sccShare;
+        j["dead_ends"] = st.deadEnds;
+        j["start_node"] = graph->startNode;
+        j["end_node"] = graph->endNode;
+        std::printf("%s\n", j.dump(2).c_str());
+    } else {
+        std::printf("motion graph (%s, threshold %g): %d nodes, %d edges (actions), out-degree mean %.2f max %d,\n"
+                    "largest strongly connected component: %d actions (%.1f %%), dead ends %d\n",
+                    presetName.c_str(), options.threshold, st.nodes, st.edges, st.meanOutDegree, st.maxOutDegree,
+                    st.largestSccActions, 100.0 * st.sccShare, st.deadEnds);
+    }
+    if (auto w = prep::writeCache(s->file, s->cache); !w) {
+        std::fprintf(stderr, "fray-cli: warning: could not write the cache: %s\n", w.error().message.c_str());
+    }
+}
+
+// ---- combos -----------------------------------------------------------------
+struct CombosArgs {
+    std::string project, action, file, mine, theirs;
+    double value = 0;
+};
+
+void runCombos(const CombosArgs& a) {
+    auto s = openSession(a.project, false, {});
+    if (!s) return fail(s.error().message);
+    auto& table = s->project.combos;
+    if (a.action == "list") {
+        std::printf("%-24s %-24s %s\n", "mine", "theirs", "suitability");
+        for (const auto& r : table.records()) {
+            std::printf("%-24s %-24s %g\n", r.mine.c_str(), r.theirs.c_str(), r.suitability);
+        }
+        return;
+    }
+    if (a.action == "export") {
+        if (a.file.empty()) return fail("combos export: give the CSV file to write");
+        if (auto st = writeFileAtomically(a.file, table.toCsv()); !st) return fail(st.error().message);
+        std::printf("%zu records -> %s\n", table.records().size(), a.file.c_str());
+        return;
+    }
+    if (a.action == "import") {
+        if (a.file.empty()) return fail("combos import: give the CSV file to read");
+        std::ifstream in(a.file, std::ios::binary);
+        if (!in) return fail(a.file + ": cannot open");
+        std::ostringstream buf;
+        buf << in.rdbuf();
+        auto t = prep::ComboTable::fromCsv(buf.str(), a.file);
+        if (!t) return fail(t.error().message);
+        for (const auto& r : t->records()) table.set(r);
+        std::printf("%zu records imported\n", t->records().size());
+    } else if (a.action == "set") {
+        if (a.mine.empty() || a.theirs.empty()) return fail("combos set: give MINE THEIRS VALUE");
+        auto check = prep::ComboTable::fromCsv("mine,theirs,suitability\n" + a.mine + "," + a.theirs + ",0\n",
+                                               "arguments");
+        if (!check) return fail(check.error().message);
+        table.set({a.mine, a.theirs, a.value});
+    } else if (a.action == "remove") {
+        if (!table.remove(a.mine, a.theirs)) return fail("no record " + a.mine + " / " + a.theirs);
+    } else {
+        return fail("combos: unknown action '" + a.action + "' (list, import, export, set, remove)");
+    }
+    if (auto st = prep::saveProject(s->project, s->file); !st) return fail(st.error().message);
+}
+
+// ---- timeline ---------------------------------------------------------------
+struct TimelineArgs {
+    std::string project, motion, out;
+};
+
+// Per-frame data of thesis fig. 3.1: acceleration, high-acceleration periods,
+// support feet and cuts. scripts/plot_timeline.py draws it.
+void runTimeline(const TimelineArgs& a) {
+    auto s = openSession(a.project, true, stderrProgress(true));
+    if (!s) return fail(s.error().message);
+    auto summary = computeContacts(*s, false, {});
+    if (!summary) return fail(summary.error().message);
+    for (std::size_t i = 0; i < s->motions.size(); ++i) {
+        if (s->motions[i].id != a.motion) continue;
+        const auto& m = s->motions[i];
+        const auto r = prep::segment(m.signals, m.contacts, prep::segmentationParams(s->project.settings));
+        const auto& doc = s->project.motions[i].actions;
+        std::string csv = "# motion " + m.id + ", fps " + std::to_string(m.signals.fps) + ", threshold " +
+                          std::to_string(r.threshold) + "\nframe,acceleration,high,left,right,auto_cut,project_cut\n";
+        for (int f = 0; f < m.signals.frameCount; ++f) {
+            const auto k = static_cast<std::size_t>(f);
+            const bool autoCut = std::binary_search(r.cuts.begin(), r.cuts.end(), f);
+            const bool projectCut = std::binary_search(doc.cuts.begin(), doc.cuts.end(), f);
+            csv += std::to_string(f) + "," + std::to_string(r.smoothed[k]) + "," + std::to_string(r.highAccel[k]) +
+                   "," + std::to_string(m.contacts.left[k]) + "," + std::to_string(m.contacts.right[k]) + "," +
+                   (autoCut ? "1" : "0") + "," + (projectCut ? "1" : "0") + "\n";
+        }
+        if (auto st = writeFileAtomically(a.out, csv); !st) return fail(st.error().message);
+        std::printf("%s: %d frames, %zu automatic cuts, %zu project cuts\n", a.out.c_str(), m.signals.frameCount,
+                    r.cuts.size(), doc.cuts.size());
+        return;
+    }
+    fail(a.project + ": no motion \"" + a.motion + "\"");
+}
+
+}  // namespace
+
+void registerPrep(CLI::App& app) {
+    {
+        auto args = std::make_shared<TimelineArgs>();
+        auto* cmd = app.add_subcommand("timeline", "Write the per-frame segmentation timeline of a motion as CSV");
+        cmd->add_option("project", args->project, "Project file")->required();
+        cmd->add_option("motion", args->motion, "Motion id")->required();
+        cmd->add_option("-o,--out", args->out, "CSV file to write")->required();
+        cmd->callback([args] { runTimeline(*args); });
+    }
+    {
+        auto* project = app.add_subcommand("project", "Create and manage Fray projects");
+        project->require_subcommand(1);
+        auto args = std::make_shared<NewArgs>();
+        auto* cmd = project->add_subcommand("new", "Create a project from capture files");
+        cmd->add_option("project", args->project, "Project file to create (*.frayproj)")->required();
+        cmd->add_option("--import", args->files, "Capture files (BVH, FBX, glTF, ...)")->required()->expected(1, -1);
+        cmd->add_option("--units", args->units, "Source units for every file: m, cm, mm, inch, cmu (default: detect)");
+        cmd->add_option("--up", args->up, "Source up axis: y or z (default: detect)");
+        cmd->add_flag("--force", args->force, "Replace an existing project file");
+        cmd->callback([args] { runNew(*args); });
+    }
+    {
+        auto args = std::make_shared<ContactsArgs>();
+        auto* cmd = app.add_subcommand("contacts", "Foot contacts: train the SVM on labels, classify every frame");
+        cmd->add_option("project", args->project, "Project file")->required();
+        cmd->add_option("--train", args->train, "Labels CSV (motion,first_frame,last_frame,left,right) to train on");
+        cmd->add_flag("--heuristic", args->heuristic, "Use the height/speed heuristic even when labels exist");
+        cmd->add_flag("-q,--quiet", args->quiet, "No progress on stderr");
+        cmd->callback([args] { runContacts(*args); });
+    }
+    {
+        auto args = std::make_shared<SegmentArgs>();
+        auto* cmd = app.add_subcommand("segment", "Segment every motion into actions and propose annotations");
+        cmd->add_option("project", args->project, "Project file")->required();
+        cmd->add_option("--labels", args->labels, "Contact labels CSV to import first (trains the SVM)");
+        cmd->add_option("--threshold-factor", args->thresholdFactor,
+                        "High-acceleration threshold as a multiple of the median (default 12)");
+        cmd->add_flag("--heuristic", args->heuristic, "Heuristic contacts even when labels exist");
+        cmd->add_flag("-q,--quiet", args->quiet, "No progress on stderr");
+        cmd->callback([args] { runSegment(*args); });
+    }
+    {
+        auto args = std::make_shared<ActionsArgs>();
+        auto* cmd = app.add_subcommand("actions", "List the actions of a project");
+        cmd->add_option("project", args->project, "Project file")->required();
+        cmd->add_option("--motion", args->motion, "Only this motion (id)");
+        cmd->add_flag("--json", args->json, "JSON output");
+        cmd->callback([args] { runActions(*args); });
+    }
+    {
+        auto args = std::make_shared<GraphArgs>();
+        auto* cmd = app.add_subcommand("graph", "Build the action-level motion graph and print its statistics");
+        cmd->add_option("project", args->project, "Project file")->required();
+        cmd->add_option("--preset", args->preset, "Pose-distance weights: fighting or locomotion (default: project)");
+        cmd->add_option("--threshold", args->threshold, "Largest within-node pose distance");
+        cmd->add_flag("--json", args->json, "JSON output");
+        cmd->add_flag("-q,--quiet", args->quiet, "No progress on stderr");
+        cmd->callback([args] { runGraph(*args); });
+    }
+    {
+        auto args = std::make_shared<CombosArgs>();
+        auto* cmd = app.add_subcommand("combos", "Action combination table: list, import, export, set, remove");
+        cmd->add_option("project", args->project, "Project file")->required();
+        cmd->add_option("action", args->action, "list | import CSV | export CSV | set MINE THEIRS VALUE | remove MINE THEIRS")
+            ->required();
+        cmd->add_option("args", args->file, "CSV file (import/export) or MINE (set/remove)");
+        cmd->add_option("theirs", args->theirs, "THEIRS (set/remove)");
+        cmd->add_option("value", args->value, "Suitability (set)");
+        cmd->callback([args] {
+            CombosArgs a = *args;
+            if (a.action == "set" || a.action == "remove") a.mine = a.file;
+            runCombos(a);
+        });
+    }
+}
+
+}  // namespace fray::cli
