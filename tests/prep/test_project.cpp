@@ -90,6 +90,10 @@ TEST(Project, ErrorsNameTheJsonPath) {
         ASSERT_FALSE(r.ok()) << c.to;
         EXPECT_NE(r.error().message.find(c.expect), std::string::npos) << r.error().message;
     }
+    // Found by fuzz_prep: a number too large for a double threw out_of_range.
+    const auto huge = projectFromJson("{\"format\": 4444E00008000112672126706813412}", "p.frayproj");
+    ASSERT_FALSE(huge.ok());
+    EXPECT_NE(huge.error().message.find("p.frayproj: not valid JSON"), std::string::npos) << huge.error().message;
     const auto bad = projectFromJson("{\n  \"format\": \"fray-project\",\n  oops\n}", "p.frayproj");
     ASSERT_FALSE(bad.ok());
     EXPECT_NE(bad.error().message.find("p.frayproj:3:"), std::string::npos) << bad.error().message;

@@ -59,7 +59,7 @@ int quantise(double v, double ref, double lo, double hi) {
 }
 
 Key featureKey(const ContactSvm::Scaling& s, float speed, float height) {
-    return {quantise(speed, s.speedRef, s.lo[0], s.hi[0]), quantise(height, s.heightRef, s.lo[1], s.hi[1])};
+    return {quantise(double(speed), s.speedRef, s.lo[0], s.hi[0]), quantise(double(height), s.heightRef, s.lo[1], s.hi[1])};
 }
 
 Feature keyToFeature(const Key& k) { return {k[0] / kQuantSteps, k[1] / kQuantSteps}; }
@@ -213,7 +213,7 @@ Result<TrainingSet> prepare(const std::vector<TrainingSample>& samples, const Sv
         double lo = HUGE_VAL;
         double hi = -HUGE_VAL;
         for (const auto& s : used) {
-            const double v = compress(k == 0 ? s.speed : s.height, ref);
+            const double v = compress(double(k == 0 ? s.speed : s.height), ref);
             lo = std::min(lo, v);
             hi = std::max(hi, v);
         }

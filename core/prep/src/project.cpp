@@ -324,6 +324,8 @@ Result<Project> projectFromJson(std::string_view text, std::string_view fileName
     } catch (const json::parse_error& e) {
         return makeError(std::string(fileName) + ":" + lineColumn(text, e.byte == 0 ? 0 : e.byte - 1) +
                          ": not valid JSON (" + std::string(e.what()).substr(0, 160) + ")");
+    } catch (const json::exception& e) {  // e.g. a number too large for a double
+        return makeError(std::string(fileName) + ": not valid JSON (" + std::string(e.what()).substr(0, 160) + ")");
     }
     const Reader rd(fileName);
     if (!j.is_object()) return rd.error("", "the project must be a JSON object");
