@@ -36,6 +36,9 @@ check "segmented" "grep -q '^total: [0-9]* actions' '$tmp/segment.txt'"
 check "actions json" "grep -q '\"first_frame\"' '$tmp/actions.json'"
 "$cli" graph "$p" -q > "$tmp/graph.txt"
 check "graph stats" "grep -q 'largest strongly connected component' '$tmp/graph.txt'"
+"$cli" graph "$p" -q > "$tmp/graph2.txt"
+check "second graph from the cache" "grep -q '(cached)' '$tmp/graph2.txt'"
+check "same graph from the cache" "[ \"\$(sed 's/ (cached)//' '$tmp/graph2.txt')\" = \"\$(cat '$tmp/graph.txt')\" ]"
 "$cli" combos "$p" set sway_back @punch 1.5
 "$cli" combos "$p" export "$tmp/combos.csv" > /dev/null
 check "combos exported" "grep -q '^sway_back,@punch,1.5' '$tmp/combos.csv'"

@@ -202,11 +202,19 @@ void runGraph(const GraphArgs& a) {
         }
     }
     if (actions.empty()) return fail(a.project + ": the project has no actions (import motions first)");
-    auto graph = prep::buildMotionGraph(motions, joints, actions, options, [&](double f, std::string_view stage) {
-        return reportProgress(progress, f, stage);
-    });
-    if (!graph) return fail(graph.error().message);
-    s->cache.graph = prep::CachedGraph{key, graph->nodeCount, graph->startNode, graph->endNode};
+    // A fresh cached graph only needs reconnecting; otherwise cluster again.
+    const bool cached = s->cache.graph && s->cache.graph->key == key && s->cache.graph->startNode.size() == actions.size();
+    Result<prep::MotionGraph> graph = prep::MotionGraph{};
+    if (cached) {
+        graph->nodeCount = s->cache.graph->nodeCount;
+        prep::connectNodes(*graph, s->cache.graph->startNode, s->cache.graph->endNode);
+    } else {
+        graph = prep::buildMotionGraph(motions, joints, actions, options, [&](double f, std::string_view stage) {
+            return reportProgress(progress, f, stage);
+        });
+        if (!graph) return fail(graph.error().message);
+        s->cache.graph = prep::CachedGraph{key, graph->nodeCount, graph->startNode, graph->endNode};
+    }
     const auto& st = graph->stats;
     if (a.json) {
         nlohmann::ordered_json j;
@@ -219,15 +227,17 @@ void runGraph(const GraphArgs& a) {
         j["largest_scc_actions"] = st.largestSccActions;
         j["scc_share"] = st.sccShare;
         j["dead_ends"] = st.deadEnds;
+        j["from_cache"] = cached;
         j["start_node"] = graph->startNode;
         j["end_node"] = graph->endNode;
         std::printf("%s\n", j.dump(2).c_str());
     } else {
         std::printf("motion graph (%s, threshold %g): %d nodes, %d edges (actions), out-degree mean %.2f max %d,\n"
-                    "largest strongly connected component: %d actions (%.1f %%), dead ends %d\n",
+                    "largest strongly connected component: %d actions (%.1f %%), dead ends %d%s\n",
                     presetName.c_str(), options.threshold, st.nodes, st.edges, st.meanOutDegree, st.maxOutDegree,
-                    st.largestSccActions, 100.0 * st.sccShare, st.deadEnds);
+                    st.largestSccActions, 100.0 * st.sccShare, st.deadEnds, cached ? " (cached)" : "");
     }
+    if (cached) return;
     if (auto w = prep::writeCache(s->file, s->cache); !w) {
         std::fprintf(stderr, "fray-cli: warning: could not write the cache: %s\n", w.error().message.c_str());
     }

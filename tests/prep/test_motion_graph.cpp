@@ -239,6 +239,23 @@ TEST(MotionGraph, NodesNextAndComponentsAgreeWithBruteForce) {
     EXPECT_EQ(g.inLargestScc, bestMembers);
 }
 
+// The project cache stores only the node of each action's ends; reconnecting
+// them must give back the same graph.
+TEST(MotionGraph, ReconnectingCachedNodesGivesTheSameGraph) {
+    const prep::MotionGraph& g = demoGraph();
+    prep::MotionGraph r;
+    r.nodeCount = g.nodeCount;
+    prep::connectNodes(r, g.startNode, g.endNode);
+    EXPECT_EQ(r.next, g.next);
+    EXPECT_EQ(r.inLargestScc, g.inLargestScc);
+    EXPECT_EQ(r.stats.largestSccActions, g.stats.largestSccActions);
+    EXPECT_EQ(r.stats.deadEnds, g.stats.deadEnds);
+    EXPECT_EQ(r.stats.maxOutDegree, g.stats.maxOutDegree);
+    prep::MotionGraph empty;
+    prep::connectNodes(empty, {}, {});
+    EXPECT_EQ(empty.stats.edges, 0);
+}
+
 TEST(MotionGraph, RejectsBadInputWithReasons) {
     const auto& in = demoGraphInput();
     const GraphOptions o;

@@ -506,6 +506,47 @@ double poseDistance(const PoseFeature& a, const PoseFeature& b, const GraphWeigh
     return static_cast<double>(packedDistance(pa.data(), pb.data(), l, Weights(weights)));
 }
 
+void connectNodes(MotionGraph& g, std::vector<int> startNode, std::vector<int> endNode) {
+    g.startNode = std::move(startNode);
+    g.endNode = std::move(endNode);
+    g.next.clear();
+    g.inLargestScc.clear();
+    g.stats = {};
+    const std::size_t actionCount = g.startNode.size();
+    if (actionCount == 0 || g.nodeCount <= 0) return;
+    std::vector<std::vector<int>> startsAt(static_cast<std::size_t>(g.nodeCount));
+    std::vector<std::vector<int>> adjacency(static_cast<std::size_t>(g.nodeCount));
+    for (std::size_t a = 0; a < actionCount; ++a) {
+        startsAt[static_cast<std::size_t>(g.startNode[a])].push_back(static_cast<int>(a));
+        adjacency[static_cast<std::size_t>(g.startNode[a])].push_back(g.endNode[a]);
+    }
+    g.next.resize(actionCount);
+    for (std::size_t a = 0; a < actionCount; ++a) g.next[a] = startsAt[static_cast<std::size_t>(g.endNode[a])];
+
+    const std::vector<int> comp = stronglyConnected(g.nodeCount, adjacency);
+    const int comps = comp.empty() ? 0 : *std::max_element(comp.begin(), comp.end()) + 1;
+    std::vector<int> inside(static_cast<std::size_t>(comps), 0);
+    for (std::size_t a = 0; a < actionCount; ++a) {
+        const int c = comp[static_cast<std::size_t>(g.startNode[a])];
+        if (c == comp[static_cast<std::size_t>(g.endNode[a])]) ++inside[static_cast<std::size_t>(c)];
+    }
+    const int largest = static_cast<int>(std::max_element(inside.begin(), inside.end()) - inside.begin());
+    g.inLargestScc.resize(actionCount);
+    for (std::size_t a = 0; a < actionCount; ++a)
+        g.inLargestScc[a] = comp[static_cast<std::size_t>(g.startNode[a])] == largest &&
+                            comp[static_cast<std::size_t>(g.endNode[a])] == largest;
+
+    GraphStats& st = g.stats;
+    st.nodes = g.nodeCount;
+    st.edges = static_cast<int>(actionCount);
+    st.meanOutDegree = static_cast<double>(st.edges) / st.nodes;
+    for (const auto& s : startsAt) st.maxOutDegree = std::max(st.maxOutDegree, static_cast<int>(s.size()));
+    st.largestSccActions = inside[static_cast<std::size_t>(largest)];
+    st.sccShare = static_cast<double>(st.largestSccActions) / st.edges;
+    st.deadEnds =
+        static_cast<int>(std::count_if(g.next.begin(), g.next.end(), [](const auto& n) { return n.empty(); }));
+}
+
 Result<MotionGraph> buildMotionGraph(std::span<const Motion* const> motions, std::span<const StandardJoints> joints,
                                      std::span<const ActionRef> actions, const GraphOptions& options,
                                      const ProgressFn& progress) {
@@ -622,42 +663,12 @@ Result<MotionGraph> buildMotionGraph(std::span<const Motion* const> motions, std
             g.centres.push_back(unpack(km.centre(km.assignment()[static_cast<std::size_t>(i)]), layout));
         }
     }
-    const std::size_t actionCount = actions.size();
-    g.startNode.resize(actionCount);
-    g.endNode.resize(actionCount);
-    std::vector<std::vector<int>> startsAt(static_cast<std::size_t>(g.nodeCount));
-    std::vector<std::vector<int>> adjacency(static_cast<std::size_t>(g.nodeCount));
-    for (std::size_t a = 0; a < actionCount; ++a) {
-        g.startNode[a] = relabel[static_cast<std::size_t>(km.assignment()[2 * a])];
-        g.endNode[a] = relabel[static_cast<std::size_t>(km.assignment()[2 * a + 1])];
-        startsAt[static_cast<std::size_t>(g.startNode[a])].push_back(static_cast<int>(a));
-        adjacency[static_cast<std::size_t>(g.startNode[a])].push_back(g.endNode[a]);
+    std::vector<int> startNode(actions.size()), endNode(actions.size());
+    for (std::size_t a = 0; a < actions.size(); ++a) {
+        startNode[a] = relabel[static_cast<std::size_t>(km.assignment()[2 * a])];
+        endNode[a] = relabel[static_cast<std::size_t>(km.assignment()[2 * a + 1])];
     }
-    g.next.resize(actionCount);
-    for (std::size_t a = 0; a < actionCount; ++a) g.next[a] = startsAt[static_cast<std::size_t>(g.endNode[a])];
-
-    const std::vector<int> comp = stronglyConnected(g.nodeCount, adjacency);
-    const int comps = comp.empty() ? 0 : *std::max_element(comp.begin(), comp.end()) + 1;
-    std::vector<int> inside(static_cast<std::size_t>(comps), 0);
-    for (std::size_t a = 0; a < actionCount; ++a) {
-        const int c = comp[static_cast<std::size_t>(g.startNode[a])];
-        if (c == comp[static_cast<std::size_t>(g.endNode[a])]) ++inside[static_cast<std::size_t>(c)];
-    }
-    const int largest = static_cast<int>(std::max_element(inside.begin(), inside.end()) - inside.begin());
-    g.inLargestScc.resize(actionCount);
-    for (std::size_t a = 0; a < actionCount; ++a)
-        g.inLargestScc[a] = comp[static_cast<std::size_t>(g.startNode[a])] == largest &&
-                            comp[static_cast<std::size_t>(g.endNode[a])] == largest;
-
-    GraphStats& st = g.stats;
-    st.nodes = g.nodeCount;
-    st.edges = static_cast<int>(actionCount);
-    st.meanOutDegree = static_cast<double>(st.edges) / st.nodes;
-    for (const auto& s : startsAt) st.maxOutDegree = std::max(st.maxOutDegree, static_cast<int>(s.size()));
-    st.largestSccActions = inside[static_cast<std::size_t>(largest)];
-    st.sccShare = static_cast<double>(st.largestSccActions) / st.edges;
-    st.deadEnds =
-        static_cast<int>(std::count_if(g.next.begin(), g.next.end(), [](const auto& n) { return n.empty(); }));
+    connectNodes(g, std::move(startNode), std::move(endNode));
     g.maxClusterDistance = static_cast<double>(km.maxDistance());
     g.kmeansRounds = rounds;
     if (!reportProgress(progress, 1.0, "graph")) return cancelled();

@@ -119,6 +119,11 @@ struct MotionGraph {
     int kmeansRounds = 0;           // K growth rounds it took
 };
 
+// Fills next, inLargestScc and stats of g from its node count and the
+// start/end node of every action (indices in [0, g.nodeCount)). Used by
+// buildMotionGraph, and to restore a graph from the project cache.
+void connectNodes(MotionGraph& g, std::vector<int> startNode, std::vector<int> endNode);
+
 // Builds the graph. motions and joints are parallel; every motion must have
 // the same skeleton (names and hierarchy). Deterministic for a seed. Fails
 // with a readable message on bad input, or "cancelled" when progress says so.
