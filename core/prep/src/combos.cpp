@@ -5,16 +5,11 @@
 #include <cmath>
 #include <sstream>
 
+#include "csv.h"
+
 namespace fray::prep {
-namespace {
 
-std::string_view trim(std::string_view s) {
-    while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r')) s.remove_prefix(1);
-    while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
-    return s;
-}
-
-bool validName(std::string_view s) {
+bool ComboTable::validKey(std::string_view s) {
     if (s.empty() || s.size() > 64) return false;
     const std::string_view body = s.front() == '@' ? s.substr(1) : s;
     return !body.empty() && std::all_of(body.begin(), body.end(), [](char c) {
@@ -22,8 +17,6 @@ bool validName(std::string_view s) {
                c == '.';
     });
 }
-
-}  // namespace
 
 std::optional<double> ComboTable::set(const ComboRecord& record) {
     for (auto& r : records_) {
@@ -84,24 +77,11 @@ std::string ComboTable::toCsv() const {
 
 Result<ComboTable> ComboTable::fromCsv(std::string_view text, std::string_view fileName) {
     ComboTable table;
-    int lineNo = 0;
     bool header = false;
-    std::size_t pos = 0;
-    while (pos < text.size()) {
-        const std::size_t end = std::min(text.find('\n', pos), text.size());
-        const std::string_view line = trim(text.substr(pos, end - pos));
-        pos = end + 1;
-        ++lineNo;
-        const std::string where = std::string(fileName) + ":" + std::to_string(lineNo) + ": ";
-        if (line.empty() || line.front() == '#') continue;
-        std::vector<std::string_view> cells;
-        std::size_t start = 0;
-        for (std::size_t i = 0; i <= line.size(); ++i) {
-            if (i == line.size() || line[i] == ',') {
-                cells.push_back(trim(line.substr(start, i - start)));
-                start = i + 1;
-            }
-        }
+    csv::Reader reader(text);
+    while (reader.next()) {
+        const std::string where = std::string(fileName) + ":" + std::to_string(reader.line()) + ": ";
+        const auto& cells = reader.cells();
         if (!header) {
             header = true;
             if (cells.size() != 3 || cells[0] != "mine" || cells[1] != "theirs" || cells[2] != "suitability") {
@@ -113,7 +93,7 @@ Result<ComboTable> ComboTable::fromCsv(std::string_view text, std::string_view f
             return makeError(where + "row: expected 3 comma-separated fields, found " + std::to_string(cells.size()));
         }
         for (int i = 0; i < 2; ++i) {
-            if (!validName(cells[static_cast<std::size_t>(i)])) {
+            if (!validKey(cells[static_cast<std::size_t>(i)])) {
                 return makeError(where + (i == 0 ? "mine" : "theirs") + ": \"" +
                                  std::string(cells[static_cast<std::size_t>(i)].substr(0, 64)) +
                                  "\" is not an action name or @annotation");

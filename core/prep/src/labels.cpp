@@ -3,45 +3,22 @@
 #include <charconv>
 #include <sstream>
 
+#include "csv.h"
+
 namespace fray::prep {
-namespace {
-
-std::string_view trim(std::string_view s) {
-    while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r')) s.remove_prefix(1);
-    while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
-    return s;
-}
-
-std::vector<std::string_view> splitCommas(std::string_view line) {
-    std::vector<std::string_view> out;
-    std::size_t start = 0;
-    for (std::size_t i = 0; i <= line.size(); ++i) {
-        if (i == line.size() || line[i] == ',') {
-            out.push_back(trim(line.substr(start, i - start)));
-            start = i + 1;
-        }
-    }
-    return out;
-}
-
-}  // namespace
 
 Result<std::vector<LabelRow>> parseLabelsCsv(std::string_view text, std::string_view fileName) {
     static const char* const kFields[] = {"motion", "first_frame", "last_frame", "left", "right"};
     std::vector<LabelRow> rows;
-    int lineNo = 0;
     bool header = false;
-    std::size_t pos = 0;
-    while (pos < text.size()) {
-        const std::size_t end = std::min(text.find('\n', pos), text.size());
-        const std::string_view line = trim(text.substr(pos, end - pos));
-        pos = end + 1;
-        ++lineNo;
+    csv::Reader reader(text);
+    while (reader.next()) {
+        const int lineNo = reader.line();
+        const std::string_view line = reader.text();
+        const auto& cells = reader.cells();
         const auto where = [&](std::string_view field) {
             return std::string(fileName) + ":" + std::to_string(lineNo) + ": " + std::string(field);
         };
-        if (line.empty() || line.front() == '#') continue;
-        const auto cells = splitCommas(line);
         if (!header) {
             header = true;
             if (cells.size() != 5 || cells[0] != "motion") {

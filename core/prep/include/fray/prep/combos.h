@@ -34,6 +34,9 @@ public:
     double query(std::string_view myName, const std::vector<std::string>& myAnnotations, std::string_view theirName,
                  const std::vector<std::string>& theirAnnotations) const;
 
+    // An action name or "@annotation": letters, digits, '_', '-', '.'; 1..64 characters.
+    static bool validKey(std::string_view key);
+
     std::string toCsv() const;
     // Errors name the file, the line and the field.
     static Result<ComboTable> fromCsv(std::string_view text, std::string_view fileName);
