@@ -3,9 +3,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <sstream>
+#include <map>
 
+#include "fray/core/atomic_file.h"
 #include "fray/io/import.h"
 #include "fray/prep/contacts.h"
 #include "fray/prep/labels.h"
@@ -59,11 +59,9 @@ Result<Session> openSession(const std::filesystem::path& file, bool loadMotions,
 }
 
 Status importLabels(Session& s, const std::filesystem::path& labelsFile) {
-    std::ifstream in(labelsFile, std::ios::binary);
-    if (!in) return makeError(labelsFile.string() + ": cannot open the labels file");
-    std::ostringstream buf;
-    buf << in.rdbuf();
-    auto rows = prep::parseLabelsCsv(buf.str(), labelsFile.string());
+    const auto text = readWholeFile(labelsFile, "the labels file");
+    if (!text) return text.error();
+    auto rows = prep::parseLabelsCsv(*text, labelsFile.string());
     if (!rows) return rows.error();
     std::map<std::string, std::vector<prep::ContactLabel>> byMotion;
     for (const auto& row : *rows) {

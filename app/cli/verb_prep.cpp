@@ -1,8 +1,6 @@
 // Data-preparation verbs: project new, contacts, segment, actions, graph, combos.
 #include <cstdio>
-#include <fstream>
 #include <set>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -268,19 +266,19 @@ void runCombos(const CombosArgs& a) {
     }
     if (a.action == "import") {
         if (a.file.empty()) return fail("combos import: give the CSV file to read");
-        std::ifstream in(a.file, std::ios::binary);
-        if (!in) return fail(a.file + ": cannot open");
-        std::ostringstream buf;
-        buf << in.rdbuf();
-        auto t = prep::ComboTable::fromCsv(buf.str(), a.file);
+        const auto text = readWholeFile(a.file, "the combination table");
+        if (!text) return fail(text.error().message);
+        auto t = prep::ComboTable::fromCsv(*text, a.file);
         if (!t) return fail(t.error().message);
         for (const auto& r : t->records()) table.set(r);
         std::printf("%zu records imported\n", t->records().size());
     } else if (a.action == "set") {
         if (a.mine.empty() || a.theirs.empty()) return fail("combos set: give MINE THEIRS VALUE");
-        auto check = prep::ComboTable::fromCsv("mine,theirs,suitability\n" + a.mine + "," + a.theirs + ",0\n",
-                                               "arguments");
-        if (!check) return fail(check.error().message);
+        for (const std::string& key : {a.mine, a.theirs}) {
+            if (!prep::ComboTable::validKey(key)) {
+                return fail("combos set: \"" + key + "\" is not an action name or @annotation");
+            }
+        }
         table.set({a.mine, a.theirs, a.value});
     } else if (a.action == "remove") {
         if (!table.remove(a.mine, a.theirs)) return fail("no record " + a.mine + " / " + a.theirs);

@@ -1,6 +1,7 @@
 #include "fray/core/atomic_file.h"
 
 #include <fstream>
+#include <iterator>
 #include <system_error>
 
 namespace fray {
@@ -28,6 +29,18 @@ Status writeFileAtomically(const std::filesystem::path& path, std::string_view c
         return makeError(path.string() + ": cannot replace the file: " + ec.message());
     }
     return {};
+}
+
+Result<std::string> readWholeFile(const std::filesystem::path& path, std::string_view what) {
+    const std::string prefix = path.string() + ": cannot open " + std::string(what);
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) return makeError(prefix + ": no such file");
+    if (std::filesystem::is_directory(path, ec)) return makeError(prefix + ": it is a folder");
+    std::ifstream f(path, std::ios::binary);
+    if (!f) return makeError(prefix + ": permission denied?");
+    std::string out((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    if (f.bad()) return makeError(path.string() + ": read error in " + std::string(what));
+    return out;
 }
 
 }  // namespace fray

@@ -1,7 +1,6 @@
 #include "fray/prep/pipeline.h"
 
 #include <cstring>
-#include <fstream>
 
 #include "fray/core/atomic_file.h"
 
@@ -217,13 +216,12 @@ Result<DerivedCache> deserializeCache(const std::vector<std::uint8_t>& bytes) {
 }
 
 DerivedCache readCache(const std::filesystem::path& projectFile, std::string* why) {
-    std::ifstream in(cachePath(projectFile), std::ios::binary);
-    if (!in) {
-        if (why) *why = "no cache yet";
+    const auto text = readWholeFile(cachePath(projectFile), "the cache");
+    if (!text) {
+        if (why) *why = text.error().message;
         return {};
     }
-    std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    auto cache = deserializeCache(bytes);
+    auto cache = deserializeCache(std::vector<std::uint8_t>(text->begin(), text->end()));
     if (!cache) {
         if (why) *why = cache.error().message;
         return {};

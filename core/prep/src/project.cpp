@@ -1,7 +1,5 @@
 #include "fray/prep/project.h"
 
-#include <fstream>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -407,12 +405,9 @@ Result<Project> projectFromJson(std::string_view text, std::string_view fileName
 }
 
 Result<Project> loadProject(const std::filesystem::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    if (!in) return makeError(file.string() + ": cannot open the project file");
-    std::ostringstream buf;
-    buf << in.rdbuf();
-    if (in.bad()) return makeError(file.string() + ": read error");
-    return projectFromJson(buf.str(), file.string());
+    auto text = readWholeFile(file, "the project file");
+    if (!text) return text.error();
+    return projectFromJson(*text, file.string());
 }
 
 Status saveProject(const Project& project, const std::filesystem::path& file) {
