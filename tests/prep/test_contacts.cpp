@@ -20,42 +20,6 @@ using namespace fray::prep;
 
 namespace {
 
-// ~20 s of labels, as an animator would mark them: 4 x 5 s from different
-// kinds of take (frames at 60 fps, inclusive).
-struct LabelRange {
-    const char* take;
-    int first;
-    int last;
-};
-constexpr LabelRange kTrainingRanges[] = {{"shadowbox_energetic", 1200, 1499},
-                                          {"running_around", 900, 1199},
-                                          {"falls", 1500, 1799},
-                                          {"walking", 600, 899}};
-
-std::vector<TrainingSample> demoLabelSamples() {
-    std::vector<TrainingSample> out;
-    for (const auto& range : kTrainingRanges) {
-        const auto& t = test::demoTakes().at(range.take);
-        const auto labels = expandLabels(labelsFromContacts(t.truthContacts, range.first, range.last),
-                                         t.signals.frameCount);
-        EXPECT_TRUE(labels.ok());
-        const auto s = collectSamples(t.signals, *labels);
-        out.insert(out.end(), s.begin(), s.end());
-    }
-    return out;
-}
-
-// Trained once per test binary (default options).
-const ContactSvm& demoSvm() {
-    static const std::optional<ContactSvm> svm = [] {
-        auto r = ContactSvm::train(demoLabelSamples());
-        EXPECT_TRUE(r.ok()) << r.error().message;
-        return r.ok() ? std::optional<ContactSvm>(std::move(*r)) : std::nullopt;
-    }();
-    if (!svm) throw std::runtime_error("the demo SVM did not train");
-    return *svm;
-}
-
 // Accuracy of `c` against the truth, over the frames outside `skip` ([first, last]).
 double accuracyOutside(const FootContacts& c, const FootContacts& truth, int first, int last) {
     long equal = 0;
@@ -186,9 +150,9 @@ TEST(Contacts, AgreementCountsEveryFrameOfBothFeet) {
 // ---- SVM ----------------------------------------------------------------
 
 TEST(ContactSvm, TwentySecondsOfLabelsClassifyEveryDemoTake) {
-    const auto samples = demoLabelSamples();
+    const auto samples = test::demoLabelSamples();
     ASSERT_EQ(samples.size(), 2400u);  // 20 s at 60 fps, both feet
-    const ContactSvm& svm = demoSvm();
+    const ContactSvm& svm = test::demoSvm();
     const SvmReport& rep = svm.report();
     std::printf("[ svm ] C %g gamma %g loo %.4f samples %d distinct %d support vectors %d loo retrains %lld "
                 "train %.2f s\n",
@@ -213,7 +177,7 @@ TEST(ContactSvm, TwentySecondsOfLabelsClassifyEveryDemoTake) {
         // Accuracy over the frames that were not labelled.
         int first = 1;
         int last = 0;
-        for (const auto& r : kTrainingRanges) {
+        for (const auto& r : test::kTrainingRanges) {
             if (name == r.take) {
                 first = r.first;
                 last = r.last;
@@ -243,7 +207,7 @@ TEST(ContactSvm, TwentySecondsOfLabelsClassifyEveryDemoTake) {
 TEST(ContactSvm, ShortcutLeaveOneOutEqualsBruteForce) {
     // 5 s of walking and 5 s of falls: small enough to retrain every row.
     std::vector<TrainingSample> samples;
-    for (const auto& range : {kTrainingRanges[3], kTrainingRanges[2]}) {
+    for (const auto& range : {test::kTrainingRanges[3], test::kTrainingRanges[2]}) {
         const auto& t = test::demoTakes().at(range.take);
         const auto labels = expandLabels(labelsFromContacts(t.truthContacts, range.first, range.last),
                                          t.signals.frameCount);
@@ -262,7 +226,7 @@ TEST(ContactSvm, ShortcutLeaveOneOutEqualsBruteForce) {
 }
 
 TEST(ContactSvm, SameInputSameModel) {
-    auto samples = demoLabelSamples();
+    auto samples = test::demoLabelSamples();
     SvmTrainOptions small;  // a smaller grid keeps the sanitizer build quick
     small.log2C = {1, 5};
     small.log2Gamma = {1, 5};
@@ -287,15 +251,15 @@ TEST(ContactSvm, SubsamplesDeterministicallyAboveMaxSamples) {
     opt.log2C = {3};
     opt.log2Gamma = {3};
     opt.maxSamples = 1000;
-    const auto a = ContactSvm::train(demoLabelSamples(), opt);
-    const auto b = ContactSvm::train(demoLabelSamples(), opt);
+    const auto a = ContactSvm::train(test::demoLabelSamples(), opt);
+    const auto b = ContactSvm::train(test::demoLabelSamples(), opt);
     ASSERT_TRUE(a.ok() && b.ok());
     EXPECT_EQ(a->report().samples, 1000);
     EXPECT_EQ(a->serialize(), b->serialize());
 }
 
 TEST(ContactSvm, SerializeRoundTripClassifiesIdentically) {
-    const ContactSvm& svm = demoSvm();
+    const ContactSvm& svm = test::demoSvm();
     const auto bytes = svm.serialize();
     ASSERT_FALSE(bytes.empty());
     const auto back = ContactSvm::deserialize(bytes);
@@ -317,7 +281,7 @@ TEST(ContactSvm, SerializeRoundTripClassifiesIdentically) {
 }
 
 TEST(ContactSvm, DeserializeRejectsTruncatedAndGarbageBytes) {
-    const auto bytes = demoSvm().serialize();
+    const auto bytes = test::demoSvm().serialize();
     for (std::size_t n = 0; n < bytes.size(); ++n) {
         const auto r = ContactSvm::deserialize(std::span(bytes.data(), n));
         EXPECT_FALSE(r.ok()) << n << " bytes";
@@ -383,7 +347,7 @@ TEST(ContactSvm, RejectsUnusableLabelsWithReasons) {
 }
 
 TEST(ContactSvm, ProgressReportsCellsAndCancels) {
-    const auto samples = demoLabelSamples();
+    const auto samples = test::demoLabelSamples();
     SvmTrainOptions opt;
     opt.log2C = {1, 3, 5};
     opt.log2Gamma = {1, 3};
@@ -429,7 +393,7 @@ TEST(ContactsReal, HeuristicAndDemoSvmOnSharedCaptures) {
                                  "lafan1/walk4_subject1.bvh", "lafan1/pushAndFall1_subject1.bvh",
                                  "bandai/dataset-2_walk_normal_001.bvh", "bandai/dataset-1_run_active_001.bvh"};
     if (!test::requireSharedMocap()) return;
-    const ContactSvm& svm = demoSvm();
+    const ContactSvm& svm = test::demoSvm();
     for (const char* file : files) {
         const auto path = test::sharedMocap() / file;
         const auto motion = loadMotion(path);

@@ -4,7 +4,6 @@
 #include <cstdio>
 
 #include "fray/prep/contacts.h"
-#include "fray/prep/labels.h"
 #include "fray/prep/segmentation.h"
 #include "prep_fixture.h"
 
@@ -118,28 +117,12 @@ TEST(Segmentation, BoundaryScoreMatchesOneToOne) {
 // from the SVM trained on 20 s of labels, then segmentation.
 TEST(Segmentation, DemoBoundaryF1WithComputedContacts) {
     const auto& takes = fray::test::demoTakes();
-    std::vector<TrainingSample> samples;
-    const std::pair<const char*, int> labelled[] = {
-        {"shadowbox_energetic", 1200}, {"running_around", 900}, {"falls", 1500}, {"walking", 600}};
-    for (const auto& [name, first] : labelled) {
-        const auto& t = takes.at(name);
-        FrameLabels labels;
-        labels.left.assign(static_cast<std::size_t>(t.signals.frameCount), -1);
-        labels.right = labels.left;
-        for (int f = first; f < first + 300; ++f) {
-            labels.left[static_cast<std::size_t>(f)] = static_cast<std::int8_t>(t.truthContacts.left[static_cast<std::size_t>(f)]);
-            labels.right[static_cast<std::size_t>(f)] = static_cast<std::int8_t>(t.truthContacts.right[static_cast<std::size_t>(f)]);
-        }
-        const auto part = collectSamples(t.signals, labels);
-        samples.insert(samples.end(), part.begin(), part.end());
-    }
-    auto svm = ContactSvm::train(samples);
-    ASSERT_TRUE(svm.ok()) << svm.error().message;
+    const ContactSvm& svm = fray::test::demoSvm();  // 4 x 5 s of labels
     BoundaryScore heuristic, learned;
     for (const auto& [name, t] : takes) {
         const auto truth = truthCuts(t.take.truth);
         heuristic += scoreBoundaries(segment(t.signals, heuristicContacts(t.signals)).cuts, truth, 6);
-        learned += scoreBoundaries(segment(t.signals, svm->classify(t.signals)).cuts, truth, 6);
+        learned += scoreBoundaries(segment(t.signals, svm.classify(t.signals)).cuts, truth, 6);
     }
     std::printf("heuristic contacts: P %.3f R %.3f F1 %.3f\nsvm contacts:       P %.3f R %.3f F1 %.3f\n",
                 heuristic.precision(), heuristic.recall(), heuristic.f1(), learned.precision(), learned.recall(),

@@ -1,24 +1,8 @@
 #include "fray/demo/demo_project.h"
 
-#include <algorithm>
+#include "fray/prep/contacts.h"
 
 namespace fray::demo {
-
-std::vector<prep::ContactLabel> labelsFromTruth(const GroundTruth& truth, int first, int last) {
-    std::vector<prep::ContactLabel> out;
-    first = std::max(0, first);
-    last = std::min(last, truth.frameCount - 1);
-    for (int f = first; f <= last; ++f) {
-        const bool l = truth.leftContact[static_cast<std::size_t>(f)] != 0;
-        const bool r = truth.rightContact[static_cast<std::size_t>(f)] != 0;
-        if (!out.empty() && out.back().lastFrame == f - 1 && out.back().left == l && out.back().right == r) {
-            out.back().lastFrame = f;
-        } else {
-            out.push_back({f, f, l, r});
-        }
-    }
-    return out;
-}
 
 prep::Project makeDemoProject(const std::vector<ProjectTake>& takes) {
     prep::Project p = prep::makeProject("demo");
@@ -45,7 +29,8 @@ prep::Project makeDemoProject(const std::vector<ProjectTake>& takes) {
         for (const auto& [take, start] : labelled) {
             if (t.truth.take == take) {
                 const int first = static_cast<int>(start * t.truth.fps);
-                m.contactLabels = labelsFromTruth(t.truth, first, first + static_cast<int>(5.0 * t.truth.fps) - 1);
+                m.contactLabels = prep::labelsFromContacts({t.truth.leftContact, t.truth.rightContact}, first,
+                                                            first + static_cast<int>(5.0 * t.truth.fps) - 1);
             }
         }
         p.motions.push_back(std::move(m));

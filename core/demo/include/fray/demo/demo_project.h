@@ -20,8 +20,4 @@ struct ProjectTake {
 
 prep::Project makeDemoProject(const std::vector<ProjectTake>& takes);
 
-// Contact labels of frames [first, last] from per-frame truth: one label per
-// run of constant (left, right).
-std::vector<prep::ContactLabel> labelsFromTruth(const GroundTruth& truth, int first, int last);
-
 }  // namespace fray::demo
