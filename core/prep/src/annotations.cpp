@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "fray/core/kinematics.h"
 
@@ -21,8 +22,22 @@ bool isValidAnnotation(const std::string& word) {
     });
 }
 
-Proposal proposeAnnotations(const Motion& motion, const StandardJoints& joints, const MotionSignals& signals,
-                            int first, int last, const ProposalParams& params) {
+namespace {
+
+// Standing pelvis height of a take: the 90th percentile of the pelvis height
+// (0 when the signals have no posture). Computed once per take.
+double standingPelvisHeight(const MotionSignals& signals) {
+    std::vector<float> heights;
+    for (int f = 0; f < signals.frameCount && !signals.posture.empty(); f += std::max(1, signals.frameCount / 400)) {
+        heights.push_back(signals.posture[static_cast<std::size_t>(f)][0]);
+    }
+    if (heights.empty()) return 0.0;
+    std::sort(heights.begin(), heights.end());
+    return double(heights[heights.size() * 9 / 10]);
+}
+
+Proposal propose(const Motion& motion, const StandardJoints& joints, double standing, int first, int last,
+                 const ProposalParams& params) {
     Proposal out;
     first = std::clamp(first, 0, motion.frameCount() - 1);
     last = std::clamp(last, first, motion.frameCount() - 1);
@@ -65,16 +80,6 @@ Proposal proposeAnnotations(const Motion& motion, const StandardJoints& joints, 
     const double travelSpeed = double(glm::length(glm::vec2(p1.x - p0.x, p1.z - p0.z))) / seconds;
     float minPelvis = p0.y;
     for (int f = 0; f < frames; ++f) minPelvis = std::min(minPelvis, at(f, joints.pelvis).y);
-    // Standing pelvis height: the take's high percentile stands in for it.
-    std::vector<float> heights;
-    for (int f = 0; f < signals.frameCount; f += std::max(1, signals.frameCount / 400)) {
-        if (!signals.posture.empty()) heights.push_back(signals.posture[static_cast<std::size_t>(f)][0]);
-    }
-    double standing = 0.0;
-    if (!heights.empty()) {
-        std::sort(heights.begin(), heights.end());
-        standing = double(heights[heights.size() * 9 / 10]);
-    }
     const bool falling = standing > 0.0 && double(minPelvis) < params.fallHeightRatio * standing;
 
     // Heading change: from the hip line (left hip -> right hip) on the floor.
@@ -88,8 +93,8 @@ Proposal proposeAnnotations(const Motion& motion, const StandardJoints& joints, 
         for (int f = 1; f < frames; ++f) {
             const double h = heading(f);
             double d = h - prev;
-            while (d > M_PI) d -= 2 * M_PI;
-            while (d < -M_PI) d += 2 * M_PI;
+            while (d > std::numbers::pi) d -= 2 * std::numbers::pi;
+            while (d < -std::numbers::pi) d += 2 * std::numbers::pi;
             turn += d;
             prev = h;
         }
@@ -109,16 +114,24 @@ Proposal proposeAnnotations(const Motion& motion, const StandardJoints& joints, 
     }
     if (travelSpeed >= params.runSpeed) add("run");
     else if (travelSpeed >= params.walkSpeed) add("walk");
-    if (std::abs(turn) * 180.0 / M_PI >= params.turnDegrees) add("turn");
+    if (std::abs(turn) * 180.0 / std::numbers::pi >= params.turnDegrees) add("turn");
     if (out.annotations.empty() && meanSpeed < params.idleSpeed) add("idle");
     return out;
 }
 
+}  // namespace
+
+Proposal proposeAnnotations(const Motion& motion, const StandardJoints& joints, const MotionSignals& signals,
+                            int first, int last, const ProposalParams& params) {
+    return propose(motion, joints, standingPelvisHeight(signals), first, last, params);
+}
+
 void proposeAll(MotionActions& doc, const Motion& motion, const StandardJoints& joints, const MotionSignals& signals,
                 const ProposalParams& params) {
+    const double standing = standingPelvisHeight(signals);
     for (int a = 0; a < doc.actionCount(); ++a) {
         auto& info = doc.actions[static_cast<std::size_t>(a)];
-        const Proposal p = proposeAnnotations(motion, joints, signals, doc.firstFrame(a), doc.lastFrame(a), params);
+        const Proposal p = propose(motion, joints, standing, doc.firstFrame(a), doc.lastFrame(a), params);
         info.proposed.clear();
         for (const auto& w : p.annotations) {
             if (!info.has(w)) info.proposed.push_back(w);
