@@ -1,6 +1,6 @@
 #include "prep_session.h"
 
-#include <chrono>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -82,15 +82,15 @@ Status importLabels(Session& s, const std::filesystem::path& labelsFile) {
 
 Result<ContactsSummary> computeContacts(Session& s, bool forceHeuristic, const ProgressFn& progress) {
     ContactsSummary summary;
-    std::vector<prep::ContactLabel> all;  // every label of the project: the SVM depends on all of them
-    for (const auto& m : s.project.motions) all.insert(all.end(), m.contactLabels.begin(), m.contactLabels.end());
-    summary.svm = !forceHeuristic && !all.empty();
+    summary.svm = !forceHeuristic && std::any_of(s.project.motions.begin(), s.project.motions.end(),
+                                                 [](const auto& m) { return !m.contactLabels.empty(); });
+    const std::uint64_t training = prep::trainingKey(s.project, s.motions);
 
     // Fresh cache entries for every motion?
     std::vector<std::uint64_t> keys;
     bool allCached = true;
     for (const auto& m : s.motions) {
-        keys.push_back(prep::contactsKey(m, all, summary.svm));
+        keys.push_back(prep::contactsKey(m, training, summary.svm));
         const auto* c = s.cache.findContacts(m.id, keys.back());
         if (!c || c->contacts.frameCount() != m.signals.frameCount) allCached = false;
     }
@@ -114,13 +114,12 @@ Result<ContactsSummary> computeContacts(Session& s, bool forceHeuristic, const P
             const auto part = prep::collectSamples(s.motions[i].signals, *labels);
             samples.insert(samples.end(), part.begin(), part.end());
         }
-        const auto t0 = std::chrono::steady_clock::now();
         auto trained = prep::ContactSvm::train(samples, {}, [&](double f, std::string_view) {
             return reportProgress(progress, f, "svm grid search");
         });
         if (!trained) return makeError("contact SVM: " + trained.error().message);
-        summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         const auto& r = trained->report();
+        summary.seconds = r.seconds;
         summary.C = r.C;
         summary.gamma = r.gamma;
         summary.looAccuracy = r.looAccuracy;

@@ -237,3 +237,29 @@ TEST(Annotations, ProposalsAgreeWithTheDemoTruth) {
     EXPECT_GE(fallsFound, falls * 8 / 10);
     EXPECT_GE(locomotionFound, locomotion * 8 / 10);
 }
+
+// The contacts of every motion depend on all labels and on the files they
+// label: moving a label to another motion, or editing a labelled file, must
+// make the cached contacts stale.
+TEST(Cache, TrainingKeyFollowsLabelsAndLabelledFiles) {
+    Project p = makeProject("k");
+    p.motions.resize(2);
+    p.motions[0].id = "a";
+    p.motions[1].id = "b";
+    std::vector<LoadedMotion> loaded(2);
+    loaded[0].fileKey = 11;
+    loaded[1].fileKey = 22;
+    p.motions[0].contactLabels = {{0, 9, true, false}};
+    const auto base = trainingKey(p, loaded);
+    EXPECT_EQ(trainingKey(p, loaded), base);
+    std::swap(p.motions[0].contactLabels, p.motions[1].contactLabels);
+    EXPECT_NE(trainingKey(p, loaded), base);
+    std::swap(p.motions[0].contactLabels, p.motions[1].contactLabels);
+    loaded[0].fileKey = 12;
+    EXPECT_NE(trainingKey(p, loaded), base);
+    loaded[0].fileKey = 11;
+    loaded[1].fileKey = 23;  // unlabelled file: the SVM does not change
+    EXPECT_EQ(trainingKey(p, loaded), base);
+    EXPECT_NE(contactsKey(loaded[0], base, true), contactsKey(loaded[0], base, false));
+    EXPECT_EQ(contactsKey(loaded[0], base, false), contactsKey(loaded[0], base + 1, false));
+}

@@ -118,15 +118,26 @@ Result<std::vector<LoadedMotion>> loadProjectMotions(const Project& project, con
     return out;
 }
 
-std::uint64_t contactsKey(const LoadedMotion& motion, const std::vector<ContactLabel>& labels, bool svm) {
+std::uint64_t trainingKey(const Project& project, const std::vector<LoadedMotion>& motions) {
+    std::uint64_t key = hashString("labels");
+    for (std::size_t i = 0; i < project.motions.size() && i < motions.size(); ++i) {
+        const ProjectMotion& m = project.motions[i];
+        if (m.contactLabels.empty()) continue;
+        key = hashString(m.id, key);
+        key = hashBytes(&motions[i].fileKey, sizeof motions[i].fileKey, key);
+        for (const auto& l : m.contactLabels) {
+            const int v[4] = {l.firstFrame, l.lastFrame, l.left ? int(*l.left) : -1, l.right ? int(*l.right) : -1};
+            key = hashBytes(v, sizeof v, key);
+        }
+    }
+    return key;
+}
+
+std::uint64_t contactsKey(const LoadedMotion& motion, std::uint64_t training, bool svm) {
     std::uint64_t key = hashBytes(&motion.fileKey, sizeof motion.fileKey);
     const std::uint8_t s = svm ? 1 : 0;
     key = hashBytes(&s, 1, key);
-    for (const auto& l : labels) {
-        const int v[4] = {l.firstFrame, l.lastFrame, l.left ? int(*l.left) : -1, l.right ? int(*l.right) : -1};
-        key = hashBytes(v, sizeof v, key);
-    }
-    return key;
+    return svm ? hashBytes(&training, sizeof training, key) : key;
 }
 
 const CachedContacts* DerivedCache::findContacts(const std::string& id, std::uint64_t key) const {

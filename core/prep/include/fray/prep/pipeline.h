@@ -75,8 +75,12 @@ Status writeCache(const std::filesystem::path& projectFile, const DerivedCache& 
 std::uint64_t hashBytes(const void* data, std::size_t size, std::uint64_t seed = 1469598103934665603ull);
 std::uint64_t hashString(std::string_view s, std::uint64_t seed = 1469598103934665603ull);
 
-// Key of a motion's contacts: the file key plus the labels that train them.
-std::uint64_t contactsKey(const LoadedMotion& motion, const std::vector<ContactLabel>& labels, bool svm);
+// What the contact SVM is trained on: the id, file key and labels of every
+// labelled motion (motions and project.motions are parallel).
+std::uint64_t trainingKey(const Project& project, const std::vector<LoadedMotion>& motions);
+// Key of a motion's contacts: its file key, the method and, for the SVM, the
+// training key.
+std::uint64_t contactsKey(const LoadedMotion& motion, std::uint64_t training, bool svm);
 
 SegmentationParams segmentationParams(const ProjectSettings& settings);
 
