@@ -4,65 +4,16 @@
 #include <nlohmann/json.hpp>
 
 #include "fray/core/atomic_file.h"
+#include "fray/prep/json_reader.h"
 #include "fray/prep/annotations.h"
 
 namespace fray::prep {
 namespace {
 
 using json = nlohmann::ordered_json;
+using Reader = fray::prep::JsonReader;
 
-const char* const kLaterSections[] = {"pattern_lists", "paintings", "trajectories", "scene"};
-
-// Reading with JSON-pointer error paths. Every accessor checks the type and
-// returns an Error naming the path.
-class Reader {
-public:
-    explicit Reader(std::string_view file) : file_(file) {}
-
-    Error error(const std::string& path, const std::string& problem) const {
-        return makeError(file_ + ": " + (path.empty() ? "/" : path) + ": " + problem);
-    }
-    Result<const json*> field(const json& obj, const std::string& path, const char* key, bool required = true) const {
-        const auto it = obj.find(key);
-        if (it == obj.end()) {
-            if (!required) return static_cast<const json*>(nullptr);
-            return error(path + "/" + key, "missing");
-        }
-        return &*it;
-    }
-    Result<std::string> string(const json& v, const std::string& path) const {
-        if (!v.is_string()) return error(path, "must be a string");
-        return v.get<std::string>();
-    }
-    Result<int> integer(const json& v, const std::string& path) const {
-        if (!v.is_number_integer()) return error(path, "must be an integer");
-        const auto x = v.get<std::int64_t>();
-        if (x < -(1LL << 31) || x >= (1LL << 31)) return error(path, "is out of range");
-        return static_cast<int>(x);
-    }
-    Result<double> number(const json& v, const std::string& path) const {
-        if (!v.is_number()) return error(path, "must be a number");
-        return v.get<double>();
-    }
-    Result<std::vector<std::string>> strings(const json& v, const std::string& path) const {
-        if (!v.is_array()) return error(path, "must be an array of strings");
-        std::vector<std::string> out;
-        for (std::size_t i = 0; i < v.size(); ++i) {
-            auto s = string(v[i], path + "/" + std::to_string(i));
-            if (!s) return s.error();
-            out.push_back(std::move(*s));
-        }
-        return out;
-    }
-
-private:
-    std::string file_;
-};
-
-#define FRAY_TRY(var, expr)              \
-    auto var##_r = (expr);               \
-    if (!var##_r) return var##_r.error(); \
-    auto var = std::move(*var##_r)
+const char* const kLaterSections[] = {"pattern_lists", "paintings", "trajectories", "scene", "planner_presets"};
 
 Result<std::optional<std::string>> optionalString(const Reader& rd, const json& obj, const std::string& path,
                                                   const char* key) {
