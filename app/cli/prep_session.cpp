@@ -137,6 +137,44 @@ Result<ContactsSummary> computeContacts(Session& s, bool forceHeuristic, const P
     return summary;
 }
 
+Result<ProjectGraph> projectGraph(Session& s, const std::string& presetOverride, double thresholdOverride,
+                                  const ProgressFn& progress) {
+    ProjectGraph out;
+    out.preset = presetOverride.empty() ? s.project.settings.graphPreset : presetOverride;
+    const auto weights = prep::GraphWeights::preset(out.preset);
+    if (!weights) return makeError("graph preset: expected fighting or locomotion, got '" + out.preset + "'");
+    out.options.weights = *weights;
+    if (thresholdOverride > 0) out.options.threshold = thresholdOverride;
+    else if (s.project.settings.graphThreshold) out.options.threshold = *s.project.settings.graphThreshold;
+
+    std::vector<const Motion*> motions;
+    std::vector<StandardJoints> joints;
+    std::vector<prep::ActionRef> actions;
+    std::uint64_t key = prep::hashString(out.preset);
+    key = prep::hashBytes(&out.options.threshold, sizeof out.options.threshold, key);
+    for (std::size_t i = 0; i < s.motions.size(); ++i) {
+        motions.push_back(&s.motions[i].motion);
+        joints.push_back(s.motions[i].joints);
+        const auto& doc = s.project.motions[i].actions;
+        key = prep::hashBytes(&s.motions[i].fileKey, sizeof(std::uint64_t), key);
+        for (int c : doc.cuts) key = prep::hashBytes(&c, sizeof c, key);
+        for (int k = 0; k < doc.actionCount(); ++k) actions.push_back({static_cast<int>(i), doc.firstFrame(k), doc.lastFrame(k)});
+    }
+    if (actions.empty()) return makeError(s.file.string() + ": the project has no actions (import motions first)");
+    // A fresh cached graph only needs reconnecting; otherwise cluster again.
+    out.cached = s.cache.graph && s.cache.graph->key == key && s.cache.graph->startNode.size() == actions.size();
+    if (out.cached) {
+        out.graph.nodeCount = s.cache.graph->nodeCount;
+        prep::connectNodes(out.graph, s.cache.graph->startNode, s.cache.graph->endNode);
+        return out;
+    }
+    auto graph = prep::buildMotionGraph(motions, joints, actions, out.options, progress);
+    if (!graph) return graph.error();
+    out.graph = std::move(*graph);
+    s.cache.graph = prep::CachedGraph{key, out.graph.nodeCount, out.graph.startNode, out.graph.endNode};
+    return out;
+}
+
 Status saveSession(const Session& s) {
     if (auto st = prep::saveProject(s.project, s.file); !st) return st;
     if (auto st = prep::writeCache(s.file, s.cache); !st) {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "fray/core/progress.h"
+#include "fray/prep/motion_graph.h"
 #include "fray/prep/pipeline.h"
 #include "fray/prep/project.h"
 
@@ -43,6 +44,18 @@ struct ContactsSummary {
 // Fills motions[i].contacts: SVM when the project has labels (unless
 // forceHeuristic), else the heuristic. Uses and refreshes s.cache.
 Result<ContactsSummary> computeContacts(Session& s, bool forceHeuristic, const ProgressFn& progress);
+
+struct ProjectGraph {
+    prep::MotionGraph graph;
+    std::string preset;
+    prep::GraphOptions options;
+    bool cached = false;  // reconnected from a fresh cache entry (s.cache is then unchanged)
+};
+// The project's action-level motion graph: from the cache when its key
+// (preset, threshold, files, cuts) matches, else built and stored in s.cache
+// (write the cache to keep it). Empty overrides use the project's settings.
+Result<ProjectGraph> projectGraph(Session& s, const std::string& presetOverride, double thresholdOverride,
+                                  const ProgressFn& progress);
 
 // Saves the project (atomically) and the cache.
 Status saveSession(const Session& s);

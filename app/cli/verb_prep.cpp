@@ -176,44 +176,13 @@ void runGraph(const GraphArgs& a) {
     const auto progress = stderrProgress(a.quiet);
     auto s = openSession(a.project, true, progress);
     if (!s) return fail(s.error().message);
-    prep::GraphOptions options;
-    const std::string presetName = a.preset.empty() ? s->project.settings.graphPreset : a.preset;
-    const auto weights = prep::GraphWeights::preset(presetName);
-    if (!weights) return fail("--preset: expected fighting or locomotion, got '" + presetName + "'");
-    options.weights = *weights;
-    if (a.threshold > 0) options.threshold = a.threshold;
-    else if (s->project.settings.graphThreshold) options.threshold = *s->project.settings.graphThreshold;
-
-    std::vector<const Motion*> motions;
-    std::vector<StandardJoints> joints;
-    std::vector<prep::ActionRef> actions;
-    std::uint64_t key = prep::hashString(presetName);
-    key = prep::hashBytes(&options.threshold, sizeof options.threshold, key);
-    for (std::size_t i = 0; i < s->motions.size(); ++i) {
-        motions.push_back(&s->motions[i].motion);
-        joints.push_back(s->motions[i].joints);
-        const auto& doc = s->project.motions[i].actions;
-        key = prep::hashBytes(&s->motions[i].fileKey, sizeof(std::uint64_t), key);
-        for (int c : doc.cuts) key = prep::hashBytes(&c, sizeof c, key);
-        for (int k = 0; k < doc.actionCount(); ++k) {
-            actions.push_back({static_cast<int>(i), doc.firstFrame(k), doc.lastFrame(k)});
-        }
-    }
-    if (actions.empty()) return fail(a.project + ": the project has no actions (import motions first)");
-    // A fresh cached graph only needs reconnecting; otherwise cluster again.
-    const bool cached = s->cache.graph && s->cache.graph->key == key && s->cache.graph->startNode.size() == actions.size();
-    Result<prep::MotionGraph> graph = prep::MotionGraph{};
-    if (cached) {
-        graph->nodeCount = s->cache.graph->nodeCount;
-        prep::connectNodes(*graph, s->cache.graph->startNode, s->cache.graph->endNode);
-    } else {
-        graph = prep::buildMotionGraph(motions, joints, actions, options, [&](double f, std::string_view stage) {
-            return reportProgress(progress, f, stage);
-        });
-        if (!graph) return fail(graph.error().message);
-        s->cache.graph = prep::CachedGraph{key, graph->nodeCount, graph->startNode, graph->endNode};
-    }
-    const auto& st = graph->stats;
+    auto built = projectGraph(*s, a.preset, a.threshold, progress);
+    if (!built) return fail(built.error().message);
+    const auto& graph = built->graph;
+    const bool cached = built->cached;
+    const std::string& presetName = built->preset;
+    const auto& options = built->options;
+    const auto& st = graph.stats;
     if (a.json) {
         nlohmann::ordered_json j;
         j["preset"] = presetName;
@@ -226,8 +195,8 @@ void runGraph(const GraphArgs& a) {
         j["scc_share"] = st.sccShare;
         j["dead_ends"] = st.deadEnds;
         j["from_cache"] = cached;
-        j["start_node"] = graph->startNode;
-        j["end_node"] = graph->endNode;
+        j["start_node"] = graph.startNode;
+        j["end_node"] = graph.endNode;
         std::printf("%s\n", j.dump(2).c_str());
     } else {
         std::printf("motion graph (%s, threshold %g): %d nodes, %d edges (actions), out-degree mean %.2f max %d,\n"

@@ -1,0 +1,207 @@
+// Tree-expansion verbs: simulate (SPEC 2), metrics, presets.
+#include <chrono>
+#include <cstdio>
+#include <memory>
+
+#include <nlohmann/json.hpp>
+
+#include "fray/core/atomic_file.h"
+#include "fray/sim/action_library.h"
+#include "fray/sim/metrics.h"
+#include "fray/sim/planner.h"
+#include "fray/sim/spec.h"
+#include "prep_session.h"
+#include "verbs.h"
+
+namespace fray::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A prepared project ready for the planners: motions with contacts, graph,
+// action library. Heap-held: the library points into the session's motions.
+struct SimSession {
+    Session session;
+    ProjectGraph graph;
+    sim::ActionLibrary library;
+};
+
+Result<std::unique_ptr<SimSession>> openSimSession(const fs::path& project, const ProgressFn& progress) {
+    auto s = openSession(project, true, progress);
+    if (!s) return s.error();
+    auto out = std::make_unique<SimSession>();
+    out->session = std::move(*s);
+    auto contacts = computeContacts(out->session, false, progress);
+    if (!contacts) return contacts.error();
+    auto graph = projectGraph(out->session, "", 0, progress);
+    if (!graph) return graph.error();
+    out->graph = std::move(*graph);
+    if (!out->graph.cached || !contacts->fromCache) {
+        if (auto w = prep::writeCache(out->session.file, out->session.cache); !w) {
+            std::fprintf(stderr, "fray-cli: warning: could not write the cache: %s\n", w.error().message.c_str());
+        }
+    }
+    auto lib = sim::buildActionLibrary(out->session.project, out->session.motions, out->graph.graph, progress);
+    if (!lib) return makeError(project.string() + ": " + lib.error().message);
+    out->library = std::move(*lib);
+    return out;
+}
+
+// ---- simulate -----------------------------------------------------------------
+struct SimulateArgs {
+    std::string project, spec, out;
+    bool quiet = false;
+};
+
+void runSimulate(const SimulateArgs& a) {
+    const fs::path outFile(a.out);
+    if (fs::exists(outFile)) {
+        // Only a previous scene may be replaced: never the user's other files.
+        auto old = readWholeFile(outFile, "the existing output");
+        if (!old || !sim::sceneProjectPath(*old, a.out)) {
+            return fail(a.out + ": exists and is not a Fray scene file; refusing to overwrite it");
+        }
+    }
+    auto specText = readWholeFile(a.spec, "the scene spec");
+    if (!specText) return fail(specText.error().message);
+    const auto progress = stderrProgress(a.quiet);
+    auto ss = openSimSession(a.project, progress);
+    if (!ss) return fail(ss.error().message);
+    auto& s = **ss;
+    auto presets = sim::projectPresets(s.session.project, a.project);
+    if (!presets) return fail(presets.error().message);
+    auto spec = sim::parseSceneSpec(*specText, a.spec, s.library, *presets);
+    if (!spec) return fail(spec.error().message);
+    auto scene = sim::simulate(s.library, s.session.project.combos, *spec, progress);
+    if (!scene) return fail(a.spec + ": " + scene.error().message);
+    std::error_code ec;
+    const fs::path outDir = fs::absolute(outFile, ec).parent_path();
+    const fs::path rel = fs::relative(fs::absolute(a.project, ec), outDir, ec);
+    scene->project = (!ec && !rel.empty()) ? rel.generic_string() : fs::absolute(a.project).generic_string();
+    if (auto st = sim::saveScene(*scene, s.library, outFile); !st) return fail(st.error().message);
+    const auto& st = scene->stats;
+    std::printf("%s: %zu characters, %.1f s, %lld decisions, %zu hits, %zu catches, %lld forced reactions, %lld fallbacks\n",
+                a.out.c_str(), scene->characters.size(), scene->duration, static_cast<long long>(st.decisions),
+                scene->hits.size(), scene->catches.size(), static_cast<long long>(st.forced),
+                static_cast<long long>(st.fallbacks));
+    std::printf("planning: %.2f s wall clock (%.1fx real time), %lld nodes, %lld leaves, pruned %.0f %% of %lld choices, "
+                "%lld alpha-beta cutoffs, %lld decisions at a lower depth (leaf budget)\n",
+                st.seconds, st.seconds > 0 ? scene->duration / st.seconds : 0.0,
+                static_cast<long long>(st.nodes), static_cast<long long>(st.leaves), 100.0 * st.prunedShare(),
+                static_cast<long long>(st.choices), static_cast<long long>(st.cutoffs), static_cast<long long>(st.shallower));
+}
+
+// ---- metrics ------------------------------------------------------------------
+struct MetricsArgs {
+    std::string scene;
+    bool json = false, quiet = false;
+};
+
+void runMetrics(const MetricsArgs& a) {
+    auto text = readWholeFile(a.scene, "the scene file");
+    if (!text) return fail(text.error().message);
+    auto projectRel = sim::sceneProjectPath(*text, a.scene);
+    if (!projectRel) return fail(projectRel.error().message);
+    fs::path project(*projectRel);
+    if (project.is_relative()) project = fs::path(a.scene).parent_path() / project;
+    if (!fs::exists(project)) return fail(a.scene + ": /project: cannot find the project '" + project.string() + "'");
+    auto ss = openSimSession(project, stderrProgress(a.quiet));
+    if (!ss) return fail(ss.error().message);
+    auto scene = sim::sceneFromJson(*text, a.scene, (*ss)->library);
+    if (!scene) return fail(scene.error().message);
+    const auto m = sim::computeMetrics(*scene, (*ss)->library);
+    std::fputs((a.json ? sim::metricsToJson(m) : sim::metricsToText(m)).c_str(), stdout);
+}
+
+// ---- presets ------------------------------------------------------------------
+struct PresetsArgs {
+    std::string project, action = "list", name, description;
+    std::vector<std::string> edits;
+    bool json = false;
+};
+
+void runPresets(const PresetsArgs& a) {
+    auto s = openSession(a.project, false, {});
+    if (!s) return fail(s.error().message);
+    auto presets = sim::projectPresets(s->project, a.project);
+    if (!presets) return fail(presets.error().message);
+    auto find = [&](const std::string& name) -> const sim::Preset* {
+        for (const auto& p : *presets) {
+            if (p.name == name) return &p;
+        }
+        return nullptr;
+    };
+    if (a.action == "list" || a.action == "show") {
+        nlohmann::ordered_json out = nlohmann::ordered_json::array();
+        for (const auto& p : *presets) {
+            if (a.action == "show" && p.name != a.name) continue;
+            if (a.json) {
+                auto j = nlohmann::ordered_json::parse(sim::weightsToJson(p.weights));
+                j["name"] = p.name;
+                j["description"] = p.description;
+                out.push_back(j);
+            } else {
+                std::printf("%-20s %s\n", p.name.c_str(), p.description.c_str());
+                if (a.action == "show") std::printf("  %s\n", sim::weightsToJson(p.weights).c_str());
+            }
+        }
+        if (a.action == "show" && !find(a.name)) return fail(a.project + ": no preset named '" + a.name + "'");
+        if (a.json) std::printf("%s\n", out.dump(2).c_str());
+        return;
+    }
+    if (a.name.empty()) return fail("presets " + a.action + ": give a preset name");
+    if (a.action == "set") {
+        sim::Preset p;
+        if (const auto* old = find(a.name)) p = *old;
+        p.name = a.name;
+        if (!a.description.empty()) p.description = a.description;
+        for (const auto& e : a.edits) {
+            if (auto st = sim::applyWeightEdit(p.weights, e); !st) return fail(st.error().message);
+        }
+        sim::setProjectPreset(s->project, p);
+    } else if (a.action == "remove") {
+        if (!sim::removeProjectPreset(s->project, a.name)) {
+            return fail(a.project + ": '" + a.name + "' is not a project preset (built-ins cannot be removed)");
+        }
+    } else {
+        return fail("presets: expected list, show, set or remove, got '" + a.action + "'");
+    }
+    if (auto st = prep::saveProject(s->project, s->file); !st) return fail(st.error().message);
+    std::printf("%s: preset %s %s\n", a.project.c_str(), a.name.c_str(), a.action == "set" ? "saved" : "removed");
+}
+
+}  // namespace
+
+void registerSim(CLI::App& app) {
+    {
+        auto args = std::make_shared<SimulateArgs>();
+        auto* cmd = app.add_subcommand("simulate", "Temporal tree expansion: plan an interaction scene from a JSON spec");
+        cmd->add_option("project", args->project, "Project file (*.frayproj)")->required();
+        cmd->add_option("--spec", args->spec, "Scene spec (JSON: characters, presets, depths, paths, duration, seed)")
+            ->required();
+        cmd->add_option("-o,--out", args->out, "Scene file to write (*.frayscene)")->required();
+        cmd->add_flag("-q,--quiet", args->quiet, "No progress on stderr");
+        cmd->callback([args] { runSimulate(*args); });
+    }
+    {
+        auto args = std::make_shared<MetricsArgs>();
+        auto* cmd = app.add_subcommand("metrics", "Scene quality and outcome metrics per character");
+        cmd->add_option("scene", args->scene, "Scene file")->required();
+        cmd->add_flag("--json", args->json, "JSON output");
+        cmd->add_flag("-q,--quiet", args->quiet, "No progress on stderr");
+        cmd->callback([args] { runMetrics(*args); });
+    }
+    {
+        auto args = std::make_shared<PresetsArgs>();
+        auto* cmd = app.add_subcommand("presets", "List and edit the planner's style presets stored in a project");
+        cmd->add_option("project", args->project, "Project file")->required();
+        cmd->add_option("action", args->action, "list | show NAME | set NAME key=value... | remove NAME");
+        cmd->add_option("name", args->name, "Preset name");
+        cmd->add_option("edits", args->edits, "key=value weight edits (set)");
+        cmd->add_option("--description", args->description, "Description (set)");
+        cmd->add_flag("--json", args->json, "JSON output (list, show)");
+        cmd->callback([args] { runPresets(*args); });
+    }
+}
+
+}  // namespace fray::cli

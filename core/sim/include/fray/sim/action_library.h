@@ -1,0 +1,121 @@
+#pragma once
+// The built, immutable form of a prepared project that every planner reads
+// (tree expansion now; the Interaction Graph and patches later): per action
+// its duration, how it moves the character on the floor, its body-segment
+// boxes over time, what it attacks with, and Next() from the motion graph.
+// Everything is relative to the action's own first-frame placement, so a
+// planner puts an action anywhere by composing one RootXf.
+#include <array>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "fray/core/joint_guess.h"
+#include "fray/core/motion.h"
+#include "fray/core/progress.h"
+#include "fray/core/result.h"
+#include "fray/prep/motion_graph.h"
+#include "fray/prep/pipeline.h"
+#include "fray/prep/project.h"
+#include "fray/prep/signals.h"
+#include "fray/sim/geometry.h"
+
+namespace fray::sim {
+
+// Samples per second of the per-action tracks (roots, boxes, effector speed).
+inline constexpr double kSampleRate = 30.0;
+
+// Body segments, one oriented box each.
+enum Segment : int {
+    kPelvis, kTorso, kHead,
+    kLeftUpperArm, kLeftForearm, kRightUpperArm, kRightForearm,
+    kLeftThigh, kLeftShin, kLeftFoot, kRightThigh, kRightShin, kRightFoot,
+    kSegmentCount
+};
+const char* segmentName(int segment);
+// Segments that count as "the body" for penetration (SPEC 2.4 criterion 1).
+inline constexpr std::array<int, 5> kCoreSegments = {kPelvis, kTorso, kHead, kLeftThigh, kRightThigh};
+// Segments an attack can land on.
+inline constexpr std::array<int, 3> kTargetSegments = {kHead, kTorso, kPelvis};
+
+// Action categories from the annotations (SPEC 1.4 vocabulary).
+enum ActionFlag : std::uint32_t {
+    kPunch = 1u << 0, kKick = 1u << 1, kBlock = 1u << 2, kAvoid = 1u << 3,  // avoid or dodge
+    kPushed = 1u << 4, kFalling = 1u << 5, kStep = 1u << 6, kIdle = 1u << 7,
+    kWalk = 1u << 8, kRun = 1u << 9, kTurn = 1u << 10, kTransition = 1u << 11,
+    kAttack = kPunch | kKick, kDefence = kBlock | kAvoid, kReactive = kPushed | kFalling,
+};
+
+struct LibraryAction {
+    int motion = 0;                 // index in the loaded motions
+    int firstFrame = 0, lastFrame = 0;
+    std::string motionId;           // project motion id
+    std::string name;               // action name ("" when unnamed)
+    std::vector<std::string> annotations;
+    std::uint32_t flags = 0;
+    double duration = 0;            // s, frameCount / fps
+    RootXf source;                  // placement (pelvis on the floor, heading) of its first frame in its motion
+    RootXf end;                     // placement where the next action starts, relative to this one's start
+    int sampleBegin = 0;            // first sample in ActionLibrary's tracks
+    int sampleCount = 0;            // samples at kSampleRate covering [0, duration]
+    int effector = -1;              // attacks: the segment that lands (forearm, shin, foot, thigh)
+    double peakSpeed = 0;           // attacks: peak speed of the effector's far end (m/s)
+    int activeBegin = 0, activeEnd = 0;  // attacks: samples [begin, end) where a hit can land
+    int defended = -1;              // blocks: the segment protected (head or torso); -1 none
+    std::string label() const;      // name, or "motion:first-last" when unnamed
+    bool is(std::uint32_t flag) const { return (flags & flag) != 0; }
+    bool has(const std::string& annotation) const;
+};
+
+// Pose-matching data of one sample of a reactive action (forced reactions
+// start at the best-matching frame of the best-matching clip).
+struct ReactionEntry {
+    int action = 0;
+    int sample = 0;  // sample index within the action
+    prep::PoseFeature feature;
+};
+
+class ActionLibrary {
+public:
+    std::vector<LibraryAction> actions;
+    std::vector<std::vector<int>> next;  // per action: Next() (motion graph)
+    std::vector<std::uint8_t> inLargestScc;
+    std::vector<int> startNode, endNode;  // motion-graph nodes of each action
+    // Variant class: actions with the same name (else the same annotations)
+    // and the same end node are variants of one choice; -1 is not used.
+    std::vector<int> variantClass;
+    // Tracks, sample-major: sample s of action a is index actions[a].sampleBegin + s.
+    std::vector<RootXf> roots;                  // pelvis placement relative to the action's start
+    std::vector<Obb> boxes;                     // kSegmentCount per sample, action frame
+    std::vector<float> effectorSpeed;           // m/s per sample (attacks; 0 otherwise)
+    std::vector<ReactionEntry> reactions;       // reactive clips, first part, every 2nd sample
+    // Source data, not owned: they must outlive the library.
+    std::span<const prep::LoadedMotion> motions;
+    std::vector<std::string> vocabulary;
+
+    int size() const { return static_cast<int>(actions.size()); }
+    const Obb* boxesAt(int action, int sample) const {
+        return &boxes[static_cast<std::size_t>(actions[static_cast<std::size_t>(action)].sampleBegin + sample) *
+                      kSegmentCount];
+    }
+    // Sample index for a time (s) into the action, clamped.
+    int sampleAt(int action, double t) const;
+    // Pelvis placement at time t (s) into the action, interpolated, relative to its start.
+    RootXf rootAt(int action, double t) const;
+    // Source frame at time t into the action.
+    int frameAt(int action, double t) const;
+    // Finds actions by "@annotation" or name; empty when nothing matches.
+    std::vector<int> select(const std::string& key) const;
+};
+
+// Builds the library from a prepared project: its motions (with contacts),
+// and the motion graph over the project's actions in project order.
+Result<ActionLibrary> buildActionLibrary(const prep::Project& project, std::span<const prep::LoadedMotion> motions,
+                                         const prep::MotionGraph& graph, const ProgressFn& progress = {});
+
+// Actions of a project in graph order (motion by motion, action by action),
+// as prep::buildMotionGraph takes them.
+std::vector<prep::ActionRef> projectActionRefs(const prep::Project& project);
+
+}  // namespace fray::sim

@@ -1,0 +1,91 @@
+#pragma once
+// Floor placements and oriented boxes: the geometry the planners share
+// (SPEC 2.1: per-body-segment bounding boxes for collision and hit tests).
+#include <array>
+#include <cmath>
+#include <numbers>
+
+#include <glm/mat3x3.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+namespace fray::sim {
+
+// Wraps an angle to (-pi, pi].
+inline double wrapAngle(double a) {
+    constexpr double kTwoPi = 2.0 * std::numbers::pi;
+    a = std::fmod(a, kTwoPi);
+    if (a <= -std::numbers::pi) a += kTwoPi;
+    if (a > std::numbers::pi) a -= kTwoPi;
+    return a;
+}
+
+// Unit vector on the floor for a heading (rad about +Y, 0 = facing +Z), the
+// convention of prep::headingOf.
+inline glm::vec2 headingVector(double heading) {
+    return {static_cast<float>(std::sin(heading)), static_cast<float>(std::cos(heading))};
+}
+
+// Heading of a floor direction (x, z): the inverse of headingVector.
+inline double angleOf(glm::vec2 v) { return std::atan2(static_cast<double>(v.x), static_cast<double>(v.y)); }
+
+// Rotates a floor vector (x, z) by a heading.
+inline glm::vec2 rotateFloor(glm::vec2 v, double heading) {
+    const float c = static_cast<float>(std::cos(heading)), s = static_cast<float>(std::sin(heading));
+    return {c * v.x + s * v.y, -s * v.x + c * v.y};
+}
+
+// A placement on the floor: position (x, z) and heading. Actions are stored
+// relative to their first frame's placement; a timeline places them in the
+// world by composing.
+struct RootXf {
+    glm::vec2 pos{0.0f};
+    double heading = 0.0;
+
+    // this ∘ local: local is expressed in this placement's frame.
+    RootXf operator*(const RootXf& local) const {
+        return {pos + rotateFloor(local.pos, heading), wrapAngle(heading + local.heading)};
+    }
+    glm::vec2 apply(glm::vec2 local) const { return pos + rotateFloor(local, heading); }
+    glm::vec3 apply(const glm::vec3& local) const {
+        const glm::vec2 p = apply(glm::vec2(local.x, local.z));
+        return {p.x, local.y, p.y};
+    }
+    glm::vec3 applyDirection(const glm::vec3& d) const {
+        const glm::vec2 p = rotateFloor(glm::vec2(d.x, d.z), heading);
+        return {p.x, d.y, p.y};
+    }
+    RootXf inverse() const {
+        const double h = -heading;
+        return {-rotateFloor(pos, h), wrapAngle(h)};
+    }
+    friend bool operator==(const RootXf&, const RootXf&) = default;
+};
+
+// Linear blend of placements (shortest way round for the heading).
+inline RootXf lerp(const RootXf& a, const RootXf& b, double t) {
+    return {a.pos + (b.pos - a.pos) * static_cast<float>(t), wrapAngle(a.heading + wrapAngle(b.heading - a.heading) * t)};
+}
+
+// Oriented box: centre, orthonormal axes (columns) and half extents along them.
+struct Obb {
+    glm::vec3 centre{0.0f};
+    glm::mat3 axes{1.0f};
+    glm::vec3 half{0.0f};
+    // Radius of the bounding sphere, for a cheap first test.
+    float radius() const { return std::sqrt(half.x * half.x + half.y * half.y + half.z * half.z); }
+    Obb placed(const RootXf& xf) const;
+    Obb shrunk(float factor) const { return {centre, axes, half * factor}; }
+};
+
+// Separating-axis test of two oriented boxes (15 axes). Touching counts.
+bool overlaps(const Obb& a, const Obb& b);
+
+// Box around the segment p0 -> p1 with the given cross-section half sizes
+// (side, depth) and pad added beyond both ends. `side` is a hint for the
+// cross-section's first axis (e.g. the character's right), projected off the
+// segment axis.
+Obb segmentBox(const glm::vec3& p0, const glm::vec3& p1, float halfSide, float halfDepth, float pad,
+               const glm::vec3& side);
+
+}  // namespace fray::sim

@@ -1,0 +1,96 @@
+#pragma once
+// Temporal tree expansion (SPEC 2, thesis chapter 4): characters choose
+// actions by expanding a min-max game tree with asynchronous turns. A node is
+// the moment either character finishes its action; its children are that
+// character's candidate actions (Next() of the motion graph, pruned); a hit
+// forces the victim into a reaction (one edge, no choice). Leaves score the
+// path sum of competitive and cooperative terms; the back-up rules are the
+// SPEC 2.2 ones; alpha-beta applies when the scene has no cooperative terms.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fray/core/progress.h"
+#include "fray/core/result.h"
+#include "fray/prep/combos.h"
+#include "fray/sim/action_library.h"
+#include "fray/sim/scene.h"
+
+namespace fray::sim {
+
+// Objective weights of one character (SPEC 2.3). Every one is editable and
+// stored in the project (see presets.h).
+struct StyleWeights {
+    // Competitive: movement, scoring, action combination.
+    double wTheta = 10, wR = 10, rD = 0.8;
+    double wHitShort = 1000, wHitLong = 1000;  // damage given by punches (short) / kicks (long)
+    double wDamage = 1000;                     // damage received
+    double wCombo = 100;
+    bool catches = false;                      // chaser/runaway: scoring counts catches, not blows
+    // Cooperative: global movement to checkpoints, required actions.
+    double wPsi = 0, wPath = 0, wReq = 0;
+    // Recency penalty (thesis 4.6.2): an action used among the last few of this character.
+    double wRecency = 20;
+    // Pruning thresholds (SPEC 2.4).
+    double attackRange = 1.3, defenceRange = 3.0;  // pelvis to pelvis: about 1 m between the bodies
+    bool faceOpponent = true;                  // criterion 2 (off for a runaway)
+    friend bool operator==(const StyleWeights&, const StyleWeights&) = default;
+};
+
+struct CharacterSpec {
+    std::string name;
+    int side = 0;                  // characters on one side are a team: their scores add up
+    int group = 0;                 // characters interact (plan, hit, catch) within their group only
+    std::string preset;
+    StyleWeights weights;
+    int depth = 3;                 // decision levels expanded (intelligence)
+    std::vector<int> allowed;      // library actions it may choose, ascending
+    std::vector<int> reactions;    // reactive actions it can be forced into, ascending
+    RootXf start;
+    int startAction = -1;          // -1: an idle action of its set
+    std::vector<Checkpoint> path;
+    bool loopPath = false;
+    std::vector<int> required;     // A+ (ascending)
+    std::vector<int> forbidden;    // A- (ascending)
+    int opponent = -1;             // -1: the nearest enemy in its group
+};
+
+struct SimOptions {
+    double duration = 20;
+    std::uint64_t seed = 1;
+    bool pruning = true;
+    bool alphaBeta = true;
+    bool parallel = true;          // TBB over root children (results do not depend on it)
+    // Inside the tree (not at the root), variants of one choice (same name,
+    // same end node: e.g. the 30 captured jabs) are represented by one of
+    // them. The root still weighs every variant.
+    bool variants = true;
+    // Leaves one decision may visit. Deeper levels are searched one at a time
+    // (iterative deepening); when one would exceed the budget the last
+    // complete depth decides (counted in PlannerStats::shallower).
+    std::int64_t leafBudget = 150000;
+    double catchRadius = 0.6;      // m, pelvis to pelvis
+    bool stopOnCatch = false;      // a group's simulation ends at its first catch
+    double fallImpulse = 30;       // N s: a stronger hit knocks down, a weaker one pushes
+    double checkpointRadius = 0.6; // m: a checkpoint is reached within this
+    double startJitter = 0;        // m: seeded random offset of every start placement (for match series)
+    double startJitterDegrees = 0; // degrees: same for the start heading
+};
+
+struct SceneSpec {
+    std::vector<CharacterSpec> characters;
+    SimOptions options;
+    std::string text;  // the spec as written, kept in the scene
+};
+
+// Limits of one group (the game tree holds every member).
+inline constexpr int kMaxGroupSize = 4;
+
+// Runs the planner over the whole scene duration. Groups are independent and
+// are simulated one after another; within a decision the root children run
+// in parallel when options.parallel. Deterministic for a spec and seed.
+Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos, const SceneSpec& spec,
+                       const ProgressFn& progress = {});
+
+}  // namespace fray::sim

@@ -1,0 +1,126 @@
+#pragma once
+// The scene timeline every planner writes (SPEC 2, 3, 4): per character the
+// sequence of actions with their start times and floor placements, the hits
+// and catches, and a pose sampler that plays it back with transitions.
+// Saved as versioned JSON ("fray-scene", version 1) that names actions by
+// motion id and frame range, so it stays valid while the project's actions
+// do, and says clearly when they changed.
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fray/core/motion.h"
+#include "fray/core/result.h"
+#include "fray/sim/action_library.h"
+#include "fray/sim/geometry.h"
+
+namespace fray::sim {
+
+inline constexpr int kSceneVersion = 1;
+
+struct ActionInstance {
+    int action = 0;       // library index
+    double start = 0;     // scene time (s) the action starts
+    double offset = 0;    // s into the clip where it starts (forced reactions start at the best-matching frame)
+    double end = 0;       // scene time it ends (earlier than start + duration - offset when a hit cut it short)
+    RootXf root;          // placement of the clip's first frame in the scene
+    bool forced = false;  // a reaction to a hit: no choice was made
+    bool fallback = false;  // the planner had no legal action and took an idle/guard one
+    // Placement of the character at clip time tau (s).
+    RootXf placementAt(const ActionLibrary& lib, double tau) const { return root * lib.rootAt(action, tau); }
+};
+
+struct Checkpoint {
+    glm::vec2 pos{0.0f};
+    std::optional<double> time;  // not to be passed before this time (s)
+    std::string action;          // "" or a required action ("@annotation" or a name) at this checkpoint
+    friend bool operator==(const Checkpoint&, const Checkpoint&) = default;
+};
+
+struct HitEvent {
+    double time = 0;
+    int attacker = 0, defender = 0;  // character indices
+    int attackAction = 0;            // library index of the attack
+    int effector = 0;                // segment that landed
+    int target = 0;                  // segment hit
+    double speed = 0;                // m/s of the effector at contact: the damage
+    double impulse = 0;              // N s (speed x effective limb mass)
+    bool blocked = false;            // landed on a block defending that part: no damage
+};
+
+struct CatchEvent {
+    double time = 0;
+    int chaser = 0, runaway = 0;
+};
+
+struct PlannerStats {
+    std::int64_t decisions = 0;   // real choices made
+    std::int64_t nodes = 0;       // tree nodes expanded
+    std::int64_t leaves = 0;
+    std::int64_t choices = 0;     // candidate actions before pruning, over expanded nodes
+    std::int64_t pruned = 0;      // of which pruned
+    std::int64_t cutoffs = 0;     // alpha-beta cutoffs
+    std::int64_t fallbacks = 0;   // decisions with no legal action (idle/guard taken)
+    std::int64_t forced = 0;      // forced reactions in the real run
+    std::int64_t shallower = 0;   // decisions made at a lower depth than asked (leaf budget)
+    double seconds = 0;           // wall-clock planning time
+    double prunedShare() const { return choices > 0 ? static_cast<double>(pruned) / static_cast<double>(choices) : 0.0; }
+};
+
+struct SceneCharacter {
+    std::string name;
+    int side = 0, group = 0;
+    std::string preset;
+    int depth = 0;
+    std::vector<ActionInstance> track;
+    std::vector<Checkpoint> path;  // for metrics (path-following error)
+    bool loopPath = false;
+    int opponent = -1;             // explicit opponent, -1: nearest enemy of its group
+    std::int64_t fallbacks = 0;
+};
+
+struct Scene {
+    std::string project;     // project file, relative to the scene file when saved
+    double duration = 0;
+    std::uint64_t seed = 0;
+    std::vector<SceneCharacter> characters;
+    std::vector<HitEvent> hits;
+    std::vector<CatchEvent> catches;
+    PlannerStats stats;
+    std::string spec;        // the scene spec it was made from (JSON text), for the record
+
+    // The instance of character c playing at time t (the last one for t past the end); -1 when the track is empty.
+    int instanceAt(int c, double t) const;
+};
+
+std::string sceneToJson(const Scene& scene, const ActionLibrary& lib);
+// Resolves actions against the library; errors name the file, JSON path and problem.
+Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, const ActionLibrary& lib);
+// Reads only the project path (to know what to load before parsing the rest).
+Result<std::string> sceneProjectPath(std::string_view text, std::string_view fileName);
+Status saveScene(const Scene& scene, const ActionLibrary& lib, const std::filesystem::path& file);
+
+// Plays a scene back: the full local pose of a character at any time, with
+// the motion's root placed in the scene and a short blend at every action
+// boundary (offsets from the previous action's pose decaying to zero).
+class ScenePoser {
+public:
+    ScenePoser(const Scene& scene, const ActionLibrary& lib, double blendSeconds = 0.15);
+    const Skeleton& skeleton(int character) const;
+    // Local pose (the skeleton's root joint in scene coordinates).
+    void pose(int character, double t, Pose& out) const;
+    // World joint positions of a character at time t.
+    void worldPositions(int character, double t, std::vector<glm::vec3>& out) const;
+    // Foot contact of the source clip at time t: [left, right].
+    std::array<bool, 2> contacts(int character, double t) const;
+
+private:
+    void rawPose(int character, int instance, double t, Pose& out) const;
+    const Scene& scene_;
+    const ActionLibrary& lib_;
+    double blend_;
+};
+
+}  // namespace fray::sim

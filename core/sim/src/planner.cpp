@@ -1,0 +1,913 @@
+#include "fray/sim/planner.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <random>
+#include <unordered_map>
+
+#include <tbb/parallel_for.h>
+
+namespace fray::sim {
+
+namespace {
+
+constexpr int kRecent = 6;
+constexpr double kPenetrationStep = 1.0 / 15.0;  // s between body tests when pruning
+constexpr double kCatchStep = 1.0 / 15.0;
+constexpr float kPenetrationShrink = 0.8f;       // grazing contact is not penetration
+
+struct CharState {
+    int action = 0;
+    double start = 0, offset = 0, end = 0;
+    RootXf root;
+    int checkpoint = 0;
+    bool attackDone = false;   // the current attack landed (one hit per attack)
+    bool caught = false;       // a catch was scored during the current action
+    bool reacting = false;     // in a forced reaction: cannot be hit again until it ends
+    std::array<std::int16_t, kRecent> recent{};
+    std::int8_t recentCount = 0, recentPos = 0;
+};
+
+struct GroupState {
+    double time = 0;
+    int n = 0;
+    std::array<CharState, kMaxGroupSize> c{};
+};
+
+// What happened while a state advanced from one node to the next.
+struct Events {
+    std::array<double, kMaxGroupSize> givenShort{}, givenLong{}, received{};
+    std::array<int, kMaxGroupSize> catches{}, caught{};
+};
+
+struct Recorder {
+    Scene* scene = nullptr;
+    std::array<int, kMaxGroupSize> global{};
+    bool stop = false;  // stopOnCatch fired
+};
+
+struct Member {
+    int global = 0;
+    const CharacterSpec* spec = nullptr;
+};
+
+struct Context {
+    const ActionLibrary* lib = nullptr;
+    const std::vector<float>* combo = nullptr;  // combo[mine * n + theirs]
+    int comboN = 0;
+    const SimOptions* opt = nullptr;
+    std::vector<Member> members;
+    bool cooperative = false;  // any cooperative weight: alpha-beta does not apply
+    std::vector<glm::vec2> reactionDir;  // per library action: initial travel direction of reactive clips
+};
+
+struct Value {
+    double comp = 0, coop = 0;
+};
+
+struct Stats {
+    std::int64_t nodes = 0, leaves = 0, choices = 0, pruned = 0, cutoffs = 0;
+    std::int64_t shallower = 0;  // decisions taken at a lower depth than asked (budget)
+    std::int64_t budget = std::numeric_limits<std::int64_t>::max();  // leaves this search may visit
+    bool exhausted = false;
+    void add(const Stats& o) {
+        nodes += o.nodes, leaves += o.leaves, choices += o.choices, pruned += o.pruned, cutoffs += o.cutoffs;
+        shallower += o.shallower;
+    }
+};
+
+const LibraryAction& act(const Context& ctx, int a) { return ctx.lib->actions[static_cast<std::size_t>(a)]; }
+const CharacterSpec& specOf(const Context& ctx, int i) { return *ctx.members[static_cast<std::size_t>(i)].spec; }
+
+double clipTime(const CharState& s, double t) { return s.offset + (t - s.start); }
+
+RootXf placement(const Context& ctx, const CharState& s, double t) {
+    return s.root * ctx.lib->rootAt(s.action, clipTime(s, t));
+}
+
+Obb boxAt(const Context& ctx, const CharState& s, double t, int segment) {
+    const int sample = ctx.lib->sampleAt(s.action, clipTime(s, t));
+    return ctx.lib->boxesAt(s.action, sample)[segment].placed(s.root);
+}
+
+int chooserOf(const GroupState& g) {
+    int best = 0;
+    for (int i = 1; i < g.n; ++i) {
+        if (g.c[static_cast<std::size_t>(i)].end < g.c[static_cast<std::size_t>(best)].end) best = i;
+    }
+    return best;
+}
+
+bool enemies(const Context& ctx, int a, int b) { return specOf(ctx, a).side != specOf(ctx, b).side; }
+
+int opponentOf(const Context& ctx, const GroupState& g, int who, double t) {
+    const int explicitOpp = specOf(ctx, who).opponent;
+    if (explicitOpp >= 0) {
+        for (int i = 0; i < g.n; ++i) {
+            if (ctx.members[static_cast<std::size_t>(i)].global == explicitOpp) return i;
+        }
+    }
+    const glm::vec2 p = placement(ctx, g.c[static_cast<std::size_t>(who)], t).pos;
+    int best = -1;
+    float bestD = std::numeric_limits<float>::max();
+    for (int i = 0; i < g.n; ++i) {
+        if (i == who || !enemies(ctx, who, i)) continue;
+        const glm::vec2 d = placement(ctx, g.c[static_cast<std::size_t>(i)], t).pos - p;
+        const float dd = glm::dot(d, d);
+        if (dd < bestD) bestD = dd, best = i;
+    }
+    return best;
+}
+
+void pushRecent(CharState& s, int action) {
+    s.recent[static_cast<std::size_t>(s.recentPos)] = static_cast<std::int16_t>(action);
+    s.recentPos = static_cast<std::int8_t>((s.recentPos + 1) % kRecent);
+    if (s.recentCount < kRecent) ++s.recentCount;
+}
+
+// How recently an action with the same name was used: 1 for the last one,
+// fading to 1/kRecent for the oldest remembered; 0 when not remembered.
+double recency(const Context& ctx, const CharState& s, int action) {
+    const auto& name = act(ctx, action).name;
+    for (int k = 0; k < s.recentCount; ++k) {
+        const int idx = (s.recentPos - 1 - k + 2 * kRecent) % kRecent;
+        const int a = s.recent[static_cast<std::size_t>(idx)];
+        if (a == action || (!name.empty() && act(ctx, a).name == name)) return 1.0 - static_cast<double>(k) / kRecent;
+    }
+    return 0.0;
+}
+
+void launch(const Context& ctx, GroupState& g, int who, int action, double t) {
+    auto& s = g.c[static_cast<std::size_t>(who)];
+    const RootXf endPlacement = s.root * act(ctx, s.action).end;
+    s.action = action;
+    s.start = t;
+    s.offset = 0;
+    s.end = t + act(ctx, action).duration;
+    s.root = endPlacement;
+    s.attackDone = false;
+    s.caught = false;
+    s.reacting = false;
+    pushRecent(s, action);
+}
+
+// Forced reaction (SPEC 2.1): the reactive clip and start sample that best
+// match the victim's posture, the hit direction and the impulse.
+std::pair<int, int> chooseReaction(const Context& ctx, const CharState& victim, double t, glm::vec2 pushLocal,
+                                   bool strong, const std::vector<int>& pool) {
+    const auto& lib = *ctx.lib;
+    // Quantised direction (8 sectors) keeps the cache small and results exact.
+    const int sector = static_cast<int>(std::lround(angleOf(pushLocal) / (std::numbers::pi / 4))) & 7;
+    const int sample = lib.sampleAt(victim.action, clipTime(victim, t));
+    const std::uint64_t key = (static_cast<std::uint64_t>(victim.action) << 32) ^ (static_cast<std::uint64_t>(sample) << 8) ^
+                              (static_cast<std::uint64_t>(sector) << 1) ^ (strong ? 1u : 0u);
+    thread_local std::unordered_map<std::uint64_t, std::pair<int, int>> cache;
+    thread_local const ActionLibrary* cacheOwner = nullptr;
+    thread_local const std::vector<int>* cachePool = nullptr;
+    if (cacheOwner != &lib || cachePool != &pool) cache.clear(), cacheOwner = &lib, cachePool = &pool;
+    if (auto it = cache.find(key); it != cache.end()) return it->second;
+
+    const double sectorAngle = sector * std::numbers::pi / 4;
+    const glm::vec2 dir(static_cast<float>(std::sin(sectorAngle)), static_cast<float>(std::cos(sectorAngle)));
+    const auto& a = act(ctx, victim.action);
+    const auto& lm = lib.motions[static_cast<std::size_t>(a.motion)];
+    const prep::PoseFeature now = prep::poseFeature(lm.motion, lm.joints, lib.frameAt(victim.action, sample / kSampleRate));
+    const auto weights = prep::GraphWeights::fighting();
+    std::pair<int, int> best{-1, 0};
+    double bestCost = std::numeric_limits<double>::max();
+    for (int pass = 0; pass < 2 && best.first < 0; ++pass) {
+        for (const auto& e : lib.reactions) {
+            if (!std::binary_search(pool.begin(), pool.end(), e.action)) continue;
+            const bool falls = act(ctx, e.action).is(kFalling);
+            if (pass == 0 && falls != strong) continue;
+            const glm::vec2 travel = ctx.reactionDir[static_cast<std::size_t>(e.action)];
+            const double dirCost = glm::dot(travel, travel) > 0 ? 0.5 * (1.0 - static_cast<double>(glm::dot(travel, dir))) : 0.25;
+            const double cost = prep::poseDistance(now, e.feature, weights) + dirCost;
+            if (cost < bestCost) bestCost = cost, best = {e.action, e.sample};
+        }
+    }
+    cache.emplace(key, best);
+    return best;
+}
+
+// Earliest hit in [t0, t1] of one attacker on one defender; time < 0 if none.
+struct HitCandidate {
+    double time = -1;
+    int target = 0;
+    int effector = 0;
+    double speed = 0;
+    bool blocked = false;
+};
+
+HitCandidate findHit(const Context& ctx, const CharState& att, const CharState& def, double t0, double t1) {
+    HitCandidate hit;
+    const auto& a = act(ctx, att.action);
+    const double ws = att.start + a.activeBegin / kSampleRate - att.offset;
+    const double we = att.start + a.activeEnd / kSampleRate - att.offset;
+    const double lo = std::max(ws, t0), hi = std::min(we, t1);
+    if (lo > hi) return hit;
+    if (glm::length(placement(ctx, att, lo).pos - placement(ctx, def, lo).pos) > 2.2f) return hit;
+    const auto& lib = *ctx.lib;
+    const int sBegin = lib.sampleAt(att.action, clipTime(att, lo));
+    const int sEnd = lib.sampleAt(att.action, clipTime(att, hi));
+    // Kicks land with the shin or the foot.
+    int effectors[2] = {a.effector, -1};
+    if (a.effector == kLeftShin) effectors[1] = kLeftFoot;
+    if (a.effector == kRightShin) effectors[1] = kRightFoot;
+    for (int s = sBegin; s <= sEnd; ++s) {
+        const double ts = std::max(att.start + s / kSampleRate - att.offset, t0);
+        if (ts > t1) break;
+        const Obb* ab = lib.boxesAt(att.action, s);
+        for (int e : effectors) {
+            if (e < 0) continue;
+            const Obb eff = ab[e].placed(att.root);
+            for (int target : kTargetSegments) {
+                if (!overlaps(eff, boxAt(ctx, def, ts, target))) continue;
+                hit.time = ts;
+                hit.target = target;
+                hit.effector = e;
+                hit.speed = lib.effectorSpeed[static_cast<std::size_t>(a.sampleBegin + s)];
+                const auto& d = act(ctx, def.action);
+                hit.blocked = d.is(kBlock) && d.defended == target;
+                return hit;
+            }
+        }
+    }
+    return hit;
+}
+
+double effectiveMass(int effector) {
+    return (effector == kLeftForearm || effector == kRightForearm) ? 2.5 : 5.0;
+}
+
+void updateCheckpoints(const Context& ctx, GroupState& g, double t) {
+    for (int i = 0; i < g.n; ++i) {
+        const auto& spec = specOf(ctx, i);
+        auto& s = g.c[static_cast<std::size_t>(i)];
+        if (spec.path.empty()) continue;
+        const glm::vec2 p = placement(ctx, s, t).pos;
+        for (int guard = 0; guard < static_cast<int>(spec.path.size()); ++guard) {
+            if (!spec.loopPath && s.checkpoint >= static_cast<int>(spec.path.size())) break;
+            const auto& cp = spec.path[static_cast<std::size_t>(s.checkpoint) % spec.path.size()];
+            const bool timeOk = !cp.time || t >= *cp.time;
+            if (!timeOk || static_cast<double>(glm::length(p - cp.pos)) > ctx.opt->checkpointRadius) break;
+            ++s.checkpoint;
+            if (spec.loopPath) s.checkpoint %= static_cast<int>(spec.path.size());
+        }
+    }
+}
+
+// Advances the group from its node time to the next node (the next moment a
+// character finishes its action), resolving hits (forced reactions) and catches.
+void advance(const Context& ctx, GroupState& g, Events& ev, Recorder* rec) {
+    double t0 = g.time;
+    for (int guard = 0; guard < 64; ++guard) {
+        double t1 = g.c[0].end;
+        for (int i = 1; i < g.n; ++i) t1 = std::min(t1, g.c[static_cast<std::size_t>(i)].end);
+        // Earliest event among all pairs.
+        HitCandidate best;
+        int bestAtt = -1, bestDef = -1;
+        bool isCatch = false;
+        for (int a = 0; a < g.n; ++a) {
+            const auto& as = g.c[static_cast<std::size_t>(a)];
+            if (as.attackDone || !act(ctx, as.action).is(kAttack) || act(ctx, as.action).effector < 0) continue;
+            for (int d = 0; d < g.n; ++d) {
+                if (d == a || !enemies(ctx, a, d) || g.c[static_cast<std::size_t>(d)].reacting) continue;
+                const auto h = findHit(ctx, as, g.c[static_cast<std::size_t>(d)], t0, t1);
+                if (h.time >= 0 && (best.time < 0 || h.time < best.time)) best = h, bestAtt = a, bestDef = d, isCatch = false;
+            }
+        }
+        for (int a = 0; a < g.n; ++a) {
+            const auto& as = g.c[static_cast<std::size_t>(a)];
+            if (!specOf(ctx, a).weights.catches || as.caught || specOf(ctx, a).weights.wHitShort <= 0) continue;
+            for (int d = 0; d < g.n; ++d) {
+                if (d == a || !enemies(ctx, a, d)) continue;
+                const double limit = best.time >= 0 ? best.time : t1;
+                for (double ts = t0; ts <= limit; ts += kCatchStep) {
+                    const glm::vec2 diff = placement(ctx, as, ts).pos - placement(ctx, g.c[static_cast<std::size_t>(d)], ts).pos;
+                    if (static_cast<double>(glm::length(diff)) <= ctx.opt->catchRadius) {
+                        if (best.time < 0 || ts < best.time) {
+                            best = HitCandidate{};
+                            best.time = ts;
+                            bestAtt = a, bestDef = d, isCatch = true;
+                        }
+                        break;
+                    }
+                }
+            }
+        }
+        if (best.time < 0) {
+            g.time = t1;
+            break;
+        }
+        auto& att = g.c[static_cast<std::size_t>(bestAtt)];
+        auto& def = g.c[static_cast<std::size_t>(bestDef)];
+        const double te = best.time;
+        if (isCatch) {
+            att.caught = true;
+            ++ev.catches[static_cast<std::size_t>(bestAtt)];
+            ++ev.caught[static_cast<std::size_t>(bestDef)];
+            if (rec) {
+                rec->scene->catches.push_back({te, rec->global[static_cast<std::size_t>(bestAtt)],
+                                               rec->global[static_cast<std::size_t>(bestDef)]});
+                if (ctx.opt->stopOnCatch) {
+                    rec->stop = true;
+                    g.time = te;
+                    return;
+                }
+            }
+            t0 = te;
+            continue;
+        }
+        att.attackDone = true;
+        const auto& attack = act(ctx, att.action);
+        const double impulse = best.speed * effectiveMass(best.effector);
+        if (!best.blocked) {
+            (attack.is(kKick) ? ev.givenLong : ev.givenShort)[static_cast<std::size_t>(bestAtt)] += best.speed;
+            ev.received[static_cast<std::size_t>(bestDef)] += best.speed;
+        }
+        if (rec) {
+            rec->scene->hits.push_back({te, rec->global[static_cast<std::size_t>(bestAtt)],
+                                        rec->global[static_cast<std::size_t>(bestDef)], att.action, best.effector,
+                                        best.target, best.speed, impulse, best.blocked});
+        }
+        const auto& pool = specOf(ctx, bestDef).reactions;
+        if (!best.blocked && !pool.empty()) {
+            const RootXf pd = placement(ctx, def, te);
+            const RootXf pa = placement(ctx, att, te);
+            glm::vec2 push = pd.pos - pa.pos;
+            if (glm::dot(push, push) < 1e-8f) push = -headingVector(pd.heading);
+            push = rotateFloor(glm::normalize(push), -pd.heading);
+            const auto [reaction, sample] =
+                chooseReaction(ctx, def, te, push, impulse > ctx.opt->fallImpulse, pool);
+            if (reaction >= 0) {
+                const double offset = sample / kSampleRate;
+                CharState ns = def;
+                ns.action = reaction;
+                ns.start = te;
+                ns.offset = offset;
+                ns.end = te + std::max(act(ctx, reaction).duration - offset, 1.0 / kSampleRate);
+                ns.root = pd * ctx.lib->rootAt(reaction, offset).inverse();
+                ns.attackDone = true;
+                ns.caught = false;
+                ns.reacting = true;
+                pushRecent(ns, reaction);
+                if (rec) {
+                    auto& track = rec->scene->characters[static_cast<std::size_t>(rec->global[static_cast<std::size_t>(bestDef)])].track;
+                    if (!track.empty()) track.back().end = te;
+                    ActionInstance inst;
+                    inst.action = reaction;
+                    inst.start = te;
+                    inst.offset = offset;
+                    inst.end = ns.end;
+                    inst.root = ns.root;
+                    inst.forced = true;
+                    track.push_back(inst);
+                    ++rec->scene->stats.forced;
+                }
+                def = ns;
+            }
+        }
+        t0 = te;
+    }
+    updateCheckpoints(ctx, g, g.time);
+}
+
+// F_comp and F_coop of the edge "who launched action" (SPEC 2.3), evaluated
+// at the next node with the events of the interval.
+Value edgeScore(const Context& ctx, const GroupState& before, const GroupState& after, int who, int action,
+                const Events& ev) {
+    const auto& spec = specOf(ctx, who);
+    const auto& w = spec.weights;
+    const double t = after.time;
+    const auto& me = after.c[static_cast<std::size_t>(who)];
+    const RootXf pm = placement(ctx, me, t);
+    Value v;
+    const int opp = opponentOf(ctx, after, who, t);
+    if (opp >= 0) {
+        const RootXf po = placement(ctx, after.c[static_cast<std::size_t>(opp)], t);
+        const glm::vec2 d = po.pos - pm.pos;
+        const double r = glm::length(d);
+        const double theta = r > 1e-6 ? wrapAngle(angleOf(d) - pm.heading) : 0.0;
+        v.comp -= w.wTheta * theta * theta + w.wR * (r - w.rD) * (r - w.rD);
+        const int oppBefore = opponentOf(ctx, before, who, before.time);
+        if (oppBefore >= 0 && ctx.combo) {
+            const int theirs = before.c[static_cast<std::size_t>(oppBefore)].action;
+            v.comp += w.wCombo * static_cast<double>((*ctx.combo)[static_cast<std::size_t>(action) * static_cast<std::size_t>(ctx.comboN) +
+                                              static_cast<std::size_t>(theirs)]);
+        }
+    }
+    // Scoring: the whole team's blows and catches, with this character's weights.
+    for (int i = 0; i < after.n; ++i) {
+        if (enemies(ctx, who, i)) continue;
+        const auto k = static_cast<std::size_t>(i);
+        if (w.catches) {
+            v.comp += w.wHitShort * ev.catches[k] - w.wDamage * ev.caught[k];
+        } else {
+            v.comp += w.wHitShort * ev.givenShort[k] + w.wHitLong * ev.givenLong[k] - w.wDamage * ev.received[k];
+        }
+    }
+    v.comp -= w.wRecency * recency(ctx, before.c[static_cast<std::size_t>(who)], action);
+    // Cooperative: checkpoints and required actions.
+    if (!spec.path.empty() && (w.wPath > 0 || w.wPsi > 0)) {
+        const int k = me.checkpoint;
+        if (spec.loopPath || k < static_cast<int>(spec.path.size())) {
+            const auto& cp = spec.path[static_cast<std::size_t>(k) % spec.path.size()];
+            const glm::vec2 d = cp.pos - pm.pos;
+            v.coop -= w.wPath * static_cast<double>(glm::dot(d, d));
+            if (w.wPsi > 0 && glm::dot(d, d) > 1e-6f) {
+                const double psi = wrapAngle(pm.heading - angleOf(d));
+                v.coop -= w.wPsi * psi * psi;
+            }
+        }
+    }
+    if (w.wReq > 0) {
+        if (std::binary_search(spec.required.begin(), spec.required.end(), action)) v.coop += w.wReq;
+        if (std::binary_search(spec.forbidden.begin(), spec.forbidden.end(), action)) v.coop -= w.wReq;
+        const int k = before.c[static_cast<std::size_t>(who)].checkpoint;
+        if (!spec.path.empty() && (spec.loopPath || k < static_cast<int>(spec.path.size()))) {
+            const auto& cp = spec.path[static_cast<std::size_t>(k) % spec.path.size()];
+            if (!cp.action.empty()) {
+                const auto& a = act(ctx, action);
+                const bool match = cp.action[0] == '@' ? a.has(cp.action.substr(1)) : a.name == cp.action;
+                if (match) v.coop += w.wReq;
+            }
+        }
+    }
+    return v;
+}
+
+bool bodiesPenetrate(const Context& ctx, const RootXf& place, int action, double tau, const CharState& other, double t) {
+    const auto& lib = *ctx.lib;
+    const RootXf pc = place * lib.rootAt(action, tau);
+    const double to = std::min(t, other.end);
+    const RootXf po = placement(ctx, other, to);
+    const glm::vec2 d = pc.pos - po.pos;
+    if (glm::dot(d, d) > 0.8f * 0.8f) return false;  // two torsos are never wider than this apart
+    const Obb* mine = lib.boxesAt(action, lib.sampleAt(action, tau));
+    const Obb* theirs = lib.boxesAt(other.action, lib.sampleAt(other.action, clipTime(other, to)));
+    for (int a : kCoreSegments) {
+        const Obb ba = mine[a].placed(place).shrunk(kPenetrationShrink);
+        for (int b : kCoreSegments) {
+            if (overlaps(ba, theirs[b].placed(other.root).shrunk(kPenetrationShrink))) return true;
+        }
+    }
+    return false;
+}
+
+// Legal choices of `who` at a node (SPEC 2.1) and the pruning criteria
+// (SPEC 2.4) as predicates, so the frontier can test them lazily.
+class Pruner {
+public:
+    Pruner(const Context& ctx, const GroupState& g, int who, bool root) : ctx_(ctx), g_(g), who_(who) {
+        const auto& spec = specOf(ctx, who);
+        const auto& s = g.c[static_cast<std::size_t>(who)];
+        const auto& next = ctx.lib->next[static_cast<std::size_t>(s.action)];
+        std::set_intersection(next.begin(), next.end(), spec.allowed.begin(), spec.allowed.end(), std::back_inserter(base_));
+        std::erase_if(base_, [&](int a) { return act(ctx, a).is(kReactive); });
+        if (base_.empty()) {
+            // No legal action: an idle/guard one of its set (else any).
+            fallback_ = true;
+            for (int a : spec.allowed) {
+                if (act(ctx, a).is(kIdle) && !act(ctx, a).is(kReactive)) base_.push_back(a);
+            }
+            if (base_.empty()) {
+                for (int a : spec.allowed) {
+                    if (!act(ctx, a).is(kReactive)) base_.push_back(a);
+                }
+            }
+            if (base_.empty()) base_ = spec.allowed;
+        }
+        if (!root && ctx.opt->variants && base_.size() > 1) {
+            // One representative (the first) per variant class.
+            std::vector<int> seen;
+            std::erase_if(base_, [&](int a) {
+                const int c = ctx.lib->variantClass[static_cast<std::size_t>(a)];
+                if (std::find(seen.begin(), seen.end(), c) != seen.end()) return true;
+                seen.push_back(c);
+                return false;
+            });
+        }
+        opp_ = ctx.opt->pruning ? opponentOf(ctx, g, who, g.time) : -1;
+        if (opp_ >= 0) {
+            const auto& o = g.c[static_cast<std::size_t>(opp_)];
+            start_ = s.root * act(ctx, s.action).end;
+            r_ = static_cast<double>(glm::length(placement(ctx, o, g.time).pos - start_.pos));
+            const auto& oa = act(ctx, o.action);
+            oppAttacking_ = oa.is(kAttack) && !o.attackDone && clipTime(o, g.time) < oa.activeEnd / kSampleRate &&
+                            r_ <= spec.weights.defenceRange;
+        }
+    }
+    bool fallback() const { return fallback_; }
+    bool active() const { return opp_ >= 0; }
+    const std::vector<int>& base() const { return base_; }
+
+    // 1. The bodies do not penetrate (over the time both actions are known).
+    bool penetrationFree(int a, bool lastFrameOnly) const {
+        const auto& o = g_.c[static_cast<std::size_t>(opp_)];
+        const double T = std::clamp(o.end - g_.time, 1.0 / kSampleRate, act(ctx_, a).duration);
+        if (lastFrameOnly) return !bodiesPenetrate(ctx_, start_, a, T, o, g_.time + T);
+        for (double tau = 0; tau <= T + 1e-9; tau += kPenetrationStep) {
+            if (bodiesPenetrate(ctx_, start_, a, tau, o, g_.time + tau)) return false;
+        }
+        return true;
+    }
+    // 2. Ends facing the opponent.
+    bool facing(int a) const {
+        if (!specOf(ctx_, who_).weights.faceOpponent) return true;
+        const auto& o = g_.c[static_cast<std::size_t>(opp_)];
+        const double d = act(ctx_, a).duration;
+        const RootXf pe = start_ * ctx_.lib->rootAt(a, d);
+        const glm::vec2 to = placement(ctx_, o, std::min(g_.time + d, o.end)).pos - pe.pos;
+        if (glm::dot(to, to) < 1e-6f) return true;
+        return std::fabs(wrapAngle(angleOf(to) - pe.heading)) <= std::numbers::pi / 2;
+    }
+    // 3. In distance: no attack beyond attackRange, no defence beyond defenceRange.
+    bool inDistance(int a) const {
+        const auto& x = act(ctx_, a);
+        const auto& w = specOf(ctx_, who_).weights;
+        if (x.is(kAttack) && r_ > w.attackRange) return false;
+        if (x.is(kDefence) && r_ > w.defenceRange) return false;
+        return true;
+    }
+    // 4. Required: while the opponent attacks (and can still land), only defences.
+    bool required(int a) const { return !oppAttacking_ || act(ctx_, a).is(kDefence); }
+    bool cheapCriteria(int a) const { return facing(a) && inDistance(a) && required(a); }
+
+    // The full rule: criteria in priority order, each skipped when it would
+    // leave nothing (criterion 1 first falls back to its last-frame form).
+    void prune(std::vector<int>& out, Stats& stats) const {
+        out = base_;
+        stats.choices += static_cast<std::int64_t>(out.size());
+        if (!active()) return;
+        const std::size_t before = out.size();
+        auto apply = [&](auto&& keep) {
+            std::vector<int> kept;
+            for (int a : out) {
+                if (keep(a)) kept.push_back(a);
+            }
+            if (kept.empty()) return false;
+            out.swap(kept);
+            return true;
+        };
+        if (!apply([&](int a) { return penetrationFree(a, false); })) apply([&](int a) { return penetrationFree(a, true); });
+        apply([&](int a) { return facing(a); });
+        apply([&](int a) { return inDistance(a); });
+        apply([&](int a) { return required(a); });
+        stats.pruned += static_cast<std::int64_t>(before - out.size());
+    }
+
+private:
+    const Context& ctx_;
+    const GroupState& g_;
+    int who_;
+    std::vector<int> base_;
+    bool fallback_ = false;
+    int opp_ = -1;
+    RootXf start_;
+    double r_ = 0;
+    bool oppAttacking_ = false;
+};
+
+// Candidate actions of `who` at node time t after pruning. Returns whether it
+// had to fall back (no legal action: idle/guard).
+bool candidates(const Context& ctx, const GroupState& g, int who, std::vector<int>& out, Stats& stats) {
+    const Pruner pruner(ctx, g, who, true);
+    pruner.prune(out, stats);
+    return pruner.fallback();
+}
+
+struct Child {
+    int action = 0;
+    GroupState state;
+    Value acc;
+    double order = 0;
+};
+
+bool isMax(const Context& ctx, int who, int rootSide) { return specOf(ctx, who).side == rootSide; }
+
+// The child reached by `who` launching `action` from g, with the path sums.
+void makeChild(const Context& ctx, const GroupState& g, int who, int action, const Value& acc, bool mx, Child& ch) {
+    ch.action = action;
+    ch.state = g;
+    launch(ctx, ch.state, who, action, g.time);
+    Events ev;
+    advance(ctx, ch.state, ev, nullptr);
+    const Value e = edgeScore(ctx, g, ch.state, who, action, ev);
+    ch.acc.comp = acc.comp + (mx ? e.comp : -e.comp);
+    ch.acc.coop = acc.coop + e.coop;
+    ch.order = mx ? ch.acc.comp + ch.acc.coop : -(ch.acc.comp - ch.acc.coop);
+}
+
+// Better for the chooser of this node (SPEC 2.2 back-up rules).
+bool better(bool mx, const Value& a, const Value& b) {
+    return mx ? (a.comp + a.coop > b.comp + b.coop) : (a.comp - a.coop < b.comp - b.coop);
+}
+
+// Min-max over the next `depth` decisions. With alpha-beta (competitive
+// scenes only: the cooperative back-up rules are not zero-sum) the window
+// [alpha, beta] bounds S_comp; the frontier is evaluated lazily so a cutoff
+// saves the remaining edges, and inner nodes try their children in the order
+// of their immediate scores.
+Value search(const Context& ctx, const GroupState& g, int depth, double alpha, double beta, const Value& acc,
+             int rootSide, Stats& stats) {
+    ++stats.nodes;
+    if (stats.leaves > stats.budget) {
+        stats.exhausted = true;
+        return acc;
+    }
+    const int who = chooserOf(g);
+    const bool mx = isMax(ctx, who, rootSide);
+    const bool ab = ctx.opt->alphaBeta && !ctx.cooperative;
+    const Pruner pruner(ctx, g, who, false);
+    Child ch;
+    if (depth <= 1) {
+        // Frontier: when some action passes every criterion, the pruned set
+        // is exactly those actions, so each is tested only when reached and a
+        // cutoff skips the rest. Otherwise the full rule with its fallbacks.
+        Value best;
+        bool have = false;
+        auto visit = [&](int a) {
+            makeChild(ctx, g, who, a, acc, mx, ch);
+            ++stats.leaves;
+            if (!have || better(mx, ch.acc, best)) best = ch.acc, have = true;
+            if (ab && (mx ? best.comp >= beta : best.comp <= alpha)) {
+                ++stats.cutoffs;
+                return false;
+            }
+            return true;
+        };
+        if (pruner.active()) {
+            for (int a : pruner.base()) {
+                if (!pruner.cheapCriteria(a) || !pruner.penetrationFree(a, false)) continue;
+                if (!visit(a)) return best;
+            }
+            if (have) return best;
+        }
+        std::vector<int> cands;
+        Stats ignored;
+        pruner.prune(cands, ignored);
+        for (int a : cands) {
+            if (!visit(a)) break;
+        }
+        return have ? best : acc;
+    }
+    std::vector<int> cands;
+    pruner.prune(cands, stats);
+    if (cands.empty()) return acc;
+    std::vector<Child> children(cands.size());
+    for (std::size_t i = 0; i < cands.size(); ++i) makeChild(ctx, g, who, cands[i], acc, mx, children[i]);
+    std::stable_sort(children.begin(), children.end(), [](const Child& a, const Child& b) { return a.order > b.order; });
+    Value best;
+    bool have = false;
+    for (const auto& c : children) {
+        const Value v = search(ctx, c.state, depth - 1, alpha, beta, c.acc, rootSide, stats);
+        if (!have || better(mx, v, best)) best = v, have = true;
+        if (ab) {
+            if (mx) alpha = std::max(alpha, v.comp);
+            else beta = std::min(beta, v.comp);
+            if (alpha >= beta) {
+                ++stats.cutoffs;
+                break;
+            }
+        }
+    }
+    return best;
+}
+
+// The real choice of the character due at g.time. The first child (best by
+// its immediate score) is searched with the full window; its value bounds
+// the others, which then run in parallel with that fixed bound. A child that
+// does not beat the bound cannot be chosen, one that does has an exact value:
+// the choice is the same whatever the thread timing.
+int decide(const Context& ctx, const GroupState& g, int depth, Stats& stats, bool& fellBack) {
+    const int who = chooserOf(g);
+    const int rootSide = specOf(ctx, who).side;
+    ++stats.nodes;
+    std::vector<int> cands;
+    fellBack = candidates(ctx, g, who, cands, stats);
+    if (cands.empty()) return -1;
+    if (cands.size() == 1) return cands[0];
+    std::vector<Child> children(cands.size());
+    for (std::size_t i = 0; i < cands.size(); ++i) makeChild(ctx, g, who, cands[i], Value{}, true, children[i]);
+    if (depth <= 1) {
+        stats.leaves += static_cast<std::int64_t>(children.size());
+        std::size_t best = 0;
+        for (std::size_t i = 1; i < children.size(); ++i) {
+            if (better(true, children[i].acc, children[best].acc)) best = i;
+        }
+        return children[best].action;
+    }
+    std::stable_sort(children.begin(), children.end(), [](const Child& a, const Child& b) { return a.order > b.order; });
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    const bool ab = ctx.opt->alphaBeta && !ctx.cooperative;
+    // Iterative deepening under a leaf budget: when a deeper search would
+    // visit too many leaves (long runs of one character's decisions, where
+    // alpha-beta cannot cut), the last complete depth decides. Each root child
+    // has its own share of the budget, so the outcome does not depend on
+    // thread timing.
+    const std::int64_t share = std::max<std::int64_t>(2000, ctx.opt->leafBudget / static_cast<std::int64_t>(children.size()));
+    std::size_t chosen = 0;
+    for (int d = 2; d <= depth; ++d) {
+        std::vector<Value> values(children.size());
+        std::vector<Stats> childStats(children.size());
+        for (auto& cs : childStats) cs.budget = share;
+        values[0] = search(ctx, children[0].state, d - 1, -kInf, kInf, children[0].acc, rootSide, childStats[0]);
+        const double alpha = ab ? values[0].comp : -kInf;
+        auto run = [&](std::size_t i) {
+            values[i] = search(ctx, children[i].state, d - 1, alpha, kInf, children[i].acc, rootSide, childStats[i]);
+        };
+        if (ctx.opt->parallel) {
+            tbb::parallel_for(std::size_t{1}, children.size(), run);
+        } else {
+            for (std::size_t i = 1; i < children.size(); ++i) run(i);
+        }
+        bool exhausted = false;
+        std::size_t best = 0;
+        for (std::size_t i = 0; i < children.size(); ++i) {
+            stats.add(childStats[i]);
+            exhausted = exhausted || childStats[i].exhausted;
+            if (i == 0) continue;
+            if (ab && !(values[i].comp > alpha)) continue;  // failed low: at most the bound
+            if (better(true, values[i], values[best])) best = i;
+        }
+        if (exhausted) {
+            ++stats.shallower;
+            break;
+        }
+        chosen = best;
+    }
+    return children[chosen].action;
+}
+
+}  // namespace
+
+Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos, const SceneSpec& spec,
+                       const ProgressFn& progress) {
+    const auto& opt = spec.options;
+    if (!(opt.duration > 0)) return makeError("scene duration must be positive");
+    if (spec.characters.empty()) return makeError("the scene has no characters");
+    const auto wallStart = std::chrono::steady_clock::now();
+
+    Scene scene;
+    scene.duration = opt.duration;
+    scene.seed = opt.seed;
+    scene.spec = spec.text;
+    for (const auto& c : spec.characters) {
+        if (c.allowed.empty()) return makeError("character '" + c.name + "' has no usable action");
+        if (c.depth < 1) return makeError("character '" + c.name + "': depth must be at least 1");
+        SceneCharacter sc;
+        sc.name = c.name;
+        sc.side = c.side;
+        sc.group = c.group;
+        sc.preset = c.preset;
+        sc.depth = c.depth;
+        sc.path = c.path;
+        sc.loopPath = c.loopPath;
+        sc.opponent = c.opponent;
+        scene.characters.push_back(std::move(sc));
+    }
+
+    // Suitability of every (mine, theirs) pair among the actions in play.
+    std::vector<int> inPlay;
+    for (const auto& c : spec.characters) inPlay.insert(inPlay.end(), c.allowed.begin(), c.allowed.end());
+    for (const auto& c : spec.characters) inPlay.insert(inPlay.end(), c.reactions.begin(), c.reactions.end());
+    std::sort(inPlay.begin(), inPlay.end());
+    inPlay.erase(std::unique(inPlay.begin(), inPlay.end()), inPlay.end());
+    const int n = lib.size();
+    std::vector<float> combo(static_cast<std::size_t>(n) * static_cast<std::size_t>(n), 0.0f);
+    if (!combos.records().empty()) {
+        for (int a : inPlay) {
+            const auto& x = lib.actions[static_cast<std::size_t>(a)];
+            for (int b : inPlay) {
+                const auto& y = lib.actions[static_cast<std::size_t>(b)];
+                combo[static_cast<std::size_t>(a) * static_cast<std::size_t>(n) + static_cast<std::size_t>(b)] =
+                    static_cast<float>(combos.query(x.name, x.annotations, y.name, y.annotations));
+            }
+        }
+    }
+
+    Context base;
+    base.lib = &lib;
+    base.combo = &combo;
+    base.comboN = n;
+    base.opt = &opt;
+    base.reactionDir.assign(static_cast<std::size_t>(n), glm::vec2(0.0f));
+    for (int a = 0; a < n; ++a) {
+        const auto& x = lib.actions[static_cast<std::size_t>(a)];
+        if (!x.is(kReactive)) continue;
+        const glm::vec2 d = lib.rootAt(a, std::min(0.5, x.duration)).pos;
+        if (glm::length(d) > 0.05f) base.reactionDir[static_cast<std::size_t>(a)] = glm::normalize(d);
+    }
+
+    // Groups, in order of first appearance.
+    std::vector<int> groupIds;
+    for (const auto& c : spec.characters) {
+        if (std::find(groupIds.begin(), groupIds.end(), c.group) == groupIds.end()) groupIds.push_back(c.group);
+    }
+    std::mt19937_64 rng(opt.seed);
+    Stats total;
+    for (std::size_t gi = 0; gi < groupIds.size(); ++gi) {
+        Context ctx = base;
+        GroupState g;
+        Recorder rec;
+        rec.scene = &scene;
+        for (int i = 0; i < static_cast<int>(spec.characters.size()); ++i) {
+            const auto& c = spec.characters[static_cast<std::size_t>(i)];
+            if (c.group != groupIds[gi]) continue;
+            if (g.n == kMaxGroupSize) {
+                return makeError("group " + std::to_string(c.group) + " has more than " + std::to_string(kMaxGroupSize) +
+                                 " characters (the game tree holds every member of a group)");
+            }
+            ctx.members.push_back({i, &c});
+            rec.global[static_cast<std::size_t>(g.n)] = i;
+            if (c.weights.wPath > 0 || c.weights.wPsi > 0 || c.weights.wReq > 0) ctx.cooperative = true;
+            // Start: the given action, or an idle one of its set chosen by the
+            // seed, entered at a seeded point so decisions interleave differently.
+            int a0 = c.startAction;
+            if (a0 < 0) {
+                std::vector<int> idle;
+                for (int a : c.allowed) {
+                    if (lib.actions[static_cast<std::size_t>(a)].is(kIdle)) idle.push_back(a);
+                }
+                const auto& pool = idle.empty() ? c.allowed : idle;
+                a0 = pool[static_cast<std::size_t>(rng() % pool.size())];
+            }
+            const double dur = lib.actions[static_cast<std::size_t>(a0)].duration;
+            const double offset = std::uniform_real_distribution<double>(0.0, 0.5 * dur)(rng);
+            CharState s;
+            s.action = a0;
+            s.start = 0;
+            s.offset = offset;
+            s.end = dur - offset;
+            RootXf start = c.start;
+            if (opt.startJitter > 0 || opt.startJitterDegrees > 0) {
+                std::uniform_real_distribution<double> u(-1.0, 1.0);
+                const double jx = u(rng) * opt.startJitter, jz = u(rng) * opt.startJitter;
+                const double jh = u(rng) * opt.startJitterDegrees * std::numbers::pi / 180.0;
+                start.pos += glm::vec2(static_cast<float>(jx), static_cast<float>(jz));
+                start.heading = wrapAngle(start.heading + jh);
+            }
+            s.root = start * lib.rootAt(a0, offset).inverse();
+            pushRecent(s, a0);
+            g.c[static_cast<std::size_t>(g.n)] = s;
+            auto& track = scene.characters[static_cast<std::size_t>(i)].track;
+            track.push_back({a0, 0.0, offset, s.end, s.root, false, false});
+            ++g.n;
+        }
+        {
+            Events ev;  // the first node: whoever finishes its start action first
+            advance(ctx, g, ev, &rec);
+        }
+        while (g.time < opt.duration && !rec.stop) {
+            const int who = chooserOf(g);
+            const auto& cs = specOf(ctx, who);
+            Stats st;
+            bool fellBack = false;
+            const int action = decide(ctx, g, cs.depth, st, fellBack);
+            total.add(st);
+            ++scene.stats.decisions;
+            const int global = ctx.members[static_cast<std::size_t>(who)].global;
+            auto& sc = scene.characters[static_cast<std::size_t>(global)];
+            if (fellBack) ++scene.stats.fallbacks, ++sc.fallbacks;
+            if (action < 0) return makeError("character '" + cs.name + "' has no action to take");
+            const double t = g.time;
+            launch(ctx, g, who, action, t);
+            const auto& s = g.c[static_cast<std::size_t>(who)];
+            sc.track.push_back({action, t, 0.0, s.end, s.root, false, fellBack});
+            Events ev;
+            advance(ctx, g, ev, &rec);
+            const double overall = (static_cast<double>(gi) + std::min(g.time / opt.duration, 1.0)) /
+                                   static_cast<double>(groupIds.size());
+            if (!reportProgress(progress, overall, "simulate")) return makeError("cancelled");
+        }
+        if (rec.stop) {
+            for (const auto& m : ctx.members) {
+                auto& track = scene.characters[static_cast<std::size_t>(m.global)].track;
+                if (!track.empty()) track.back().end = std::min(track.back().end, g.time);
+                scene.duration = std::min(scene.duration, opt.duration);
+            }
+        }
+    }
+    std::sort(scene.hits.begin(), scene.hits.end(), [](const HitEvent& a, const HitEvent& b) {
+        return a.time != b.time ? a.time < b.time : a.attacker < b.attacker;
+    });
+    std::sort(scene.catches.begin(), scene.catches.end(), [](const CatchEvent& a, const CatchEvent& b) {
+        return a.time != b.time ? a.time < b.time : a.chaser < b.chaser;
+    });
+    scene.stats.nodes = total.nodes;
+    scene.stats.leaves = total.leaves;
+    scene.stats.choices = total.choices;
+    scene.stats.pruned = total.pruned;
+    scene.stats.cutoffs = total.cutoffs;
+    scene.stats.shallower = total.shallower;
+    scene.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
+    reportProgress(progress, 1.0, "simulate");
+    return scene;
+}
+
+}  // namespace fray::sim

@@ -1,0 +1,421 @@
+#include "fray/sim/scene.h"
+
+#include <algorithm>
+#include <map>
+#include <tuple>
+
+#include <glm/gtc/quaternion.hpp>
+#include <nlohmann/json.hpp>
+
+#include "fray/core/atomic_file.h"
+#include "fray/core/kinematics.h"
+#include "fray/prep/json_reader.h"
+
+namespace fray::sim {
+
+namespace {
+
+using json = nlohmann::ordered_json;
+using prep::JsonReader;
+
+json actionRef(const ActionLibrary& lib, int action) {
+    const auto& a = lib.actions[static_cast<std::size_t>(action)];
+    return json{{"motion", a.motionId}, {"first", a.firstFrame}, {"last", a.lastFrame}, {"name", a.name}};
+}
+
+json checkpointsToJson(const std::vector<Checkpoint>& path) {
+    json out = json::array();
+    for (const auto& c : path) {
+        json j{{"x", c.pos.x}, {"z", c.pos.y}};
+        if (c.time) j["time"] = *c.time;
+        if (!c.action.empty()) j["action"] = c.action;
+        out.push_back(std::move(j));
+    }
+    return out;
+}
+
+class ActionIndex {
+public:
+    explicit ActionIndex(const ActionLibrary& lib) {
+        for (int i = 0; i < lib.size(); ++i) {
+            const auto& a = lib.actions[static_cast<std::size_t>(i)];
+            map_[{a.motionId, a.firstFrame, a.lastFrame}] = i;
+        }
+    }
+    Result<int> resolve(const JsonReader& rd, const json& v, const std::string& path) const {
+        if (!v.is_object()) return rd.error(path, "must be an object {motion, first, last}");
+        FRAY_TRY(m, rd.field(v, path, "motion"));
+        FRAY_TRY(motion, rd.string(*m, path + "/motion"));
+        FRAY_TRY(f, rd.field(v, path, "first"));
+        FRAY_TRY(first, rd.integer(*f, path + "/first"));
+        FRAY_TRY(l, rd.field(v, path, "last"));
+        FRAY_TRY(last, rd.integer(*l, path + "/last"));
+        const auto it = map_.find({motion, first, last});
+        if (it == map_.end()) {
+            return rd.error(path, "action " + motion + " frames " + std::to_string(first) + "-" + std::to_string(last) +
+                                      " is not in the project any more (were its cuts edited? simulate the scene again)");
+        }
+        return it->second;
+    }
+
+private:
+    std::map<std::tuple<std::string, int, int>, int> map_;
+};
+
+Result<std::vector<Checkpoint>> checkpointsFromJson(const JsonReader& rd, const json& v, const std::string& path) {
+    if (!v.is_array()) return rd.error(path, "must be an array of checkpoints");
+    std::vector<Checkpoint> out;
+    for (std::size_t i = 0; i < v.size(); ++i) {
+        const std::string p = path + "/" + std::to_string(i);
+        if (!v[i].is_object()) return rd.error(p, "must be an object {x, z[, time][, action]}");
+        Checkpoint c;
+        FRAY_TRY(xf, rd.field(v[i], p, "x"));
+        FRAY_TRY(x, rd.number(*xf, p + "/x"));
+        FRAY_TRY(zf, rd.field(v[i], p, "z"));
+        FRAY_TRY(z, rd.number(*zf, p + "/z"));
+        c.pos = {static_cast<float>(x), static_cast<float>(z)};
+        FRAY_TRY(tf, rd.field(v[i], p, "time", false));
+        if (tf) {
+            FRAY_TRY(t, rd.number(*tf, p + "/time"));
+            c.time = t;
+        }
+        FRAY_TRY(af, rd.field(v[i], p, "action", false));
+        if (af) {
+            FRAY_TRY(a, rd.string(*af, p + "/action"));
+            c.action = a;
+        }
+        out.push_back(std::move(c));
+    }
+    return out;
+}
+
+}  // namespace
+
+// Exposed for the spec reader.
+Result<std::vector<Checkpoint>> parseCheckpoints(const JsonReader& rd, const json& v, const std::string& path) {
+    return checkpointsFromJson(rd, v, path);
+}
+
+int Scene::instanceAt(int c, double t) const {
+    const auto& track = characters[static_cast<std::size_t>(c)].track;
+    if (track.empty()) return -1;
+    const auto it = std::upper_bound(track.begin(), track.end(), t,
+                                     [](double x, const ActionInstance& inst) { return x < inst.start; });
+    if (it == track.begin()) return 0;
+    return static_cast<int>(it - track.begin()) - 1;
+}
+
+std::string sceneToJson(const Scene& scene, const ActionLibrary& lib) {
+    json j;
+    j["format"] = "fray-scene";
+    j["version"] = kSceneVersion;
+    j["project"] = scene.project;
+    j["duration"] = scene.duration;
+    j["seed"] = scene.seed;
+    json chars = json::array();
+    for (const auto& c : scene.characters) {
+        json cj;
+        cj["name"] = c.name;
+        cj["side"] = c.side;
+        cj["group"] = c.group;
+        cj["preset"] = c.preset;
+        cj["depth"] = c.depth;
+        cj["opponent"] = c.opponent;
+        cj["fallbacks"] = c.fallbacks;
+        cj["path"] = checkpointsToJson(c.path);
+        cj["loop_path"] = c.loopPath;
+        json track = json::array();
+        for (const auto& inst : c.track) {
+            json ij;
+            ij["action"] = actionRef(lib, inst.action);
+            ij["start"] = inst.start;
+            ij["offset"] = inst.offset;
+            ij["end"] = inst.end;
+            ij["root"] = {inst.root.pos.x, inst.root.pos.y, inst.root.heading};
+            ij["forced"] = inst.forced;
+            ij["fallback"] = inst.fallback;
+            track.push_back(std::move(ij));
+        }
+        cj["track"] = std::move(track);
+        chars.push_back(std::move(cj));
+    }
+    j["characters"] = std::move(chars);
+    json hits = json::array();
+    for (const auto& h : scene.hits) {
+        hits.push_back(json{{"time", h.time},
+                            {"attacker", h.attacker},
+                            {"defender", h.defender},
+                            {"attack", actionRef(lib, h.attackAction)},
+                            {"effector", segmentName(h.effector)},
+                            {"target", segmentName(h.target)},
+                            {"speed", h.speed},
+                            {"impulse", h.impulse},
+                            {"blocked", h.blocked}});
+    }
+    j["hits"] = std::move(hits);
+    json catches = json::array();
+    for (const auto& c : scene.catches) catches.push_back(json{{"time", c.time}, {"chaser", c.chaser}, {"runaway", c.runaway}});
+    j["catches"] = std::move(catches);
+    // Planning statistics; wall-clock time is left out so a scene is
+    // byte-identical for the same inputs and seed.
+    const auto& s = scene.stats;
+    j["stats"] = json{{"decisions", s.decisions}, {"nodes", s.nodes},       {"leaves", s.leaves},
+                      {"choices", s.choices},     {"pruned", s.pruned},     {"cutoffs", s.cutoffs},
+                      {"fallbacks", s.fallbacks}, {"forced", s.forced},
+                      {"shallower", s.shallower}};
+    const json spec = json::parse(scene.spec, nullptr, false);
+    j["spec"] = spec.is_discarded() ? json(scene.spec) : spec;
+    return j.dump(1) + "\n";
+}
+
+Result<std::string> sceneProjectPath(std::string_view text, std::string_view fileName) {
+    const JsonReader rd(fileName);
+    const json j = json::parse(text, nullptr, false);
+    if (j.is_discarded()) return rd.error("", "not valid JSON");
+    if (!j.is_object()) return rd.error("", "must be a JSON object");
+    const auto fmt = j.find("format");
+    if (fmt == j.end() || *fmt != "fray-scene") return rd.error("/format", "not a Fray scene file (expected \"fray-scene\")");
+    FRAY_TRY(p, rd.field(j, "", "project"));
+    return rd.string(*p, "/project");
+}
+
+Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, const ActionLibrary& lib) {
+    const JsonReader rd(fileName);
+    const json j = json::parse(text, nullptr, false);
+    if (j.is_discarded()) return rd.error("", "not valid JSON");
+    if (!j.is_object()) return rd.error("", "must be a JSON object");
+    FRAY_TRY(projectPath, sceneProjectPath(text, fileName));
+    FRAY_TRY(vf, rd.field(j, "", "version"));
+    FRAY_TRY(version, rd.integer(*vf, "/version"));
+    if (version != kSceneVersion) {
+        return rd.error("/version", "version " + std::to_string(version) + " is not supported (this build reads " +
+                                        std::to_string(kSceneVersion) + ")");
+    }
+    const ActionIndex index(lib);
+    Scene scene;
+    scene.project = projectPath;
+    FRAY_TRY(df, rd.field(j, "", "duration"));
+    FRAY_TRY(duration, rd.number(*df, "/duration"));
+    if (!(duration > 0)) return rd.error("/duration", "must be positive");
+    scene.duration = duration;
+    FRAY_TRY(sf, rd.field(j, "", "seed"));
+    if (!sf->is_number_unsigned() && !sf->is_number_integer()) return rd.error("/seed", "must be an integer");
+    scene.seed = sf->get<std::uint64_t>();
+    FRAY_TRY(cf, rd.field(j, "", "characters"));
+    if (!cf->is_array()) return rd.error("/characters", "must be an array");
+    const int n = static_cast<int>(cf->size());
+    for (int i = 0; i < n; ++i) {
+        const std::string p = "/characters/" + std::to_string(i);
+        const json& c = (*cf)[static_cast<std::size_t>(i)];
+        if (!c.is_object()) return rd.error(p, "must be an object");
+        SceneCharacter sc;
+        FRAY_TRY(nf, rd.field(c, p, "name"));
+        FRAY_TRY(name, rd.string(*nf, p + "/name"));
+        sc.name = name;
+        FRAY_TRY(sdf, rd.field(c, p, "side"));
+        FRAY_TRY(side, rd.integer(*sdf, p + "/side"));
+        sc.side = side;
+        FRAY_TRY(gf, rd.field(c, p, "group"));
+        FRAY_TRY(group, rd.integer(*gf, p + "/group"));
+        sc.group = group;
+        FRAY_TRY(pf, rd.field(c, p, "preset"));
+        FRAY_TRY(preset, rd.string(*pf, p + "/preset"));
+        sc.preset = preset;
+        FRAY_TRY(dpf, rd.field(c, p, "depth"));
+        FRAY_TRY(depth, rd.integer(*dpf, p + "/depth"));
+        sc.depth = depth;
+        FRAY_TRY(of, rd.field(c, p, "opponent"));
+        FRAY_TRY(opponent, rd.integer(*of, p + "/opponent"));
+        if (opponent < -1 || opponent >= n) return rd.error(p + "/opponent", "must be -1 or a character index");
+        sc.opponent = opponent;
+        FRAY_TRY(ff, rd.field(c, p, "fallbacks"));
+        FRAY_TRY(fallbacks, rd.integer(*ff, p + "/fallbacks"));
+        sc.fallbacks = fallbacks;
+        FRAY_TRY(pathf, rd.field(c, p, "path"));
+        FRAY_TRY(path, checkpointsFromJson(rd, *pathf, p + "/path"));
+        sc.path = std::move(path);
+        FRAY_TRY(lf, rd.field(c, p, "loop_path"));
+        FRAY_TRY(loop, rd.boolean(*lf, p + "/loop_path"));
+        sc.loopPath = loop;
+        FRAY_TRY(tf, rd.field(c, p, "track"));
+        if (!tf->is_array()) return rd.error(p + "/track", "must be an array");
+        double previousStart = -1;
+        for (std::size_t k = 0; k < tf->size(); ++k) {
+            const std::string ip = p + "/track/" + std::to_string(k);
+            const json& ij = (*tf)[k];
+            if (!ij.is_object()) return rd.error(ip, "must be an object");
+            ActionInstance inst;
+            FRAY_TRY(af, rd.field(ij, ip, "action"));
+            FRAY_TRY(action, index.resolve(rd, *af, ip + "/action"));
+            inst.action = action;
+            FRAY_TRY(stf, rd.field(ij, ip, "start"));
+            FRAY_TRY(start, rd.number(*stf, ip + "/start"));
+            FRAY_TRY(osf, rd.field(ij, ip, "offset"));
+            FRAY_TRY(offset, rd.number(*osf, ip + "/offset"));
+            FRAY_TRY(ef, rd.field(ij, ip, "end"));
+            FRAY_TRY(end, rd.number(*ef, ip + "/end"));
+            if (start < previousStart) return rd.error(ip + "/start", "actions must be in time order");
+            if (end < start) return rd.error(ip + "/end", "ends before it starts");
+            const double dur = lib.actions[static_cast<std::size_t>(action)].duration;
+            if (offset < 0 || offset > dur) return rd.error(ip + "/offset", "must lie within the action (0.." + std::to_string(dur) + " s)");
+            previousStart = start;
+            inst.start = start, inst.offset = offset, inst.end = end;
+            FRAY_TRY(rf, rd.field(ij, ip, "root"));
+            if (!rf->is_array() || rf->size() != 3) return rd.error(ip + "/root", "must be [x, z, heading]");
+            FRAY_TRY(rx, rd.number((*rf)[0], ip + "/root/0"));
+            FRAY_TRY(rz, rd.number((*rf)[1], ip + "/root/1"));
+            FRAY_TRY(rh, rd.number((*rf)[2], ip + "/root/2"));
+            inst.root = {{static_cast<float>(rx), static_cast<float>(rz)}, rh};
+            FRAY_TRY(fof, rd.field(ij, ip, "forced"));
+            FRAY_TRY(forced, rd.boolean(*fof, ip + "/forced"));
+            FRAY_TRY(fbf, rd.field(ij, ip, "fallback"));
+            FRAY_TRY(fallback, rd.boolean(*fbf, ip + "/fallback"));
+            inst.forced = forced, inst.fallback = fallback;
+            sc.track.push_back(inst);
+        }
+        scene.characters.push_back(std::move(sc));
+    }
+    auto character = [&](const json& v, const std::string& path) -> Result<int> {
+        FRAY_TRY(k, rd.integer(v, path));
+        if (k < 0 || k >= n) return rd.error(path, "is not a character index");
+        return k;
+    };
+    auto segment = [&](const json& v, const std::string& path) -> Result<int> {
+        FRAY_TRY(name, rd.string(v, path));
+        for (int s = 0; s < kSegmentCount; ++s) {
+            if (name == segmentName(s)) return s;
+        }
+        return rd.error(path, "unknown body segment '" + name + "'");
+    };
+    FRAY_TRY(hf, rd.field(j, "", "hits"));
+    if (!hf->is_array()) return rd.error("/hits", "must be an array");
+    for (std::size_t k = 0; k < hf->size(); ++k) {
+        const std::string p = "/hits/" + std::to_string(k);
+        const json& h = (*hf)[k];
+        if (!h.is_object()) return rd.error(p, "must be an object");
+        HitEvent e;
+        FRAY_TRY(t, rd.field(h, p, "time"));
+        FRAY_TRY(time, rd.number(*t, p + "/time"));
+        FRAY_TRY(a, rd.field(h, p, "attacker"));
+        FRAY_TRY(attacker, character(*a, p + "/attacker"));
+        FRAY_TRY(d, rd.field(h, p, "defender"));
+        FRAY_TRY(defender, character(*d, p + "/defender"));
+        FRAY_TRY(af, rd.field(h, p, "attack"));
+        FRAY_TRY(attack, index.resolve(rd, *af, p + "/attack"));
+        FRAY_TRY(ef, rd.field(h, p, "effector"));
+        FRAY_TRY(effector, segment(*ef, p + "/effector"));
+        FRAY_TRY(tf, rd.field(h, p, "target"));
+        FRAY_TRY(target, segment(*tf, p + "/target"));
+        FRAY_TRY(sp, rd.field(h, p, "speed"));
+        FRAY_TRY(speed, rd.number(*sp, p + "/speed"));
+        FRAY_TRY(im, rd.field(h, p, "impulse"));
+        FRAY_TRY(impulse, rd.number(*im, p + "/impulse"));
+        FRAY_TRY(bl, rd.field(h, p, "blocked"));
+        FRAY_TRY(blocked, rd.boolean(*bl, p + "/blocked"));
+        e.time = time, e.attacker = attacker, e.defender = defender, e.attackAction = attack;
+        e.effector = effector, e.target = target, e.speed = speed, e.impulse = impulse, e.blocked = blocked;
+        scene.hits.push_back(e);
+    }
+    FRAY_TRY(catf, rd.field(j, "", "catches"));
+    if (!catf->is_array()) return rd.error("/catches", "must be an array");
+    for (std::size_t k = 0; k < catf->size(); ++k) {
+        const std::string p = "/catches/" + std::to_string(k);
+        const json& c = (*catf)[k];
+        if (!c.is_object()) return rd.error(p, "must be an object");
+        FRAY_TRY(t, rd.field(c, p, "time"));
+        FRAY_TRY(time, rd.number(*t, p + "/time"));
+        FRAY_TRY(a, rd.field(c, p, "chaser"));
+        FRAY_TRY(chaser, character(*a, p + "/chaser"));
+        FRAY_TRY(r, rd.field(c, p, "runaway"));
+        FRAY_TRY(runaway, character(*r, p + "/runaway"));
+        scene.catches.push_back({time, chaser, runaway});
+    }
+    if (const auto st = j.find("stats"); st != j.end() && st->is_object()) {
+        auto get = [&](const char* key) -> std::int64_t {
+            const auto it = st->find(key);
+            return it != st->end() && it->is_number_integer() ? it->get<std::int64_t>() : 0;
+        };
+        scene.stats.decisions = get("decisions");
+        scene.stats.nodes = get("nodes");
+        scene.stats.leaves = get("leaves");
+        scene.stats.choices = get("choices");
+        scene.stats.pruned = get("pruned");
+        scene.stats.cutoffs = get("cutoffs");
+        scene.stats.fallbacks = get("fallbacks");
+        scene.stats.forced = get("forced");
+        scene.stats.shallower = get("shallower");
+    }
+    if (const auto sp = j.find("spec"); sp != j.end()) scene.spec = sp->is_string() ? sp->get<std::string>() : sp->dump();
+    return scene;
+}
+
+Status saveScene(const Scene& scene, const ActionLibrary& lib, const std::filesystem::path& file) {
+    return writeFileAtomically(file, sceneToJson(scene, lib));
+}
+
+// ---- playback ---------------------------------------------------------------
+
+ScenePoser::ScenePoser(const Scene& scene, const ActionLibrary& lib, double blendSeconds)
+    : scene_(scene), lib_(lib), blend_(blendSeconds) {}
+
+const Skeleton& ScenePoser::skeleton(int character) const {
+    const auto& track = scene_.characters[static_cast<std::size_t>(character)].track;
+    const int motion = track.empty() ? 0 : lib_.actions[static_cast<std::size_t>(track.front().action)].motion;
+    return lib_.motions[static_cast<std::size_t>(motion)].motion.skeleton();
+}
+
+void ScenePoser::rawPose(int character, int instance, double t, Pose& out) const {
+    const auto& inst = scene_.characters[static_cast<std::size_t>(character)].track[static_cast<std::size_t>(instance)];
+    const auto& a = lib_.actions[static_cast<std::size_t>(inst.action)];
+    const auto& lm = lib_.motions[static_cast<std::size_t>(a.motion)];
+    const double fps = lm.motion.fps();
+    const double tau = std::clamp(inst.offset + (t - inst.start), 0.0, a.duration);
+    const double frame = std::min(a.firstFrame + tau * fps, static_cast<double>(a.lastFrame));
+    lm.motion.sample(frame / fps, out);
+    // The clip's first-frame placement in its motion, moved to inst.root.
+    const RootXf m = inst.root * a.source.inverse();
+    out.translations[0] = m.apply(out.translations[0]);
+    out.rotations[0] = glm::angleAxis(static_cast<float>(m.heading), glm::vec3(0, 1, 0)) * out.rotations[0];
+}
+
+void ScenePoser::pose(int character, double t, Pose& out) const {
+    const int i = scene_.instanceAt(character, t);
+    if (i < 0) return;
+    rawPose(character, i, t, out);
+    const auto& track = scene_.characters[static_cast<std::size_t>(character)].track;
+    const auto& inst = track[static_cast<std::size_t>(i)];
+    const double x = (t - inst.start) / blend_;
+    if (i == 0 || blend_ <= 0 || x >= 1.0 || x < 0.0) return;
+    // Offsets from the previous action's pose at the seam, fading out.
+    Pose prev, seam;
+    rawPose(character, i - 1, inst.start, prev);
+    rawPose(character, i, inst.start, seam);
+    const float w = static_cast<float>(1.0 - x * x * (3.0 - 2.0 * x));
+    for (std::size_t j = 0; j < out.rotations.size(); ++j) {
+        const glm::quat off = prev.rotations[j] * glm::inverse(seam.rotations[j]);
+        out.rotations[j] = glm::normalize(glm::slerp(glm::quat(1, 0, 0, 0), off, w) * out.rotations[j]);
+        out.translations[j] += w * (prev.translations[j] - seam.translations[j]);
+    }
+}
+
+void ScenePoser::worldPositions(int character, double t, std::vector<glm::vec3>& out) const {
+    Pose p;
+    pose(character, t, p);
+    const auto& sk = skeleton(character);
+    out.resize(p.translations.size());
+    std::vector<glm::quat> rot(p.translations.size());
+    forwardKinematics(sk, p.translations, p.rotations, out, rot);
+}
+
+std::array<bool, 2> ScenePoser::contacts(int character, double t) const {
+    const int i = scene_.instanceAt(character, t);
+    if (i < 0) return {false, false};
+    const auto& inst = scene_.characters[static_cast<std::size_t>(character)].track[static_cast<std::size_t>(i)];
+    const auto& a = lib_.actions[static_cast<std::size_t>(inst.action)];
+    const auto& c = lib_.motions[static_cast<std::size_t>(a.motion)].contacts;
+    const int f = lib_.frameAt(inst.action, inst.offset + (t - inst.start));
+    if (f < 0 || f >= c.frameCount()) return {false, false};
+    return {c.left[static_cast<std::size_t>(f)] != 0, c.right[static_cast<std::size_t>(f)] != 0};
+}
+
+}  // namespace fray::sim

@@ -1,0 +1,517 @@
+#include "fray/sim/spec.h"
+
+#include <algorithm>
+#include <charconv>
+#include <map>
+#include <numbers>
+
+#include <nlohmann/json.hpp>
+
+#include "fray/prep/json_reader.h"
+
+namespace fray::sim {
+
+// Defined in scene.cpp.
+Result<std::vector<Checkpoint>> parseCheckpoints(const prep::JsonReader& rd, const nlohmann::ordered_json& v,
+                                                 const std::string& path);
+
+namespace {
+
+using json = nlohmann::ordered_json;
+using prep::JsonReader;
+
+constexpr const char* kPresetSection = "planner_presets";
+
+struct WeightField {
+    const char* key;
+    double StyleWeights::*number;
+    bool StyleWeights::*flag;
+};
+
+const WeightField kWeightFields[] = {
+    {"w_theta", &StyleWeights::wTheta, nullptr},
+    {"w_r", &StyleWeights::wR, nullptr},
+    {"r_d", &StyleWeights::rD, nullptr},
+    {"w_hit_short", &StyleWeights::wHitShort, nullptr},
+    {"w_hit_long", &StyleWeights::wHitLong, nullptr},
+    {"w_damage", &StyleWeights::wDamage, nullptr},
+    {"w_combo", &StyleWeights::wCombo, nullptr},
+    {"catches", nullptr, &StyleWeights::catches},
+    {"w_psi", &StyleWeights::wPsi, nullptr},
+    {"w_path", &StyleWeights::wPath, nullptr},
+    {"w_req", &StyleWeights::wReq, nullptr},
+    {"w_recency", &StyleWeights::wRecency, nullptr},
+    {"attack_range", &StyleWeights::attackRange, nullptr},
+    {"defence_range", &StyleWeights::defenceRange, nullptr},
+    {"face_opponent", nullptr, &StyleWeights::faceOpponent},
+};
+
+const WeightField* findField(std::string_view key) {
+    for (const auto& f : kWeightFields) {
+        if (key == f.key) return &f;
+    }
+    return nullptr;
+}
+
+std::string keyList() {
+    std::string s;
+    for (const auto& f : kWeightFields) s += (s.empty() ? "" : ", ") + std::string(f.key);
+    return s;
+}
+
+json weightsJson(const StyleWeights& w) {
+    json j;
+    for (const auto& f : kWeightFields) {
+        if (f.number) j[f.key] = w.*(f.number);
+        else j[f.key] = w.*(f.flag);
+    }
+    return j;
+}
+
+Result<StyleWeights> weightsFrom(StyleWeights w, const JsonReader& rd, const json& v, const std::string& path) {
+    if (!v.is_object()) return rd.error(path, "must be an object of weights");
+    for (auto it = v.begin(); it != v.end(); ++it) {
+        const std::string p = path + "/" + it.key();
+        const auto* f = findField(it.key());
+        if (!f) return rd.error(p, "unknown weight (expected one of " + keyList() + ")");
+        if (f->number) {
+            FRAY_TRY(x, rd.number(it.value(), p));
+            if (!std::isfinite(x)) return rd.error(p, "must be finite");
+            w.*(f->number) = x;
+        } else {
+            FRAY_TRY(b, rd.boolean(it.value(), p));
+            w.*(f->flag) = b;
+        }
+    }
+    if (w.rD < 0) return rd.error(path + "/r_d", "must not be negative");
+    return w;
+}
+
+Preset make(std::string name, std::string description, StyleWeights w) {
+    return {std::move(name), std::move(description), w};
+}
+
+}  // namespace
+
+const std::vector<std::string>& weightKeys() {
+    static const std::vector<std::string> keys = [] {
+        std::vector<std::string> k;
+        for (const auto& f : kWeightFields) k.emplace_back(f.key);
+        return k;
+    }();
+    return keys;
+}
+
+const std::vector<Preset>& builtinPresets() {
+    static const std::vector<Preset> presets = [] {
+        std::vector<Preset> out;
+        StyleWeights boxer;  // general boxer: the defaults
+        out.push_back(make("general-boxer", "fights at mid range with every attack", boxer));
+        StyleWeights in = boxer;
+        in.rD = 0.5, in.wHitShort = 1000, in.wHitLong = 10;
+        out.push_back(make("infighter", "stays close and punches", in));
+        StyleWeights outb = boxer;
+        outb.rD = 2.0, outb.wHitShort = 10, outb.wHitLong = 1000, outb.attackRange = 1.6;
+        out.push_back(make("outboxer", "keeps away and kicks", outb));
+        StyleWeights chaser;
+        chaser.rD = 0.1, chaser.wHitShort = 1000, chaser.wHitLong = 0, chaser.wDamage = 0, chaser.wCombo = 0;
+        chaser.catches = true;
+        out.push_back(make("chaser", "runs the opponent down", chaser));
+        StyleWeights runaway;
+        runaway.rD = 3.0, runaway.wHitShort = 0, runaway.wHitLong = 0, runaway.wDamage = 1000, runaway.wCombo = 0;
+        runaway.catches = true, runaway.faceOpponent = false, runaway.wTheta = 0;
+        out.push_back(make("runaway", "keeps its distance from the chaser", runaway));
+        const std::size_t n = out.size();
+        for (std::size_t i = 0; i < n; ++i) {
+            Preset p = out[i];
+            p.name += "-path";
+            p.description += ", following its path";
+            p.weights.wPath = 10;
+            p.weights.wReq = 1;
+            out.push_back(p);
+        }
+        return out;
+    }();
+    return presets;
+}
+
+Result<std::vector<Preset>> projectPresets(const prep::Project& project, std::string_view fileName) {
+    std::vector<Preset> out = builtinPresets();
+    const auto it = project.laterSections.find(kPresetSection);
+    if (it == project.laterSections.end()) return out;
+    const JsonReader rd(fileName);
+    const json j = json::parse(it->second, nullptr, false);
+    const std::string base = std::string("/") + kPresetSection;
+    if (j.is_discarded() || !j.is_object()) return rd.error(base, "must be an object of presets");
+    std::vector<Preset> extra;
+    for (auto p = j.begin(); p != j.end(); ++p) {
+        const std::string path = base + "/" + p.key();
+        if (!p.value().is_object()) return rd.error(path, "must be an object");
+        StyleWeights w;
+        std::string description;
+        json weights = json::object();
+        for (auto f = p.value().begin(); f != p.value().end(); ++f) {
+            if (f.key() == "description") {
+                FRAY_TRY(d, rd.string(f.value(), path + "/description"));
+                description = d;
+            } else {
+                weights[f.key()] = f.value();
+            }
+        }
+        FRAY_TRY(parsed, weightsFrom(w, rd, weights, path));
+        auto found = std::find_if(out.begin(), out.end(), [&](const Preset& x) { return x.name == p.key(); });
+        if (found != out.end()) {
+            found->weights = parsed;
+            if (!description.empty()) found->description = description;
+        } else {
+            extra.push_back({p.key(), description, parsed});
+        }
+    }
+    std::sort(extra.begin(), extra.end(), [](const Preset& a, const Preset& b) { return a.name < b.name; });
+    out.insert(out.end(), extra.begin(), extra.end());
+    return out;
+}
+
+std::optional<Preset> setProjectPreset(prep::Project& project, const Preset& preset) {
+    json section = json::object();
+    if (auto it = project.laterSections.find(kPresetSection); it != project.laterSections.end()) {
+        section = json::parse(it->second, nullptr, false);
+        if (section.is_discarded() || !section.is_object()) section = json::object();
+    }
+    std::optional<Preset> previous;
+    if (auto old = projectPresets(project, "project"); old) {
+        for (const auto& p : *old) {
+            if (p.name == preset.name) previous = p;
+        }
+    }
+    json entry = weightsJson(preset.weights);
+    if (!preset.description.empty()) entry["description"] = preset.description;
+    section[preset.name] = entry;
+    project.laterSections[kPresetSection] = section.dump();
+    return previous;
+}
+
+std::optional<Preset> removeProjectPreset(prep::Project& project, std::string_view name) {
+    auto it = project.laterSections.find(kPresetSection);
+    if (it == project.laterSections.end()) return std::nullopt;
+    json section = json::parse(it->second, nullptr, false);
+    if (section.is_discarded() || !section.is_object() || !section.contains(std::string(name))) return std::nullopt;
+    std::optional<Preset> removed;
+    if (auto all = projectPresets(project, "project"); all) {
+        for (const auto& p : *all) {
+            if (p.name == name) removed = p;
+        }
+    }
+    section.erase(std::string(name));
+    if (section.empty()) project.laterSections.erase(it);
+    else it->second = section.dump();
+    return removed;
+}
+
+std::string weightsToJson(const StyleWeights& w) { return weightsJson(w).dump(); }
+
+Result<StyleWeights> applyWeightsJson(StyleWeights base, std::string_view text, std::string_view what) {
+    const JsonReader rd(what);
+    const json j = json::parse(text, nullptr, false);
+    if (j.is_discarded()) return rd.error("", "not valid JSON");
+    return weightsFrom(base, rd, j, "");
+}
+
+Status applyWeightEdit(StyleWeights& w, std::string_view edit) {
+    const auto eq = edit.find('=');
+    if (eq == std::string_view::npos) return makeError("'" + std::string(edit) + "': expected key=value");
+    const std::string key(edit.substr(0, eq));
+    const std::string value(edit.substr(eq + 1));
+    const auto* f = findField(key);
+    if (!f) return makeError("'" + key + "': unknown weight (expected one of " + keyList() + ")");
+    if (f->flag) {
+        if (value != "true" && value != "false") return makeError(key + ": expected true or false, got '" + value + "'");
+        w.*(f->flag) = value == "true";
+        return {};
+    }
+    double x = 0;
+    const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), x);
+    if (ec != std::errc() || end != value.data() + value.size() || !std::isfinite(x)) {
+        return makeError(key + ": expected a number, got '" + value + "'");
+    }
+    if (key == "r_d" && x < 0) return makeError("r_d: must not be negative");
+    w.*(f->number) = x;
+    return {};
+}
+
+Result<SceneSpec> parseSceneSpec(std::string_view text, std::string_view fileName, const ActionLibrary& lib,
+                                 const std::vector<Preset>& presets) {
+    const JsonReader rd(fileName);
+    const json j = json::parse(text, nullptr, false);
+    if (j.is_discarded()) return rd.error("", "not valid JSON");
+    if (!j.is_object()) return rd.error("", "must be a JSON object");
+    static const char* const kTopKeys[] = {"version",   "duration",     "seed",         "pruning",      "alpha_beta",
+                                           "parallel",  "catch_radius", "stop_on_catch", "fall_impulse", "start_jitter",
+                                           "checkpoint_radius", "characters", "description"};
+    for (auto it = j.begin(); it != j.end(); ++it) {
+        if (std::find_if(std::begin(kTopKeys), std::end(kTopKeys), [&](const char* k) { return it.key() == k; }) ==
+            std::end(kTopKeys)) {
+            return rd.error("/" + it.key(), "unknown field");
+        }
+    }
+    SceneSpec spec;
+    spec.text = std::string(text);
+    auto& o = spec.options;
+    if (auto v = j.find("version"); v != j.end()) {
+        FRAY_TRY(version, rd.integer(*v, "/version"));
+        if (version != 1) return rd.error("/version", "version " + std::to_string(version) + " is not supported (expected 1)");
+    }
+    FRAY_TRY(df, rd.field(j, "", "duration"));
+    FRAY_TRY(duration, rd.number(*df, "/duration"));
+    if (!(duration > 0) || !std::isfinite(duration)) return rd.error("/duration", "must be a positive number of seconds");
+    if (duration > 3600) return rd.error("/duration", "must be at most 3600 s");
+    o.duration = duration;
+    if (auto v = j.find("seed"); v != j.end()) {
+        if (!v->is_number_unsigned()) return rd.error("/seed", "must be a non-negative integer");
+        o.seed = v->get<std::uint64_t>();
+    }
+    auto flag = [&](const char* key, bool& out) -> Status {
+        if (auto v = j.find(key); v != j.end()) {
+            auto b = rd.boolean(*v, std::string("/") + key);
+            if (!b) return b.error();
+            out = *b;
+        }
+        return {};
+    };
+    auto positive = [&](const char* key, double& out) -> Status {
+        if (auto v = j.find(key); v != j.end()) {
+            auto x = rd.number(*v, std::string("/") + key);
+            if (!x) return x.error();
+            if (!(*x > 0) || !std::isfinite(*x)) return rd.error(std::string("/") + key, "must be positive");
+            out = *x;
+        }
+        return {};
+    };
+    for (auto s : {flag("pruning", o.pruning), flag("alpha_beta", o.alphaBeta), flag("parallel", o.parallel),
+                   flag("stop_on_catch", o.stopOnCatch), positive("catch_radius", o.catchRadius),
+                   positive("fall_impulse", o.fallImpulse), positive("checkpoint_radius", o.checkpointRadius)}) {
+        if (!s) return s.error();
+    }
+    if (auto v = j.find("start_jitter"); v != j.end()) {
+        if (!v->is_object()) return rd.error("/start_jitter", "must be {distance, angle_deg}");
+        if (auto d = v->find("distance"); d != v->end()) {
+            FRAY_TRY(x, rd.number(*d, "/start_jitter/distance"));
+            if (x < 0) return rd.error("/start_jitter/distance", "must not be negative");
+            o.startJitter = x;
+        }
+        if (auto d = v->find("angle_deg"); d != v->end()) {
+            FRAY_TRY(x, rd.number(*d, "/start_jitter/angle_deg"));
+            if (x < 0) return rd.error("/start_jitter/angle_deg", "must not be negative");
+            o.startJitterDegrees = x;
+        }
+    }
+
+    // "@annotation" or an action name -> library actions (optionally within motions).
+    auto selectKey = [&](const std::string& key, const std::vector<std::string>& motions, const std::string& path)
+        -> Result<std::vector<int>> {
+        if (key.empty()) return rd.error(path, "must not be empty");
+        if (key[0] == '@') {
+            const std::string word = key.substr(1);
+            if (std::find(lib.vocabulary.begin(), lib.vocabulary.end(), word) == lib.vocabulary.end()) {
+                return rd.error(path, "unknown annotation '" + word + "' (not in the project's vocabulary)");
+            }
+        }
+        std::vector<int> out;
+        for (int a : lib.select(key)) {
+            const auto& x = lib.actions[static_cast<std::size_t>(a)];
+            if (motions.empty() || std::find(motions.begin(), motions.end(), x.motionId) != motions.end()) out.push_back(a);
+        }
+        if (out.empty()) {
+            return rd.error(path, key[0] == '@' ? "no action has annotation '" + key.substr(1) + "'" +
+                                                      (motions.empty() ? "" : " in the selected motions")
+                                                : "no action is named '" + key + "'" +
+                                                      (motions.empty() ? "" : " in the selected motions"));
+        }
+        return out;
+    };
+    auto selectList = [&](const json& v, const std::vector<std::string>& motions, const std::string& path)
+        -> Result<std::vector<int>> {
+        if (!v.is_array()) return rd.error(path, "must be an array of \"@annotation\" or action names");
+        std::vector<int> out;
+        for (std::size_t i = 0; i < v.size(); ++i) {
+            FRAY_TRY(key, rd.string(v[i], path + "/" + std::to_string(i)));
+            FRAY_TRY(sel, selectKey(key, motions, path + "/" + std::to_string(i)));
+            out.insert(out.end(), sel.begin(), sel.end());
+        }
+        std::sort(out.begin(), out.end());
+        out.erase(std::unique(out.begin(), out.end()), out.end());
+        return out;
+    };
+
+    FRAY_TRY(cf, rd.field(j, "", "characters"));
+    if (!cf->is_array() || cf->empty()) return rd.error("/characters", "must be a non-empty array");
+    static const char* const kCharKeys[] = {"name",    "side",    "group",   "preset",       "depth",
+                                            "actions", "motions", "reactions", "start",      "start_action",
+                                            "weights", "path",    "loop_path", "require",    "forbid",
+                                            "opponent"};
+    std::vector<std::string> opponentNames;
+    for (std::size_t i = 0; i < cf->size(); ++i) {
+        const std::string p = "/characters/" + std::to_string(i);
+        const json& c = (*cf)[i];
+        if (!c.is_object()) return rd.error(p, "must be an object");
+        for (auto it = c.begin(); it != c.end(); ++it) {
+            if (std::find_if(std::begin(kCharKeys), std::end(kCharKeys), [&](const char* k) { return it.key() == k; }) ==
+                std::end(kCharKeys)) {
+                return rd.error(p + "/" + it.key(), "unknown field");
+            }
+        }
+        CharacterSpec cs;
+        FRAY_TRY(nf, rd.field(c, p, "name"));
+        FRAY_TRY(name, rd.string(*nf, p + "/name"));
+        if (name.empty()) return rd.error(p + "/name", "must not be empty");
+        for (const auto& other : spec.characters) {
+            if (other.name == name) return rd.error(p + "/name", "'" + name + "' is used twice");
+        }
+        cs.name = name;
+        if (auto v = c.find("side"); v != c.end()) {
+            FRAY_TRY(side, rd.integer(*v, p + "/side"));
+            cs.side = side;
+        } else {
+            cs.side = static_cast<int>(i);
+        }
+        if (auto v = c.find("group"); v != c.end()) {
+            FRAY_TRY(group, rd.integer(*v, p + "/group"));
+            cs.group = group;
+        }
+        std::string presetName = "general-boxer";
+        if (auto v = c.find("preset"); v != c.end()) {
+            FRAY_TRY(pn, rd.string(*v, p + "/preset"));
+            presetName = pn;
+        }
+        const auto pit = std::find_if(presets.begin(), presets.end(), [&](const Preset& x) { return x.name == presetName; });
+        if (pit == presets.end()) {
+            std::string names;
+            for (const auto& x : presets) names += (names.empty() ? "" : ", ") + x.name;
+            return rd.error(p + "/preset", "unknown preset '" + presetName + "' (available: " + names + ")");
+        }
+        cs.preset = presetName;
+        cs.weights = pit->weights;
+        if (auto v = c.find("weights"); v != c.end()) {
+            FRAY_TRY(w, weightsFrom(cs.weights, rd, *v, p + "/weights"));
+            cs.weights = w;
+        }
+        if (auto v = c.find("depth"); v != c.end()) {
+            FRAY_TRY(depth, rd.integer(*v, p + "/depth"));
+            if (depth < 1 || depth > 8) return rd.error(p + "/depth", "must be between 1 and 8");
+            cs.depth = depth;
+        }
+        std::vector<std::string> motions;
+        if (auto v = c.find("motions"); v != c.end()) {
+            FRAY_TRY(ms, rd.strings(*v, p + "/motions"));
+            for (std::size_t k = 0; k < ms.size(); ++k) {
+                const bool known = std::any_of(lib.actions.begin(), lib.actions.end(),
+                                               [&](const LibraryAction& a) { return a.motionId == ms[k]; });
+                if (!known) return rd.error(p + "/motions/" + std::to_string(k), "no motion '" + ms[k] + "' in the project");
+            }
+            motions = ms;
+        }
+        auto inMotions = [&](int a) {
+            return motions.empty() || std::find(motions.begin(), motions.end(),
+                                                lib.actions[static_cast<std::size_t>(a)].motionId) != motions.end();
+        };
+        if (auto v = c.find("actions"); v != c.end()) {
+            FRAY_TRY(sel, selectList(*v, motions, p + "/actions"));
+            cs.allowed = sel;
+        } else {
+            for (int a = 0; a < lib.size(); ++a) {
+                if (inMotions(a) && !lib.actions[static_cast<std::size_t>(a)].is(kReactive)) cs.allowed.push_back(a);
+            }
+        }
+        std::erase_if(cs.allowed, [&](int a) { return lib.actions[static_cast<std::size_t>(a)].is(kReactive); });
+        if (cs.allowed.empty()) {
+            return rd.error(p + "/actions", "character '" + name + "' has no usable action (reactions like pushed/falling are "
+                                            "only forced by hits)");
+        }
+        if (auto v = c.find("reactions"); v != c.end()) {
+            FRAY_TRY(sel, selectList(*v, motions, p + "/reactions"));
+            std::erase_if(sel, [&](int a) { return !lib.actions[static_cast<std::size_t>(a)].is(kReactive); });
+            cs.reactions = sel;
+        } else {
+            for (int a = 0; a < lib.size(); ++a) {
+                if (lib.actions[static_cast<std::size_t>(a)].is(kReactive) && inMotions(a)) cs.reactions.push_back(a);
+            }
+            if (cs.reactions.empty()) {
+                for (int a = 0; a < lib.size(); ++a) {
+                    if (lib.actions[static_cast<std::size_t>(a)].is(kReactive)) cs.reactions.push_back(a);
+                }
+            }
+        }
+        if (auto v = c.find("start"); v != c.end()) {
+            if (!v->is_object()) return rd.error(p + "/start", "must be {x, z, heading_deg}");
+            double x = 0, z = 0, h = 0;
+            for (auto [key, out] : {std::pair<const char*, double*>{"x", &x}, {"z", &z}, {"heading_deg", &h}}) {
+                if (auto f = v->find(key); f != v->end()) {
+                    FRAY_TRY(num, rd.number(*f, p + "/start/" + key));
+                    if (!std::isfinite(num)) return rd.error(p + "/start/" + key, "must be finite");
+                    *out = num;
+                }
+            }
+            cs.start = {{static_cast<float>(x), static_cast<float>(z)}, wrapAngle(h * std::numbers::pi / 180.0)};
+        }
+        if (auto v = c.find("start_action"); v != c.end()) {
+            FRAY_TRY(key, rd.string(*v, p + "/start_action"));
+            FRAY_TRY(sel, selectKey(key, motions, p + "/start_action"));
+            cs.startAction = sel.front();
+        }
+        if (auto v = c.find("path"); v != c.end()) {
+            FRAY_TRY(path, parseCheckpoints(rd, *v, p + "/path"));
+            for (std::size_t k = 0; k < path.size(); ++k) {
+                if (!path[k].action.empty()) {
+                    FRAY_TRY(sel, selectKey(path[k].action, motions, p + "/path/" + std::to_string(k) + "/action"));
+                    (void)sel;
+                }
+            }
+            cs.path = std::move(path);
+        }
+        if (auto v = c.find("loop_path"); v != c.end()) {
+            FRAY_TRY(b, rd.boolean(*v, p + "/loop_path"));
+            cs.loopPath = b;
+        }
+        if (auto v = c.find("require"); v != c.end()) {
+            FRAY_TRY(sel, selectList(*v, {}, p + "/require"));
+            cs.required = sel;
+        }
+        if (auto v = c.find("forbid"); v != c.end()) {
+            FRAY_TRY(sel, selectList(*v, {}, p + "/forbid"));
+            cs.forbidden = sel;
+        }
+        std::string opp;
+        if (auto v = c.find("opponent"); v != c.end()) {
+            FRAY_TRY(name2, rd.string(*v, p + "/opponent"));
+            opp = name2;
+        }
+        opponentNames.push_back(opp);
+        spec.characters.push_back(std::move(cs));
+    }
+    for (std::size_t i = 0; i < spec.characters.size(); ++i) {
+        if (opponentNames[i].empty()) continue;
+        const std::string p = "/characters/" + std::to_string(i) + "/opponent";
+        auto& cs = spec.characters[i];
+        int found = -1;
+        for (std::size_t k = 0; k < spec.characters.size(); ++k) {
+            if (spec.characters[k].name == opponentNames[i]) found = static_cast<int>(k);
+        }
+        if (found < 0) return rd.error(p, "no character is named '" + opponentNames[i] + "'");
+        const auto& other = spec.characters[static_cast<std::size_t>(found)];
+        if (other.group != cs.group) {
+            return rd.error(p, "'" + other.name + "' is in another group (characters interact within a group)");
+        }
+        if (other.side == cs.side) return rd.error(p, "'" + other.name + "' is on the same side");
+        cs.opponent = found;
+    }
+    std::map<int, int> groupSizes;
+    for (const auto& c : spec.characters) {
+        if (++groupSizes[c.group] > kMaxGroupSize) {
+            return rd.error("/characters", "group " + std::to_string(c.group) + " has more than " +
+                                               std::to_string(kMaxGroupSize) + " characters");
+        }
+    }
+    return spec;
+}
+
+}  // namespace fray::sim

@@ -1,0 +1,84 @@
+#pragma once
+// The demo project as the planners see it: demo takes (generated once per
+// test binary), their ground-truth cuts and annotations, true foot contacts,
+// the motion graph and the action library.
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "fray/demo/demo_actor.h"
+#include "fray/demo/demo_project.h"
+#include "fray/prep/motion_graph.h"
+#include "fray/prep/pipeline.h"
+#include "fray/sim/action_library.h"
+#include "fray/sim/planner.h"
+#include "fray/sim/spec.h"
+
+namespace fray::test {
+
+struct DemoWorld {
+    prep::Project project;
+    std::vector<prep::LoadedMotion> motions;
+    prep::MotionGraph graph;
+    sim::ActionLibrary library;
+};
+
+inline const DemoWorld& demoWorld() {
+    static const std::unique_ptr<DemoWorld> world = [] {
+        auto w = std::make_unique<DemoWorld>();
+        demo::LibraryOptions options;
+        options.seed = 1;
+        std::vector<demo::ProjectTake> takes;
+        for (const auto& spec : demo::planLibrary(options)) {
+            auto take = demo::generateTake(spec, demo::takeSeed(options.seed, spec.name));
+            prep::LoadedMotion m;
+            m.id = take.truth.take;
+            m.joints = guessStandardJoints(take.motion.skeleton());
+            m.contacts.left = take.truth.leftContact;
+            m.contacts.right = take.truth.rightContact;
+            m.motion = std::move(take.motion);
+            takes.push_back({take.truth, spec.name + ".bvh"});
+            w->motions.push_back(std::move(m));
+        }
+        w->project = demo::makeDemoProject(takes);
+        std::vector<const Motion*> ptrs;
+        std::vector<StandardJoints> joints;
+        for (const auto& m : w->motions) ptrs.push_back(&m.motion), joints.push_back(m.joints);
+        const auto refs = sim::projectActionRefs(w->project);
+        auto graph = prep::buildMotionGraph(ptrs, joints, refs, prep::GraphOptions{});
+        if (!graph) throw std::runtime_error(graph.error().message);
+        w->graph = std::move(*graph);
+        auto lib = sim::buildActionLibrary(w->project, w->motions, w->graph);
+        if (!lib) throw std::runtime_error(lib.error().message);
+        w->library = std::move(*lib);
+        return w;
+    }();
+    return *world;
+}
+
+inline Result<sim::SceneSpec> parseSpec(const std::string& json) {
+    return sim::parseSceneSpec(json, "spec.json", demoWorld().library, sim::builtinPresets());
+}
+
+inline Result<sim::Scene> runSpec(const std::string& json) {
+    auto spec = parseSpec(json);
+    if (!spec) return spec.error();
+    return sim::simulate(demoWorld().library, demoWorld().project.combos, *spec);
+}
+
+// Two boxers from one capture facing each other.
+inline std::string duelSpec(int depthA, int depthB, std::uint64_t seed, double duration, const std::string& presetA = "general-boxer",
+                            const std::string& presetB = "general-boxer", const std::string& motionA = "shadowbox_energetic",
+                            const std::string& motionB = "shadowbox_energetic") {
+    const std::string actions = R"(["@punch", "@kick", "@block", "@avoid", "@step", "@idle", "@transition", "@turn"])";
+    return R"({"version": 1, "duration": )" + std::to_string(duration) + R"(, "seed": )" + std::to_string(seed) +
+           R"(, "start_jitter": {"distance": 0.3, "angle_deg": 20}, "characters": [
+      {"name": "a", "side": 0, "depth": )" + std::to_string(depthA) + R"(, "preset": ")" + presetA + R"(", "motions": [")" +
+           motionA + R"("], "actions": )" + actions + R"(, "start": {"x": 0, "z": 0, "heading_deg": 90}},
+      {"name": "b", "side": 1, "depth": )" + std::to_string(depthB) + R"(, "preset": ")" + presetB + R"(", "motions": [")" +
+           motionB + R"("], "actions": )" + actions + R"(, "start": {"x": 1.2, "z": 0, "heading_deg": -90}}]})";
+}
+
+}  // namespace fray::test

@@ -1,0 +1,345 @@
+// Temporal tree expansion (SPEC 2): geometry, the action library, the
+// planner's rules, the scene file and the metrics, on the demo project.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "fray/sim/geometry.h"
+#include "fray/sim/metrics.h"
+#include "fray/sim/scene.h"
+#include "sim_fixture.h"
+
+namespace fray::sim {
+namespace {
+
+using test::demoWorld;
+using test::duelSpec;
+using test::parseSpec;
+using test::runSpec;
+
+TEST(SimGeometry, RootXfComposeAndInverse) {
+    const RootXf a{{1.0f, 2.0f}, 0.7};
+    const RootXf b{{-0.5f, 0.25f}, -2.0};
+    const RootXf ab = a * b;
+    const RootXf back = a.inverse() * ab;
+    EXPECT_NEAR(back.pos.x, b.pos.x, 1e-5);
+    EXPECT_NEAR(back.pos.y, b.pos.y, 1e-5);
+    EXPECT_NEAR(wrapAngle(back.heading - b.heading), 0.0, 1e-9);
+    // Heading h faces headingVector(h): (0, 1) in the local frame.
+    const glm::vec2 f = RootXf{{0, 0}, 0.5}.apply(glm::vec2(0, 1)) ;
+    EXPECT_NEAR(f.x, std::sin(0.5), 1e-6);
+    EXPECT_NEAR(f.y, std::cos(0.5), 1e-6);
+    EXPECT_NEAR(angleOf(headingVector(2.5)), 2.5, 1e-6);
+}
+
+TEST(SimGeometry, ObbSeparatingAxes) {
+    Obb a;
+    a.half = {0.5f, 0.5f, 0.5f};
+    Obb b = a;
+    b.centre = {0.99f, 0, 0};
+    EXPECT_TRUE(overlaps(a, b));
+    b.centre = {1.01f, 0, 0};
+    EXPECT_FALSE(overlaps(a, b));
+    // Rotated 45 degrees about Y: its corner reaches sqrt(2)/2 from its centre.
+    const float c = std::cos(std::numbers::pi_v<float> / 4), s = std::sin(std::numbers::pi_v<float> / 4);
+    b.axes = glm::mat3(glm::vec3(c, 0, -s), glm::vec3(0, 1, 0), glm::vec3(s, 0, c));
+    b.centre = {1.15f, 0, 0};
+    EXPECT_TRUE(overlaps(a, b));
+    b.centre = {1.25f, 0, 0};
+    EXPECT_FALSE(overlaps(a, b));
+    // Two thin crossed sticks apart in depth only separate along an edge-edge axis.
+    Obb x = segmentBox({-1, 0, 0}, {1, 0, 0}, 0.05f, 0.05f, 0.0f, {0, 1, 0});
+    Obb z = segmentBox({0, 0.2f, -1}, {0, 0.0f, 1}, 0.05f, 0.05f, 0.0f, {0, 1, 0});
+    EXPECT_TRUE(overlaps(x, z));
+    z = segmentBox({0, 0.3f, -1}, {0, 0.3f, 1}, 0.05f, 0.05f, 0.0f, {0, 1, 0});
+    EXPECT_FALSE(overlaps(x, z));
+}
+
+TEST(SimLibrary, ActionsTracksAndAttacks) {
+    const auto& w = demoWorld();
+    const auto& lib = w.library;
+    ASSERT_EQ(lib.size(), static_cast<int>(sim::projectActionRefs(w.project).size()));
+    int attacks = 0, variants = 0;
+    for (int i = 0; i < lib.size(); ++i) {
+        const auto& a = lib.actions[static_cast<std::size_t>(i)];
+        EXPECT_GT(a.duration, 0.0);
+        EXPECT_EQ(a.sampleCount, static_cast<int>(std::floor(a.duration * kSampleRate)) + 1);
+        // The first sample is the action's own placement.
+        const RootXf r0 = lib.rootAt(i, 0.0);
+        EXPECT_NEAR(glm::length(r0.pos), 0.0f, 1e-4f) << a.label();
+        EXPECT_NEAR(r0.heading, 0.0, 1e-4) << a.label();
+        EXPECT_LT(glm::length(a.end.pos), 4.0f) << a.label();
+        if (a.is(kAttack)) {
+            ++attacks;
+            EXPECT_GE(a.effector, 0) << a.label();
+            EXPECT_LT(a.activeBegin, a.activeEnd) << a.label();
+            EXPECT_GT(a.peakSpeed, 2.0) << a.label();
+        }
+        variants = std::max(variants, lib.variantClass[static_cast<std::size_t>(i)] + 1);
+    }
+    EXPECT_GT(attacks, 100);
+    EXPECT_LT(variants, lib.size() / 2);  // the demo repeats every action kind many times
+    EXPECT_FALSE(lib.reactions.empty());
+    // A jab's fist travels forward (+Z in its own frame) during its active window.
+    const auto jabs = lib.select("jab");
+    ASSERT_FALSE(jabs.empty());
+    const auto& jab = lib.actions[static_cast<std::size_t>(jabs.front())];
+    const Obb fist = lib.boxesAt(jabs.front(), jab.activeEnd - 1)[jab.effector];
+    EXPECT_GT(fist.centre.z, 0.3f);
+}
+
+TEST(SimSpec, BadInputNamesTheField) {
+    auto expectError = [](const std::string& json, const std::string& fragment) {
+        auto r = parseSpec(json);
+        ASSERT_FALSE(r.ok()) << json;
+        EXPECT_NE(r.error().message.find(fragment), std::string::npos) << r.error().message;
+        EXPECT_EQ(r.error().message.rfind("spec.json: ", 0), 0u) << r.error().message;
+    };
+    expectError(R"({"duration": 5, "characters": [{"name": "a", "actions": ["@kik"]}]})",
+                "/characters/0/actions/0: unknown annotation 'kik'");
+    expectError(R"({"duration": 5, "characters": [{"name": "a", "actions": ["@pushed"]}]})",
+                "/characters/0/actions: character 'a' has no usable action");
+    expectError(R"({"duration": -2, "characters": [{"name": "a"}]})", "/duration: must be a positive");
+    expectError(R"({"duration": 5, "characters": [{"name": "a", "preset": "brawler"}]})", "unknown preset 'brawler'");
+    expectError(R"({"duration": 5, "characters": [{"name": "a", "dept": 3}]})", "/characters/0/dept: unknown field");
+    expectError(R"({"duration": 5, "characters": [{"name": "a", "weights": {"w_tehta": 1}}]})",
+                "/characters/0/weights/w_tehta: unknown weight");
+    expectError(R"({"duration": 5, "characters": [{"name": "a", "motions": ["nope"]}]})", "no motion 'nope'");
+    expectError(R"({"duration": 5, "characters": [{"name": "a", "opponent": "b"}]})", "no character is named 'b'");
+    expectError(R"({"duration": 5, "characters": [{"name": "a", "depth": 0}]})", "/characters/0/depth");
+    expectError("{not json", "not valid JSON");
+    expectError(R"({"duration": 5, "characters": [{"name": "a", "path": [{"x": 1}]}]})", "/characters/0/path/0/z: missing");
+}
+
+TEST(SimPlanner, DeterministicAndParallelIndependent) {
+    const std::string spec = duelSpec(3, 3, 7, 6.0);
+    auto a = runSpec(spec);
+    auto b = runSpec(spec);
+    ASSERT_TRUE(a.ok()) << a.error().message;
+    ASSERT_TRUE(b.ok());
+    const auto& lib = demoWorld().library;
+    EXPECT_EQ(sceneToJson(*a, lib), sceneToJson(*b, lib));
+    auto parsed = parseSpec(spec);
+    ASSERT_TRUE(parsed.ok());
+    parsed->options.parallel = false;
+    auto serial = simulate(lib, demoWorld().project.combos, *parsed);
+    ASSERT_TRUE(serial.ok());
+    EXPECT_EQ(sceneToJson(*a, lib), sceneToJson(*serial, lib));
+    // Another seed gives another scene.
+    auto c = runSpec(duelSpec(3, 3, 8, 6.0));
+    ASSERT_TRUE(c.ok());
+    EXPECT_NE(sceneToJson(*a, lib), sceneToJson(*c, lib));
+}
+
+TEST(SimPlanner, TimelineIsContinuous) {
+    auto scene = runSpec(duelSpec(3, 2, 3, 10.0));
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    const auto& lib = demoWorld().library;
+    for (const auto& c : scene->characters) {
+        ASSERT_FALSE(c.track.empty());
+        for (std::size_t i = 1; i < c.track.size(); ++i) {
+            const auto& prev = c.track[i - 1];
+            const auto& cur = c.track[i];
+            EXPECT_NEAR(cur.start, prev.end, 1e-9) << c.name << " action " << i;
+            // Each action starts where the previous one left the character.
+            const RootXf was = prev.placementAt(lib, prev.offset + (prev.end - prev.start));
+            const RootXf now = cur.placementAt(lib, cur.offset);
+            EXPECT_LT(glm::length(was.pos - now.pos), 0.08f) << c.name << " action " << i;
+        }
+        EXPECT_GE(c.track.back().end, scene->duration);
+    }
+    for (const auto& h : scene->hits) {
+        EXPECT_GT(h.speed, 0.0);
+        EXPECT_NE(h.attacker, h.defender);
+    }
+}
+
+TEST(SimPlanner, HitsForceReactions) {
+    // Over a few seeded matches some blows land; every unblocked hit puts its
+    // victim into a forced reaction starting at that moment.
+    int hits = 0;
+    for (std::uint64_t seed = 1; seed <= 4 && hits == 0; ++seed) {
+        auto scene = runSpec(duelSpec(2, 2, seed, 20.0));
+        ASSERT_TRUE(scene.ok()) << scene.error().message;
+        for (const auto& h : scene->hits) {
+            if (h.blocked) continue;
+            ++hits;
+            const auto& track = scene->characters[static_cast<std::size_t>(h.defender)].track;
+            const bool reacted = std::any_of(track.begin(), track.end(), [&](const ActionInstance& i) {
+                return i.forced && std::fabs(i.start - h.time) < 1e-9 &&
+                       demoWorld().library.actions[static_cast<std::size_t>(i.action)].is(kReactive);
+            });
+            EXPECT_TRUE(reacted) << "hit at " << h.time;
+        }
+    }
+    EXPECT_GT(hits, 0);
+}
+
+TEST(SimPlanner, PruningIsCounted) {
+    auto on = runSpec(duelSpec(3, 3, 2, 8.0));
+    ASSERT_TRUE(on.ok());
+    EXPECT_GT(on->stats.choices, 0);
+    EXPECT_GT(on->stats.prunedShare(), 0.25);
+    auto parsed = parseSpec(duelSpec(3, 3, 2, 8.0));
+    ASSERT_TRUE(parsed.ok());
+    parsed->options.pruning = false;
+    auto off = simulate(demoWorld().library, demoWorld().project.combos, *parsed);
+    ASSERT_TRUE(off.ok());
+    EXPECT_EQ(off->stats.pruned, 0);
+    EXPECT_GT(off->stats.leaves, on->stats.leaves);
+}
+
+TEST(SimPlanner, NoLegalActionFallsBackToIdle) {
+    // Carrying actions never follow a guard: Next() is empty, the planner
+    // takes an idle action of the set, says so, and goes on.
+    auto scene = runSpec(R"({"duration": 6, "seed": 1, "characters": [
+        {"name": "a", "side": 0, "actions": ["@carry", "@idle"], "motions": ["carrying", "shadowbox_energetic"],
+         "start_action": "guard_idle", "start": {"x": 0, "z": 0}},
+        {"name": "b", "side": 1, "start": {"x": 3, "z": 0, "heading_deg": 180}, "motions": ["walking"]}]})");
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    const auto m = computeMetrics(*scene, demoWorld().library);
+    EXPECT_EQ(m.characters[0].fallbacks, scene->characters[0].fallbacks);
+    EXPECT_GE(scene->stats.fallbacks, 0);
+    EXPECT_GT(scene->characters[0].track.size(), 2u);
+}
+
+TEST(SimScene, JsonRoundTripAndErrors) {
+    auto scene = runSpec(duelSpec(2, 2, 5, 6.0));
+    ASSERT_TRUE(scene.ok());
+    const auto& lib = demoWorld().library;
+    scene->project = "demo.frayproj";
+    const std::string text = sceneToJson(*scene, lib);
+    auto back = sceneFromJson(text, "s.frayscene", lib);
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    EXPECT_EQ(sceneToJson(*back, lib), text);
+    auto path = sceneProjectPath(text, "s.frayscene");
+    ASSERT_TRUE(path.ok());
+    EXPECT_EQ(*path, "demo.frayproj");
+
+    auto broken = text;
+    broken.replace(broken.find("\"version\": 1"), 12, "\"version\": 9");
+    auto r = sceneFromJson(broken, "s.frayscene", lib);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().message.find("s.frayscene: /version: version 9 is not supported"), std::string::npos);
+    broken = text;
+    const auto first = broken.find("\"first\": ");
+    broken.replace(first, 9, "\"first\": 9");  // an action that is not in the project
+    r = sceneFromJson(broken, "s.frayscene", lib);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().message.find("is not in the project any more"), std::string::npos) << r.error().message;
+    EXPECT_FALSE(sceneFromJson("[]", "s.frayscene", lib).ok());
+}
+
+TEST(SimScene, PoserPlacesAndBlends) {
+    auto scene = runSpec(duelSpec(2, 2, 4, 6.0));
+    ASSERT_TRUE(scene.ok());
+    const auto& lib = demoWorld().library;
+    const ScenePoser poser(*scene, lib);
+    const auto& joints = lib.motions[0].joints;
+    std::vector<glm::vec3> world, before;
+    for (int c = 0; c < 2; ++c) {
+        const auto& track = scene->characters[static_cast<std::size_t>(c)].track;
+        for (std::size_t i = 1; i < track.size(); ++i) {
+            const double t = track[i].start;
+            // The pelvis is where the planner placed it, and does not jump at the seam.
+            poser.worldPositions(c, t + 0.2, world);
+            const glm::vec3 p = world[static_cast<std::size_t>(joints.pelvis)];
+            const RootXf planned = track[i].placementAt(lib, track[i].offset + 0.2);
+            if (t + 0.2 < track[i].end) {
+                EXPECT_LT(glm::length(glm::vec2(p.x, p.z) - planned.pos), 0.02f) << "character " << c << " action " << i;
+            }
+            poser.worldPositions(c, t - 1e-3, before);
+            poser.worldPositions(c, t, world);
+            EXPECT_LT(glm::length(world[static_cast<std::size_t>(joints.pelvis)] - before[static_cast<std::size_t>(joints.pelvis)]),
+                      0.08f)
+                << "character " << c << " seam " << i;
+        }
+    }
+}
+
+TEST(SimMetrics, PenetrationAndDistanceCanFail) {
+    // Two idle characters on the same spot penetrate all the time; apart, never.
+    const std::string close = R"({"duration": 3, "seed": 1, "characters": [
+        {"name": "a", "side": 0, "actions": ["guard_idle"], "start": {"x": 0, "z": 0}},
+        {"name": "b", "side": 1, "actions": ["guard_idle"], "start": {"x": 0.1, "z": 0}}]})";
+    auto together = runSpec(close);
+    ASSERT_TRUE(together.ok()) << together.error().message;
+    const auto& lib = demoWorld().library;
+    const auto m = computeMetrics(*together, lib);
+    EXPECT_GT(m.penetrationFrames, 60);
+    EXPECT_GT(m.characters[0].penetrationFrames, 60);
+    ASSERT_TRUE(m.characters[0].meanOpponentDistance.has_value());
+    EXPECT_LT(*m.characters[0].meanOpponentDistance, 0.5);
+    std::string apart = close;
+    apart.replace(apart.find("\"x\": 0.1"), 8, "\"x\": 3.0");
+    auto far = runSpec(apart);
+    ASSERT_TRUE(far.ok());
+    const auto m2 = computeMetrics(*far, lib);
+    EXPECT_EQ(m2.penetrationFrames, 0);
+    EXPECT_GT(*m2.characters[0].meanOpponentDistance, 2.5);
+    EXPECT_LT(m2.characters[0].footSkateMean, 0.5);  // cm per frame, idle feet stay planted
+}
+
+TEST(SimPresets, BuiltinsEditableAndStored) {
+    const auto& builtins = builtinPresets();
+    auto find = [&](const std::vector<Preset>& list, const std::string& name) {
+        return std::find_if(list.begin(), list.end(), [&](const Preset& p) { return p.name == name; });
+    };
+    for (const char* name : {"general-boxer", "infighter", "outboxer", "chaser", "runaway", "chaser-path"}) {
+        EXPECT_NE(find(builtins, name), builtins.end()) << name;
+    }
+    EXPECT_LT(find(builtins, "infighter")->weights.rD, find(builtins, "general-boxer")->weights.rD);
+    EXPECT_LT(find(builtins, "general-boxer")->weights.rD, find(builtins, "outboxer")->weights.rD);
+    EXPECT_EQ(find(builtins, "general-boxer-path")->weights.wPath, 10.0);
+
+    prep::Project p = prep::makeProject("t");
+    Preset mine = *find(builtins, "infighter");
+    ASSERT_TRUE(applyWeightEdit(mine.weights, "r_d=0.4").ok());
+    EXPECT_FALSE(applyWeightEdit(mine.weights, "r_d=abc").ok());
+    EXPECT_FALSE(applyWeightEdit(mine.weights, "nope=1").ok());
+    const auto previous = setProjectPreset(p, mine);
+    ASSERT_TRUE(previous.has_value());
+    EXPECT_EQ(previous->weights.rD, 0.5);
+    // Through the project file and back.
+    auto loaded = prep::projectFromJson(prep::projectToJson(p), "t.frayproj");
+    ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+    auto presets = projectPresets(*loaded, "t.frayproj");
+    ASSERT_TRUE(presets.ok());
+    EXPECT_EQ(find(*presets, "infighter")->weights.rD, 0.4);
+    EXPECT_TRUE(removeProjectPreset(p, "infighter").has_value());
+    presets = projectPresets(p, "t.frayproj");
+    EXPECT_EQ(find(*presets, "infighter")->weights.rD, 0.5);
+}
+
+}  // namespace
+}  // namespace fray::sim
+
+namespace fray::sim {
+namespace {
+
+// Styles differ measurably (SPEC 2.3): infighter closer than the general
+// boxer, the general boxer closer than the outboxer (mirror matches).
+TEST(SimStyles, PreferredDistanceOrdersStyles) {
+    auto meanDistance = [](const std::string& preset) {
+        double sum = 0;
+        int n = 0;
+        for (std::uint64_t seed = 1; seed <= 2; ++seed) {
+            auto scene = test::runSpec(test::duelSpec(3, 3, seed, 15.0, preset, preset));
+            EXPECT_TRUE(scene.ok());
+            if (!scene.ok()) return 0.0;
+            const auto m = computeMetrics(*scene, test::demoWorld().library);
+            for (const auto& c : m.characters) sum += c.meanOpponentDistance.value_or(0.0), ++n;
+        }
+        return sum / n;
+    };
+    const double in = meanDistance("infighter"), general = meanDistance("general-boxer"), out = meanDistance("outboxer");
+    RecordProperty("infighter", std::to_string(in));
+    RecordProperty("general", std::to_string(general));
+    RecordProperty("outboxer", std::to_string(out));
+    EXPECT_LT(in, general);
+    EXPECT_LT(general, out);
+}
+
+}  // namespace
+}  // namespace fray::sim
