@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
     fray::cli::registerBench(app);
     fray::cli::registerDemoLibrary(app);
     fray::cli::registerPrep(app);
+    fray::cli::registerRender(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -13,6 +13,7 @@ void registerConvert(CLI::App& app);
 void registerBench(CLI::App& app);
 void registerDemoLibrary(CLI::App& app);
 void registerPrep(CLI::App& app);
+void registerRender(CLI::App& app);
 
 // Prints "fray-cli: <message>" on stderr and sets a failing exit code.
 void fail(const std::string& message, int code = 1);
