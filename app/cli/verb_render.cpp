@@ -48,7 +48,8 @@ struct RenderArgs {
     bool labels = false;
     bool noShadows = false;
     bool noGrid = false;
-    int msaa = 4;
+    int msaa = 0;
+    bool fast = false;
     bool validate = false;
     bool quiet = false;
     ImportFlags flags;
@@ -314,6 +315,7 @@ void run(const RenderArgs& a) {
     ropt.width = size->first;
     ropt.height = size->second;
     ropt.msaaSamples = a.msaa;
+    ropt.quality = a.fast ? render::Quality::Fast : render::Quality::High;
     auto renderer = render::Renderer::create(*device, ropt);
     if (!renderer) return fail(renderer.error().message);
     const float aspect = static_cast<float>(size->first) / static_cast<float>(size->second);
@@ -430,7 +432,8 @@ void registerRender(CLI::App& app) {
     cmd->add_flag("--labels", a->labels, "Label characters with their take (or the current action of a project)");
     cmd->add_flag("--no-shadows", a->noShadows, "Disable the shadow map");
     cmd->add_flag("--no-grid", a->noGrid, "Plain floor");
-    cmd->add_option("--msaa", a->msaa, "Multisampling (1, 2, 4, 8; clamped to the device)")->capture_default_str();
+    cmd->add_option("--msaa", a->msaa, "Multisampling (1, 2, 4, 8; clamped to the device; default 4, or 1 with --fast)");
+    cmd->add_flag("--fast", a->fast, "Viewport quality: no MSAA, blob shadows instead of the shadow map, lower-poly bodies");
     cmd->add_flag("--validate", a->validate, "Vulkan validation layers on; any message fails the run (exit 3)");
     cmd->add_flag("--quiet", a->quiet, "No progress on stderr");
     addImportFlags(cmd, a->flags);

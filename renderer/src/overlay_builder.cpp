@@ -168,7 +168,8 @@ void label(OverlayBuilder& out, float x, float y, std::string_view s, int scale,
 
 }  // namespace
 
-void buildOverlays(const FrameDescription& frame, const glm::mat4& viewProj, glm::vec2 viewport, OverlayBuilder& out) {
+void buildOverlays(const FrameDescription& frame, const glm::mat4& viewProj, glm::vec2 viewport, bool blobShadows,
+                   OverlayBuilder& out) {
     out.clear();
     const RenderSettings& st = frame.settings;
     const OrbitCamera& cam = frame.camera;
@@ -176,6 +177,26 @@ void buildOverlays(const FrameDescription& frame, const glm::mat4& viewProj, glm
     const glm::vec3 camRight = cam.right();
     const glm::vec3 camUp = cam.up();
     const int scale = st.textScale > 0 ? st.textScale : autoTextScale(static_cast<int>(viewport.y));
+
+    if (blobShadows) {
+        // Under each character, pushed a little away from the sun and
+        // stretched along its direction on the floor.
+        glm::vec3 sun = frame.settings.lightDirection;
+        sun.y = 0.0f;
+        const float along = glm::length(sun);
+        const glm::vec3 dir = along > 1e-4f ? sun / along : glm::vec3(0.0f, 0.0f, 1.0f);
+        const glm::vec3 side(-dir.z, 0.0f, dir.x);
+        for (const CharacterInstance& c : frame.characters) {
+            if (c.jointPositions.empty()) continue;
+            Bounds b;
+            for (const glm::vec3& p : c.jointPositions) b.add(p);
+            const float r = 0.5f * std::max(b.max.x - b.min.x, b.max.z - b.min.z) + 0.22f;
+            const float lift = std::clamp(b.min.y, 0.0f, 1.0f);  // fades as the body leaves the floor
+            const glm::vec3 centre(b.center().x, 0.006f, b.center().z);
+            out.quad(OverlayGroup::Depth, centre + dir * (0.25f * r), dir * (1.35f * r), side * r,
+                     glm::vec4(0.0f, 0.0f, 0.0f, 0.5f * (1.0f - lift)), OverlayMode::Blob);
+        }
+    }
 
     for (const Polyline& line : frame.trajectories) out.ribbon(OverlayGroup::Depth, line.points, line.width, line.color, 0.012f);
 

@@ -28,7 +28,7 @@ struct OverlayVertex {
 };
 static_assert(sizeof(OverlayVertex) == 28);
 
-enum class OverlayMode : std::uint32_t { Solid = 0, Disc = 1, Glyph = 2 };
+enum class OverlayMode : std::uint32_t { Solid = 0, Disc = 1, Glyph = 2, Blob = 3 };
 enum class OverlayGroup : int { Depth = 0, OnTop = 1, Screen = 2 };
 
 std::uint32_t packColor(glm::vec4 c);
@@ -57,7 +57,9 @@ private:
 int autoTextScale(int viewportHeight);
 
 // Builds every overlay of a frame (the selection rings and labels come from
-// the characters).
-void buildOverlays(const FrameDescription& frame, const glm::mat4& viewProj, glm::vec2 viewport, OverlayBuilder& out);
+// the characters). blobShadows: a soft dark disc on the floor under each
+// character, offset away from the sun (the Fast quality's shadows).
+void buildOverlays(const FrameDescription& frame, const glm::mat4& viewProj, glm::vec2 viewport, bool blobShadows,
+                   OverlayBuilder& out);
 
 }  // namespace fray::render

@@ -58,19 +58,28 @@ struct GpuJoint {
 };
 static_assert(sizeof(GpuJoint) == 32);
 
+// A skeleton's body in two levels of detail: [0] as configured, [1] a coarse
+// one for characters that are small on screen.
 struct MeshEntry {
     std::uint64_t fingerprint = 0;
     int jointCount = 0;
-    std::uint32_t firstIndex = 0;
-    std::uint32_t indexCount = 0;
-    std::int32_t vertexOffset = 0;
+    std::array<std::uint32_t, 2> firstIndex{};
+    std::array<std::uint32_t, 2> indexCount{};
+    std::array<std::int32_t, 2> vertexOffset{};
 };
 
+// One instanced draw: instances [firstInstance, firstInstance + count) share a
+// mesh and a level of detail; the first `visible` of them are in the view
+// (the shadow pass draws them all, the main pass only those).
 struct DrawGroup {
     int mesh;
+    int lod;
     std::uint32_t firstInstance;
     std::uint32_t count;
+    std::uint32_t visible;
 };
+
+constexpr BodyMeshOptions kCoarseBody{4, 1};
 
 constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
 
@@ -96,6 +105,13 @@ struct PipelineDesc {
     bool depthBias = false;
     VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT;
     VkRenderPass pass = VK_NULL_HANDLE;
+    const VkSpecializationInfo* spec = nullptr;  // fragment stage constants
+};
+
+// Fragment specialisation constants: 0 = shadows, 1 = floor bitmap.
+struct Variant {
+    VkBool32 shadows;
+    VkBool32 bitmap;
 };
 
 }  // namespace
@@ -117,8 +133,14 @@ struct Renderer::Impl {
     VkPipelineLayout layout = VK_NULL_HANDLE;
     VkDescriptorPool pool = VK_NULL_HANDLE;
     VkDescriptorSet set = VK_NULL_HANDLE;
-    VkPipeline bodyPipe = VK_NULL_HANDLE, shadowPipe = VK_NULL_HANDLE, floorPipe = VK_NULL_HANDLE;
-    VkPipeline overlayDepthPipe = VK_NULL_HANDLE, overlayTopPipe = VK_NULL_HANDLE;
+    // Body and floor pipelines per variant (shadows, bitmap), created on first use.
+    std::array<VkPipeline, 2> bodyPipes{};
+    std::array<std::array<VkPipeline, 2>, 2> floorPipes{};
+    VkPipeline bodyPipe = VK_NULL_HANDLE, floorPipe = VK_NULL_HANDLE;  // this frame's
+    VkPipeline shadowPipe = VK_NULL_HANDLE, overlayDepthPipe = VK_NULL_HANDLE, overlayTopPipe = VK_NULL_HANDLE;
+    VkShaderModule bodyV = VK_NULL_HANDLE, bodyF = VK_NULL_HANDLE, floorV = VK_NULL_HANDLE, floorF = VK_NULL_HANDLE;
+    bool linearShadowFilter = false;
+    bool fast = false;
     gpu::Buffer uniforms, instanceBuf, paletteBuf, overlayBuf, meshVB, meshIB, readbackBuf;
     VkCommandPool cmdPool = VK_NULL_HANDLE;
     VkCommandBuffer cmd = VK_NULL_HANDLE;
@@ -134,7 +156,10 @@ struct Renderer::Impl {
     std::vector<std::pair<const Skeleton*, std::uint32_t>> bySkeleton;
     std::vector<std::uint64_t> characterFingerprint;
     std::vector<int> characterMesh;
+    std::vector<std::uint8_t> characterLod;
+    std::vector<std::uint8_t> characterVisible;
     std::vector<DrawGroup> groups;
+    float lodPixels = 0.0f;
     OverlayBuilder overlays;
     std::array<std::uint32_t, 3> overlayFirst{}, overlayCount{};
     bool shadowsThisFrame = false;
@@ -158,6 +183,7 @@ struct Renderer::Impl {
     Status createTargets();
     void destroyTargets();
     Status createPipelines();
+    Status variantPipelines(bool shadows, bool withBitmap);
     Status ensureBuffer(gpu::Buffer& b, VkDeviceSize needed, VkBufferUsageFlags usage, VkDeviceSize minimum);
     Status registerMesh(const Skeleton& skeleton, std::uint64_t fingerprint, int& index);
     Status updateBitmap(const FloorBitmap* fb);
@@ -179,8 +205,15 @@ Status Renderer::Impl::init() {
     // MSAA: the largest supported count not above the request, for both colour and depth.
     const VkSampleCountFlags supported = limits.framebufferColorSampleCounts & limits.framebufferDepthSampleCounts;
     samples = VK_SAMPLE_COUNT_1_BIT;
+    // Automatic: 4x on GPUs; none on a CPU device, where every sample is
+    // rasterised and resolved in software (about 1.7x the frame time at 720p).
+    fast = options.quality == Quality::Fast || (options.quality == Quality::Auto && dev->isCpu());
+    const int wanted = options.msaaSamples > 0 ? options.msaaSamples : (fast ? 1 : 4);
+    if (options.body.sides <= 0) options.body.sides = fast ? 6 : 8;
+    if (options.body.capRings <= 0) options.body.capRings = fast ? 1 : 2;
+    lodPixels = options.lodPixels >= 0 ? static_cast<float>(options.lodPixels) : (fast ? 110.0f : 60.0f);
     for (int s : {8, 4, 2}) {
-        if (s <= options.msaaSamples && (supported & static_cast<VkSampleCountFlags>(s))) {
+        if (s <= wanted && (supported & static_cast<VkSampleCountFlags>(s))) {
             samples = static_cast<VkSampleCountFlagBits>(s);
             break;
         }
@@ -193,11 +226,14 @@ Status Renderer::Impl::init() {
         const VkFormatFeatureFlags need = VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT;
         if ((fp.optimalTilingFeatures & need) == need) {
             depthFormat = f;
+            linearShadowFilter = (fp.optimalTilingFeatures & VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT) != 0;
             break;
         }
     }
     if (depthFormat == VK_FORMAT_UNDEFINED) return makeError("the Vulkan device supports no sampled depth format");
-    shadowSize = static_cast<std::uint32_t>(std::clamp(options.shadowMapSize, 256, static_cast<int>(limits.maxImageDimension2D)));
+    // Fast mode draws blob shadows; its shadow map only keeps the descriptor valid.
+    const int wantedShadow = fast ? 16 : (options.shadowMapSize > 0 ? options.shadowMapSize : 2048);
+    shadowSize = static_cast<std::uint32_t>(std::clamp(wantedShadow, 16, static_cast<int>(limits.maxImageDimension2D)));
 
     VkResult r;
     // Render passes.
@@ -488,7 +524,7 @@ namespace {
 Result<VkPipeline> makePipeline(VkDevice device, VkPipelineLayout layout, const PipelineDesc& d) {
     std::array<VkPipelineShaderStageCreateInfo, 2> stages{};
     stages[0] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_VERTEX_BIT, d.vs, "main", nullptr};
-    stages[1] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_FRAGMENT_BIT, d.fs, "main", nullptr};
+    stages[1] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_FRAGMENT_BIT, d.fs, "main", d.spec};
     auto vi = vkInit<VkPipelineVertexInputStateCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO);
     if (d.binding) {
         vi.vertexBindingDescriptionCount = 1;
@@ -555,46 +591,50 @@ Result<VkPipeline> makePipeline(VkDevice device, VkPipelineLayout layout, const 
 
 }  // namespace
 
+namespace {
+
+const VkVertexInputBindingDescription kBodyBinding{0, sizeof(BodyVertex), VK_VERTEX_INPUT_RATE_VERTEX};
+const std::array<VkVertexInputAttributeDescription, 3> kBodyAttrs{{
+    {0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(BodyVertex, position)},
+    {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(BodyVertex, normal)},
+    {2, 0, VK_FORMAT_R32_UINT, offsetof(BodyVertex, joint)},
+}};
+const VkVertexInputBindingDescription kOverlayBinding{0, sizeof(OverlayVertex), VK_VERTEX_INPUT_RATE_VERTEX};
+const std::array<VkVertexInputAttributeDescription, 4> kOverlayAttrs{{
+    {0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(OverlayVertex, position)},
+    {1, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(OverlayVertex, uv)},
+    {2, 0, VK_FORMAT_R8G8B8A8_UNORM, offsetof(OverlayVertex, color)},
+    {3, 0, VK_FORMAT_R32_UINT, offsetof(OverlayVertex, mode)},
+}};
+
+}  // namespace
+
+// The shadow and overlay pipelines; body and floor variants come on demand
+// (variantPipelines), since pipeline creation compiles shaders (slow on lavapipe).
 Status Renderer::Impl::createPipelines() {
-    VkShaderModule bodyV = makeShader(device, kSpirv_body_vert);
-    VkShaderModule bodyF = makeShader(device, kSpirv_body_frag);
+    bodyV = makeShader(device, kSpirv_body_vert);
+    bodyF = makeShader(device, kSpirv_body_frag);
+    floorV = makeShader(device, kSpirv_floor_vert);
+    floorF = makeShader(device, kSpirv_floor_frag);
     VkShaderModule shadowV = makeShader(device, kSpirv_shadow_vert);
-    VkShaderModule floorV = makeShader(device, kSpirv_floor_vert);
-    VkShaderModule floorF = makeShader(device, kSpirv_floor_frag);
     VkShaderModule overlayV = makeShader(device, kSpirv_overlay_vert);
     VkShaderModule overlayF = makeShader(device, kSpirv_overlay_frag);
-    const std::array<VkShaderModule, 7> modules{bodyV, bodyF, shadowV, floorV, floorF, overlayV, overlayF};
+    const std::array<VkShaderModule, 7> modules{bodyV, bodyF, floorV, floorF, shadowV, overlayV, overlayF};
     Status status;
     if (std::any_of(modules.begin(), modules.end(), [](VkShaderModule m) { return m == VK_NULL_HANDLE; })) {
         status = makeError("vkCreateShaderModule failed for an embedded shader");
     } else {
-        const VkVertexInputBindingDescription bodyBinding{0, sizeof(BodyVertex), VK_VERTEX_INPUT_RATE_VERTEX};
-        const std::array<VkVertexInputAttributeDescription, 3> bodyAttrs{{
-            {0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(BodyVertex, position)},
-            {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(BodyVertex, normal)},
-            {2, 0, VK_FORMAT_R32_UINT, offsetof(BodyVertex, joint)},
-        }};
-        const VkVertexInputBindingDescription overlayBinding{0, sizeof(OverlayVertex), VK_VERTEX_INPUT_RATE_VERTEX};
-        const std::array<VkVertexInputAttributeDescription, 4> overlayAttrs{{
-            {0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(OverlayVertex, position)},
-            {1, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(OverlayVertex, uv)},
-            {2, 0, VK_FORMAT_R8G8B8A8_UNORM, offsetof(OverlayVertex, color)},
-            {3, 0, VK_FORMAT_R32_UINT, offsetof(OverlayVertex, mode)},
-        }};
         struct Job {
             VkPipeline* out;
             PipelineDesc desc;
         };
-        PipelineDesc body{bodyV, bodyF, &bodyBinding, bodyAttrs, VK_CULL_MODE_BACK_BIT, true, true, false, false, samples, mainPass};
-        PipelineDesc shadow{shadowV, VK_NULL_HANDLE, &bodyBinding, bodyAttrs, VK_CULL_MODE_NONE, true, true, false, true,
-                            VK_SAMPLE_COUNT_1_BIT, shadowPass};
-        PipelineDesc floor{floorV, floorF, nullptr, {}, VK_CULL_MODE_NONE, true, true, false, false, samples, mainPass};
-        PipelineDesc overlayDepth{overlayV, overlayF, &overlayBinding, overlayAttrs, VK_CULL_MODE_NONE, true, false, true, false,
-                                  samples, mainPass};
+        PipelineDesc shadow{shadowV, VK_NULL_HANDLE, &kBodyBinding, kBodyAttrs, VK_CULL_MODE_FRONT_BIT, true, true, false, true,
+                            VK_SAMPLE_COUNT_1_BIT, shadowPass, nullptr};
+        PipelineDesc overlayDepth{overlayV, overlayF, &kOverlayBinding, kOverlayAttrs, VK_CULL_MODE_NONE, true, false, true, false,
+                                  samples, mainPass, nullptr};
         PipelineDesc overlayTop = overlayDepth;
         overlayTop.depthTest = false;
-        for (const Job& job : {Job{&bodyPipe, body}, Job{&shadowPipe, shadow}, Job{&floorPipe, floor},
-                               Job{&overlayDepthPipe, overlayDepth}, Job{&overlayTopPipe, overlayTop}}) {
+        for (const Job& job : {Job{&shadowPipe, shadow}, Job{&overlayDepthPipe, overlayDepth}, Job{&overlayTopPipe, overlayTop}}) {
             auto p = makePipeline(device, layout, job.desc);
             if (!p) {
                 status = p.error();
@@ -603,17 +643,44 @@ Status Renderer::Impl::createPipelines() {
             *job.out = *p;
         }
     }
-    for (VkShaderModule m : modules)
+    for (VkShaderModule m : {shadowV, overlayV, overlayF})
         if (m) vkDestroyShaderModule(device, m, nullptr);
     return status;
+}
+
+Status Renderer::Impl::variantPipelines(bool shadows, bool withBitmap) {
+    const std::array<VkSpecializationMapEntry, 2> entries{{{0, offsetof(Variant, shadows), sizeof(VkBool32)},
+                                                           {1, offsetof(Variant, bitmap), sizeof(VkBool32)}}};
+    const Variant v{shadows ? VK_TRUE : VK_FALSE, withBitmap ? VK_TRUE : VK_FALSE};
+    const VkSpecializationInfo spec{static_cast<std::uint32_t>(entries.size()), entries.data(), sizeof v, &v};
+    VkPipeline& body = bodyPipes[shadows ? 1 : 0];
+    if (!body) {
+        auto p = makePipeline(device, layout, {bodyV, bodyF, &kBodyBinding, kBodyAttrs, VK_CULL_MODE_BACK_BIT, true, true, false,
+                                               false, samples, mainPass, &spec});
+        if (!p) return p.error();
+        body = *p;
+    }
+    VkPipeline& floor = floorPipes[shadows ? 1 : 0][withBitmap ? 1 : 0];
+    if (!floor) {
+        auto p = makePipeline(device, layout,
+                              {floorV, floorF, nullptr, {}, VK_CULL_MODE_NONE, true, true, false, false, samples, mainPass, &spec});
+        if (!p) return p.error();
+        floor = *p;
+    }
+    bodyPipe = body;
+    floorPipe = floor;
+    return {};
 }
 
 void Renderer::Impl::destroy() {
     if (!device) return;
     vkDeviceWaitIdle(device);
     destroyTargets();
-    for (VkPipeline p : {bodyPipe, shadowPipe, floorPipe, overlayDepthPipe, overlayTopPipe})
+    for (VkPipeline p : {bodyPipes[0], bodyPipes[1], floorPipes[0][0], floorPipes[0][1], floorPipes[1][0], floorPipes[1][1],
+                         shadowPipe, overlayDepthPipe, overlayTopPipe})
         if (p) vkDestroyPipeline(device, p, nullptr);
+    for (VkShaderModule m : {bodyV, bodyF, floorV, floorF})
+        if (m) vkDestroyShaderModule(device, m, nullptr);
     if (layout) vkDestroyPipelineLayout(device, layout, nullptr);
     if (pool) vkDestroyDescriptorPool(device, pool, nullptr);
     if (setLayout) vkDestroyDescriptorSetLayout(device, setLayout, nullptr);
@@ -643,15 +710,17 @@ Status Renderer::Impl::ensureBuffer(gpu::Buffer& b, VkDeviceSize needed, VkBuffe
 }
 
 Status Renderer::Impl::registerMesh(const Skeleton& skeleton, std::uint64_t fingerprint, int& index) {
-    const BodyMesh mesh = buildBodyMesh(skeleton, options.body);
     MeshEntry e;
     e.fingerprint = fingerprint;
     e.jointCount = skeleton.jointCount();
-    e.firstIndex = static_cast<std::uint32_t>(meshIndices.size());
-    e.indexCount = static_cast<std::uint32_t>(mesh.indices.size());
-    e.vertexOffset = static_cast<std::int32_t>(meshVertices.size());
-    meshVertices.insert(meshVertices.end(), mesh.vertices.begin(), mesh.vertices.end());
-    meshIndices.insert(meshIndices.end(), mesh.indices.begin(), mesh.indices.end());
+    for (std::size_t lod = 0; lod < 2; ++lod) {
+        const BodyMesh mesh = buildBodyMesh(skeleton, lod == 0 ? options.body : kCoarseBody);
+        e.firstIndex[lod] = static_cast<std::uint32_t>(meshIndices.size());
+        e.indexCount[lod] = static_cast<std::uint32_t>(mesh.indices.size());
+        e.vertexOffset[lod] = static_cast<std::int32_t>(meshVertices.size());
+        meshVertices.insert(meshVertices.end(), mesh.vertices.begin(), mesh.vertices.end());
+        meshIndices.insert(meshIndices.end(), mesh.indices.begin(), mesh.indices.end());
+    }
     meshes.push_back(e);
     index = static_cast<int>(meshes.size()) - 1;
     stats.meshes = static_cast<int>(meshes.size());
@@ -765,8 +834,37 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
         characterMesh[i] = mesh;
     }
 
+    // Camera first: visibility and level of detail per character.
+    const RenderSettings& st = frame.settings;
+    const float aspect = static_cast<float>(width) / static_cast<float>(height);
+    viewProj = frame.camera.viewProjection(aspect);
+    shadowsThisFrame = st.shadows && n > 0 && !fast;
+    {
+        // Frustum planes (Gribb-Hartmann) of Vulkan clip space: -w<=x<=w, -w<=y<=w, 0<=z<=w.
+        const glm::mat4 m = glm::transpose(viewProj);
+        const std::array<glm::vec4, 6> planes{m[3] + m[0], m[3] - m[0], m[3] + m[1], m[3] - m[1], m[2], m[3] - m[2]};
+        const glm::vec3 eye = frame.camera.eye();
+        const glm::vec3 fwd = frame.camera.forward();
+        const float focalPx = 0.5f * static_cast<float>(height) / std::tan(0.5f * frame.camera.fovY);
+        characterLod.resize(n);
+        characterVisible.resize(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            Bounds b;
+            for (const glm::vec3& p : chars[i].jointPositions) b.add(p);
+            const glm::vec3 c = b.center();
+            const float r = b.radius() + 0.25f;  // joints lie inside the body
+            bool inside = true;
+            for (const glm::vec4& pl : planes)
+                if (glm::dot(glm::vec3(pl), c) + pl.w < -r * glm::length(glm::vec3(pl))) inside = false;
+            characterVisible[i] = inside ? 1 : 0;
+            const float ahead = glm::dot(c - eye, fwd);
+            characterLod[i] = ahead > frame.camera.nearPlane && 2.0f * r * focalPx / ahead < lodPixels ? 1 : 0;
+        }
+    }
+
     // Instances and joint palettes, written straight into the mapped buffers,
-    // grouped by mesh (one instanced draw per group).
+    // grouped by mesh and detail (one instanced draw per group), the
+    // characters in view first. Without a shadow map the others are left out.
     if (Status s = ensureBuffer(instanceBuf, std::max<std::size_t>(n, 1) * sizeof(GpuInstance), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                 256 * sizeof(GpuInstance));
         !s)
@@ -780,33 +878,40 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
     groups.clear();
     std::uint32_t written = 0, jointOffset = 0;
     stats.triangles = 0;
-    for (std::size_t m = 0; m < meshes.size(); ++m) {
-        const std::uint32_t first = written;
-        for (std::size_t i = 0; i < n; ++i) {
-            if (characterMesh[i] != static_cast<int>(m)) continue;
-            const CharacterInstance& c = chars[i];
-            inst[written] = GpuInstance{jointOffset, c.selected ? 1u : 0u, 0u, 0u, glm::vec4(c.tint, 1.0f)};
-            for (std::size_t j = 0; j < c.jointPositions.size(); ++j) {
-                glm::quat q = c.jointRotations[j];
-                const float len = glm::length(glm::vec4(q.x, q.y, q.z, q.w));
-                q = len > 1e-8f ? q / len : glm::quat(1.0f, 0.0f, 0.0f, 0.0f);
-                pal[jointOffset + j] = GpuJoint{glm::vec4(c.jointPositions[j], 1.0f), glm::vec4(q.x, q.y, q.z, q.w)};
-            }
-            jointOffset += static_cast<std::uint32_t>(c.jointPositions.size());
-            ++written;
+    stats.culled = 0;
+    auto write = [&](const CharacterInstance& c) {
+        inst[written] = GpuInstance{jointOffset, c.selected ? 1u : 0u, 0u, 0u, glm::vec4(c.tint, 1.0f)};
+        for (std::size_t j = 0; j < c.jointPositions.size(); ++j) {
+            glm::quat q = c.jointRotations[j];
+            const float len = glm::length(glm::vec4(q.x, q.y, q.z, q.w));
+            q = len > 1e-8f ? q / len : glm::quat(1.0f, 0.0f, 0.0f, 0.0f);
+            pal[jointOffset + j] = GpuJoint{glm::vec4(c.jointPositions[j], 1.0f), glm::vec4(q.x, q.y, q.z, q.w)};
         }
-        if (written > first && meshes[m].indexCount > 0) {
-            groups.push_back({static_cast<int>(m), first, written - first});
-            stats.triangles += static_cast<std::uint64_t>(meshes[m].indexCount / 3) * (written - first);
+        jointOffset += static_cast<std::uint32_t>(c.jointPositions.size());
+        ++written;
+    };
+    for (std::size_t m = 0; m < meshes.size(); ++m) {
+        for (int lod = 0; lod < 2; ++lod) {
+            const std::uint32_t first = written;
+            for (int pass = 0; pass < (shadowsThisFrame ? 2 : 1); ++pass)
+                for (std::size_t i = 0; i < n; ++i)
+                    if (characterMesh[i] == static_cast<int>(m) && characterLod[i] == lod && characterVisible[i] == (pass == 0 ? 1 : 0))
+                        write(chars[i]);
+            std::uint32_t visible = 0;
+            for (std::size_t i = 0; i < n; ++i)
+                visible += characterMesh[i] == static_cast<int>(m) && characterLod[i] == lod && characterVisible[i];
+            const std::uint32_t indexCount = meshes[m].indexCount[static_cast<std::size_t>(lod)];
+            if (written > first && indexCount > 0) {
+                groups.push_back({static_cast<int>(m), lod, first, written - first, visible});
+                stats.triangles += static_cast<std::uint64_t>(indexCount / 3) * visible;
+            }
         }
     }
+    for (std::size_t i = 0; i < n; ++i) stats.culled += characterVisible[i] ? 0 : 1;
 
-    // Camera, sun and the shadow volume around the characters.
-    const RenderSettings& st = frame.settings;
-    const float aspect = static_cast<float>(width) / static_cast<float>(height);
-    viewProj = frame.camera.viewProjection(aspect);
+    // The sun and the shadow volume around the characters.
     const Bounds bounds = characterBounds(chars);
-    shadowsThisFrame = st.shadows && !groups.empty();
+    shadowsThisFrame = shadowsThisFrame && !groups.empty();
     glm::vec3 lightDir = st.lightDirection;
     if (glm::length(lightDir) < 1e-6f) lightDir = glm::vec3(0.0f, -1.0f, 0.0f);
     lightDir = glm::normalize(lightDir);
@@ -845,9 +950,11 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
     std::memcpy(uniforms.mapped, &u, sizeof u);
 
     if (Status s = updateBitmap(haveBitmap ? fb : nullptr); !s) return s;
+    if (Status s = variantPipelines(shadowsThisFrame, haveBitmap && u.floorParams.x > 0.0f); !s) return s;
 
     // Overlays.
-    buildOverlays(frame, viewProj, glm::vec2(static_cast<float>(width), static_cast<float>(height)), overlays);
+    buildOverlays(frame, viewProj, glm::vec2(static_cast<float>(width), static_cast<float>(height)), st.shadows && fast,
+                  overlays);
     const std::size_t ov = overlays.vertexCount();
     if (Status s = ensureBuffer(overlayBuf, std::max<std::size_t>(ov, 1) * sizeof(OverlayVertex),
                                 VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, 8192 * sizeof(OverlayVertex));
@@ -894,7 +1001,8 @@ void Renderer::Impl::record(VkCommandBuffer c) {
         vkCmdBindIndexBuffer(c, meshIB.buffer, 0, VK_INDEX_TYPE_UINT32);
         for (const DrawGroup& g : groups) {
             const MeshEntry& m = meshes[static_cast<std::size_t>(g.mesh)];
-            vkCmdDrawIndexed(c, m.indexCount, g.count, m.firstIndex, m.vertexOffset, g.firstInstance);
+            const auto l = static_cast<std::size_t>(g.lod);
+            vkCmdDrawIndexed(c, m.indexCount[l], g.count, m.firstIndex[l], m.vertexOffset[l], g.firstInstance);
         }
         vkCmdEndRenderPass(c);
     }
@@ -921,8 +1029,10 @@ void Renderer::Impl::record(VkCommandBuffer c) {
         vkCmdBindVertexBuffers(c, 0, 1, &meshVB.buffer, &zero);
         vkCmdBindIndexBuffer(c, meshIB.buffer, 0, VK_INDEX_TYPE_UINT32);
         for (const DrawGroup& g : groups) {
+            if (g.visible == 0) continue;
             const MeshEntry& m = meshes[static_cast<std::size_t>(g.mesh)];
-            vkCmdDrawIndexed(c, m.indexCount, g.count, m.firstIndex, m.vertexOffset, g.firstInstance);
+            const auto l = static_cast<std::size_t>(g.lod);
+            vkCmdDrawIndexed(c, m.indexCount[l], g.visible, m.firstIndex[l], m.vertexOffset[l], g.firstInstance);
         }
     }
     vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, floorPipe);
@@ -989,6 +1099,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(std::shared_ptr<VulkanDevice>
 int Renderer::width() const { return impl_->width; }
 int Renderer::height() const { return impl_->height; }
 int Renderer::msaaSamples() const { return static_cast<int>(impl_->samples); }
+Quality Renderer::quality() const { return impl_->fast ? Quality::Fast : Quality::High; }
 const std::shared_ptr<VulkanDevice>& Renderer::device() const { return impl_->dev; }
 VkImage Renderer::outputImage() const { return impl_->resolve.image; }
 VkFormat Renderer::outputFormat() const { return kColorFormat; }

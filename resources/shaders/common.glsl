@@ -13,7 +13,7 @@ layout(set = 0, binding = 0) uniform FrameUniforms {
     vec4 floorArea;      // xy: centre (x, z), z: half extent, w: fog start
     vec4 bitmapRect;     // min.x, min.z, max.x, max.z
     vec4 floorParams;    // x: bitmap opacity (0: none), y: grid on, z: fog end
-    vec4 shadowParams;   // x: on, y: texel size in uv, z: normal offset (m), w: depth bias
+    vec4 shadowParams;   // x: on, y: texel size in uv, z: normal offset (m), w: depth bias (x, y informative)
     vec4 highlightColor; // rgb (display)
     vec4 fogColor;       // rgb (display): the clear colour
 } frame;
@@ -44,26 +44,27 @@ vec3 rotateByQuat(vec4 q, vec3 v) {
     return v + q.w * t + cross(q.xyz, t);
 }
 
-// Display colours are sRGB-like; lighting is done in linear space.
-vec3 toLinear(vec3 c) { return pow(c, vec3(2.2)); }
-vec3 toDisplay(vec3 c) { return pow(clamp(c, 0.0, 1.0), vec3(1.0 / 2.2)); }
+// Display colours are sRGB-like; lighting is done in linear space. Gamma 2
+// (square / square root) instead of 2.2: pow() costs more than everything
+// else in a fragment on lavapipe, and the difference is not visible here.
+vec3 toLinear(vec3 c) { return c * c; }
+vec3 toDisplay(vec3 c) { return sqrt(clamp(c, 0.0, 1.0)); }
 
-// Fraction of the light reaching a point (2x2 PCF); 1 outside the shadow map.
+// Shadows on or off per pipeline (a branch on a uniform still runs the
+// texture fetch on lavapipe, where each fetch is expensive).
+layout(constant_id = 0) const bool kShadows = true;
+
+// Fraction of the light reaching a point; 1 outside the shadow map. One
+// comparison fetch: with linear filtering (where the depth format supports
+// it) that is a 2x2 percentage-closer filter.
 float sunVisibility(vec3 worldPos, vec3 normal) {
-    if (frame.shadowParams.x < 0.5) return 1.0;
+    if (!kShadows) return 1.0;
     vec3 p = worldPos + normal * frame.shadowParams.z;
     vec4 clip = frame.lightViewProj * vec4(p, 1.0);
     vec3 ndc = clip.xyz / clip.w;
     vec2 uv = ndc.xy * 0.5 + 0.5;
     if (uv.x <= 0.0 || uv.y <= 0.0 || uv.x >= 1.0 || uv.y >= 1.0 || ndc.z >= 1.0) return 1.0;
-    float ref = ndc.z - frame.shadowParams.w;
-    float t = frame.shadowParams.y;
-    float sum = 0.0;
-    sum += texture(shadowMap, vec3(uv + vec2(-0.5, -0.5) * t, ref));
-    sum += texture(shadowMap, vec3(uv + vec2(0.5, -0.5) * t, ref));
-    sum += texture(shadowMap, vec3(uv + vec2(-0.5, 0.5) * t, ref));
-    sum += texture(shadowMap, vec3(uv + vec2(0.5, 0.5) * t, ref));
-    return sum * 0.25;
+    return texture(shadowMap, vec3(uv, ndc.z - frame.shadowParams.w));
 }
 
 vec3 ambientLight(vec3 n) { return mix(frame.groundColor.rgb, frame.skyColor.rgb, n.y * 0.5 + 0.5); }

@@ -4,6 +4,8 @@
 // fading into the background with distance.
 #include "common.glsl"
 
+layout(constant_id = 1) const bool kBitmap = false;
+
 layout(location = 0) in vec3 vWorldPos;
 layout(location = 0) out vec4 outColor;
 
@@ -18,7 +20,7 @@ float gridLine(vec2 p, float spacing) {
 void main() {
     vec2 p = vWorldPos.xz;
     vec3 base = frame.floorColor.rgb;
-    if (frame.floorParams.x > 0.0) {
+    if (kBitmap) {
         vec2 lo = frame.bitmapRect.xy;
         vec2 hi = frame.bitmapRect.zw;
         if (all(greaterThanEqual(p, lo)) && all(lessThanEqual(p, hi))) {

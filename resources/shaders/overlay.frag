@@ -16,6 +16,11 @@ void main() {
         if (r > 1.0) discard;
         c.a *= 1.0 - smoothstep(0.35, 1.0, r);
         c.rgb = mix(vec3(1.0), c.rgb, smoothstep(0.0, 0.45, r));
+    } else if (vMode == 3u) {
+        // Blob shadow: a soft dark ellipse on the floor.
+        float r = length(vUV);
+        if (r > 1.0) discard;
+        c.a *= 1.0 - smoothstep(0.25, 1.0, r);
     } else if (vMode == 2u) {
         // Glyph: uv in the font atlas.
         c.a *= texture(fontAtlas, vUV).r;

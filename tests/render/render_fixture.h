@@ -76,7 +76,12 @@ class GpuTest : public ::testing::Test {
 protected:
     void SetUp() override {
         ASSERT_TRUE(GpuEnvironment::device()) << GpuEnvironment::error();
-        auto r = Renderer::create(GpuEnvironment::device(), RendererOptions{kWidth, kHeight, 4, 1024, {}});
+        RendererOptions o;
+        o.width = kWidth;
+        o.height = kHeight;
+        o.quality = Quality::High;
+        o.shadowMapSize = 1024;
+        auto r = Renderer::create(GpuEnvironment::device(), o);
         ASSERT_TRUE(r.ok()) << r.error().message;
         renderer = std::move(*r);
     }

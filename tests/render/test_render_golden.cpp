@@ -85,6 +85,34 @@ TEST_F(RenderGolden, ShadowsDarkenTheFloorAwayFromTheLight) {
     EXPECT_LT(brighter, darker / 20);
 }
 
+// The viewport quality on CPU devices: no MSAA, blob shadows, 6-sided bodies.
+TEST_F(RenderGolden, FastQualityWithBlobShadows) {
+    RendererOptions o;
+    o.width = kWidth;
+    o.height = kHeight;
+    o.quality = Quality::Fast;
+    o.lodPixels = 0;  // both in full detail, whatever their size on screen
+    auto fast = Renderer::create(GpuEnvironment::device(), o);
+    ASSERT_TRUE(fast.ok()) << fast.error().message;
+    EXPECT_EQ((*fast)->quality(), Quality::Fast);
+    EXPECT_EQ((*fast)->msaaSamples(), 1);
+    const Duel d;
+    FrameDescription f = d.frame();
+    Image img, flat;
+    ASSERT_TRUE((*fast)->render(f, &img).ok());
+    expectMatchesGolden(img, "fast_two_characters");
+    EXPECT_EQ((*fast)->stats().triangles, 2u * 28u * 24u);
+    f.settings.shadows = false;
+    ASSERT_TRUE((*fast)->render(f, &flat).ok());
+    const ImageDiff diff = compareImages(img, flat, 8);
+    EXPECT_GT(diff.differing, 200);
+    // The blobs lie on the floor around the feet, below the knees.
+    const glm::vec3 feet = pixelOf(f, {0.0f, 0.0f, 0.0f});
+    const glm::vec3 knee = pixelOf(f, d.red.positions[static_cast<std::size_t>(jointIndex("LeftLeg"))]);
+    EXPECT_LE(static_cast<float>(diff.minY), feet.y);
+    EXPECT_GE(static_cast<float>(diff.minY), knee.y);
+}
+
 TEST_F(RenderGolden, TrajectoryAndCheckpoints) {
     const Duel d;
     FrameDescription f = d.frame();
@@ -294,7 +322,10 @@ TEST_F(RenderEngine, BuffersGrowGeometricallyAndMeshesAreShared) {
     EXPECT_EQ(renderer->stats().bufferGrowths, growthsBig);
     EXPECT_EQ(renderer->stats().meshes, 1);
     EXPECT_EQ(renderer->stats().characters, 600);
-    EXPECT_EQ(renderer->stats().triangles, 600u * 28u * 64u);
+    // 60 m away every character is a few pixels tall: all use the coarse body
+    // (4-sided capsules, 16 triangles per bone), none is culled.
+    EXPECT_EQ(renderer->stats().triangles, 600u * 28u * 16u);
+    EXPECT_EQ(renderer->stats().culled, 0);
     // A copy of the skeleton shares the mesh; a different skeleton adds one.
     Skeleton copy = demoSkeleton();
     Skeleton longer = demoSkeleton();
@@ -307,6 +338,37 @@ TEST_F(RenderEngine, BuffersGrowGeometricallyAndMeshesAreShared) {
     EXPECT_EQ(renderer->stats().meshes, 2);
 }
 
+TEST_F(RenderEngine, LevelOfDetailAndCulling) {
+    const Character near = posedCharacter({0.0f, 0.0f, 0.0f}, 0.0f);
+    const Character far = posedCharacter({0.0f, 0.0f, -80.0f}, 0.0f);
+    const Character behind = posedCharacter({0.0f, 0.0f, 30.0f}, 0.0f);
+    const Character aside = posedCharacter({40.0f, 0.0f, 0.0f}, 0.0f);
+    FrameDescription f;
+    f.camera = goldenCamera();
+    f.camera.yaw = 0.0f;
+    std::vector<CharacterInstance> v{instanceOf(near, kRed)};
+    f.characters = v;
+    ASSERT_TRUE(renderer->render(f).ok());
+    EXPECT_EQ(renderer->stats().triangles, 28u * 64u);  // the full body: 8-sided capsules with two cap rings
+    v.push_back(instanceOf(far, kBlue));
+    f.characters = v;
+    ASSERT_TRUE(renderer->render(f).ok());
+    EXPECT_EQ(renderer->stats().triangles, 28u * 64u + 28u * 16u);  // the far one is coarse
+    v.push_back(instanceOf(behind, kBlue));
+    v.push_back(instanceOf(aside, kBlue));
+    f.characters = v;
+    f.settings.shadows = false;  // (the shadow volume would grow to include them)
+    Image withHidden;
+    ASSERT_TRUE(renderer->render(f, &withHidden).ok());
+    EXPECT_EQ(renderer->stats().culled, 2);
+    EXPECT_EQ(renderer->stats().triangles, 28u * 64u + 28u * 16u);
+    // Nothing of the culled characters was visible anyway.
+    f.characters = std::span<const CharacterInstance>(v.data(), 2);
+    Image without;
+    ASSERT_TRUE(renderer->render(f, &without).ok());
+    EXPECT_EQ(compareImages(withHidden, without, 0).differing, 0);
+}
+
 TEST_F(RenderEngine, SteadyStateFramesDoNotAllocate) {
     // The validation layer allocates for its own bookkeeping on every call,
     // so this test measures on a device without it (lavapipe is C, and our
@@ -315,7 +377,11 @@ TEST_F(RenderEngine, SteadyStateFramesDoNotAllocate) {
     o.preference = DevicePreference::Cpu;
     auto plain = VulkanDevice::create(o);
     ASSERT_TRUE(plain.ok()) << plain.error().message;
-    auto r = Renderer::create(*plain, RendererOptions{kWidth, kHeight, 4, 1024, {}});
+    RendererOptions ro;
+    ro.width = kWidth;
+    ro.height = kHeight;
+    ro.quality = Quality::High;
+    auto r = Renderer::create(*plain, ro);
     ASSERT_TRUE(r.ok()) << r.error().message;
     Duel d;
     d.instances[0].label = "jab";

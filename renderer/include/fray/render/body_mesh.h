@@ -21,8 +21,8 @@ struct BodyVertex {
 static_assert(sizeof(BodyVertex) == 28);
 
 struct BodyMeshOptions {
-    int sides = 8;     // around each capsule
-    int capRings = 2;  // latitude rings per hemispherical cap (the equator included)
+    int sides = 8;     // around each capsule (0: the renderer's choice)
+    int capRings = 2;  // latitude rings per hemispherical cap, the equator included (0: the renderer's choice)
 };
 
 struct BodyMesh {

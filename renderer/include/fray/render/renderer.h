@@ -21,18 +21,31 @@
 
 namespace fray::render {
 
+// High: 4x MSAA, a 2048 shadow map (bodies and floor receive shadows),
+// 8-sided capsules. Fast: no MSAA, soft blob shadows under each character,
+// 6-sided capsules; for the viewport on a CPU device (lavapipe), where the
+// shadow pass alone (another single-threaded vertex pass) would halve the
+// frame rate. Auto picks Fast on CPU devices and High on GPUs.
+enum class Quality { Auto, Fast, High };
+
 struct RendererOptions {
     int width = 1280;
     int height = 720;
-    int msaaSamples = 4;        // clamped to what the device supports (1 disables MSAA)
-    int shadowMapSize = 2048;
-    BodyMeshOptions body;
+    Quality quality = Quality::Auto;
+    // 0: from the quality. MSAA is clamped to what the device supports.
+    int msaaSamples = 0;
+    int shadowMapSize = 0;
+    BodyMeshOptions body{0, 0};
+    // Characters shorter than this on screen (pixels) use a coarse body
+    // (4-sided capsules); -1: from the quality (Fast 110, High 60), 0: never.
+    int lodPixels = -1;
 };
 
 struct RenderStats {
     int characters = 0;
+    int culled = 0;                // characters outside the view (not drawn in the main pass)
     int drawCalls = 0;             // body draws (one per distinct skeleton) + floor + overlay groups
-    std::uint64_t triangles = 0;   // body triangles of the main pass
+    std::uint64_t triangles = 0;   // body triangles of the main pass (after culling and level of detail)
     int overlayVertices = 0;
     int bufferGrowths = 0;         // GPU buffer reallocations since creation (geometric growth)
     int meshes = 0;                // distinct body meshes on the GPU
@@ -48,6 +61,7 @@ public:
     int width() const;
     int height() const;
     int msaaSamples() const;  // the sample count actually used
+    Quality quality() const;  // Fast or High (Auto resolved)
     const std::shared_ptr<VulkanDevice>& device() const;
 
     // Changes the output size (waits for the device); no-op when unchanged.
