@@ -7,6 +7,10 @@
 
 namespace fray::render {
 
+struct Presenter::Capture {
+    gpu::Buffer buffer;
+};
+
 Result<std::unique_ptr<Presenter>> Presenter::create(std::shared_ptr<VulkanDevice> device, int width, int height,
                                                      const PresenterOptions& options) {
     if (!device || !device->surface()) return makeError("the Vulkan device was created without a window surface");
@@ -142,7 +146,9 @@ Status Presenter::createSwapchain() {
     ci.imageColorSpace = colorSpace_;
     ci.imageExtent = extent;
     ci.imageArrayLayers = 1;
-    ci.imageUsage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    canCapture_ = (caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_SRC_BIT) != 0;
+    ci.imageUsage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
+                    (canCapture_ ? static_cast<VkImageUsageFlags>(VK_IMAGE_USAGE_TRANSFER_SRC_BIT) : 0u);
     ci.imageSharingMode = VK_SHARING_MODE_EXCLUSIVE;
     ci.preTransform = caps.currentTransform;
     ci.compositeAlpha = alpha;
@@ -204,12 +210,19 @@ Presenter::~Presenter() {
     if (!dev_) return;
     VkDevice device = dev_->device();
     vkDeviceWaitIdle(device);
+    if (capture_) capture_->buffer.destroy(device);
     destroySwapchainResources();
     if (swapchain_) vkDestroySwapchainKHR(device, swapchain_, nullptr);
     if (acquired_) vkDestroySemaphore(device, acquired_, nullptr);
     if (fence_) vkDestroyFence(device, fence_, nullptr);
     if (pool_) vkDestroyCommandPool(device, pool_, nullptr);
     if (uiPass_) vkDestroyRenderPass(device, uiPass_, nullptr);
+}
+
+bool Presenter::captureNextFrame(Image* out) {
+    if (!canCapture_) return false;
+    captureTarget_ = out;
+    return true;
 }
 
 void Presenter::resize(int width, int height) {
@@ -278,6 +291,34 @@ Status Presenter::present(Renderer& renderer, const FrameDescription& frame, con
     vkCmdBeginRenderPass(cmd_, &rbi, VK_SUBPASS_CONTENTS_INLINE);
     if (ui && *ui && prepared) (*ui)(cmd_);
     vkCmdEndRenderPass(cmd_);
+    Image* capture = prepared ? captureTarget_ : nullptr;
+    if (capture) {
+        const VkDeviceSize bytes = VkDeviceSize(extent_.width) * extent_.height * 4;
+        if (!capture_) capture_ = std::make_unique<Capture>();
+        if (capture_->buffer.size < bytes) {
+            capture_->buffer.destroy(device);
+            if (Status s = capture_->buffer.create(*dev_, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryUse::Readback); !s)
+                return s;
+        }
+        // The image is in PRESENT_SRC after the UI pass: copy, then back.
+        gpu::imageBarrier(cmd_, target, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
+                          VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT,
+                          VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
+        VkBufferImageCopy region{};
+        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+        region.imageExtent = {extent_.width, extent_.height, 1};
+        vkCmdCopyImageToBuffer(cmd_, target, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, capture_->buffer.buffer, 1, &region);
+        gpu::imageBarrier(cmd_, target, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                          VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, VK_ACCESS_TRANSFER_READ_BIT, 0, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                          VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
+        VkBufferMemoryBarrier hb = vkInit<VkBufferMemoryBarrier>(VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER);
+        hb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        hb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+        hb.srcQueueFamilyIndex = hb.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+        hb.buffer = capture_->buffer.buffer;
+        hb.size = VK_WHOLE_SIZE;
+        vkCmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 0, nullptr, 1, &hb, 0, nullptr);
+    }
     if ((r = vkEndCommandBuffer(cmd_)) != VK_SUCCESS) return vkError("vkEndCommandBuffer", r);
 
     const VkPipelineStageFlags waitStage = VK_PIPELINE_STAGE_TRANSFER_BIT;
@@ -302,6 +343,19 @@ Status Presenter::present(Renderer& renderer, const FrameDescription& frame, con
     if (r == VK_ERROR_OUT_OF_DATE_KHR || r == VK_SUBOPTIMAL_KHR) recreate_ = true;
     else if (r != VK_SUCCESS) return vkError("vkQueuePresentKHR", r);
     ++presented_;
+    if (capture) {
+        if ((r = vkWaitForFences(device, 1, &fence_, VK_TRUE, UINT64_MAX)) != VK_SUCCESS) return vkError("vkWaitForFences", r);
+        capture->resize(static_cast<int>(extent_.width), static_cast<int>(extent_.height));
+        const auto* src = static_cast<const std::uint8_t*>(capture_->buffer.mapped);
+        const bool bgra = format_ == VK_FORMAT_B8G8R8A8_UNORM || format_ == VK_FORMAT_B8G8R8A8_SRGB;
+        for (std::size_t i = 0; i < capture->rgba.size(); i += 4) {
+            capture->rgba[i + 0] = src[i + (bgra ? 2 : 0)];
+            capture->rgba[i + 1] = src[i + 1];
+            capture->rgba[i + 2] = src[i + (bgra ? 0 : 2)];
+            capture->rgba[i + 3] = 255;
+        }
+        captureTarget_ = nullptr;
+    }
     return prepared;
 }
 

@@ -36,6 +36,11 @@ public:
     // The window's framebuffer size changed.
     void resize(int width, int height);
 
+    // Copies the next presented image (scene and UI, as shown) into `out` as
+    // RGBA8 once that frame has been submitted. False when the surface's images
+    // cannot be copied from (then use Renderer::readback for the scene alone).
+    bool captureNextFrame(Image* out);
+
     VkRenderPass uiRenderPass() const { return uiPass_; }
     VkFormat format() const { return format_; }
     VkExtent2D extent() const { return extent_; }
@@ -69,6 +74,10 @@ private:
     VkCommandBuffer cmd_ = VK_NULL_HANDLE;
     bool recreate_ = false;
     int presented_ = 0;
+    bool canCapture_ = false;
+    Image* captureTarget_ = nullptr;
+    struct Capture;  // readback buffer (presenter.cpp)
+    std::unique_ptr<Capture> capture_;
 };
 
 }  // namespace fray::render
