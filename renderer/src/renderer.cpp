@@ -58,14 +58,15 @@ struct GpuJoint {
 };
 static_assert(sizeof(GpuJoint) == 32);
 
-// A skeleton's body in two levels of detail: [0] as configured, [1] a coarse
-// one for characters that are small on screen.
+// A skeleton's body in three levels of detail: [0] as configured, [1] 6-sided
+// capsules with one cap ring, [2] 4-sided ones, for characters that are small
+// on screen.
 struct MeshEntry {
     std::uint64_t fingerprint = 0;
     int jointCount = 0;
-    std::array<std::uint32_t, 2> firstIndex{};
-    std::array<std::uint32_t, 2> indexCount{};
-    std::array<std::int32_t, 2> vertexOffset{};
+    std::array<std::uint32_t, 3> firstIndex{};
+    std::array<std::uint32_t, 3> indexCount{};
+    std::array<std::int32_t, 3> vertexOffset{};
 };
 
 // One instanced draw: instances [firstInstance, firstInstance + count) share a
@@ -79,7 +80,7 @@ struct DrawGroup {
     std::uint32_t visible;
 };
 
-constexpr BodyMeshOptions kCoarseBody{4, 1};
+constexpr std::array<BodyMeshOptions, 2> kCoarseBodies{{{6, 1}, {4, 1}}};
 
 constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
 
@@ -159,7 +160,7 @@ struct Renderer::Impl {
     std::vector<std::uint8_t> characterLod;
     std::vector<std::uint8_t> characterVisible;
     std::vector<DrawGroup> groups;
-    float lodPixels = 0.0f;
+    std::array<float, 2> lodPixels{};  // below [k] pixels tall: level k + 1
     OverlayBuilder overlays;
     std::array<std::uint32_t, 3> overlayFirst{}, overlayCount{};
     bool shadowsThisFrame = false;
@@ -209,9 +210,11 @@ Status Renderer::Impl::init() {
     // rasterised and resolved in software (about 1.7x the frame time at 720p).
     fast = options.quality == Quality::Fast || (options.quality == Quality::Auto && dev->isCpu());
     const int wanted = options.msaaSamples > 0 ? options.msaaSamples : (fast ? 1 : 4);
-    if (options.body.sides <= 0) options.body.sides = fast ? 6 : 8;
-    if (options.body.capRings <= 0) options.body.capRings = fast ? 1 : 2;
-    lodPixels = options.lodPixels >= 0 ? static_cast<float>(options.lodPixels) : (fast ? 110.0f : 60.0f);
+    if (options.body.sides <= 0) options.body.sides = 8;
+    if (options.body.capRings <= 0) options.body.capRings = 2;
+    // Fast keeps full detail for close-ups only; High for anything of a useful size.
+    const float lod1 = options.lodPixels >= 0 ? static_cast<float>(options.lodPixels) : (fast ? 240.0f : 60.0f);
+    lodPixels = {lod1, lod1 * 0.4f};
     for (int s : {8, 4, 2}) {
         if (s <= wanted && (supported & static_cast<VkSampleCountFlags>(s))) {
             samples = static_cast<VkSampleCountFlagBits>(s);
@@ -713,8 +716,8 @@ Status Renderer::Impl::registerMesh(const Skeleton& skeleton, std::uint64_t fing
     MeshEntry e;
     e.fingerprint = fingerprint;
     e.jointCount = skeleton.jointCount();
-    for (std::size_t lod = 0; lod < 2; ++lod) {
-        const BodyMesh mesh = buildBodyMesh(skeleton, lod == 0 ? options.body : kCoarseBody);
+    for (std::size_t lod = 0; lod < 3; ++lod) {
+        const BodyMesh mesh = buildBodyMesh(skeleton, lod == 0 ? options.body : kCoarseBodies[lod - 1]);
         e.firstIndex[lod] = static_cast<std::uint32_t>(meshIndices.size());
         e.indexCount[lod] = static_cast<std::uint32_t>(mesh.indices.size());
         e.vertexOffset[lod] = static_cast<std::int32_t>(meshVertices.size());
@@ -858,7 +861,8 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
                 if (glm::dot(glm::vec3(pl), c) + pl.w < -r * glm::length(glm::vec3(pl))) inside = false;
             characterVisible[i] = inside ? 1 : 0;
             const float ahead = glm::dot(c - eye, fwd);
-            characterLod[i] = ahead > frame.camera.nearPlane && 2.0f * r * focalPx / ahead < lodPixels ? 1 : 0;
+            const float pixels = ahead > frame.camera.nearPlane ? 2.0f * r * focalPx / ahead : 1e9f;
+            characterLod[i] = pixels < lodPixels[1] ? 2 : (pixels < lodPixels[0] ? 1 : 0);
         }
     }
 
@@ -891,7 +895,7 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
         ++written;
     };
     for (std::size_t m = 0; m < meshes.size(); ++m) {
-        for (int lod = 0; lod < 2; ++lod) {
+        for (int lod = 0; lod < 3; ++lod) {
             const std::uint32_t first = written;
             for (int pass = 0; pass < (shadowsThisFrame ? 2 : 1); ++pass)
                 for (std::size_t i = 0; i < n; ++i)

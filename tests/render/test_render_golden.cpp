@@ -85,7 +85,7 @@ TEST_F(RenderGolden, ShadowsDarkenTheFloorAwayFromTheLight) {
     EXPECT_LT(brighter, darker / 20);
 }
 
-// The viewport quality on CPU devices: no MSAA, blob shadows, 6-sided bodies.
+// The viewport quality on CPU devices: no MSAA, blob shadows.
 TEST_F(RenderGolden, FastQualityWithBlobShadows) {
     RendererOptions o;
     o.width = kWidth;
@@ -101,7 +101,7 @@ TEST_F(RenderGolden, FastQualityWithBlobShadows) {
     Image img, flat;
     ASSERT_TRUE((*fast)->render(f, &img).ok());
     expectMatchesGolden(img, "fast_two_characters");
-    EXPECT_EQ((*fast)->stats().triangles, 2u * 28u * 24u);
+    EXPECT_EQ((*fast)->stats().triangles, 2u * 28u * 64u);
     f.settings.shadows = false;
     ASSERT_TRUE((*fast)->render(f, &flat).ok());
     const ImageDiff diff = compareImages(img, flat, 8);
@@ -322,8 +322,8 @@ TEST_F(RenderEngine, BuffersGrowGeometricallyAndMeshesAreShared) {
     EXPECT_EQ(renderer->stats().bufferGrowths, growthsBig);
     EXPECT_EQ(renderer->stats().meshes, 1);
     EXPECT_EQ(renderer->stats().characters, 600);
-    // 60 m away every character is a few pixels tall: all use the coarse body
-    // (4-sided capsules, 16 triangles per bone), none is culled.
+    // 60 m away every character is a few pixels tall: all use the coarsest
+    // body (4-sided capsules, 16 triangles per bone), none is culled.
     EXPECT_EQ(renderer->stats().triangles, 600u * 28u * 16u);
     EXPECT_EQ(renderer->stats().culled, 0);
     // A copy of the skeleton shares the mesh; a different skeleton adds one.
@@ -353,7 +353,12 @@ TEST_F(RenderEngine, LevelOfDetailAndCulling) {
     v.push_back(instanceOf(far, kBlue));
     f.characters = v;
     ASSERT_TRUE(renderer->render(f).ok());
-    EXPECT_EQ(renderer->stats().triangles, 28u * 64u + 28u * 16u);  // the far one is coarse
+    EXPECT_EQ(renderer->stats().triangles, 28u * 64u + 28u * 16u);  // the far one is coarsest (4-sided)
+    const Character mid = posedCharacter({0.0f, 0.0f, -8.0f}, 0.0f);  // about 40 px tall
+    std::vector<CharacterInstance> three{v[0], v[1], instanceOf(mid, kBlue)};
+    f.characters = three;
+    ASSERT_TRUE(renderer->render(f).ok());
+    EXPECT_EQ(renderer->stats().triangles, 28u * 64u + 28u * 16u + 28u * 24u);  // 6-sided for the middle one
     v.push_back(instanceOf(behind, kBlue));
     v.push_back(instanceOf(aside, kBlue));
     f.characters = v;

@@ -21,11 +21,12 @@
 
 namespace fray::render {
 
-// High: 4x MSAA, a 2048 shadow map (bodies and floor receive shadows),
-// 8-sided capsules. Fast: no MSAA, soft blob shadows under each character,
-// 6-sided capsules; for the viewport on a CPU device (lavapipe), where the
-// shadow pass alone (another single-threaded vertex pass) would halve the
-// frame rate. Auto picks Fast on CPU devices and High on GPUs.
+// High: 4x MSAA, a 2048 shadow map (bodies and floor receive shadows), full
+// detail down to 60 px tall characters. Fast: no MSAA, soft blob shadows under
+// each character, coarser bodies below 240 px; for the viewport on a CPU
+// device (lavapipe), where the shadow pass alone (another single-threaded
+// vertex pass) would halve the frame rate. Auto picks Fast on CPU devices and
+// High on GPUs.
 enum class Quality { Auto, Fast, High };
 
 struct RendererOptions {
@@ -36,8 +37,9 @@ struct RendererOptions {
     int msaaSamples = 0;
     int shadowMapSize = 0;
     BodyMeshOptions body{0, 0};
-    // Characters shorter than this on screen (pixels) use a coarse body
-    // (4-sided capsules); -1: from the quality (Fast 110, High 60), 0: never.
+    // Characters shorter than this on screen (pixels) use a coarser body
+    // (6-sided capsules; below 40 % of it 4-sided ones); -1: from the quality
+    // (Fast 240, High 60), 0: always full detail.
     int lodPixels = -1;
 };
 
