@@ -244,7 +244,18 @@ Status VulkanDevice::init(const DeviceOptions& options) {
     qci.queueCount = 1;
     qci.pQueuePriorities = &priority;
     std::vector<const char*> devExtensions;
-    if (surface_) devExtensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+    if (surface_ || options.swapchain) {
+        std::uint32_t n = 0;
+        vkEnumerateDeviceExtensionProperties(physical_, nullptr, &n, nullptr);
+        std::vector<VkExtensionProperties> props(n);
+        vkEnumerateDeviceExtensionProperties(physical_, nullptr, &n, props.data());
+        const bool has = std::any_of(props.begin(), props.end(), [](const VkExtensionProperties& e) {
+            return std::strcmp(e.extensionName, VK_KHR_SWAPCHAIN_EXTENSION_NAME) == 0;
+        });
+        if (!has) return makeError(std::string(properties_.deviceName) + " cannot present to windows (no VK_KHR_swapchain)");
+        devExtensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+        swapchainEnabled_ = true;
+    }
     VkPhysicalDeviceFeatures features{};
     auto dci = vkInit<VkDeviceCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO);
     dci.queueCreateInfoCount = 1;
@@ -322,6 +333,23 @@ Status VulkanDevice::runOnce(const std::function<void(VkCommandBuffer)>& record)
     if ((r = vkQueueSubmit(queue_, 1, &si, onceFence_)) != VK_SUCCESS) return vkError("vkQueueSubmit", r);
     if ((r = vkWaitForFences(device_, 1, &onceFence_, VK_TRUE, UINT64_MAX)) != VK_SUCCESS) return vkError("vkWaitForFences", r);
     return {};
+}
+
+Status VulkanDevice::attachSurface(VkSurfaceKHR surface, bool owns) {
+    if (!swapchainEnabled_) return makeError("the Vulkan device was created without swapchain support");
+    if (!surface) return makeError("no window surface");
+    VkBool32 present = VK_FALSE;
+    vkGetPhysicalDeviceSurfaceSupportKHR(physical_, queueFamily_, surface, &present);
+    if (!present) return makeError(std::string(properties_.deviceName) + " cannot present to this window");
+    detachSurface();
+    surface_ = surface;
+    ownsSurface_ = owns;
+    return {};
+}
+
+void VulkanDevice::detachSurface() {
+    if (surface_ && ownsSurface_) vkDestroySurfaceKHR(instance_, surface_, nullptr);
+    surface_ = VK_NULL_HANDLE;
 }
 
 Status VulkanDevice::waitIdle() {

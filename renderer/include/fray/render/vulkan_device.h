@@ -47,6 +47,9 @@ struct DeviceOptions {
     // device is then chosen among those whose graphics queue can present to it.
     std::function<Result<VkSurfaceKHR>(VkInstance)> createSurface;
     bool ownsSurface = true;  // destroy the surface with the device (false when e.g. Qt owns it)
+    // Enable VK_KHR_swapchain without a surface yet, for toolkits whose window
+    // surface exists only once the window is shown (Qt); see attachSurface.
+    bool swapchain = false;
 };
 
 class VulkanDevice {
@@ -83,6 +86,12 @@ public:
 
     Status waitIdle();
 
+    // A window surface created after the device (DeviceOptions::swapchain).
+    // Fails when the device's queue cannot present to it.
+    Status attachSurface(VkSurfaceKHR surface, bool owns);
+    // Forgets (and destroys, when owned) the surface; call after the swapchain is gone.
+    void detachSurface();
+
 private:
     VulkanDevice() = default;
     Status init(const DeviceOptions& options);
@@ -91,6 +100,7 @@ private:
     VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
     VkSurfaceKHR surface_ = VK_NULL_HANDLE;
     bool ownsSurface_ = true;
+    bool swapchainEnabled_ = false;
     VkPhysicalDevice physical_ = VK_NULL_HANDLE;
     VkPhysicalDeviceProperties properties_{};
     VkPhysicalDeviceMemoryProperties memory_{};
