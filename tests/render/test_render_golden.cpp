@@ -6,6 +6,8 @@
 
 #include <cstdlib>
 
+#include <dlfcn.h>
+
 
 #include "fray/render/motion_stage.h"
 #include "alloc_counter.h"
@@ -465,7 +467,25 @@ TEST(RenderDevice, NoDriverGivesTheInstallMessage) {
 }  // namespace
 }  // namespace fray::render::test
 
+#if defined(__SANITIZE_ADDRESS__)
+// LeakSanitizer's built-in suppressions for this binary: the same single
+// entry as tests/render/lsan.supp (the validation layer's own leaks).
+extern "C" const char* __lsan_default_suppressions() { return "leak:libVkLayer_khronos_validation.so\n"; }
+#endif
+
 int main(int argc, char** argv) {
+    // Synchronisation validation as well as the core checks (read when the
+    // instance is created; an explicit setting in the environment wins).
+    setenv("VK_LAYER_ENABLES", "VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT", 0);
+#if defined(__SANITIZE_ADDRESS__)
+    // The Vulkan loader unloads the driver and the layer with the last
+    // instance; lavapipe's global state (in use until exit) would then lie in
+    // unmapped memory and LeakSanitizer would report it from "<unknown module>".
+    // Kept mapped, lavapipe's memory is reachable and the layer's own leaks
+    // can be matched by name (see __lsan_default_suppressions below).
+    dlopen("libvulkan_lvp.so", RTLD_NOW | RTLD_NODELETE);
+    dlopen("libVkLayer_khronos_validation.so", RTLD_NOW | RTLD_NODELETE);
+#endif
     ::testing::InitGoogleTest(&argc, argv);
     ::testing::AddGlobalTestEnvironment(new fray::render::test::GpuEnvironment);
     return RUN_ALL_TESTS();
