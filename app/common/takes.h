@@ -1,0 +1,35 @@
+#pragma once
+// What fray-play and fray open: motion files or a project's takes (with their
+// actions as labels), and where the demo project is when no file is given.
+// Scene files (*.frayscene) come with the planner; they are refused with a
+// clear message for now.
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fray/core/motion.h"
+#include "fray/core/result.h"
+#include "fray/render/motion_stage.h"
+
+namespace fray::app {
+
+struct LoadedTake {
+    std::string name;
+    std::shared_ptr<Motion> motion;
+    std::vector<render::ActionSpan> actions;  // empty for plain motion files
+};
+
+// Motion files (BVH, FBX, glTF, ...) or exactly one .frayproj.
+Result<std::vector<LoadedTake>> loadTakes(const std::vector<std::string>& inputs);
+
+// The demo project written by the build: $FRAY_DEMO_LIBRARY/demo.frayproj, or
+// demo-library/demo.frayproj beside the executable's bin/ folder.
+std::optional<std::filesystem::path> findDemoProject(const char* argv0);
+
+// One actor per take, placed side by side along X, starting at the origin,
+// one team colour each.
+void stageTakes(const std::vector<LoadedTake>& takes, render::MotionStage& stage);
+
+}  // namespace fray::app

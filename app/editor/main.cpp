@@ -1,0 +1,137 @@
+// fray: the Qt editor. This first window opens the demo project (or the given
+// project or motion files) and plays its takes in the Vulkan viewport.
+//
+//   fray [PROJECT.frayproj | MOTION...] [--quit-after N] [--screenshot out.png]
+#include <xcb/xcb.h>
+
+#include <CLI/CLI.hpp>
+#include <QApplication>
+#include <QMessageBox>
+#include <QVulkanInstance>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "fray/render/vulkan_device.h"
+#include "main_window.h"
+#include "takes.h"
+#include "viewport.h"
+
+namespace {
+
+int fail(const std::string& message, int code = 1) {
+    std::fprintf(stderr, "fray: %s\n", message.c_str());
+    return code;
+}
+
+// Qt aborts when it cannot reach a display; say why instead, before it tries.
+std::string displayProblem() {
+    const char* platform = std::getenv("QT_QPA_PLATFORM");
+    const std::string p = platform ? platform : "";
+    const char* display = std::getenv("DISPLAY");
+    const char* wayland = std::getenv("WAYLAND_DISPLAY");
+    const bool hasX = display && *display;
+    const bool hasWayland = wayland && *wayland;
+    if (p.empty() && !hasX && !hasWayland)
+        return "no display: neither DISPLAY nor WAYLAND_DISPLAY is set; run it in a desktop session, or headless "
+               "under Xvfb (xvfb-run -a fray ...)";
+    if ((p.empty() && !hasWayland) || p.rfind("xcb", 0) == 0) {
+        if (!hasX) return "no display: DISPLAY is not set (QT_QPA_PLATFORM=" + p + "); headless: xvfb-run -a fray ...";
+        xcb_connection_t* c = xcb_connect(nullptr, nullptr);
+        const bool bad = xcb_connection_has_error(c) != 0;
+        xcb_disconnect(c);
+        if (bad)
+            return std::string("cannot connect to the X server at DISPLAY=") + display +
+                   "; is it running? headless: xvfb-run -a fray ...";
+    }
+    return {};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::vector<std::string> inputs;
+    int quitAfter = 0;
+    std::string screenshot, viewportShot, quality = "auto";
+    bool validate = false;
+    {
+        CLI::App cli{"fray: the Fray editor"};
+        cli.add_option("inputs", inputs, "A .frayproj or motion files (default: the demo project)");
+        cli.add_option("--quit-after", quitAfter, "Quit after this many frames were shown (for tests)");
+        cli.add_option("--screenshot", screenshot, "Before quitting, write the window to this PNG");
+        cli.add_option("--viewport-screenshot", viewportShot, "Before quitting, write the viewport alone to this PNG");
+        cli.add_option("--quality", quality, "auto, fast or high (auto: fast on a CPU Vulkan device)")->capture_default_str();
+        cli.add_flag("--validate", validate, "Vulkan validation layers on; any message makes the exit code 3");
+        CLI11_PARSE(cli, argc, argv);
+    }
+    if (quitAfter < 0) return fail("--quit-after must be >= 0", 2);
+    if ((!screenshot.empty() || !viewportShot.empty()) && quitAfter == 0) quitAfter = 10;
+    fray::render::Quality q = fray::render::Quality::Auto;
+    if (quality == "fast") q = fray::render::Quality::Fast;
+    else if (quality == "high") q = fray::render::Quality::High;
+    else if (quality != "auto") return fail("--quality " + quality + ": expected auto, fast or high", 2);
+
+    if (inputs.empty()) {
+        auto demo = fray::app::findDemoProject(argc > 0 ? argv[0] : nullptr);
+        if (!demo)
+            return fail("no input given and no demo project found (build the project first; it writes "
+                        "build/demo-library/demo.frayproj, or set FRAY_DEMO_LIBRARY)",
+                        2);
+        inputs.push_back(demo->string());
+    }
+    auto takes = fray::app::loadTakes(inputs);
+    if (!takes) return fail(takes.error().message);
+    const std::string title = std::filesystem::path(inputs.front()).filename().string() +
+                              (inputs.size() > 1 ? " (+" + std::to_string(inputs.size() - 1) + ")" : "");
+
+    if (const std::string problem = displayProblem(); !problem.empty()) return fail(problem);
+    QApplication app(argc, argv);
+    QApplication::setApplicationName("fray");
+    const QString platform = QGuiApplication::platformName();
+
+    // Fray's Vulkan instance, adopted by Qt for the viewport's surface.
+    fray::render::DeviceOptions dopt;
+    dopt.applicationName = "fray";
+    dopt.validation = validate;
+    dopt.swapchain = true;
+    dopt.instanceExtensions = {"VK_KHR_surface"};
+    if (platform == "xcb") dopt.instanceExtensions.emplace_back("VK_KHR_xcb_surface");
+    else if (platform == "wayland") dopt.instanceExtensions.emplace_back("VK_KHR_wayland_surface");
+    else return fail("the Qt platform '" + platform.toStdString() + "' has no Vulkan window surface; run on X11 or Wayland "
+                     "(headless: xvfb-run -a fray ...)");
+    auto device = fray::render::VulkanDevice::create(dopt);
+    if (!device) {
+        const int code = fail(device.error().message);
+        if (quitAfter == 0) QMessageBox::critical(nullptr, "Fray", QString::fromStdString(device.error().message));
+        return code;
+    }
+    const auto log = (*device)->validationLog();
+    int code = 0;
+    {
+        QVulkanInstance qvi;
+        qvi.setVkInstance((*device)->instance());
+        if (!qvi.create()) return fail("Qt could not adopt the Vulkan instance");
+        auto* viewport = new fray::editor::Viewport(*device, &qvi);  // owned by its window container
+        if (fray::Status s = viewport->init(q); !s) {
+            delete viewport;
+            return fail(s.error().message);
+        }
+        fray::editor::EditorOptions options;
+        options.quitAfter = quitAfter;
+        options.screenshot = QString::fromStdString(screenshot);
+        options.viewportScreenshot = QString::fromStdString(viewportShot);
+        {
+            fray::editor::MainWindow window(viewport, std::move(*takes), QString::fromStdString(title), options);
+            window.show();
+            code = QApplication::exec();
+            if (code == 0) code = window.exitCode();
+        }
+        qvi.destroy();
+    }
+    device->reset();
+    if (code == 0 && validate && (log->errors() > 0 || log->warnings() > 0))
+        code = fail(std::to_string(log->errors()) + " Vulkan validation errors and " + std::to_string(log->warnings()) +
+                        " warnings (printed above)",
+                    3);
+    return code;
+}

@@ -1,0 +1,362 @@
+// fray-play: the real-time player (GLFW window, Vulkan, Dear ImGui overlay).
+// Plays motion files or a project's takes side by side (scene files come with
+// the planner); with no argument, the demo project the build writes.
+//
+//   fray-play [MOTION... | PROJECT.frayproj] [--frames N] [--screenshot out.png]
+//
+// --frames N draws N frames and exits 0 (CI runs it under xvfb-run).
+#define GLFW_INCLUDE_VULKAN
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+#include <imgui_impl_glfw.h>
+#include <imgui_impl_vulkan.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <string>
+
+#include "fray/render/presenter.h"
+#include "fray/render/renderer.h"
+#include "takes.h"
+
+namespace {
+
+using namespace fray;
+using Clock = std::chrono::steady_clock;
+
+int fail(const std::string& message, int code = 1) {
+    std::fprintf(stderr, "fray-play: %s\n", message.c_str());
+    return code;
+}
+
+std::string glfwErrorText;
+void onGlfwError(int, const char* text) { glfwErrorText = text ? text : ""; }
+
+struct Args {
+    std::vector<std::string> inputs;
+    int frames = 0;
+    std::string screenshot;
+    std::string size = "1280x720";
+    std::string quality = "auto";
+    bool validate = false;
+    bool noVsync = false;
+};
+
+// Mouse: left drag orbits, right or middle drag pans, the wheel zooms.
+struct Mouse {
+    bool dragging = false;
+    int button = -1;
+    double x = 0, y = 0;
+    double wheel = 0;
+};
+Mouse gMouse;
+
+void onScroll(GLFWwindow*, double, double dy) { gMouse.wheel += dy; }
+
+// Moving averages of the frame time for the stats panel.
+struct FrameStats {
+    std::array<float, 120> ms{};
+    int count = 0;
+    void add(float v) { ms[static_cast<std::size_t>(count++ % static_cast<int>(ms.size()))] = v; }
+    float average() const {
+        const int n = std::min(count, static_cast<int>(ms.size()));
+        float s = 0;
+        for (int i = 0; i < n; ++i) s += ms[static_cast<std::size_t>(i)];
+        return n ? s / static_cast<float>(n) : 0.0f;
+    }
+};
+
+void checkVk(VkResult r) {
+    if (r != VK_SUCCESS) std::fprintf(stderr, "fray-play: ImGui Vulkan call failed: %s\n", render::vkResultName(r).c_str());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Args args;
+    CLI::App cli{"fray-play: play motions (and, later, composed scenes) in real time"};
+    cli.add_option("inputs", args.inputs, "Motion files or one .frayproj (default: the demo project)");
+    cli.add_option("--frames", args.frames, "Draw this many frames, then exit 0 (for tests)");
+    cli.add_option("--screenshot", args.screenshot, "Write the last frame as shown (viewport and overlay) to this PNG");
+    cli.add_option("--size", args.size, "Window size WIDTHxHEIGHT")->capture_default_str();
+    cli.add_option("--quality", args.quality, "auto, fast or high (auto: fast on a CPU Vulkan device)")->capture_default_str();
+    cli.add_flag("--validate", args.validate, "Vulkan validation layers on; any message makes the exit code 3");
+    cli.add_flag("--no-vsync", args.noVsync, "Present as fast as possible");
+    CLI11_PARSE(cli, argc, argv);
+    if (args.frames < 0) return fail("--frames must be >= 0", 2);
+    int width = 1280, height = 720;
+    if (std::sscanf(args.size.c_str(), "%dx%d", &width, &height) != 2 || width < 64 || height < 64)
+        return fail("--size " + args.size + ": expected WIDTHxHEIGHT, at least 64x64", 2);
+    render::Quality quality = render::Quality::Auto;
+    if (args.quality == "fast") quality = render::Quality::Fast;
+    else if (args.quality == "high") quality = render::Quality::High;
+    else if (args.quality != "auto") return fail("--quality " + args.quality + ": expected auto, fast or high", 2);
+
+    // What to play.
+    if (args.inputs.empty()) {
+        auto demo = app::findDemoProject(argc > 0 ? argv[0] : nullptr);
+        if (!demo)
+            return fail("no input given and no demo project found (build the project first; it writes "
+                        "build/demo-library/demo.frayproj, or set FRAY_DEMO_LIBRARY)",
+                        2);
+        args.inputs.push_back(demo->string());
+    }
+    auto takes = app::loadTakes(args.inputs);
+    if (!takes) return fail(takes.error().message);
+
+    // Window.
+    glfwSetErrorCallback(onGlfwError);
+    if (!glfwInit()) {
+        const char* display = std::getenv("DISPLAY");
+        const char* wayland = std::getenv("WAYLAND_DISPLAY");
+        if ((!display || !*display) && (!wayland || !*wayland))
+            return fail("no display: DISPLAY is not set; run it in a desktop session, or headless under Xvfb "
+                        "(xvfb-run -a fray-play ...)");
+        return fail("cannot open a window: " + glfwErrorText + " (is the X server at DISPLAY=" +
+                    std::string(display ? display : "") + " running? headless: xvfb-run -a fray-play ...)");
+    }
+    struct GlfwGuard {
+        ~GlfwGuard() { glfwTerminate(); }
+    } glfwGuard;
+    if (!glfwVulkanSupported()) return fail("GLFW found no Vulkan loader; install libvulkan1 and mesa-vulkan-drivers");
+    glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
+    GLFWwindow* window = glfwCreateWindow(width, height, "fray-play", nullptr, nullptr);
+    if (!window) return fail("cannot create the window: " + glfwErrorText);
+    glfwSetScrollCallback(window, onScroll);
+
+    render::DeviceOptions dopt;
+    dopt.applicationName = "fray-play";
+    dopt.validation = args.validate;
+    std::uint32_t extCount = 0;
+    const char** exts = glfwGetRequiredInstanceExtensions(&extCount);
+    for (std::uint32_t i = 0; i < extCount; ++i) dopt.instanceExtensions.emplace_back(exts[i]);
+    dopt.createSurface = [window](VkInstance instance) -> Result<VkSurfaceKHR> {
+        VkSurfaceKHR surface = VK_NULL_HANDLE;
+        const VkResult r = glfwCreateWindowSurface(instance, window, nullptr, &surface);
+        if (r != VK_SUCCESS) return render::vkError("glfwCreateWindowSurface", r);
+        return surface;
+    };
+    auto device = render::VulkanDevice::create(dopt);
+    if (!device) return fail(device.error().message);
+    int fbw = 0, fbh = 0;
+    glfwGetFramebufferSize(window, &fbw, &fbh);
+    render::RendererOptions ropt;
+    ropt.width = std::max(fbw, 1);
+    ropt.height = std::max(fbh, 1);
+    ropt.quality = quality;
+    auto renderer = render::Renderer::create(*device, ropt);
+    if (!renderer) return fail(renderer.error().message);
+    render::PresenterOptions popt;
+    popt.vsync = !args.noVsync && args.frames == 0;
+    auto presenter = render::Presenter::create(*device, fbw, fbh, popt);
+    if (!presenter) return fail(presenter.error().message);
+
+    // Dear ImGui on the presenter's UI pass.
+    VkDescriptorPool imguiPool = VK_NULL_HANDLE;
+    {
+        const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 16};
+        VkDescriptorPoolCreateInfo ci{};
+        ci.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
+        ci.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
+        ci.maxSets = 16;
+        ci.poolSizeCount = 1;
+        ci.pPoolSizes = &size;
+        if (const VkResult r = vkCreateDescriptorPool((*device)->device(), &ci, nullptr, &imguiPool); r != VK_SUCCESS)
+            return fail(render::vkError("vkCreateDescriptorPool", r).message);
+    }
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini next to the user's files
+    ImGui::StyleColorsDark();
+    ImGui_ImplGlfw_InitForVulkan(window, true);
+    ImGui_ImplVulkan_InitInfo info{};
+    info.Instance = (*device)->instance();
+    info.PhysicalDevice = (*device)->physicalDevice();
+    info.Device = (*device)->device();
+    info.QueueFamily = (*device)->queueFamily();
+    info.Queue = (*device)->queue();
+    info.DescriptorPool = imguiPool;
+    info.Subpass = 0;
+    info.MinImageCount = (*presenter)->minImageCount();
+    info.ImageCount = (*presenter)->imageCount();
+    info.MSAASamples = VK_SAMPLE_COUNT_1_BIT;
+    info.CheckVkResultFn = checkVk;
+    ImGui_ImplVulkan_Init(&info, (*presenter)->uiRenderPass());
+    if (Status s = (*device)->runOnce([](VkCommandBuffer cmd) { ImGui_ImplVulkan_CreateFontsTexture(cmd); }); !s)
+        return fail(s.error().message);
+    ImGui_ImplVulkan_DestroyFontUploadObjects();
+
+    // Stage, camera, playback.
+    render::MotionStage stage;
+    app::stageTakes(*takes, stage);
+    stage.pose(0.0);
+    render::FrameDescription frame;
+    frame.camera.yaw = 0.5f;
+    frame.camera.pitch = 0.35f;
+    auto frameSelection = [&](int selected) {
+        render::Bounds b = selected >= 0 ? render::characterBounds(stage.instances().subspan(static_cast<std::size_t>(selected), 1))
+                                         : stage.bounds();
+        b.add(b.min - glm::vec3(0.3f));
+        b.add(b.max + glm::vec3(0.3f));
+        frame.camera.frame(b, static_cast<float>(std::max(fbw, 1)) / static_cast<float>(std::max(fbh, 1)));
+    };
+    frameSelection(-1);
+    int selected = -1;
+    bool playing = true, loop = true;
+    float speed = 1.0f;
+    double t = 0.0;
+    const double duration = stage.duration();
+    FrameStats frameMs, renderMs;
+    auto last = Clock::now();
+    int drawn = 0;
+    const render::Presenter::UiRecorder ui = [](VkCommandBuffer cmd) {
+        ImGui_ImplVulkan_RenderDrawData(ImGui::GetDrawData(), cmd);
+    };
+    std::string error;
+    bool screenshotWritten = false;
+    const std::string deviceName = (*device)->description();
+
+    while (!glfwWindowShouldClose(window)) {
+        glfwPollEvents();
+        glfwGetFramebufferSize(window, &fbw, &fbh);
+        if (fbw == 0 || fbh == 0) {  // minimised
+            glfwWaitEvents();
+            continue;
+        }
+        (*presenter)->resize(fbw, fbh);
+        const auto now = Clock::now();
+        // Fixed steps when counting frames, so test runs are reproducible.
+        const double dt = args.frames > 0 ? 1.0 / 60.0 : std::chrono::duration<double>(now - last).count();
+        frameMs.add(static_cast<float>(std::chrono::duration<double, std::milli>(now - last).count()));
+        last = now;
+        if (playing) t += dt * static_cast<double>(speed);
+        if (!loop && t > duration) {
+            t = duration;
+            playing = false;
+        }
+        for (std::size_t i = 0; i < stage.actors().size(); ++i) stage.actors()[i].selected = static_cast<int>(i) == selected;
+        stage.pose(t, loop);
+
+        // Camera from the mouse, unless ImGui uses it.
+        ImGuiIO& io = ImGui::GetIO();
+        double mx = 0, my = 0;
+        glfwGetCursorPos(window, &mx, &my);
+        if (!io.WantCaptureMouse) {
+            int button = -1;
+            for (int b : {GLFW_MOUSE_BUTTON_LEFT, GLFW_MOUSE_BUTTON_RIGHT, GLFW_MOUSE_BUTTON_MIDDLE})
+                if (glfwGetMouseButton(window, b) == GLFW_PRESS) button = b;
+            if (button >= 0 && gMouse.dragging && gMouse.button == button) {
+                const auto dx = static_cast<float>(mx - gMouse.x), dy = static_cast<float>(my - gMouse.y);
+                if (button == GLFW_MOUSE_BUTTON_LEFT) frame.camera.orbit(-dx * 0.008f, dy * 0.008f);
+                else frame.camera.pan(dx, dy, static_cast<float>(fbh));
+            }
+            gMouse.dragging = button >= 0;
+            gMouse.button = button;
+            if (gMouse.wheel != 0.0) frame.camera.zoom(static_cast<float>(std::pow(0.88, gMouse.wheel)));
+        }
+        gMouse.wheel = 0.0;
+        gMouse.x = mx;
+        gMouse.y = my;
+        if (!io.WantCaptureKeyboard) {
+            if (ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Space))) playing = !playing;
+            if (ImGui::IsKeyPressed(GLFW_KEY_F)) frameSelection(selected);
+        }
+
+        // The overlay.
+        ImGui_ImplVulkan_NewFrame();
+        ImGui_ImplGlfw_NewFrame();
+        ImGui::NewFrame();
+        ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
+        ImGui::SetNextWindowSize(ImVec2(330, 0), ImGuiCond_FirstUseEver);
+        ImGui::Begin("fray-play");
+        if (ImGui::Button(playing ? "Pause" : "Play")) playing = !playing;
+        ImGui::SameLine();
+        if (ImGui::Button("|<")) t = 0.0;
+        ImGui::SameLine();
+        ImGui::Checkbox("Loop", &loop);
+        auto time = static_cast<float>(loop && duration > 0.0 ? std::fmod(t, duration) : t);
+        if (ImGui::SliderFloat("Time", &time, 0.0f, static_cast<float>(duration), "%.2f s")) t = time;
+        ImGui::SliderFloat("Speed", &speed, 0.1f, 4.0f, "%.2fx");
+        ImGui::Separator();
+        ImGui::Text("Characters (click to select, F frames)");
+        for (int i = 0; i < static_cast<int>(stage.actors().size()); ++i) {
+            const auto& a = stage.actors()[static_cast<std::size_t>(i)];
+            ImGui::PushID(i);
+            ImGui::ColorButton("##tint", ImVec4(a.tint.x, a.tint.y, a.tint.z, 1.0f), ImGuiColorEditFlags_NoTooltip, ImVec2(12, 12));
+            ImGui::SameLine();
+            if (ImGui::Selectable(a.name.c_str(), selected == i)) selected = selected == i ? -1 : i;
+            ImGui::PopID();
+        }
+        if (selected >= 0) {
+            const auto& a = stage.actors()[static_cast<std::size_t>(selected)];
+            const std::string_view action = stage.actionOf(selected);
+            ImGui::Separator();
+            ImGui::Text("%s  frame %d / %d", a.name.c_str(), stage.frameOf(selected), a.motion->frameCount() - 1);
+            ImGui::Text("action: %.*s", static_cast<int>(action.size()), action.empty() ? "(none)" : action.data());
+            if (ImGui::Button("Frame selection")) frameSelection(selected);
+        } else if (ImGui::Button("Frame all")) {
+            frameSelection(-1);
+        }
+        ImGui::Separator();
+        const auto& st = (*renderer)->stats();
+        const float avg = frameMs.average();
+        ImGui::Text("frame %.1f ms (%.0f fps), render %.1f ms", static_cast<double>(avg),
+                    avg > 0.0f ? 1000.0 / static_cast<double>(avg) : 0.0, static_cast<double>(renderMs.average()));
+        ImGui::Text("%d characters, %llu triangles, %d draws", st.characters, static_cast<unsigned long long>(st.triangles),
+                    st.drawCalls);
+        ImGui::TextWrapped("%s, %s quality, %dx MSAA", deviceName.c_str(),
+                           (*renderer)->quality() == render::Quality::Fast ? "fast" : "high", (*renderer)->msaaSamples());
+        ImGui::End();
+        ImGui::Render();
+
+        frame.characters = stage.instances();
+        const bool lastFrame = args.frames > 0 && drawn + 1 >= args.frames;
+        render::Image shown;
+        const bool capturing = lastFrame && !args.screenshot.empty() && (*presenter)->captureNextFrame(&shown);
+        const auto r0 = Clock::now();
+        if (Status s = (*presenter)->present(**renderer, frame, &ui); !s) {
+            error = s.error().message;
+            break;
+        }
+        renderMs.add(static_cast<float>(std::chrono::duration<double, std::milli>(Clock::now() - r0).count()));
+        if (capturing && !shown.empty()) {
+            if (Status w = render::writePng(args.screenshot, shown); !w) {
+                error = w.error().message;
+                break;
+            }
+            screenshotWritten = true;
+        }
+        if (args.frames > 0 && ++drawn >= args.frames) break;
+    }
+
+    int code = 0;
+    if (!error.empty()) code = fail(error);
+    if (code == 0 && !args.screenshot.empty() && !screenshotWritten) {
+        // The window's images cannot be read back here (or the window closed
+        // early): the scene alone, from the renderer.
+        render::Image shot;
+        if (Status s = (*renderer)->readback(shot); !s) code = fail(s.error().message);
+        else if (Status w = render::writePng(args.screenshot, shot); !w) code = fail(w.error().message);
+    }
+    (void)(*device)->waitIdle();
+    ImGui_ImplVulkan_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+    vkDestroyDescriptorPool((*device)->device(), imguiPool, nullptr);
+    presenter->reset();
+    renderer->reset();
+    const auto log = (*device)->validationLog();
+    device->reset();  // reports leaked Vulkan objects when validating
+    glfwDestroyWindow(window);
+    if (code == 0 && args.validate && (log->errors() > 0 || log->warnings() > 0))
+        code = fail(std::to_string(log->errors()) + " Vulkan validation errors and " + std::to_string(log->warnings()) +
+                        " warnings (printed above)",
+                    3);
+    if (code == 0 && args.frames > 0) std::printf("fray-play: drew %d frames on %s\n", drawn, deviceName.c_str());
+    return code;
+}

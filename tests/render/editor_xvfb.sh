@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# fray (the Qt editor) under Xvfb: opens the demo project with no argument,
+# shows N frames with validation on, and writes a screenshot of the window and
+# one of the viewport (the renderer's own readback) that are neither blank nor
+# uniform; clear errors without a display, with an unreachable X server and on
+# a Qt platform without Vulkan windows.
+# Usage: editor_xvfb.sh FRAY IMAGE_CHECK DEMO_LIBRARY_DIR OUT_DIR
+set -uo pipefail
+fray=$1 check=$2 lib=$3 out=$4
+rm -rf "$out" && mkdir -p "$out"
+export XDG_RUNTIME_DIR=$out
+fails=0
+bad() { echo "FAIL: $*"; fails=$((fails + 1)); }
+
+if ! timeout 120 xvfb-run -a -s "-screen 0 1400x900x24" "$fray" --quit-after 10 --validate \
+     --screenshot "$out/window.png" --viewport-screenshot "$out/viewport.png" >"$out/demo.log" 2>&1; then
+  bad "fray on the demo project failed: $(cat "$out/demo.log")"
+fi
+grep -q "drew 10 frames" "$out/demo.log" || bad "expected 10 frames: $(cat "$out/demo.log")"
+grep -q "validation" "$out/demo.log" && bad "validation messages: $(cat "$out/demo.log")"
+"$check" "$out/window.png" 640 400 || bad "window screenshot check"
+"$check" "$out/viewport.png" 320 200 || bad "viewport screenshot check"
+
+# A motion file given on the command line.
+if ! timeout 120 xvfb-run -a "$fray" "$lib/walking.bvh" --quit-after 3 >"$out/motion.log" 2>&1; then
+  bad "fray walking.bvh failed: $(cat "$out/motion.log")"
+fi
+
+# expect_error PATTERN -- ENV... : exit code 1 and the message, no crash.
+expect_error() {
+  local pattern=$1; shift
+  local rc=0
+  env "$@" "$fray" "$lib/walking.bvh" --quit-after 1 >"$out/err.log" 2>&1 || rc=$?
+  (( rc == 1 )) || bad "exit code $rc (expected 1) with $*: $(cat "$out/err.log")"
+  grep -q -- "$pattern" "$out/err.log" || bad "expected '$pattern' with $*: $(cat "$out/err.log")"
+}
+expect_error "DISPLAY" -u DISPLAY -u WAYLAND_DISPLAY
+expect_error "xvfb-run" -u DISPLAY -u WAYLAND_DISPLAY
+expect_error "cannot connect to the X server at DISPLAY=:97" -u WAYLAND_DISPLAY DISPLAY=:97
+expect_error "has no Vulkan window surface" QT_QPA_PLATFORM=offscreen
+
+if (( fails > 0 )); then echo "$fails failure(s)"; exit 1; fi
+echo "editor_xvfb: all checks passed"

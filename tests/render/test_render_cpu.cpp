@@ -1,0 +1,162 @@
+// CPU parts of the renderer: the body mesh built from a skeleton, the font,
+// PNG round trips and the image comparison used by the golden tests.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <set>
+
+#include <glm/geometric.hpp>
+
+#include "fray/core/atomic_file.h"
+#include "fray/demo/demo_actor.h"
+#include "fray/render/body_mesh.h"
+#include "fray/render/font.h"
+#include "fray/render/image.h"
+
+namespace fray::render {
+namespace {
+
+TEST(BodyMesh, EveryBoneOfTheDemoSkeletonGetsAClosedCapsule) {
+    const Skeleton sk = demo::makeDemoSkeleton();
+    const BodyMeshOptions opt{8, 2};
+    const BodyMesh mesh = buildBodyMesh(sk, opt);
+    // 23 parent-child bones plus 5 end sites (head, hands, toes).
+    EXPECT_EQ(mesh.bones, 28);
+    const std::size_t perCapsule = static_cast<std::size_t>(opt.sides * 2 * opt.capRings + 2);
+    EXPECT_EQ(mesh.vertices.size(), perCapsule * 28);
+    EXPECT_EQ(mesh.indices.size() % 3, 0u);
+    // A closed surface of V vertices has 2V - 4 triangles per capsule (Euler).
+    EXPECT_EQ(mesh.indices.size() / 3, (2 * perCapsule - 4) * 28);
+    std::set<std::uint32_t> joints;
+    for (const BodyVertex& v : mesh.vertices) {
+        ASSERT_LT(v.joint, static_cast<std::uint32_t>(sk.jointCount()));
+        EXPECT_NEAR(glm::length(v.normal), 1.0f, 1e-4f);
+        joints.insert(v.joint);
+    }
+    for (std::uint32_t i : mesh.indices) ASSERT_LT(i, mesh.vertices.size());
+    // Every joint with a child or an end site carries geometry.
+    EXPECT_EQ(joints.size(), static_cast<std::size_t>(sk.jointCount()));
+}
+
+TEST(BodyMesh, TrianglesFaceOutwards) {
+    const BodyMesh mesh = buildBodyMesh(demo::makeDemoSkeleton());
+    for (std::size_t t = 0; t < mesh.indices.size(); t += 3) {
+        const BodyVertex& a = mesh.vertices[mesh.indices[t]];
+        const BodyVertex& b = mesh.vertices[mesh.indices[t + 1]];
+        const BodyVertex& c = mesh.vertices[mesh.indices[t + 2]];
+        const glm::vec3 n = glm::cross(b.position - a.position, c.position - a.position);
+        ASSERT_GE(glm::dot(n, a.normal + b.normal + c.normal), 0.0f) << "triangle " << t / 3;
+    }
+}
+
+TEST(BodyMesh, TorsoIsThickerThanForearmsAndScalesWithTheSkeleton) {
+    const Skeleton sk = demo::makeDemoSkeleton();
+    // Largest distance of joint j's vertices from its bone (j to its first child).
+    auto radiusAt = [](const BodyMesh& m, const Skeleton& s, int joint) {
+        const glm::vec3 b = s.offsets[static_cast<std::size_t>(s.children(joint).front())];
+        float r = 0.0f;
+        for (const BodyVertex& v : m.vertices) {
+            if (v.joint != static_cast<std::uint32_t>(joint)) continue;
+            const float t = std::clamp(glm::dot(v.position, b) / glm::dot(b, b), 0.0f, 1.0f);
+            r = std::max(r, glm::length(v.position - t * b));
+        }
+        return r;
+    };
+    const BodyMesh mesh = buildBodyMesh(sk);
+    EXPECT_GT(radiusAt(mesh, sk, sk.find("Spine")), 2.0f * radiusAt(mesh, sk, sk.find("LeftForeArm")));
+    Skeleton child = sk;
+    for (glm::vec3& o : child.offsets) o *= 0.6f;
+    for (auto& e : child.endSites)
+        if (e) *e *= 0.6f;
+    const BodyMesh small = buildBodyMesh(child);
+    EXPECT_LT(radiusAt(small, child, sk.find("Spine")), 0.8f * radiusAt(mesh, sk, sk.find("Spine")));
+}
+
+TEST(BodyMesh, FingerprintFollowsContentNotIdentity) {
+    const Skeleton a = demo::makeDemoSkeleton();
+    Skeleton b = a;
+    EXPECT_EQ(skeletonFingerprint(a), skeletonFingerprint(b));
+    b.offsets[3].y += 0.01f;
+    EXPECT_NE(skeletonFingerprint(a), skeletonFingerprint(b));
+    EXPECT_TRUE(buildBodyMesh(Skeleton{}).vertices.empty());
+}
+
+TEST(Font, PrintableAsciiHasGlyphsAndUnknownCharactersFallBack) {
+    for (int c = 33; c <= 126; ++c) {
+        int set = 0;
+        for (int y = 0; y < font::kGlyphHeight; ++y)
+            for (int x = 0; x < font::kGlyphWidth; ++x) set += font::glyphPixel(static_cast<char>(c), x, y);
+        EXPECT_GT(set, 0) << "glyph '" << static_cast<char>(c) << "' is empty";
+    }
+    for (int y = 0; y < font::kGlyphHeight; ++y)
+        for (int x = 0; x < font::kGlyphWidth; ++x) {
+            EXPECT_FALSE(font::glyphPixel(' ', x, y));
+            EXPECT_EQ(font::glyphPixel('\x01', x, y), font::glyphPixel('?', x, y));
+        }
+    EXPECT_EQ(font::textWidth("jab", 2), (3 * 6 - 1) * 2);
+    const auto atlas = font::buildAtlas();
+    EXPECT_EQ(atlas.size(), static_cast<std::size_t>(font::kAtlasWidth * font::kAtlasHeight));
+}
+
+TEST(Image, PngRoundTripIsExact) {
+    Image img;
+    img.resize(37, 11);
+    for (std::size_t i = 0; i < img.rgba.size(); ++i) img.rgba[i] = static_cast<std::uint8_t>(i * 7 + 3);
+    const auto path = std::filesystem::path(testing::TempDir()) / "fray_png_roundtrip.png";
+    ASSERT_TRUE(writePng(path, img).ok());
+    auto back = readPng(path);
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    EXPECT_EQ(back->width, 37);
+    EXPECT_EQ(back->height, 11);
+    EXPECT_EQ(back->rgba, img.rgba);
+    std::filesystem::remove(path);
+}
+
+TEST(Image, ReadErrorsNameTheFile) {
+    const auto missing = readPng("/nonexistent/fray.png");
+    ASSERT_FALSE(missing.ok());
+    EXPECT_NE(missing.error().message.find("/nonexistent/fray.png"), std::string::npos);
+    const auto path = std::filesystem::path(testing::TempDir()) / "fray_not_a_png.png";
+    ASSERT_TRUE(writeFileAtomically(path, "hello, not a png").ok());
+    const auto bad = readPng(path);
+    ASSERT_FALSE(bad.ok());
+    EXPECT_NE(bad.error().message.find("not a PNG"), std::string::npos);
+    // A truncated PNG: the first half of a valid one.
+    Image img;
+    img.resize(64, 64);
+    std::fill(img.rgba.begin(), img.rgba.end(), std::uint8_t(128));
+    ASSERT_TRUE(writePng(path, img).ok());
+    auto bytes = readWholeFile(path);
+    ASSERT_TRUE(bytes.ok());
+    ASSERT_TRUE(writeFileAtomically(path, bytes->substr(0, bytes->size() / 2)).ok());
+    const auto cut = readPng(path);
+    ASSERT_FALSE(cut.ok());
+    EXPECT_NE(cut.error().message.find("bad PNG"), std::string::npos);
+    std::filesystem::remove(path);
+}
+
+TEST(Image, CompareCountsPixelsBeyondTheThresholdAndBoxesThem) {
+    Image a, b;
+    a.resize(10, 8);
+    std::fill(a.rgba.begin(), a.rgba.end(), std::uint8_t(100));
+    b = a;
+    b.pixel(2, 3)[1] = 108;  // within 8 levels
+    b.pixel(7, 5)[0] = 109;  // beyond
+    b.pixel(4, 1)[2] = 50;   // beyond
+    const ImageDiff d = compareImages(a, b, 8);
+    EXPECT_EQ(d.differing, 2);
+    EXPECT_EQ(d.maxDelta, 50);
+    EXPECT_EQ(d.minX, 4);
+    EXPECT_EQ(d.minY, 1);
+    EXPECT_EQ(d.maxX, 7);
+    EXPECT_EQ(d.maxY, 5);
+    Image c;
+    c.resize(10, 9);
+    EXPECT_TRUE(compareImages(a, c, 8).sizeMismatch);
+    EXPECT_EQ(imageStats(a).distinctColors, 1);
+    EXPECT_EQ(imageStats(a).lumaStdDev, 0.0);
+}
+
+}  // namespace
+}  // namespace fray::render
