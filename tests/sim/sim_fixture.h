@@ -15,48 +15,9 @@
 #include "fray/sim/action_library.h"
 #include "fray/sim/planner.h"
 #include "fray/sim/spec.h"
+#include "sim/demo_world.h"
 
 namespace fray::test {
-
-struct DemoWorld {
-    prep::Project project;
-    std::vector<prep::LoadedMotion> motions;
-    prep::MotionGraph graph;
-    sim::ActionLibrary library;
-};
-
-inline const DemoWorld& demoWorld() {
-    static const std::unique_ptr<DemoWorld> world = [] {
-        auto w = std::make_unique<DemoWorld>();
-        demo::LibraryOptions options;
-        options.seed = 1;
-        std::vector<demo::ProjectTake> takes;
-        for (const auto& spec : demo::planLibrary(options)) {
-            auto take = demo::generateTake(spec, demo::takeSeed(options.seed, spec.name));
-            prep::LoadedMotion m;
-            m.id = take.truth.take;
-            m.joints = guessStandardJoints(take.motion.skeleton());
-            m.contacts.left = take.truth.leftContact;
-            m.contacts.right = take.truth.rightContact;
-            m.motion = std::move(take.motion);
-            takes.push_back({take.truth, spec.name + ".bvh"});
-            w->motions.push_back(std::move(m));
-        }
-        w->project = demo::makeDemoProject(takes);
-        std::vector<const Motion*> ptrs;
-        std::vector<StandardJoints> joints;
-        for (const auto& m : w->motions) ptrs.push_back(&m.motion), joints.push_back(m.joints);
-        const auto refs = sim::projectActionRefs(w->project);
-        auto graph = prep::buildMotionGraph(ptrs, joints, refs, prep::GraphOptions{});
-        if (!graph) throw std::runtime_error(graph.error().message);
-        w->graph = std::move(*graph);
-        auto lib = sim::buildActionLibrary(w->project, w->motions, w->graph);
-        if (!lib) throw std::runtime_error(lib.error().message);
-        w->library = std::move(*lib);
-        return w;
-    }();
-    return *world;
-}
 
 inline Result<sim::SceneSpec> parseSpec(const std::string& json) {
     return sim::parseSceneSpec(json, "spec.json", demoWorld().library, sim::builtinPresets());

@@ -1,0 +1,70 @@
+#!/usr/bin/env bash
+# Tree expansion from the command line on a small demo project: simulate a
+# duel, read its metrics, the same seed gives the same bytes, presets edit the
+# project; and bad input: unknown annotation, no usable action, negative
+# duration, a scene whose actions changed, a non-scene output file. Each is a
+# one-line error that leaves the files untouched.
+set -eu
+cli=$1
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+check() { if ! eval "$2"; then echo "FAIL: $1"; exit 1; fi; }
+expect_fail() {  # name, expected stderr text, command...
+  local name=$1 text=$2; shift 2
+  if "$@" 2> "$tmp/err.txt" > /dev/null; then echo "FAIL: $name: succeeded"; exit 1; fi
+  check "$name: message" "grep -q -- \"$text\" '$tmp/err.txt'"
+  check "$name: one line" "[ \$(wc -l < '$tmp/err.txt') -eq 1 ]"
+}
+
+"$cli" demo-library "$tmp/lib" --minutes 3 > /dev/null 2>&1
+p=$tmp/lib/demo.frayproj
+cat > "$tmp/duel.json" <<'JSON'
+{"version": 1, "duration": 8, "seed": 3,
+ "characters": [
+  {"name": "red", "side": 0, "preset": "general-boxer", "depth": 3, "motions": ["shadowbox_energetic"],
+   "actions": ["@punch", "@kick", "@block", "@avoid", "@step", "@idle", "@transition", "@turn"],
+   "start": {"x": 0, "z": 0, "heading_deg": 90}},
+  {"name": "blue", "side": 1, "preset": "infighter", "depth": 2, "motions": ["shadowbox_energetic"],
+   "actions": ["@punch", "@kick", "@block", "@avoid", "@step", "@idle", "@transition", "@turn"],
+   "start": {"x": 1.2, "z": 0, "heading_deg": -90}}]}
+JSON
+"$cli" simulate "$p" --spec "$tmp/duel.json" --out "$tmp/duel.frayscene" 2> "$tmp/progress.txt" > "$tmp/sim.txt"
+check "progress on stderr" "grep -q 'simulate 100%' '$tmp/progress.txt'"
+check "summary" "grep -q 'pruned' '$tmp/sim.txt'"
+check "scene written" "grep -q '\"format\": \"fray-scene\"' '$tmp/duel.frayscene'"
+check "project path relative" "grep -q '\"project\": \"lib/demo.frayproj\"' '$tmp/duel.frayscene'"
+"$cli" simulate "$p" --spec "$tmp/duel.json" --out "$tmp/again.frayscene" -q > /dev/null
+check "same seed, same bytes" "cmp -s '$tmp/duel.frayscene' '$tmp/again.frayscene'"
+"$cli" metrics "$tmp/duel.frayscene" -q > "$tmp/metrics.txt"
+check "metrics per character" "grep -q '^red' '$tmp/metrics.txt' && grep -q '^blue' '$tmp/metrics.txt'"
+"$cli" metrics "$tmp/duel.frayscene" --json -q > "$tmp/metrics.json"
+check "metrics json" "grep -q '\"mean_opponent_distance\"' '$tmp/metrics.json' && grep -q '\"foot_skate_mean_cm\"' '$tmp/metrics.json'"
+
+# Presets live in the project.
+"$cli" presets "$p" set infighter r_d=0.45 > /dev/null
+"$cli" presets "$p" show infighter > "$tmp/preset.txt"
+check "preset stored" "grep -q '\"r_d\":0.45' '$tmp/preset.txt'"
+expect_fail "bad weight" "unknown weight" "$cli" presets "$p" set infighter w_tehta=1
+"$cli" presets "$p" remove infighter > /dev/null
+
+# Bad specs: one line naming the file and the field; nothing written.
+cp "$p" "$tmp/before.frayproj"
+sed 's/"@kick"/"@kik"/' "$tmp/duel.json" > "$tmp/bad1.json"
+expect_fail "unknown annotation" "bad1.json: /characters/0/actions/1: unknown annotation 'kik'" \
+  "$cli" simulate "$p" --spec "$tmp/bad1.json" --out "$tmp/bad1.frayscene" -q
+check "no scene from a bad spec" "[ ! -e '$tmp/bad1.frayscene' ]"
+echo '{"duration": 5, "characters": [{"name": "a", "actions": ["@falling"]}]}' > "$tmp/bad2.json"
+expect_fail "no usable action" "character 'a' has no usable action" \
+  "$cli" simulate "$p" --spec "$tmp/bad2.json" --out "$tmp/bad2.frayscene" -q
+echo '{"duration": -1, "characters": [{"name": "a"}]}' > "$tmp/bad3.json"
+expect_fail "negative duration" "bad3.json: /duration: must be a positive" \
+  "$cli" simulate "$p" --spec "$tmp/bad3.json" --out "$tmp/bad3.frayscene" -q
+echo "my notes" > "$tmp/notes.txt"
+expect_fail "never overwrite other files" "refusing to overwrite" \
+  "$cli" simulate "$p" --spec "$tmp/duel.json" --out "$tmp/notes.txt" -q
+check "notes untouched" "[ \"\$(cat '$tmp/notes.txt')\" = 'my notes' ]"
+check "project untouched by failures" "cmp -s '$p' '$tmp/before.frayproj'"
+
+# A scene whose actions were re-cut is refused with the path of the action.
+sed 's/"first": \([0-9]*\)/"first": 9\1/' "$tmp/duel.frayscene" > "$tmp/stale.frayscene"
+expect_fail "stale scene" "is not in the project any more" "$cli" metrics "$tmp/stale.frayscene" -q
+echo "PASS"
