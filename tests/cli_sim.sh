@@ -39,6 +39,12 @@ check "metrics per character" "grep -q '^red' '$tmp/metrics.txt' && grep -q '^bl
 "$cli" metrics "$tmp/duel.frayscene" --json -q > "$tmp/metrics.json"
 check "metrics json" "grep -q '\"mean_opponent_distance\"' '$tmp/metrics.json' && grep -q '\"foot_skate_mean_cm\"' '$tmp/metrics.json'"
 
+# The scene renders offscreen (lavapipe), frames at 30 per second of scene time.
+"$cli" render "$tmp/duel.frayscene" --frames 0:60:30 --size 160x90 --fast --labels --quiet --out "$tmp/frames" > /dev/null
+check "scene frames" "[ -f '$tmp/frames/frame_000000.png' ] && [ -f '$tmp/frames/frame_000060.png' ]"
+expect_fail "scene frame range" "the scene has 241 frames" \
+  "$cli" render "$tmp/duel.frayscene" --frames 500 --out "$tmp/frames" --quiet
+
 # Presets live in the project.
 "$cli" presets "$p" set infighter r_d=0.45 > /dev/null
 "$cli" presets "$p" show infighter > "$tmp/preset.txt"

@@ -5,9 +5,11 @@
 //   render --contact-sheet MOTION...|PROJECT --out DIR
 //       a grid with one cell per motion file, or per action of a project
 //
-// Frames come from a FrameSource; motions (a MotionStage) are the only source
-// today. A planner scene becomes one more source that fills the same
-// FrameDescription per frame.
+//   render SCENE.frayscene --out DIR [--frames A:B:STEP]
+//       a planned scene (frames at 30 per second of scene time): every
+//       character posed with transitions, paths and checkpoints, hit flashes
+//
+// Frames come from a motion stage (takes) or from the scene poser (scenes).
 #include <algorithm>
 #include <charconv>
 #include <chrono>
@@ -23,7 +25,10 @@
 #include "fray/render/motion_stage.h"
 #include "fray/render/renderer.h"
 #include "options.h"
+#include "fray/core/kinematics.h"
+#include "fray/sim/scene.h"
 #include "prep_session.h"
+#include "sim_session.h"
 #include "verbs.h"
 
 namespace fray::cli {
@@ -271,6 +276,132 @@ std::string frameFile(const std::string& dir, const char* prefix, int number) {
     return (fs::path(dir) / name).string();
 }
 
+// A planned scene: frames at kSceneFps of scene time, every character posed
+// by the scene poser, its path and checkpoints, a flash where a blow lands.
+constexpr double kSceneFps = 30.0;
+
+void runScene(const RenderArgs& a, const FrameRange& range, std::pair<int, int> size) {
+    if (a.contactSheet) return fail("--contact-sheet: takes motions or a project, not a scene", 2);
+    auto loaded = openScene(a.inputs[0], stderrProgress(a.quiet));
+    if (!loaded) return fail(loaded.error().message);
+    const sim::Scene& scene = loaded->scene;
+    const sim::ActionLibrary& lib = loaded->session->library;
+    const int frames = static_cast<int>(std::floor(scene.duration * kSceneFps)) + 1;
+    if (range.first > frames - 1 || (range.last && *range.last > frames - 1))
+        return fail("--frames " + a.frames + ": the scene has " + std::to_string(frames) + " frames at 30 per second (0.." +
+                        std::to_string(frames - 1) + ")",
+                    2);
+    const int first = range.first, last = range.last.value_or(frames - 1);
+    if (Status s = ensureDir(a.out); !s) return fail(s.error().message);
+
+    const sim::ScenePoser poser(scene, lib);
+    const std::size_t n = scene.characters.size();
+    std::vector<Pose> poses(n);
+    std::vector<std::vector<glm::vec3>> positions(n);
+    std::vector<std::vector<glm::quat>> rotations(n);
+    std::vector<std::string> labels(n);
+    std::vector<render::CharacterInstance> instances(n);
+    auto poseAll = [&](double t) {
+        for (std::size_t c = 0; c < n; ++c) {
+            const int ci = static_cast<int>(c);
+            poser.pose(ci, t, poses[c]);
+            const Skeleton& sk = poser.skeleton(ci);
+            positions[c].resize(poses[c].translations.size());
+            rotations[c].resize(poses[c].translations.size());
+            forwardKinematics(sk, poses[c].translations, poses[c].rotations, positions[c], rotations[c]);
+            const int inst = scene.instanceAt(ci, t);
+            const auto& sc = scene.characters[c];
+            labels[c] = sc.name;
+            if (inst >= 0) labels[c] += ": " + lib.actions[static_cast<std::size_t>(sc.track[static_cast<std::size_t>(inst)].action)].label();
+            instances[c] = {&sk, positions[c], rotations[c], render::teamColor(sc.side * 3 + static_cast<int>(c) % 3),
+                            a.labels ? std::string_view(labels[c]) : std::string_view(), false};
+        }
+    };
+    // Fixed framing of the whole range.
+    render::Bounds bounds;
+    for (int k = 0; k <= 24; ++k) {
+        poseAll((first + (last - first) * k / 24) / kSceneFps);
+        bounds.add(render::characterBounds(instances));
+    }
+    bounds.add(bounds.min - glm::vec3(0.25f));
+    bounds.add(bounds.max + glm::vec3(0.25f));
+    const float aspect = static_cast<float>(size.first) / static_cast<float>(size.second);
+    render::OrbitCamera camera = baseCamera(a);
+    camera.frame(bounds, aspect);
+
+    // Paths and checkpoints of the characters that follow one.
+    std::vector<std::vector<glm::vec3>> paths;
+    std::vector<render::Polyline> lines;
+    std::vector<render::Checkpoint> marks;
+    for (std::size_t c = 0; c < n; ++c) {
+        const auto& sc = scene.characters[c];
+        if (sc.path.empty()) continue;
+        std::vector<glm::vec3> pts;
+        for (const auto& cp : sc.path) pts.emplace_back(cp.pos.x, 0.0f, cp.pos.y);
+        if (sc.loopPath) pts.push_back(pts.front());
+        paths.push_back(std::move(pts));
+        const glm::vec3 col = render::teamColor(sc.side * 3 + static_cast<int>(c) % 3);
+        for (const auto& cp : sc.path) marks.push_back({glm::vec3(cp.pos.x, 0.0f, cp.pos.y), glm::vec4(col, 1.0f), 0.25f, {}});
+    }
+    for (std::size_t i = 0; i < paths.size(); ++i) lines.push_back({paths[i], glm::vec4(1.0f, 0.8f, 0.2f, 0.8f), 0.04f});
+
+    render::DeviceOptions dopt;
+    dopt.applicationName = "fray-cli render";
+    dopt.validation = a.validate;
+    auto device = render::VulkanDevice::create(dopt);
+    if (!device) return fail(device.error().message);
+    if (a.validate) (*device)->validationLog()->setEcho(true);
+    render::RendererOptions ropt;
+    ropt.width = size.first;
+    ropt.height = size.second;
+    ropt.msaaSamples = a.msaa;
+    ropt.quality = a.fast ? render::Quality::Fast : render::Quality::High;
+    auto renderer = render::Renderer::create(*device, ropt);
+    if (!renderer) return fail(renderer.error().message);
+
+    FrameDescription frame;
+    frame.settings.shadows = !a.noShadows;
+    frame.settings.grid = !a.noGrid;
+    frame.settings.labels = a.labels;
+    frame.camera = camera;
+    frame.trajectories = lines;
+    frame.checkpoints = marks;
+    std::vector<render::Flash> flashes;
+    render::Image image;
+    int written = 0;
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int f = first; f <= last; f += range.step) {
+        const double t = f / kSceneFps;
+        poseAll(t);
+        frame.characters = instances;
+        flashes.clear();
+        for (const auto& h : scene.hits) {
+            const double age = t - h.time;
+            if (age < 0 || age > 0.25) continue;
+            // At the defender's head or chest joint, fading.
+            const auto& joints = lib.motions[static_cast<std::size_t>(lib.actions[static_cast<std::size_t>(h.attackAction)].motion)].joints;
+            const int joint = h.target == sim::kHead ? joints.head : (joints.chest >= 0 ? joints.chest : joints.pelvis);
+            const auto& pos = positions[static_cast<std::size_t>(h.defender)];
+            if (joint < 0 || static_cast<std::size_t>(joint) >= pos.size()) continue;
+            const glm::vec4 col = h.blocked ? glm::vec4(0.4f, 0.7f, 1.0f, 0.9f) : glm::vec4(1.0f, 0.35f, 0.1f, 0.9f);
+            flashes.push_back({pos[static_cast<std::size_t>(joint)], 0.12f + 0.5f * static_cast<float>(age), col * glm::vec4(1, 1, 1, 1.0f - static_cast<float>(age / 0.25) * 0.7f)});
+        }
+        frame.flashes = flashes;
+        if (Status s = (*renderer)->render(frame, &image); !s) return fail(s.error().message);
+        if (Status s = render::writePng(frameFile(a.out, "frame", f), image); !s) return fail(s.error().message);
+        ++written;
+        if (!a.quiet && written % 50 == 0) std::fprintf(stderr, "fray-cli: render %d frames\n", written);
+    }
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::printf("wrote %d frames (%dx%d) of %s to %s in %.2f s on %s\n", written, size.first, size.second, a.inputs[0].c_str(),
+                a.out.c_str(), secs, (*device)->description().c_str());
+    const auto& log = (*device)->validationLog();
+    if (a.validate && (log->errors() > 0 || log->warnings() > 0))
+        return fail(std::to_string(log->errors()) + " Vulkan validation errors and " + std::to_string(log->warnings()) +
+                        " warnings (see above)",
+                    3);
+}
+
 void run(const RenderArgs& a) {
     auto range = parseFrames(a.frames);
     if (!range) return fail(range.error().message, 2);
@@ -279,6 +410,7 @@ void run(const RenderArgs& a) {
     if (a.camera != "auto" && a.camera != "fixed" && a.camera != "follow")
         return fail("--camera " + a.camera + ": expected auto, fixed or follow", 2);
     if (a.columns < 0 || a.maxCells < 1) return fail("--columns must be >= 0 and --max-cells >= 1", 2);
+    if (a.inputs.size() == 1 && fs::path(a.inputs[0]).extension() == ".frayscene") return runScene(a, *range, *size);
     auto clips = loadClips(a);
     if (!clips) return fail(clips.error().message);
 
@@ -414,8 +546,8 @@ void run(const RenderArgs& a) {
 
 void registerRender(CLI::App& app) {
     auto a = std::make_shared<RenderArgs>();
-    auto* cmd = app.add_subcommand("render", "Render motions offscreen to PNG frames (or contact sheets); no display needed");
-    cmd->add_option("inputs", a->inputs, "Motion files (BVH, FBX, glTF, ...), or one .frayproj with --contact-sheet")->required();
+    auto* cmd = app.add_subcommand("render", "Render motions or a planned scene offscreen to PNG frames (or contact sheets); no display needed");
+    cmd->add_option("inputs", a->inputs, "Motion files (BVH, FBX, glTF, ...), one .frayscene, or one .frayproj with --contact-sheet")->required();
     cmd->add_option("--out,-o", a->out, "Output folder (created if missing)")->required();
     cmd->add_option("--frames", a->frames,
                     "A:B:STEP frames from 0, B inclusive or 'end' (default: every frame; contact sheet: each cell's middle frame)");

@@ -11,41 +11,13 @@
 #include "fray/sim/planner.h"
 #include "fray/sim/spec.h"
 #include "prep_session.h"
+#include "sim_session.h"
 #include "verbs.h"
 
 namespace fray::cli {
 namespace {
 
 namespace fs = std::filesystem;
-
-// A prepared project ready for the planners: motions with contacts, graph,
-// action library. Heap-held: the library points into the session's motions.
-struct SimSession {
-    Session session;
-    ProjectGraph graph;
-    sim::ActionLibrary library;
-};
-
-Result<std::unique_ptr<SimSession>> openSimSession(const fs::path& project, const ProgressFn& progress) {
-    auto s = openSession(project, true, progress);
-    if (!s) return s.error();
-    auto out = std::make_unique<SimSession>();
-    out->session = std::move(*s);
-    auto contacts = computeContacts(out->session, false, progress);
-    if (!contacts) return contacts.error();
-    auto graph = projectGraph(out->session, "", 0, progress);
-    if (!graph) return graph.error();
-    out->graph = std::move(*graph);
-    if (!out->graph.cached || !contacts->fromCache) {
-        if (auto w = prep::writeCache(out->session.file, out->session.cache); !w) {
-            std::fprintf(stderr, "fray-cli: warning: could not write the cache: %s\n", w.error().message.c_str());
-        }
-    }
-    auto lib = sim::buildActionLibrary(out->session.project, out->session.motions, out->graph.graph, progress);
-    if (!lib) return makeError(project.string() + ": " + lib.error().message);
-    out->library = std::move(*lib);
-    return out;
-}
 
 // ---- simulate -----------------------------------------------------------------
 struct SimulateArgs {
@@ -98,18 +70,9 @@ struct MetricsArgs {
 };
 
 void runMetrics(const MetricsArgs& a) {
-    auto text = readWholeFile(a.scene, "the scene file");
-    if (!text) return fail(text.error().message);
-    auto projectRel = sim::sceneProjectPath(*text, a.scene);
-    if (!projectRel) return fail(projectRel.error().message);
-    fs::path project(*projectRel);
-    if (project.is_relative()) project = fs::path(a.scene).parent_path() / project;
-    if (!fs::exists(project)) return fail(a.scene + ": /project: cannot find the project '" + project.string() + "'");
-    auto ss = openSimSession(project, stderrProgress(a.quiet));
-    if (!ss) return fail(ss.error().message);
-    auto scene = sim::sceneFromJson(*text, a.scene, (*ss)->library);
-    if (!scene) return fail(scene.error().message);
-    const auto m = sim::computeMetrics(*scene, (*ss)->library);
+    auto loaded = openScene(a.scene, stderrProgress(a.quiet));
+    if (!loaded) return fail(loaded.error().message);
+    const auto m = sim::computeMetrics(loaded->scene, loaded->session->library);
     std::fputs((a.json ? sim::metricsToJson(m) : sim::metricsToText(m)).c_str(), stdout);
 }
 

@@ -1,0 +1,32 @@
+#pragma once
+// A prepared project ready for the planners (motions with contacts, motion
+// graph, action library), and a scene file opened against its project.
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "fray/sim/action_library.h"
+#include "fray/sim/scene.h"
+#include "prep_session.h"
+
+namespace fray::cli {
+
+struct SimSession {
+    Session session;
+    ProjectGraph graph;
+    sim::ActionLibrary library;  // points into session.motions: keep the session where it is
+};
+
+// Opens the project, computes (or reads from the cache) contacts and the
+// graph, writes the cache when it changed, and builds the action library.
+Result<std::unique_ptr<SimSession>> openSimSession(const std::filesystem::path& project, const ProgressFn& progress);
+
+struct LoadedScene {
+    std::unique_ptr<SimSession> session;
+    sim::Scene scene;
+};
+// Reads a scene file, opens the project it names (relative to the scene file)
+// and resolves its actions.
+Result<LoadedScene> openScene(const std::filesystem::path& sceneFile, const ProgressFn& progress);
+
+}  // namespace fray::cli
