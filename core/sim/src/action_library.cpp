@@ -307,6 +307,12 @@ Result<ActionLibrary> buildActionLibrary(const prep::Project& project, std::span
                 }
                 a.activeBegin = b;
                 a.activeEnd = std::max(e, reach) + 1;
+                for (int sk = a.activeBegin; sk < a.activeEnd; ++sk) {
+                    const Obb& box = lib.boxes[static_cast<std::size_t>(a.sampleBegin + sk) * kSegmentCount +
+                                               static_cast<std::size_t>(a.effector)];
+                    const double front = box.centre.z + box.half.x * std::fabs(box.axes[0].z);
+                    a.reach = std::max(a.reach, front);
+                }
             }
             lib.actions.push_back(std::move(a));
         }

@@ -19,6 +19,7 @@ constexpr int kRecent = 6;
 constexpr double kPenetrationStep = 1.0 / 15.0;  // s between body tests when pruning
 constexpr double kCatchStep = 1.0 / 15.0;
 constexpr float kPenetrationShrink = 0.8f;       // grazing contact is not penetration
+constexpr double kReachMargin = 0.35;             // m beyond an attack's reach: the target's body depth and a lean
 
 struct CharState {
     int action = 0;
@@ -383,13 +384,18 @@ Value edgeScore(const Context& ctx, const GroupState& before, const GroupState& 
                 const Events& ev) {
     const auto& spec = specOf(ctx, who);
     const auto& w = spec.weights;
-    const double t = after.time;
+    // Movement is judged where the launched action leaves the character (its
+    // end), against where the opponent's current action leaves it by then:
+    // the next node can come a few frames later, before the action has done
+    // anything.
     const auto& me = after.c[static_cast<std::size_t>(who)];
+    const double t = me.end;
     const RootXf pm = placement(ctx, me, t);
     Value v;
-    const int opp = opponentOf(ctx, after, who, t);
+    const int opp = opponentOf(ctx, after, who, after.time);
     if (opp >= 0) {
-        const RootXf po = placement(ctx, after.c[static_cast<std::size_t>(opp)], t);
+        const auto& os = after.c[static_cast<std::size_t>(opp)];
+        const RootXf po = placement(ctx, os, std::min(t, os.end));
         const glm::vec2 d = po.pos - pm.pos;
         const double r = glm::length(d);
         const double theta = r > 1e-6 ? wrapAngle(angleOf(d) - pm.heading) : 0.0;
@@ -530,7 +536,9 @@ public:
     bool inDistance(int a) const {
         const auto& x = act(ctx_, a);
         const auto& w = specOf(ctx_, who_).weights;
-        if (x.is(kAttack) && r_ > w.attackRange) return false;
+        // An attack is out of distance past its own reach (plus a step's
+        // worth of the opponent's body depth), and never past attackRange.
+        if (x.is(kAttack) && r_ > std::min(w.attackRange, x.reach + kReachMargin)) return false;
         if (x.is(kDefence) && r_ > w.defenceRange) return false;
         return true;
     }

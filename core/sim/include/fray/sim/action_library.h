@@ -62,6 +62,7 @@ struct LibraryAction {
     int effector = -1;              // attacks: the segment that lands (forearm, shin, foot, thigh)
     double peakSpeed = 0;           // attacks: peak speed of the effector's far end (m/s)
     int activeBegin = 0, activeEnd = 0;  // attacks: samples [begin, end) where a hit can land
+    double reach = 0;               // attacks: farthest the effector gets in front of the start pelvis (m)
     int defended = -1;              // blocks: the segment protected (head or torso); -1 none
     std::string label() const;      // name, or "motion:first-last" when unnamed
     bool is(std::uint32_t flag) const { return (flags & flag) != 0; }

@@ -31,7 +31,7 @@ struct StyleWeights {
     // Cooperative: global movement to checkpoints, required actions.
     double wPsi = 0, wPath = 0, wReq = 0;
     // Recency penalty (thesis 4.6.2): an action used among the last few of this character.
-    double wRecency = 20;
+    double wRecency = 10;
     // Pruning thresholds (SPEC 2.4).
     double attackRange = 1.3, defenceRange = 3.0;  // pelvis to pelvis: about 1 m between the bodies
     bool faceOpponent = true;                  // criterion 2 (off for a runaway)
