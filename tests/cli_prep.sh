@@ -5,14 +5,7 @@
 # the end of a motion, each a one-line error that leaves the files untouched.
 set -eu
 cli=$1
-tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-check() { if ! eval "$2"; then echo "FAIL: $1"; exit 1; fi; }
-expect_fail() {  # name, expected stderr text, command...
-  local name=$1 text=$2; shift 2
-  if "$@" 2> "$tmp/err.txt" > /dev/null; then echo "FAIL: $name: succeeded"; exit 1; fi
-  check "$name: message" "grep -q -- \"$text\" '$tmp/err.txt'"
-  check "$name: one line" "[ \$(wc -l < '$tmp/err.txt') -eq 1 ]"
-}
+. "$(dirname "$0")/cli_lib.sh"
 
 "$cli" demo-library "$tmp/lib" --minutes 2 > /dev/null 2>&1
 check "demo project written" "[ -f '$tmp/lib/demo.frayproj' ]"

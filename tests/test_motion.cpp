@@ -133,6 +133,19 @@ TEST(Normalize, DetectsUnitsAndUpAxisOfEverySharedFile) {
     }
 }
 
+TEST(Normalize, UnitAndAxisNames) {
+    EXPECT_EQ(fray::unitScaleByName("cm"), 0.01);
+    EXPECT_EQ(fray::unitScaleByName("in"), 0.0254);
+    EXPECT_EQ(fray::unitScaleByName("cmu"), 0.056444);
+    EXPECT_FALSE(fray::unitScaleByName("").has_value());
+    EXPECT_FALSE(fray::unitScaleByName("feet").has_value());
+    EXPECT_EQ(fray::upAxisByName("Z"), fray::UpAxis::Z);
+    EXPECT_FALSE(fray::upAxisByName("x").has_value());
+    const auto o = fray::normalizeOptionsFor("mm", "");
+    EXPECT_EQ(o.unitScale, 0.001);
+    EXPECT_FALSE(o.upAxis.has_value());
+}
+
 TEST(Normalize, ExplicitOptionsOverrideDetection) {
     auto raw = readBvh(fray::test::sharedMocap() / "lafan1/walk4_subject1.bvh");
     ASSERT_TRUE(raw.ok());

@@ -3,6 +3,8 @@
 #include <CLI/CLI.hpp>
 #include <charconv>
 
+#include "fray/core/normalize.h"
+
 namespace fray::cli {
 
 void addImportFlags(CLI::App* cmd, ImportFlags& flags) {
@@ -18,11 +20,7 @@ Result<LoadOptions> toLoadOptions(const ImportFlags& flags) {
     o.doNormalize = !flags.raw;
     if (!flags.units.empty()) {
         const std::string& u = flags.units;
-        if (u == "m") o.normalize.unitScale = 1.0;
-        else if (u == "cm") o.normalize.unitScale = 0.01;
-        else if (u == "mm") o.normalize.unitScale = 0.001;
-        else if (u == "inch" || u == "in") o.normalize.unitScale = 0.0254;
-        else if (u == "cmu") o.normalize.unitScale = 0.056444;
+        if (auto named = unitScaleByName(u)) o.normalize.unitScale = *named;
         else {
             double v = 0;
             auto [p, ec] = std::from_chars(u.data(), u.data() + u.size(), v);
@@ -32,9 +30,8 @@ Result<LoadOptions> toLoadOptions(const ImportFlags& flags) {
         }
     }
     if (!flags.up.empty()) {
-        if (flags.up == "y" || flags.up == "Y") o.normalize.upAxis = UpAxis::Y;
-        else if (flags.up == "z" || flags.up == "Z") o.normalize.upAxis = UpAxis::Z;
-        else return makeError("--up: expected y or z, got '" + flags.up + "'");
+        o.normalize.upAxis = upAxisByName(flags.up);
+        if (!o.normalize.upAxis) return makeError("--up: expected y or z, got '" + flags.up + "'");
     }
     return o;
 }

@@ -6,6 +6,7 @@
 #include <map>
 
 #include "fray/core/atomic_file.h"
+#include "fray/core/normalize.h"
 #include "fray/io/import.h"
 #include "fray/prep/contacts.h"
 #include "fray/prep/labels.h"
@@ -32,13 +33,7 @@ ProgressFn stderrProgress(bool quiet) {
 
 Result<Motion> loadProjectMotion(const std::filesystem::path& file, const prep::ProjectMotion& entry) {
     LoadOptions o;
-    if (entry.units == "m") o.normalize.unitScale = 1.0;
-    else if (entry.units == "cm") o.normalize.unitScale = 0.01;
-    else if (entry.units == "mm") o.normalize.unitScale = 0.001;
-    else if (entry.units == "inch") o.normalize.unitScale = 0.0254;
-    else if (entry.units == "cmu") o.normalize.unitScale = 0.056444;
-    if (entry.up == "y") o.normalize.upAxis = UpAxis::Y;
-    else if (entry.up == "z") o.normalize.upAxis = UpAxis::Z;
+    o.normalize = normalizeOptionsFor(entry.units, entry.up);
     return loadMotion(file, o);
 }
 

@@ -2,6 +2,7 @@
 
 #include <cstdlib>
 
+#include "fray/core/normalize.h"
 #include "fray/io/import.h"
 #include "fray/prep/project.h"
 
@@ -13,13 +14,7 @@ namespace {
 
 Result<Motion> loadProjectMotion(const fs::path& file, const prep::ProjectMotion& entry) {
     LoadOptions o;
-    if (entry.units == "m") o.normalize.unitScale = 1.0;
-    else if (entry.units == "cm") o.normalize.unitScale = 0.01;
-    else if (entry.units == "mm") o.normalize.unitScale = 0.001;
-    else if (entry.units == "inch") o.normalize.unitScale = 0.0254;
-    else if (entry.units == "cmu") o.normalize.unitScale = 0.056444;
-    if (entry.up == "y") o.normalize.upAxis = UpAxis::Y;
-    else if (entry.up == "z") o.normalize.upAxis = UpAxis::Z;
+    o.normalize = normalizeOptionsFor(entry.units, entry.up);
     return loadMotion(file, o);
 }
 

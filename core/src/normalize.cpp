@@ -52,6 +52,12 @@ UpAxis upAxisFrom(const std::vector<glm::vec3>& vectors) {
     return std::abs(sum.z) > std::abs(sum.y) ? UpAxis::Z : UpAxis::Y;
 }
 
+struct Unit {
+    double scale;
+    const char* name;
+};
+constexpr Unit kUnits[] = {{1.0, "m"}, {0.01, "cm"}, {0.001, "mm"}, {0.0254, "inch"}, {0.056444, "cmu"}};
+
 UnitGuess unitsFrom(const std::vector<glm::vec3>& vectors) {
     std::vector<float> heights;
     for (const auto& v : vectors) heights.push_back(glm::length(v));
@@ -61,14 +67,9 @@ UnitGuess unitsFrom(const std::vector<glm::vec3>& vectors) {
     std::sort(heights.begin(), heights.end());
     const double h = static_cast<double>(heights[std::min(heights.size() - 1, heights.size() * 9 / 10)]);
     g.heightInFileUnits = h;
-    struct Unit {
-        double scale;
-        const char* name;
-    };
     // Head joint to ankles of an adult is about 1.5 m.
-    constexpr Unit units[] = {{1.0, "m"}, {0.01, "cm"}, {0.001, "mm"}, {0.0254, "inch"}, {0.056444, "cmu"}};
     double best = 1e30;
-    for (const Unit& u : units) {
+    for (const Unit& u : kUnits) {
         const double err = std::abs(std::log(std::max(h * u.scale, 1e-9) / 1.5));
         if (err < best) {
             best = err;
@@ -80,6 +81,24 @@ UnitGuess unitsFrom(const std::vector<glm::vec3>& vectors) {
 }
 
 }  // namespace
+
+std::optional<double> unitScaleByName(std::string_view name) {
+    if (name == "in") name = "inch";
+    for (const Unit& u : kUnits) {
+        if (name == u.name) return u.scale;
+    }
+    return std::nullopt;
+}
+
+std::optional<UpAxis> upAxisByName(std::string_view name) {
+    if (name == "y" || name == "Y") return UpAxis::Y;
+    if (name == "z" || name == "Z") return UpAxis::Z;
+    return std::nullopt;
+}
+
+NormalizeOptions normalizeOptionsFor(std::string_view units, std::string_view up) {
+    return {unitScaleByName(units), upAxisByName(up)};
+}
 
 UpAxis guessUpAxis(const Motion& motion) { return upAxisFrom(headVectors(motion, kSamples)); }
 UnitGuess guessUnits(const Motion& motion) { return unitsFrom(headVectors(motion, kSamples)); }

@@ -1,6 +1,7 @@
 #pragma once
 // Normalisation of a motion to metres and Y-up.
 #include <optional>
+#include <string_view>
 
 #include "fray/core/motion.h"
 
@@ -23,6 +24,13 @@ struct NormalizeOptions {
     std::optional<double> unitScale;  // force file units -> metres
     std::optional<UpAxis> upAxis;     // force the source up axis
 };
+
+// The scale of a named unit (m, cm, mm, inch or in, cmu: CMU's 0.056444 m),
+// and the up axis of a name (y/Y, z/Z); nullopt for any other name.
+std::optional<double> unitScaleByName(std::string_view name);
+std::optional<UpAxis> upAxisByName(std::string_view name);
+// Options from a project entry's overrides ("" means detect).
+NormalizeOptions normalizeOptionsFor(std::string_view units, std::string_view up);
 
 // Scales to metres and rotates Z-up data to Y-up (only the root changes, so
 // joint-local data stays as in the file). Records what it did in source().
