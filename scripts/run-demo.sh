@@ -5,6 +5,9 @@
 # The data-preparation pipeline then runs from scratch on those takes: a new
 # project, SVM foot contacts trained on the 20 s of labels, automatic
 # segmentation with annotation proposals, and the action-level motion graph.
+# Then the planner: a duel planned by min-max tree expansion on the authored
+# demo project (resources/demo/duel.json), its metrics, a few frames rendered
+# offscreen, and the `fray` window when a display is available.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/build.sh
@@ -20,5 +23,17 @@ echo
 echo "The authored demo project (ground-truth cuts and annotations):"
 "$cli" graph "$lib/demo.frayproj" --quiet
 echo
+echo "A duel planned by tree expansion (resources/demo/duel.json):"
+"$cli" simulate "$lib/demo.frayproj" --spec resources/demo/duel.json --out "$run/duel.frayscene" --quiet
+"$cli" metrics "$run/duel.frayscene" --quiet
+"$cli" render "$run/duel.frayscene" --frames 0:600:60 --size 960x540 --labels --quiet --out "$run/duel-frames"
+echo
 echo "Automatic project: $run/auto.frayproj (list its actions: $cli actions $run/auto.frayproj)"
 echo "Demo project:      $lib/demo.frayproj"
+echo "Duel scene:        $run/duel.frayscene (frames in $run/duel-frames)"
+if [[ -n "${DISPLAY:-}${WAYLAND_DISPLAY:-}" && -x build/bin/fray ]]; then
+  echo "Opening the fray window on the demo project."
+  build/bin/fray "$lib/demo.frayproj"
+else
+  echo "No display: open the editor later with build/bin/fray (or xvfb-run -a build/bin/fray --quit-after 30 --screenshot shot.png)."
+fi
