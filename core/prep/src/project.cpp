@@ -111,12 +111,10 @@ Result<ProjectMotion> motionFromJson(const Reader& rd, const json& v, const std:
                                      const std::vector<std::string>& vocabulary) {
     if (!v.is_object()) return rd.error(path, "must be an object");
     ProjectMotion m;
-    FRAY_TRY(id, rd.field(v, path, "id"));
-    FRAY_TRY(idS, rd.string(*id, path + "/id"));
+    FRAY_TRY(idS, rd.stringAt(v, path, "id"));
     if (idS.empty()) return rd.error(path + "/id", "must not be empty");
     m.id = std::move(idS);
-    FRAY_TRY(p, rd.field(v, path, "path"));
-    FRAY_TRY(pS, rd.string(*p, path + "/path"));
+    FRAY_TRY(pS, rd.stringAt(v, path, "path"));
     if (pS.empty()) return rd.error(path + "/path", "must not be empty");
     m.path = std::move(pS);
     FRAY_TRY(units, optionalString(rd, v, path, "units"));
@@ -129,8 +127,7 @@ Result<ProjectMotion> motionFromJson(const Reader& rd, const json& v, const std:
     m.up = up.value_or("");
     if (m.up != "" && m.up != "y" && m.up != "z") return rd.error(path + "/up", "must be \"y\", \"z\" or null");
 
-    FRAY_TRY(fc, rd.field(v, path, "frame_count"));
-    FRAY_TRY(frames, rd.integer(*fc, path + "/frame_count"));
+    FRAY_TRY(frames, rd.integerAt(v, path, "frame_count"));
     if (frames < 1) return rd.error(path + "/frame_count", "must be at least 1");
     m.actions.frameCount = frames;
     if (auto it = v.find("cuts"); it != v.end()) {
@@ -167,10 +164,8 @@ Result<ProjectMotion> motionFromJson(const Reader& rd, const json& v, const std:
             const json& l = (*it)[i];
             if (!l.is_object()) return rd.error(lp, "must be an object");
             ContactLabel label;
-            FRAY_TRY(ff, rd.field(l, lp, "first_frame"));
-            FRAY_TRY(first, rd.integer(*ff, lp + "/first_frame"));
-            FRAY_TRY(lf, rd.field(l, lp, "last_frame"));
-            FRAY_TRY(last, rd.integer(*lf, lp + "/last_frame"));
+            FRAY_TRY(first, rd.integerAt(l, lp, "first_frame"));
+            FRAY_TRY(last, rd.integerAt(l, lp, "last_frame"));
             if (first < 0 || last < first || last >= frames) {
                 return rd.error(lp, "frames " + std::to_string(first) + ".." + std::to_string(last) +
                                         " are outside the motion's 0.." + std::to_string(frames - 1));
@@ -282,8 +277,7 @@ Result<Project> projectFromJson(std::string_view text, std::string_view fileName
     if (!format->is_string() || format->get<std::string>() != "fray-project") {
         return rd.error("/format", "must be \"fray-project\" (is this a Fray project file?)");
     }
-    FRAY_TRY(version, rd.field(j, "", "version"));
-    FRAY_TRY(v, rd.integer(*version, "/version"));
+    FRAY_TRY(v, rd.integerAt(j, "", "version"));
     if (v < 1 || v > kProjectVersion) {
         return rd.error("/version", "version " + std::to_string(v) + " is not supported (this build reads 1.." +
                                         std::to_string(kProjectVersion) + "; a newer Fray wrote it?)");
@@ -338,12 +332,9 @@ Result<Project> projectFromJson(std::string_view text, std::string_view fileName
             const json& c = (*it)[i];
             if (!c.is_object()) return rd.error(cp, "must be an object");
             ComboRecord r;
-            FRAY_TRY(mine, rd.field(c, cp, "mine"));
-            FRAY_TRY(mineS, rd.string(*mine, cp + "/mine"));
-            FRAY_TRY(theirs, rd.field(c, cp, "theirs"));
-            FRAY_TRY(theirsS, rd.string(*theirs, cp + "/theirs"));
-            FRAY_TRY(suit, rd.field(c, cp, "suitability"));
-            FRAY_TRY(suitV, rd.number(*suit, cp + "/suitability"));
+            FRAY_TRY(mineS, rd.stringAt(c, cp, "mine"));
+            FRAY_TRY(theirsS, rd.stringAt(c, cp, "theirs"));
+            FRAY_TRY(suitV, rd.numberAt(c, cp, "suitability"));
             if (mineS.empty() || theirsS.empty()) return rd.error(cp, "mine and theirs must not be empty");
             if (p.combos.find(mineS, theirsS)) return rd.error(cp, "the pair appears twice");
             p.combos.set({mineS, theirsS, suitV});

@@ -166,10 +166,12 @@ std::pair<int, int> chooseReaction(const Context& ctx, const CharState& victim, 
     const int sample = lib.sampleAt(victim.action, clipTime(victim, t));
     const std::uint64_t key = (static_cast<std::uint64_t>(victim.action) << 32) ^ (static_cast<std::uint64_t>(sample) << 8) ^
                               (static_cast<std::uint64_t>(sector) << 1) ^ (strong ? 1u : 0u);
-    thread_local std::unordered_map<std::uint64_t, std::pair<int, int>> cache;
+    // One cache per reaction pool (each character has its own), cleared when
+    // the library changes.
+    thread_local std::unordered_map<const std::vector<int>*, std::unordered_map<std::uint64_t, std::pair<int, int>>> caches;
     thread_local const ActionLibrary* cacheOwner = nullptr;
-    thread_local const std::vector<int>* cachePool = nullptr;
-    if (cacheOwner != &lib || cachePool != &pool) cache.clear(), cacheOwner = &lib, cachePool = &pool;
+    if (cacheOwner != &lib) caches.clear(), cacheOwner = &lib;
+    auto& cache = caches[&pool];
     if (auto it = cache.find(key); it != cache.end()) return it->second;
 
     const double sectorAngle = sector * std::numbers::pi / 4;
@@ -897,7 +899,6 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
             for (const auto& m : ctx.members) {
                 auto& track = scene.characters[static_cast<std::size_t>(m.global)].track;
                 if (!track.empty()) track.back().end = std::min(track.back().end, g.time);
-                scene.duration = std::min(scene.duration, opt.duration);
             }
         }
     }

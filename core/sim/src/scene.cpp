@@ -44,12 +44,9 @@ public:
     }
     Result<int> resolve(const JsonReader& rd, const json& v, const std::string& path) const {
         if (!v.is_object()) return rd.error(path, "must be an object {motion, first, last}");
-        FRAY_TRY(m, rd.field(v, path, "motion"));
-        FRAY_TRY(motion, rd.string(*m, path + "/motion"));
-        FRAY_TRY(f, rd.field(v, path, "first"));
-        FRAY_TRY(first, rd.integer(*f, path + "/first"));
-        FRAY_TRY(l, rd.field(v, path, "last"));
-        FRAY_TRY(last, rd.integer(*l, path + "/last"));
+        FRAY_TRY(motion, rd.stringAt(v, path, "motion"));
+        FRAY_TRY(first, rd.integerAt(v, path, "first"));
+        FRAY_TRY(last, rd.integerAt(v, path, "last"));
         const auto it = map_.find({motion, first, last});
         if (it == map_.end()) {
             return rd.error(path, "action " + motion + " frames " + std::to_string(first) + "-" + std::to_string(last) +
@@ -69,10 +66,8 @@ Result<std::vector<Checkpoint>> checkpointsFromJson(const JsonReader& rd, const 
         const std::string p = path + "/" + std::to_string(i);
         if (!v[i].is_object()) return rd.error(p, "must be an object {x, z[, time][, action]}");
         Checkpoint c;
-        FRAY_TRY(xf, rd.field(v[i], p, "x"));
-        FRAY_TRY(x, rd.number(*xf, p + "/x"));
-        FRAY_TRY(zf, rd.field(v[i], p, "z"));
-        FRAY_TRY(z, rd.number(*zf, p + "/z"));
+        FRAY_TRY(x, rd.numberAt(v[i], p, "x"));
+        FRAY_TRY(z, rd.numberAt(v[i], p, "z"));
         c.pos = {static_cast<float>(x), static_cast<float>(z)};
         FRAY_TRY(tf, rd.field(v[i], p, "time", false));
         if (tf) {
@@ -168,25 +163,28 @@ std::string sceneToJson(const Scene& scene, const ActionLibrary& lib) {
     return j.dump(1) + "\n";
 }
 
-Result<std::string> sceneProjectPath(std::string_view text, std::string_view fileName) {
-    const JsonReader rd(fileName);
-    const json j = json::parse(text, nullptr, false);
+namespace {
+
+// The parsed document and its project path, once the format is checked.
+Result<std::string> projectOf(const JsonReader& rd, const json& j) {
     if (j.is_discarded()) return rd.error("", "not valid JSON");
     if (!j.is_object()) return rd.error("", "must be a JSON object");
     const auto fmt = j.find("format");
     if (fmt == j.end() || *fmt != "fray-scene") return rd.error("/format", "not a Fray scene file (expected \"fray-scene\")");
-    FRAY_TRY(p, rd.field(j, "", "project"));
-    return rd.string(*p, "/project");
+    return rd.stringAt(j, "", "project");
+}
+
+}  // namespace
+
+Result<std::string> sceneProjectPath(std::string_view text, std::string_view fileName) {
+    return projectOf(JsonReader(fileName), json::parse(text, nullptr, false));
 }
 
 Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, const ActionLibrary& lib) {
     const JsonReader rd(fileName);
     const json j = json::parse(text, nullptr, false);
-    if (j.is_discarded()) return rd.error("", "not valid JSON");
-    if (!j.is_object()) return rd.error("", "must be a JSON object");
-    FRAY_TRY(projectPath, sceneProjectPath(text, fileName));
-    FRAY_TRY(vf, rd.field(j, "", "version"));
-    FRAY_TRY(version, rd.integer(*vf, "/version"));
+    FRAY_TRY(projectPath, projectOf(rd, j));
+    FRAY_TRY(version, rd.integerAt(j, "", "version"));
     if (version != kSceneVersion) {
         return rd.error("/version", "version " + std::to_string(version) + " is not supported (this build reads " +
                                         std::to_string(kSceneVersion) + ")");
@@ -194,8 +192,7 @@ Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, co
     const ActionIndex index(lib);
     Scene scene;
     scene.project = projectPath;
-    FRAY_TRY(df, rd.field(j, "", "duration"));
-    FRAY_TRY(duration, rd.number(*df, "/duration"));
+    FRAY_TRY(duration, rd.numberAt(j, "", "duration"));
     if (!(duration > 0)) return rd.error("/duration", "must be positive");
     scene.duration = duration;
     FRAY_TRY(sf, rd.field(j, "", "seed"));
@@ -209,33 +206,25 @@ Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, co
         const json& c = (*cf)[static_cast<std::size_t>(i)];
         if (!c.is_object()) return rd.error(p, "must be an object");
         SceneCharacter sc;
-        FRAY_TRY(nf, rd.field(c, p, "name"));
-        FRAY_TRY(name, rd.string(*nf, p + "/name"));
+        FRAY_TRY(name, rd.stringAt(c, p, "name"));
         sc.name = name;
-        FRAY_TRY(sdf, rd.field(c, p, "side"));
-        FRAY_TRY(side, rd.integer(*sdf, p + "/side"));
+        FRAY_TRY(side, rd.integerAt(c, p, "side"));
         sc.side = side;
-        FRAY_TRY(gf, rd.field(c, p, "group"));
-        FRAY_TRY(group, rd.integer(*gf, p + "/group"));
+        FRAY_TRY(group, rd.integerAt(c, p, "group"));
         sc.group = group;
-        FRAY_TRY(pf, rd.field(c, p, "preset"));
-        FRAY_TRY(preset, rd.string(*pf, p + "/preset"));
+        FRAY_TRY(preset, rd.stringAt(c, p, "preset"));
         sc.preset = preset;
-        FRAY_TRY(dpf, rd.field(c, p, "depth"));
-        FRAY_TRY(depth, rd.integer(*dpf, p + "/depth"));
+        FRAY_TRY(depth, rd.integerAt(c, p, "depth"));
         sc.depth = depth;
-        FRAY_TRY(of, rd.field(c, p, "opponent"));
-        FRAY_TRY(opponent, rd.integer(*of, p + "/opponent"));
+        FRAY_TRY(opponent, rd.integerAt(c, p, "opponent"));
         if (opponent < -1 || opponent >= n) return rd.error(p + "/opponent", "must be -1 or a character index");
         sc.opponent = opponent;
-        FRAY_TRY(ff, rd.field(c, p, "fallbacks"));
-        FRAY_TRY(fallbacks, rd.integer(*ff, p + "/fallbacks"));
+        FRAY_TRY(fallbacks, rd.integerAt(c, p, "fallbacks"));
         sc.fallbacks = fallbacks;
         FRAY_TRY(pathf, rd.field(c, p, "path"));
         FRAY_TRY(path, checkpointsFromJson(rd, *pathf, p + "/path"));
         sc.path = std::move(path);
-        FRAY_TRY(lf, rd.field(c, p, "loop_path"));
-        FRAY_TRY(loop, rd.boolean(*lf, p + "/loop_path"));
+        FRAY_TRY(loop, rd.booleanAt(c, p, "loop_path"));
         sc.loopPath = loop;
         FRAY_TRY(tf, rd.field(c, p, "track"));
         if (!tf->is_array()) return rd.error(p + "/track", "must be an array");
@@ -248,12 +237,9 @@ Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, co
             FRAY_TRY(af, rd.field(ij, ip, "action"));
             FRAY_TRY(action, index.resolve(rd, *af, ip + "/action"));
             inst.action = action;
-            FRAY_TRY(stf, rd.field(ij, ip, "start"));
-            FRAY_TRY(start, rd.number(*stf, ip + "/start"));
-            FRAY_TRY(osf, rd.field(ij, ip, "offset"));
-            FRAY_TRY(offset, rd.number(*osf, ip + "/offset"));
-            FRAY_TRY(ef, rd.field(ij, ip, "end"));
-            FRAY_TRY(end, rd.number(*ef, ip + "/end"));
+            FRAY_TRY(start, rd.numberAt(ij, ip, "start"));
+            FRAY_TRY(offset, rd.numberAt(ij, ip, "offset"));
+            FRAY_TRY(end, rd.numberAt(ij, ip, "end"));
             if (start < previousStart) return rd.error(ip + "/start", "actions must be in time order");
             if (end < start) return rd.error(ip + "/end", "ends before it starts");
             const double dur = lib.actions[static_cast<std::size_t>(action)].duration;
@@ -266,10 +252,8 @@ Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, co
             FRAY_TRY(rz, rd.number((*rf)[1], ip + "/root/1"));
             FRAY_TRY(rh, rd.number((*rf)[2], ip + "/root/2"));
             inst.root = {{static_cast<float>(rx), static_cast<float>(rz)}, rh};
-            FRAY_TRY(fof, rd.field(ij, ip, "forced"));
-            FRAY_TRY(forced, rd.boolean(*fof, ip + "/forced"));
-            FRAY_TRY(fbf, rd.field(ij, ip, "fallback"));
-            FRAY_TRY(fallback, rd.boolean(*fbf, ip + "/fallback"));
+            FRAY_TRY(forced, rd.booleanAt(ij, ip, "forced"));
+            FRAY_TRY(fallback, rd.booleanAt(ij, ip, "fallback"));
             inst.forced = forced, inst.fallback = fallback;
             sc.track.push_back(inst);
         }
@@ -294,8 +278,7 @@ Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, co
         const json& h = (*hf)[k];
         if (!h.is_object()) return rd.error(p, "must be an object");
         HitEvent e;
-        FRAY_TRY(t, rd.field(h, p, "time"));
-        FRAY_TRY(time, rd.number(*t, p + "/time"));
+        FRAY_TRY(time, rd.numberAt(h, p, "time"));
         FRAY_TRY(a, rd.field(h, p, "attacker"));
         FRAY_TRY(attacker, character(*a, p + "/attacker"));
         FRAY_TRY(d, rd.field(h, p, "defender"));
@@ -306,12 +289,9 @@ Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, co
         FRAY_TRY(effector, segment(*ef, p + "/effector"));
         FRAY_TRY(tf, rd.field(h, p, "target"));
         FRAY_TRY(target, segment(*tf, p + "/target"));
-        FRAY_TRY(sp, rd.field(h, p, "speed"));
-        FRAY_TRY(speed, rd.number(*sp, p + "/speed"));
-        FRAY_TRY(im, rd.field(h, p, "impulse"));
-        FRAY_TRY(impulse, rd.number(*im, p + "/impulse"));
-        FRAY_TRY(bl, rd.field(h, p, "blocked"));
-        FRAY_TRY(blocked, rd.boolean(*bl, p + "/blocked"));
+        FRAY_TRY(speed, rd.numberAt(h, p, "speed"));
+        FRAY_TRY(impulse, rd.numberAt(h, p, "impulse"));
+        FRAY_TRY(blocked, rd.booleanAt(h, p, "blocked"));
         e.time = time, e.attacker = attacker, e.defender = defender, e.attackAction = attack;
         e.effector = effector, e.target = target, e.speed = speed, e.impulse = impulse, e.blocked = blocked;
         scene.hits.push_back(e);
@@ -322,8 +302,7 @@ Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, co
         const std::string p = "/catches/" + std::to_string(k);
         const json& c = (*catf)[k];
         if (!c.is_object()) return rd.error(p, "must be an object");
-        FRAY_TRY(t, rd.field(c, p, "time"));
-        FRAY_TRY(time, rd.number(*t, p + "/time"));
+        FRAY_TRY(time, rd.numberAt(c, p, "time"));
         FRAY_TRY(a, rd.field(c, p, "chaser"));
         FRAY_TRY(chaser, character(*a, p + "/chaser"));
         FRAY_TRY(r, rd.field(c, p, "runaway"));

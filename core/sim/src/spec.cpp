@@ -261,8 +261,7 @@ Result<SceneSpec> parseSceneSpec(std::string_view text, std::string_view fileNam
         FRAY_TRY(version, rd.integer(*v, "/version"));
         if (version != 1) return rd.error("/version", "version " + std::to_string(version) + " is not supported (expected 1)");
     }
-    FRAY_TRY(df, rd.field(j, "", "duration"));
-    FRAY_TRY(duration, rd.number(*df, "/duration"));
+    FRAY_TRY(duration, rd.numberAt(j, "", "duration"));
     if (!(duration > 0) || !std::isfinite(duration)) return rd.error("/duration", "must be a positive number of seconds");
     if (duration > 3600) return rd.error("/duration", "must be at most 3600 s");
     o.duration = duration;
@@ -361,8 +360,7 @@ Result<SceneSpec> parseSceneSpec(std::string_view text, std::string_view fileNam
             }
         }
         CharacterSpec cs;
-        FRAY_TRY(nf, rd.field(c, p, "name"));
-        FRAY_TRY(name, rd.string(*nf, p + "/name"));
+        FRAY_TRY(name, rd.stringAt(c, p, "name"));
         if (name.empty()) return rd.error(p + "/name", "must not be empty");
         for (const auto& other : spec.characters) {
             if (other.name == name) return rd.error(p + "/name", "'" + name + "' is used twice");

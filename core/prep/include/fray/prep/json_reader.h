@@ -51,6 +51,27 @@ public:
         if (!v.is_boolean()) return error(path, "must be true or false");
         return v.get<bool>();
     }
+    // A required member read as one type: obj[key] at path/key.
+    Result<std::string> stringAt(const json& obj, const std::string& path, const char* key) const {
+        auto f = field(obj, path, key);
+        if (!f) return f.error();
+        return string(**f, path + "/" + key);
+    }
+    Result<int> integerAt(const json& obj, const std::string& path, const char* key) const {
+        auto f = field(obj, path, key);
+        if (!f) return f.error();
+        return integer(**f, path + "/" + key);
+    }
+    Result<double> numberAt(const json& obj, const std::string& path, const char* key) const {
+        auto f = field(obj, path, key);
+        if (!f) return f.error();
+        return number(**f, path + "/" + key);
+    }
+    Result<bool> booleanAt(const json& obj, const std::string& path, const char* key) const {
+        auto f = field(obj, path, key);
+        if (!f) return f.error();
+        return boolean(**f, path + "/" + key);
+    }
     Result<std::vector<std::string>> strings(const json& v, const std::string& path) const {
         if (!v.is_array()) return error(path, "must be an array of strings");
         std::vector<std::string> out;
