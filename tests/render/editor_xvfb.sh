@@ -11,8 +11,10 @@ rm -rf "$out" && mkdir -p "$out"
 export XDG_RUNTIME_DIR=$out
 fails=0
 bad() { echo "FAIL: $*"; fails=$((fails + 1)); }
+source "$(dirname "$0")/xvfb_lib.sh"
+start_xvfb 1400x900x24 || exit 1
 
-if ! timeout 120 xvfb-run -a -s "-screen 0 1400x900x24" "$fray" --quit-after 10 --validate \
+if ! timeout 120 "$fray" --quit-after 10 --validate \
      --screenshot "$out/window.png" --viewport-screenshot "$out/viewport.png" >"$out/demo.log" 2>&1; then
   bad "fray on the demo project failed: $(cat "$out/demo.log")"
 fi
@@ -22,7 +24,7 @@ grep -q "validation" "$out/demo.log" && bad "validation messages: $(cat "$out/de
 "$check" "$out/viewport.png" 320 200 || bad "viewport screenshot check"
 
 # A motion file given on the command line.
-if ! timeout 120 xvfb-run -a "$fray" "$lib/walking.bvh" --quit-after 3 >"$out/motion.log" 2>&1; then
+if ! timeout 120 "$fray" "$lib/walking.bvh" --quit-after 3 >"$out/motion.log" 2>&1; then
   bad "fray walking.bvh failed: $(cat "$out/motion.log")"
 fi
 
@@ -36,7 +38,10 @@ expect_error() {
 }
 expect_error "DISPLAY" -u DISPLAY -u WAYLAND_DISPLAY
 expect_error "xvfb-run" -u DISPLAY -u WAYLAND_DISPLAY
-expect_error "cannot connect to the X server at DISPLAY=:97" -u WAYLAND_DISPLAY DISPLAY=:97
+# A display number with no server behind it.
+dead=97
+while [[ -e /tmp/.X11-unix/X$dead || -e /tmp/.X$dead-lock ]]; do dead=$((dead + 1)); done
+expect_error "cannot connect to the X server at DISPLAY=:$dead" -u WAYLAND_DISPLAY DISPLAY=:$dead
 expect_error "has no Vulkan window surface" QT_QPA_PLATFORM=offscreen
 
 if (( fails > 0 )); then echo "$fails failure(s)"; exit 1; fi

@@ -8,9 +8,11 @@ play=$1 check=$2 lib=$3 out=$4
 rm -rf "$out" && mkdir -p "$out"
 fails=0
 bad() { echo "FAIL: $*"; fails=$((fails + 1)); }
+source "$(dirname "$0")/xvfb_lib.sh"
+start_xvfb 1024x768x24 || exit 1
 
 # Two takes side by side, 12 frames, the window captured at the end.
-if ! xvfb-run -a -s "-screen 0 1024x768x24" "$play" "$lib/walking.bvh" "$lib/shadowbox_energetic.bvh" --frames 12 \
+if ! timeout 120 "$play" "$lib/walking.bvh" "$lib/shadowbox_energetic.bvh" --frames 12 \
      --size 640x360 --validate --screenshot "$out/play.png" >"$out/play.log" 2>&1; then
   bad "fray-play failed: $(cat "$out/play.log")"
 fi
@@ -19,7 +21,7 @@ grep -q "validation" "$out/play.log" && bad "validation messages: $(cat "$out/pl
 "$check" "$out/play.png" 640 360 || bad "screenshot check"
 
 # The demo project when started with no argument.
-if ! xvfb-run -a "$play" --frames 2 --size 320x200 >"$out/demo.log" 2>&1; then
+if ! timeout 120 "$play" --frames 2 --size 320x200 >"$out/demo.log" 2>&1; then
   bad "fray-play with no argument failed: $(cat "$out/demo.log")"
 fi
 
