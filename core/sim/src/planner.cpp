@@ -7,9 +7,10 @@
 #include <limits>
 #include <numeric>
 #include <random>
-#include <unordered_map>
 
 #include <tbb/parallel_for.h>
+
+#include "interaction.h"
 
 namespace fray::sim {
 
@@ -90,11 +91,6 @@ RootXf placement(const Context& ctx, const CharState& s, double t) {
     return s.root * ctx.lib->rootAt(s.action, clipTime(s, t));
 }
 
-Obb boxAt(const Context& ctx, const CharState& s, double t, int segment) {
-    const int sample = ctx.lib->sampleAt(s.action, clipTime(s, t));
-    return ctx.lib->boxesAt(s.action, sample)[segment].placed(s.root);
-}
-
 int chooserOf(const GroupState& g) {
     int best = 0;
     for (int i = 1; i < g.n; ++i) {
@@ -156,96 +152,7 @@ void launch(const Context& ctx, GroupState& g, int who, int action, double t) {
     pushRecent(s, action);
 }
 
-// Forced reaction (SPEC 2.1): the reactive clip and start sample that best
-// match the victim's posture, the hit direction and the impulse.
-std::pair<int, int> chooseReaction(const Context& ctx, const CharState& victim, double t, glm::vec2 pushLocal,
-                                   bool strong, const std::vector<int>& pool) {
-    const auto& lib = *ctx.lib;
-    // Quantised direction (8 sectors) keeps the cache small and results exact.
-    const int sector = static_cast<int>(std::lround(angleOf(pushLocal) / (std::numbers::pi / 4))) & 7;
-    const int sample = lib.sampleAt(victim.action, clipTime(victim, t));
-    const std::uint64_t key = (static_cast<std::uint64_t>(victim.action) << 32) ^ (static_cast<std::uint64_t>(sample) << 8) ^
-                              (static_cast<std::uint64_t>(sector) << 1) ^ (strong ? 1u : 0u);
-    // One cache per reaction pool (each character has its own), cleared when
-    // the library changes.
-    thread_local std::unordered_map<const std::vector<int>*, std::unordered_map<std::uint64_t, std::pair<int, int>>> caches;
-    thread_local const ActionLibrary* cacheOwner = nullptr;
-    if (cacheOwner != &lib) caches.clear(), cacheOwner = &lib;
-    auto& cache = caches[&pool];
-    if (auto it = cache.find(key); it != cache.end()) return it->second;
-
-    const double sectorAngle = sector * std::numbers::pi / 4;
-    const glm::vec2 dir(static_cast<float>(std::sin(sectorAngle)), static_cast<float>(std::cos(sectorAngle)));
-    const auto& a = act(ctx, victim.action);
-    const auto& lm = lib.motions[static_cast<std::size_t>(a.motion)];
-    const prep::PoseFeature now = prep::poseFeature(lm.motion, lm.joints, lib.frameAt(victim.action, sample / kSampleRate));
-    const auto weights = prep::GraphWeights::fighting();
-    std::pair<int, int> best{-1, 0};
-    double bestCost = std::numeric_limits<double>::max();
-    for (int pass = 0; pass < 2 && best.first < 0; ++pass) {
-        for (const auto& e : lib.reactions) {
-            if (!std::binary_search(pool.begin(), pool.end(), e.action)) continue;
-            const bool falls = act(ctx, e.action).is(kFalling);
-            if (pass == 0 && falls != strong) continue;
-            const glm::vec2 travel = ctx.reactionDir[static_cast<std::size_t>(e.action)];
-            const double dirCost = glm::dot(travel, travel) > 0 ? 0.5 * (1.0 - static_cast<double>(glm::dot(travel, dir))) : 0.25;
-            const double cost = prep::poseDistance(now, e.feature, weights) + dirCost;
-            if (cost < bestCost) bestCost = cost, best = {e.action, e.sample};
-        }
-    }
-    cache.emplace(key, best);
-    return best;
-}
-
-// Earliest hit in [t0, t1] of one attacker on one defender; time < 0 if none.
-struct HitCandidate {
-    double time = -1;
-    int target = 0;
-    int effector = 0;
-    double speed = 0;
-    bool blocked = false;
-};
-
-HitCandidate findHit(const Context& ctx, const CharState& att, const CharState& def, double t0, double t1) {
-    HitCandidate hit;
-    const auto& a = act(ctx, att.action);
-    const double ws = att.start + a.activeBegin / kSampleRate - att.offset;
-    const double we = att.start + a.activeEnd / kSampleRate - att.offset;
-    const double lo = std::max(ws, t0), hi = std::min(we, t1);
-    if (lo > hi) return hit;
-    if (glm::length(placement(ctx, att, lo).pos - placement(ctx, def, lo).pos) > 2.2f) return hit;
-    const auto& lib = *ctx.lib;
-    const int sBegin = lib.sampleAt(att.action, clipTime(att, lo));
-    const int sEnd = lib.sampleAt(att.action, clipTime(att, hi));
-    // Kicks land with the shin or the foot.
-    int effectors[2] = {a.effector, -1};
-    if (a.effector == kLeftShin) effectors[1] = kLeftFoot;
-    if (a.effector == kRightShin) effectors[1] = kRightFoot;
-    for (int s = sBegin; s <= sEnd; ++s) {
-        const double ts = std::max(att.start + s / kSampleRate - att.offset, t0);
-        if (ts > t1) break;
-        const Obb* ab = lib.boxesAt(att.action, s);
-        for (int e : effectors) {
-            if (e < 0) continue;
-            const Obb eff = ab[e].placed(att.root);
-            for (int target : kTargetSegments) {
-                if (!overlaps(eff, boxAt(ctx, def, ts, target))) continue;
-                hit.time = ts;
-                hit.target = target;
-                hit.effector = e;
-                hit.speed = lib.effectorSpeed[static_cast<std::size_t>(a.sampleBegin + s)];
-                const auto& d = act(ctx, def.action);
-                hit.blocked = d.is(kBlock) && d.defended == target;
-                return hit;
-            }
-        }
-    }
-    return hit;
-}
-
-double effectiveMass(int effector) {
-    return (effector == kLeftForearm || effector == kRightForearm) ? 2.5 : 5.0;
-}
+detail::Playing playing(const CharState& s) { return {s.action, s.start, s.offset, s.root}; }
 
 void updateCheckpoints(const Context& ctx, GroupState& g, double t) {
     for (int i = 0; i < g.n; ++i) {
@@ -272,7 +179,7 @@ void advance(const Context& ctx, GroupState& g, Events& ev, Recorder* rec) {
         double t1 = g.c[0].end;
         for (int i = 1; i < g.n; ++i) t1 = std::min(t1, g.c[static_cast<std::size_t>(i)].end);
         // Earliest event among all pairs.
-        HitCandidate best;
+        detail::HitCandidate best;
         int bestAtt = -1, bestDef = -1;
         bool isCatch = false;
         for (int a = 0; a < g.n; ++a) {
@@ -280,7 +187,7 @@ void advance(const Context& ctx, GroupState& g, Events& ev, Recorder* rec) {
             if (as.attackDone || !act(ctx, as.action).is(kAttack) || act(ctx, as.action).effector < 0) continue;
             for (int d = 0; d < g.n; ++d) {
                 if (d == a || !enemies(ctx, a, d) || g.c[static_cast<std::size_t>(d)].reacting) continue;
-                const auto h = findHit(ctx, as, g.c[static_cast<std::size_t>(d)], t0, t1);
+                const auto h = detail::findHit(*ctx.lib, playing(as), playing(g.c[static_cast<std::size_t>(d)]), t0, t1);
                 if (h.time >= 0 && (best.time < 0 || h.time < best.time)) best = h, bestAtt = a, bestDef = d, isCatch = false;
             }
         }
@@ -294,7 +201,7 @@ void advance(const Context& ctx, GroupState& g, Events& ev, Recorder* rec) {
                     const glm::vec2 diff = placement(ctx, as, ts).pos - placement(ctx, g.c[static_cast<std::size_t>(d)], ts).pos;
                     if (static_cast<double>(glm::length(diff)) <= ctx.opt->catchRadius) {
                         if (best.time < 0 || ts < best.time) {
-                            best = HitCandidate{};
+                            best = detail::HitCandidate{};
                             best.time = ts;
                             bestAtt = a, bestDef = d, isCatch = true;
                         }
@@ -328,7 +235,7 @@ void advance(const Context& ctx, GroupState& g, Events& ev, Recorder* rec) {
         }
         att.attackDone = true;
         const auto& attack = act(ctx, att.action);
-        const double impulse = best.speed * effectiveMass(best.effector);
+        const double impulse = best.speed * detail::effectiveMass(best.effector);
         if (!best.blocked) {
             (attack.is(kKick) ? ev.givenLong : ev.givenShort)[static_cast<std::size_t>(bestAtt)] += best.speed;
             ev.received[static_cast<std::size_t>(bestDef)] += best.speed;
@@ -342,11 +249,9 @@ void advance(const Context& ctx, GroupState& g, Events& ev, Recorder* rec) {
         if (!best.blocked && !pool.empty()) {
             const RootXf pd = placement(ctx, def, te);
             const RootXf pa = placement(ctx, att, te);
-            glm::vec2 push = pd.pos - pa.pos;
-            if (glm::dot(push, push) < 1e-8f) push = -headingVector(pd.heading);
-            push = rotateFloor(glm::normalize(push), -pd.heading);
-            const auto [reaction, sample] =
-                chooseReaction(ctx, def, te, push, impulse > ctx.opt->fallImpulse, pool);
+            const auto [reaction, sample] = detail::chooseReaction(*ctx.lib, ctx.reactionDir, playing(def), te,
+                                                                   detail::pushDirection(pd, pa),
+                                                                   impulse > ctx.opt->fallImpulse, pool);
             if (reaction >= 0) {
                 const double offset = sample / kSampleRate;
                 CharState ns = def;
@@ -806,13 +711,7 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
     base.combo = &combo;
     base.comboN = n;
     base.opt = &opt;
-    base.reactionDir.assign(static_cast<std::size_t>(n), glm::vec2(0.0f));
-    for (int a = 0; a < n; ++a) {
-        const auto& x = lib.actions[static_cast<std::size_t>(a)];
-        if (!x.is(kReactive)) continue;
-        const glm::vec2 d = lib.rootAt(a, std::min(0.5, x.duration)).pos;
-        if (glm::length(d) > 0.05f) base.reactionDir[static_cast<std::size_t>(a)] = glm::normalize(d);
-    }
+    base.reactionDir = detail::reactionDirections(lib);
 
     // Groups, in order of first appearance.
     std::vector<int> groupIds;

@@ -1,0 +1,112 @@
+#include "interaction.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numbers>
+#include <unordered_map>
+
+namespace fray::sim::detail {
+
+namespace {
+constexpr float kHitReach = 2.2f;  // m, pelvis to pelvis: no blow lands from farther
+}
+
+HitCandidate findHit(const ActionLibrary& lib, const Playing& att, const Playing& def, double t0, double t1) {
+    HitCandidate hit;
+    const auto& a = lib.actions[static_cast<std::size_t>(att.action)];
+    const double ws = att.start + a.activeBegin / kSampleRate - att.offset;
+    const double we = att.start + a.activeEnd / kSampleRate - att.offset;
+    const double lo = std::max(ws, t0), hi = std::min(we, t1);
+    if (lo > hi) return hit;
+    if (glm::length(att.placement(lib, lo).pos - def.placement(lib, lo).pos) > kHitReach) return hit;
+    const int sBegin = lib.sampleAt(att.action, att.clipTime(lo));
+    const int sEnd = lib.sampleAt(att.action, att.clipTime(hi));
+    // Kicks land with the shin or the foot.
+    int effectors[2] = {a.effector, -1};
+    if (a.effector == kLeftShin) effectors[1] = kLeftFoot;
+    if (a.effector == kRightShin) effectors[1] = kRightFoot;
+    for (int s = sBegin; s <= sEnd; ++s) {
+        const double ts = std::max(att.start + s / kSampleRate - att.offset, t0);
+        if (ts > t1) break;
+        const Obb* ab = lib.boxesAt(att.action, s);
+        for (int e : effectors) {
+            if (e < 0) continue;
+            const Obb eff = ab[e].placed(att.root);
+            for (int target : kTargetSegments) {
+                if (!overlaps(eff, def.box(lib, ts, target))) continue;
+                hit.time = ts;
+                hit.target = target;
+                hit.effector = e;
+                hit.speed = lib.effectorSpeed[static_cast<std::size_t>(a.sampleBegin + s)];
+                const auto& d = lib.actions[static_cast<std::size_t>(def.action)];
+                hit.blocked = d.is(kBlock) && d.defended == target;
+                return hit;
+            }
+        }
+    }
+    return hit;
+}
+
+double effectiveMass(int effector) {
+    return (effector == kLeftForearm || effector == kRightForearm) ? 2.5 : 5.0;
+}
+
+std::vector<glm::vec2> reactionDirections(const ActionLibrary& lib) {
+    std::vector<glm::vec2> dir(static_cast<std::size_t>(lib.size()), glm::vec2(0.0f));
+    for (int a = 0; a < lib.size(); ++a) {
+        const auto& x = lib.actions[static_cast<std::size_t>(a)];
+        if (!x.is(kReactive)) continue;
+        const glm::vec2 d = lib.rootAt(a, std::min(0.5, x.duration)).pos;
+        if (glm::length(d) > 0.05f) dir[static_cast<std::size_t>(a)] = glm::normalize(d);
+    }
+    return dir;
+}
+
+glm::vec2 pushDirection(const RootXf& victim, const RootXf& attacker) {
+    glm::vec2 push = victim.pos - attacker.pos;
+    if (glm::dot(push, push) < 1e-8f) push = -headingVector(victim.heading);
+    return rotateFloor(glm::normalize(push), -victim.heading);
+}
+
+std::pair<int, int> chooseReaction(const ActionLibrary& lib, const std::vector<glm::vec2>& reactionDir,
+                                   const Playing& victim, double t, glm::vec2 pushLocal, bool strong,
+                                   const std::vector<int>& pool) {
+    // Quantised direction (8 sectors) keeps the cache small and results exact.
+    const int sector = static_cast<int>(std::lround(angleOf(pushLocal) / (std::numbers::pi / 4))) & 7;
+    const int sample = lib.sampleAt(victim.action, victim.clipTime(t));
+    const std::uint64_t key = (static_cast<std::uint64_t>(victim.action) << 32) ^ (static_cast<std::uint64_t>(sample) << 8) ^
+                              (static_cast<std::uint64_t>(sector) << 1) ^ (strong ? 1u : 0u);
+    // One cache per reaction pool (each character has its own), cleared when
+    // the library changes.
+    thread_local std::unordered_map<const std::vector<int>*, std::unordered_map<std::uint64_t, std::pair<int, int>>> caches;
+    thread_local const ActionLibrary* cacheOwner = nullptr;
+    if (cacheOwner != &lib) caches.clear(), cacheOwner = &lib;
+    auto& cache = caches[&pool];
+    if (auto it = cache.find(key); it != cache.end()) return it->second;
+
+    const double sectorAngle = sector * std::numbers::pi / 4;
+    const glm::vec2 dir(static_cast<float>(std::sin(sectorAngle)), static_cast<float>(std::cos(sectorAngle)));
+    const auto& a = lib.actions[static_cast<std::size_t>(victim.action)];
+    const auto& lm = lib.motions[static_cast<std::size_t>(a.motion)];
+    const prep::PoseFeature now = prep::poseFeature(lm.motion, lm.joints, lib.frameAt(victim.action, sample / kSampleRate));
+    const auto weights = prep::GraphWeights::fighting();
+    std::pair<int, int> best{-1, 0};
+    double bestCost = std::numeric_limits<double>::max();
+    for (int pass = 0; pass < 2 && best.first < 0; ++pass) {
+        for (const auto& e : lib.reactions) {
+            if (!std::binary_search(pool.begin(), pool.end(), e.action)) continue;
+            const bool falls = lib.actions[static_cast<std::size_t>(e.action)].is(kFalling);
+            if (pass == 0 && falls != strong) continue;
+            const glm::vec2 travel = reactionDir[static_cast<std::size_t>(e.action)];
+            const double dirCost = glm::dot(travel, travel) > 0 ? 0.5 * (1.0 - static_cast<double>(glm::dot(travel, dir))) : 0.25;
+            const double cost = prep::poseDistance(now, e.feature, weights) + dirCost;
+            if (cost < bestCost) bestCost = cost, best = {e.action, e.sample};
+        }
+    }
+    cache.emplace(key, best);
+    return best;
+}
+
+}  // namespace fray::sim::detail

@@ -1,0 +1,54 @@
+#pragma once
+// Interaction primitives shared by the planners (tree expansion now,
+// Interaction Patches too): the earliest hit of an attack on a defender, the
+// forced reaction that best matches a victim's posture and the hit direction
+// (SPEC 2.1, 4.2), and the impulse of a blow. Internal to fray_sim.
+#include <utility>
+#include <vector>
+
+#include "fray/sim/action_library.h"
+
+namespace fray::sim::detail {
+
+// One action being played: which clip, when it started in scene time, how far
+// into the clip it started, and where its first frame is placed.
+struct Playing {
+    int action = 0;
+    double start = 0, offset = 0;
+    RootXf root;
+    double clipTime(double t) const { return offset + (t - start); }
+    RootXf placement(const ActionLibrary& lib, double t) const { return root * lib.rootAt(action, clipTime(t)); }
+    Obb box(const ActionLibrary& lib, double t, int segment) const {
+        return lib.boxesAt(action, lib.sampleAt(action, clipTime(t)))[segment].placed(root);
+    }
+};
+
+// Earliest hit in [t0, t1] of one attacker on one defender; time < 0 if none.
+struct HitCandidate {
+    double time = -1;
+    int target = 0;
+    int effector = 0;
+    double speed = 0;
+    bool blocked = false;
+};
+HitCandidate findHit(const ActionLibrary& lib, const Playing& att, const Playing& def, double t0, double t1);
+
+// Effective mass (kg) behind a blow with this segment: impulse = speed x mass.
+double effectiveMass(int effector);
+
+// Per library action: the initial floor travel direction of reactive clips
+// (unit, in the clip's frame), zero for the rest.
+std::vector<glm::vec2> reactionDirections(const ActionLibrary& lib);
+
+// The reactive clip and start sample that best match the victim's posture at
+// t, the push direction (in the victim's heading frame) and whether the blow
+// knocks down (strong) or pushes. Only clips in pool (ascending) are used;
+// {-1, 0} when the pool has none. Cached per pool and thread.
+std::pair<int, int> chooseReaction(const ActionLibrary& lib, const std::vector<glm::vec2>& reactionDir,
+                                   const Playing& victim, double t, glm::vec2 pushLocal, bool strong,
+                                   const std::vector<int>& pool);
+
+// The push direction of a blow in the victim's heading frame, from the two placements at contact.
+glm::vec2 pushDirection(const RootXf& victim, const RootXf& attacker);
+
+}  // namespace fray::sim::detail
