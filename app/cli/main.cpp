@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
     fray::cli::registerDemoLibrary(app);
     fray::cli::registerPrep(app);
     fray::cli::registerSim(app);
+    fray::cli::registerPatches(app);
     fray::cli::registerRender(app);
     try {
         app.parse(argc, argv);

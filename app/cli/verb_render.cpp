@@ -320,8 +320,13 @@ void runScene(const RenderArgs& a, const FrameRange& range, std::pair<int, int> 
     // Fixed framing of the whole range.
     render::Bounds bounds;
     for (int k = 0; k <= 24; ++k) {
-        poseAll((first + (last - first) * k / 24) / kSceneFps);
-        bounds.add(render::characterBounds(instances));
+        const double tk = (first + (last - first) * k / 24) / kSceneFps;
+        poseAll(tk);
+        std::vector<render::CharacterInstance> here;
+        for (std::size_t c = 0; c < n; ++c) {
+            if (scene.present(static_cast<int>(c), tk)) here.push_back(instances[c]);
+        }
+        if (!here.empty()) bounds.add(render::characterBounds(here));
     }
     bounds.add(bounds.min - glm::vec3(0.25f));
     bounds.add(bounds.max + glm::vec3(0.25f));
@@ -367,13 +372,19 @@ void runScene(const RenderArgs& a, const FrameRange& range, std::pair<int, int> 
     frame.trajectories = lines;
     frame.checkpoints = marks;
     std::vector<render::Flash> flashes;
+    std::vector<render::CharacterInstance> shown;  // characters in the scene at that time
+    shown.reserve(n);
     render::Image image;
     int written = 0;
     const auto t0 = std::chrono::steady_clock::now();
     for (int f = first; f <= last; f += range.step) {
         const double t = f / kSceneFps;
         poseAll(t);
-        frame.characters = instances;
+        shown.clear();
+        for (std::size_t c = 0; c < n; ++c) {
+            if (scene.present(static_cast<int>(c), t)) shown.push_back(instances[c]);
+        }
+        frame.characters = shown;
         flashes.clear();
         for (const auto& h : scene.hits) {
             const double age = t - h.time;

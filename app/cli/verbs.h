@@ -14,6 +14,7 @@ void registerBench(CLI::App& app);
 void registerDemoLibrary(CLI::App& app);
 void registerPrep(CLI::App& app);
 void registerSim(CLI::App& app);
+void registerPatches(CLI::App& app);
 void registerRender(CLI::App& app);
 
 // Prints "fray-cli: <message>" on stderr and sets a failing exit code.

@@ -93,6 +93,12 @@ struct Scene {
 
     // The instance of character c playing at time t (the last one for t past the end); -1 when the track is empty.
     int instanceAt(int c, double t) const;
+    // A character is in the scene from its first action's start on
+    // (composed scenes bring newcomers in later).
+    bool present(int c, double t) const {
+        const auto& track = characters[static_cast<std::size_t>(c)].track;
+        return !track.empty() && t >= track.front().start - 1e-9;
+    }
 };
 
 std::string sceneToJson(const Scene& scene, const ActionLibrary& lib);

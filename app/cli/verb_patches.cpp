@@ -1,0 +1,196 @@
+// Interaction Patches verbs (SPEC 4): patches generate | list, compose.
+#include <cstdio>
+#include <memory>
+
+#include <nlohmann/json.hpp>
+
+#include "fray/core/atomic_file.h"
+#include "fray/sim/compose.h"
+#include "fray/sim/patches.h"
+#include "fray/sim/patterns.h"
+#include "sim_session.h"
+#include "verbs.h"
+
+namespace fray::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The patch library of a project lives beside it: demo.frayproj -> demo.frayproj.patches.
+fs::path defaultPatchFile(const std::string& project) { return fs::path(project + ".patches"); }
+
+// ---- patches generate | list ----------------------------------------------------
+struct PatchesArgs {
+    std::string action = "list", project, out;
+    std::vector<std::string> patterns;
+    int maxChoices = 0;
+    bool json = false, quiet = false;
+};
+
+void printStats(const char* what, const sim::GenerateStats& s) {
+    std::printf("%s: %lld initial conditions, %lld paths: %lld kept, %lld near duplicates, %lld below the threshold, "
+                "discarded %lld too close, %lld wrong order, %lld unintended hits, %lld missed contacts; %.2f s\n",
+                what, static_cast<long long>(s.initialConditions), static_cast<long long>(s.paths), static_cast<long long>(s.kept),
+                static_cast<long long>(s.duplicates), static_cast<long long>(s.belowThreshold), static_cast<long long>(s.tooClose),
+                static_cast<long long>(s.wrongOrder), static_cast<long long>(s.unintendedHit), static_cast<long long>(s.missedContact),
+                s.seconds);
+}
+
+void runGenerate(const PatchesArgs& a, SimSession& s) {
+    auto set = sim::projectPatterns(s.session.project, a.project);
+    if (!set) return fail(set.error().message);
+    if (set->patterns.empty()) {
+        std::fprintf(stderr, "%s has no PatternLists: using the default ones\n", a.project.c_str());
+        set->patterns = sim::defaultPatterns();
+    }
+    std::vector<const sim::PatternList*> chosen;
+    for (const auto& name : a.patterns) {
+        const auto* p = set->find(name);
+        if (!p) return fail(a.project + ": no PatternList named '" + name + "'");
+        chosen.push_back(p);
+    }
+    if (chosen.empty()) {
+        for (const auto& p : set->patterns) chosen.push_back(&p);
+    }
+    sim::PatchLibrary out;
+    sim::GenerateOptions opt;
+    opt.maxChoicesPerEntry = a.maxChoices;
+    const auto progress = stderrProgress(a.quiet);
+    for (const auto* p : chosen) {
+        const auto before = out.stats;
+        if (auto st = sim::generatePatches(s.library, *p, *set, out, opt, progress); !st) return fail(st.error().message);
+        sim::GenerateStats delta = out.stats;
+        delta.initialConditions -= before.initialConditions, delta.paths -= before.paths, delta.kept -= before.kept;
+        delta.duplicates -= before.duplicates, delta.belowThreshold -= before.belowThreshold, delta.tooClose -= before.tooClose;
+        delta.wrongOrder -= before.wrongOrder, delta.unintendedHit -= before.unintendedHit;
+        delta.missedContact -= before.missedContact, delta.seconds -= before.seconds;
+        printStats(p->name.c_str(), delta);
+    }
+    const fs::path file = a.out.empty() ? defaultPatchFile(a.project) : fs::path(a.out);
+    if (fs::exists(file)) {
+        auto old = readWholeFile(file, "the existing output");
+        if (!old || old->compare(0, 8, "FRAYPTCH") != 0) {
+            return fail(file.string() + ": exists and is not a Fray patch library; refusing to overwrite it");
+        }
+    }
+    if (auto st = sim::savePatchLibrary(out, file); !st) return fail(st.error().message);
+    sim::buildConnections(s.library, out);
+    std::size_t temporal = 0, spatial = 0;
+    for (const auto& t : out.temporal) temporal += t.size();
+    for (const auto& t : out.spatial) spatial += t.size();
+    std::printf("%s: %zu patches from %zu PatternLists; %zu temporal and %zu spatial connections; %zu standard poses\n",
+                file.string().c_str(), out.patches.size(), out.patterns.size(), temporal, spatial, out.standardPoses.size());
+}
+
+Result<sim::PatchLibrary> openPatches(const std::string& project, const std::string& file, const sim::ActionLibrary& lib) {
+    const fs::path f = file.empty() ? defaultPatchFile(project) : fs::path(file);
+    if (!fs::exists(f)) {
+        return makeError(f.string() + ": no patch library (make it with: fray-cli patches generate " + project + ")");
+    }
+    auto patches = sim::loadPatchLibrary(f, sim::libraryFingerprint(lib), lib.size());
+    if (!patches) return patches.error();
+    sim::buildConnections(lib, *patches);
+    return patches;
+}
+
+void runList(const PatchesArgs& a, SimSession& s) {
+    auto patches = openPatches(a.project, a.out, s.library);
+    if (!patches) return fail(patches.error().message);
+    const auto& lib = s.library;
+    nlohmann::ordered_json out = nlohmann::ordered_json::array();
+    for (std::size_t i = 0; i < patches->patches.size(); ++i) {
+        const auto& p = patches->patches[i];
+        const auto& pattern = patches->patterns[static_cast<std::size_t>(p.pattern)].name;
+        std::array<std::string, 2> acts;
+        for (int c = 0; c < 2; ++c) {
+            for (const auto& inst : p.tracks[static_cast<std::size_t>(c)]) {
+                acts[static_cast<std::size_t>(c)] += (acts[static_cast<std::size_t>(c)].empty() ? "" : " ") +
+                                                     lib.actions[static_cast<std::size_t>(inst.action)].label() + (inst.forced ? "!" : "");
+            }
+        }
+        if (a.json) {
+            out.push_back({{"index", i}, {"pattern", pattern}, {"score", p.score}, {"duration", p.duration},
+                           {"hits", p.hits.size()}, {"character1", acts[0]}, {"character2", acts[1]},
+                           {"initial", {{"r", p.initial.r}, {"theta1_deg", p.initial.theta1 * 180 / 3.14159265358979},
+                                        {"theta2_deg", p.initial.theta2 * 180 / 3.14159265358979}, {"delay", p.initial.delay}}},
+                           {"temporal_links", patches->temporal[i].size()}, {"spatial_links", patches->spatial[i].size()}});
+        } else {
+            std::printf("%5zu %-28s %.2f %5.2fs r=%.1f  1: %s | 2: %s\n", i, pattern.c_str(), p.score, p.duration, p.initial.r,
+                        acts[0].c_str(), acts[1].c_str());
+        }
+    }
+    if (a.json) std::printf("%s\n", out.dump(2).c_str());
+}
+
+void runPatches(const PatchesArgs& a) {
+    if (a.action != "generate" && a.action != "list") return fail("patches: expected generate or list, got '" + a.action + "'");
+    auto ss = openSimSession(a.project, stderrProgress(a.quiet));
+    if (!ss) return fail(ss.error().message);
+    if (a.action == "generate") return runGenerate(a, **ss);
+    runList(a, **ss);
+}
+
+// ---- compose --------------------------------------------------------------------
+struct ComposeArgs {
+    std::string project, spec, out, patches;
+    bool quiet = false;
+};
+
+void runCompose(const ComposeArgs& a) {
+    const fs::path outFile(a.out);
+    if (fs::exists(outFile)) {
+        auto old = readWholeFile(outFile, "the existing output");
+        if (!old || !sim::sceneProjectPath(*old, a.out)) {
+            return fail(a.out + ": exists and is not a Fray scene file; refusing to overwrite it");
+        }
+    }
+    auto specText = readWholeFile(a.spec, "the compose spec");
+    if (!specText) return fail(specText.error().message);
+    auto ss = openSimSession(a.project, stderrProgress(a.quiet));
+    if (!ss) return fail(ss.error().message);
+    auto& s = **ss;
+    auto patches = openPatches(a.project, a.patches, s.library);
+    if (!patches) return fail(patches.error().message);
+    auto spec = sim::parseComposeSpec(*specText, a.spec, *patches);
+    if (!spec) return fail(spec.error().message);
+    sim::ComposeStats st;
+    auto scene = sim::compose(s.library, *patches, *spec, &st, stderrProgress(a.quiet));
+    if (!scene) return fail(a.spec + ": " + scene.error().message);
+    std::error_code ec;
+    const fs::path rel = fs::relative(fs::absolute(a.project, ec), fs::absolute(outFile, ec).parent_path(), ec);
+    scene->project = (!ec && !rel.empty()) ? rel.generic_string() : fs::absolute(a.project).generic_string();
+    if (auto saved = sim::saveScene(*scene, s.library, outFile); !saved) return fail(saved.error().message);
+    std::printf("%s: %s, %zu characters, %.1f s, %zu hits; %d patches (%d by temporal connection, %d recycled through "
+                "standard poses), %d locomotion steps, worst junction %.2f m; %.3f s\n",
+                a.out.c_str(), sim::sceneKindName(spec->kind), scene->characters.size(), scene->duration, scene->hits.size(),
+                st.patchesUsed, st.temporalLinks, st.recycled, st.locomotionSteps, st.maxJunctionError, st.seconds);
+}
+
+}  // namespace
+
+void registerPatches(CLI::App& app) {
+    {
+        auto args = std::make_shared<PatchesArgs>();
+        auto* cmd = app.add_subcommand("patches", "Interaction Patches: generate the library from the project's PatternLists, or list it");
+        cmd->add_option("action", args->action, "generate | list")->required();
+        cmd->add_option("project", args->project, "Project file (*.frayproj)")->required();
+        cmd->add_option("--pattern", args->patterns, "PatternList to generate (repeatable; default: all)");
+        cmd->add_option("-o,--out", args->out, "Patch library file (default: PROJECT.patches)");
+        cmd->add_option("--max-choices", args->maxChoices, "At most this many action variants per entry (0: all)");
+        cmd->add_flag("--json", args->json, "JSON output (list)");
+        cmd->add_flag("-q,--quiet", args->quiet, "No progress on stderr");
+        cmd->callback([args] { runPatches(*args); });
+    }
+    {
+        auto args = std::make_shared<ComposeArgs>();
+        auto* cmd = app.add_subcommand("compose", "Compose a scene from Interaction Patches (one-vs-many, one-vs-one)");
+        cmd->add_option("project", args->project, "Project file (*.frayproj)")->required();
+        cmd->add_option("--spec", args->spec, "Compose spec (JSON: kind, duration, seed, enemies, patterns, commands)")->required();
+        cmd->add_option("-o,--out", args->out, "Scene file to write (*.frayscene)")->required();
+        cmd->add_option("--patches", args->patches, "Patch library (default: PROJECT.patches)");
+        cmd->add_flag("-q,--quiet", args->quiet, "No progress on stderr");
+        cmd->callback([args] { runCompose(*args); });
+    }
+}
+
+}  // namespace fray::cli

@@ -1,0 +1,137 @@
+#pragma once
+// Interaction Patches (SPEC 4.2-4.4, thesis chapter 6): short two-character
+// interactions generated from PatternLists by expanding a game tree over
+// every action that carries each entry's annotation, from initial conditions
+// sampled on a grid; the connection tables that say which patches can follow
+// or overlap which; and the standard poses that let characters be recycled.
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "fray/core/progress.h"
+#include "fray/core/result.h"
+#include "fray/sim/action_library.h"
+#include "fray/sim/patterns.h"
+#include "fray/sim/scene.h"
+
+namespace fray::sim {
+
+// Two-character configuration (SPEC 4.1): distance, each character's angle to
+// the line joining them (rad, 0 = facing the other, + = the other is to its left),
+// and, for initial conditions, the second character's delay.
+struct PatchConfig {
+    double r = 0, theta1 = 0, theta2 = 0, delay = 0;
+    friend bool operator==(const PatchConfig&, const PatchConfig&) = default;
+};
+
+// F(Pc, Ps) of SPEC 4.4 with C_r = 0.30 m and C_theta = 180 degrees.
+double configDistance(const PatchConfig& a, const PatchConfig& b);
+// Places two characters in a configuration: character 1 at the origin facing +Z.
+std::array<RootXf, 2> placeConfig(const PatchConfig& c);
+// The configuration of two placements.
+PatchConfig configOf(const RootXf& a, const RootXf& b);
+
+// Floor rectangle (x, z) swept by a character during a time slice.
+struct SweptBox {
+    glm::vec2 lo{0.0f}, hi{0.0f};
+    bool overlaps(const SweptBox& o, float margin = 0.0f) const {
+        return lo.x <= o.hi.x + margin && o.lo.x <= hi.x + margin && lo.y <= o.hi.y + margin && o.lo.y <= hi.y + margin;
+    }
+};
+inline constexpr double kSweptSlice = 0.25;  // s per swept box
+
+struct Patch {
+    int pattern = 0;                              // index in the library's patterns
+    std::array<std::vector<ActionInstance>, 2> tracks;  // patch frame: character 1 starts at the origin facing +Z
+    std::vector<HitEvent> hits;                   // attacker/defender are 0 or 1
+    double duration = 0;                          // the later character's end
+    double score = 0;                             // weighted criteria, in [0, 1]
+    double contact = 0, distance = 0, timing = 0; // the criteria
+    PatchConfig initial, final;                   // final: when the later character ends
+    std::array<std::vector<SweptBox>, 2> swept;   // per character, per kSweptSlice from 0
+    bool handMade = false;
+    // End placement of a character (where its last action leaves it) and its end time.
+    RootXf endPlacement(const ActionLibrary& lib, int character) const;
+    double endTime(int character) const { return tracks[static_cast<std::size_t>(character)].back().end; }
+};
+
+struct GenerateOptions {
+    double distanceStep = 0.20;                  // m (SPEC 4.1)
+    double angleStepDegrees = 20;
+    double delayStep = 0.1;                      // s
+    int maxChoicesPerEntry = 0;                  // > 0: at most this many action variants per entry (tests)
+    double fallImpulse = 30;                     // N s: a stronger blow knocks down
+    double collisionSpeed = 1.2;                 // m/s: a body segment this fast pushes what it hits
+    // Paths that play the same actions (by name) from neighbouring initial
+    // conditions are near duplicates: keep the best this many of each.
+    int keepPerPath = 3;
+    bool parallel = true;
+    const std::atomic<bool>* cancel = nullptr;
+};
+
+struct GenerateStats {
+    std::int64_t initialConditions = 0, paths = 0;
+    std::int64_t tooClose = 0, wrongOrder = 0, unintendedHit = 0, missedContact = 0, belowThreshold = 0, duplicates = 0;
+    std::int64_t kept = 0;
+    double seconds = 0;
+};
+
+// Connection tables (SPEC 4.3). Temporal: b can follow a; `roles` maps a's
+// characters to b's (0: same roles, 1: swapped); `shared` is -1 when both
+// continue, else a's character that continues (the other leaves and b's
+// other character joins). Spatial: a and b overlap in time, a's character
+// `sharedA` being b's `sharedB`, b starting `offset` s after a.
+struct TemporalLink {
+    int to = 0;
+    std::int8_t roles = 0;
+    std::int8_t shared = -1;
+};
+struct SpatialLink {
+    int to = 0;
+    std::int8_t sharedA = 0, sharedB = 0;
+    float offset = 0;
+};
+
+struct PatchLibrary {
+    std::vector<PatternList> patterns;
+    std::vector<Patch> patches;
+    std::vector<std::vector<TemporalLink>> temporal;  // per patch
+    std::vector<std::vector<SpatialLink>> spatial;    // per patch
+    std::vector<PatchConfig> standardPoses;           // cluster means of initial/final configurations
+    std::vector<int> initialPose, finalPose;          // per patch: its standard pose
+    GenerateStats stats;
+    std::uint64_t libraryKey = 0;                     // fingerprint of the action library it was made from
+    int nearestPose(const PatchConfig& c) const;
+};
+
+// Generates the patches of one pattern (appended to lib.patterns/patches).
+// Deterministic; parallel over initial conditions; progress and cancel.
+Status generatePatches(const ActionLibrary& lib, const PatternList& pattern, const PatternSet& set, PatchLibrary& out,
+                       const GenerateOptions& options = {}, const ProgressFn& progress = {});
+
+// A hand-made patch: both characters' action lists from an initial
+// configuration, played by the same engine (hits, reactions), kept whatever
+// its score. Errors name the problem (an action the pattern forbids, a missed hit).
+Status addHandMadePatch(const ActionLibrary& lib, const PatternList& pattern, const PatchConfig& initial,
+                        const std::array<std::vector<int>, 2>& actions, PatchLibrary& out, const GenerateOptions& options = {});
+
+// Fills the temporal and spatial tables and the standard poses.
+void buildConnections(const ActionLibrary& lib, PatchLibrary& out);
+
+// Fingerprint of a library's actions (identity of the patch cache).
+std::uint64_t libraryFingerprint(const ActionLibrary& lib);
+
+// Versioned binary cache. Loading refuses a foreign, truncated or stale file
+// (made from other actions) with a message naming the file.
+inline constexpr std::uint32_t kPatchCacheVersion = 1;
+Status savePatchLibrary(const PatchLibrary& lib, const std::filesystem::path& file);
+// The connection tables and standard poses are not stored: buildConnections
+// after loading (they follow from the patches).
+Result<PatchLibrary> loadPatchLibrary(const std::filesystem::path& file, std::uint64_t expectedKey, int actionCount);
+Result<PatchLibrary> readPatchLibrary(std::string_view bytes, std::string_view fileName, std::uint64_t expectedKey,
+                                      int actionCount);
+
+}  // namespace fray::sim

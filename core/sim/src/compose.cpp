@@ -1,0 +1,601 @@
+#include "fray/sim/compose.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numbers>
+#include <random>
+
+#include "fray/prep/json_reader.h"
+
+namespace fray::sim {
+
+namespace {
+
+using json = nlohmann::ordered_json;
+
+constexpr double kArriveDistance = 0.25;          // m: locomotion is done this close to its target
+constexpr double kArriveHeading = 25 * std::numbers::pi / 180;
+constexpr int kMaxLocomotionSteps = 60;
+constexpr float kPersonalSpace = 0.7f;           // m between a walker and anyone else
+constexpr float kClearance = 0.2f;               // m between a new patch's newcomer and anyone present
+
+// ---------------------------------------------------------------------------
+// Building the timeline.
+
+struct Composer {
+    const ActionLibrary& lib;
+    const PatchLibrary& patches;
+    const ComposeSpec& spec;
+    ComposeStats& stats;
+    Scene scene;
+    std::vector<int> locomotion;   // representatives of walk/run/step/turn actions
+    int hold = -1;                 // idle action for waiting
+    std::vector<double> usage;     // f_p per patch
+    std::vector<char> allowed;     // per patch: its pattern is in the spec
+    std::mt19937_64 rng;
+
+    Composer(const ActionLibrary& l, const PatchLibrary& p, const ComposeSpec& s, ComposeStats& st)
+        : lib(l), patches(p), spec(s), stats(st), rng(s.seed) {
+        std::map<std::pair<int, int>, int> reps;
+        double best = -1;
+        for (int i = 0; i < lib.size(); ++i) {
+            const auto& a = lib.actions[static_cast<std::size_t>(i)];
+            if (a.is(kIdle) && a.duration > best) best = a.duration, hold = i;
+            if (!a.is(kWalk | kStep | kTurn | kRun) || a.has("carry") || a.is(kReactive) || a.is(kAttack)) continue;
+            reps.emplace(std::make_pair(lib.variantClass[static_cast<std::size_t>(i)], lib.startNode[static_cast<std::size_t>(i)]), i);
+        }
+        for (const auto& [key, i] : reps) locomotion.push_back(i);
+        usage.assign(patches.patches.size(), 0.0);
+        allowed.assign(patches.patches.size(), 1);
+        if (!spec.patterns.empty()) {
+            for (std::size_t i = 0; i < patches.patches.size(); ++i) {
+                const auto& name = patches.patterns[static_cast<std::size_t>(patches.patches[i].pattern)].name;
+                allowed[i] = std::find(spec.patterns.begin(), spec.patterns.end(), name) != spec.patterns.end();
+            }
+        }
+    }
+
+    const LibraryAction& act(int a) const { return lib.actions[static_cast<std::size_t>(a)]; }
+
+    int addCharacter(std::string name, int side) {
+        SceneCharacter c;
+        c.name = std::move(name);
+        c.side = side;
+        c.preset = "patches";
+        scene.characters.push_back(std::move(c));
+        return static_cast<int>(scene.characters.size()) - 1;
+    }
+    std::vector<ActionInstance>& track(int c) { return scene.characters[static_cast<std::size_t>(c)].track; }
+
+    // Where a character's last action leaves it, and when.
+    RootXf leaves(int c) const {
+        const auto& t = scene.characters[static_cast<std::size_t>(c)].track;
+        const auto& i = t.back();
+        const double natural = i.start + act(i.action).duration - i.offset;
+        if (i.end < natural - 1e-6) return i.placementAt(lib, i.offset + (i.end - i.start));
+        return i.root * act(i.action).end;
+    }
+    double freeAt(int c) const { return scene.characters[static_cast<std::size_t>(c)].track.back().end; }
+
+    void append(int c, int action, double start, const RootXf& root, double offset = 0, double end = -1, bool forced = false) {
+        ActionInstance inst{action, start, offset, end >= 0 ? end : start + act(action).duration - offset, root, forced, false};
+        track(c).push_back(inst);
+    }
+
+    // Idles in place from the character's free time until t.
+    void waitUntil(int c, double t) {
+        while (freeAt(c) < t - 1e-6) {
+            const double from = freeAt(c);
+            const RootXf at = leaves(c);
+            const double end = std::min(t, from + act(hold).duration);
+            append(c, hold, from, at * lib.rootAt(hold, 0).inverse(), 0, end);
+        }
+    }
+
+    // Where every other character stands at time t.
+    std::vector<glm::vec2> others(int self, double t, int partner = -1) const {
+        std::vector<glm::vec2> out;
+        for (int c = 0; c < static_cast<int>(scene.characters.size()); ++c) {
+            if (c == self || c == partner || scene.characters[static_cast<std::size_t>(c)].track.empty()) continue;
+            const int i = scene.instanceAt(c, t);
+            const auto& inst = scene.characters[static_cast<std::size_t>(c)].track[static_cast<std::size_t>(i)];
+            const double tau = inst.offset + (std::clamp(t, inst.start, inst.end) - inst.start);
+            out.push_back(inst.placementAt(lib, tau).pos);
+        }
+        return out;
+    }
+
+    // Floor rectangle around character c's whole body at time t.
+    SweptBox bodyBox(int c, double t) const {
+        const auto& tr = scene.characters[static_cast<std::size_t>(c)].track;
+        const auto& inst = tr[static_cast<std::size_t>(scene.instanceAt(c, t))];
+        const double tau = inst.offset + (std::clamp(t, inst.start, inst.end) - inst.start);
+        const Obb* boxes = lib.boxesAt(inst.action, lib.sampleAt(inst.action, tau));
+        SweptBox out{glm::vec2(std::numeric_limits<float>::max()), glm::vec2(-std::numeric_limits<float>::max())};
+        for (int seg = 0; seg < kSegmentCount; ++seg) {
+            const Obb b = boxes[seg].placed(inst.root);
+            glm::vec2 h(0.0f);
+            for (int k = 0; k < 3; ++k) {
+                h.x += std::fabs(b.axes[k].x) * b.half[k];
+                h.y += std::fabs(b.axes[k].z) * b.half[k];
+            }
+            out.lo = glm::min(out.lo, glm::vec2(b.centre.x, b.centre.z) - h);
+            out.hi = glm::max(out.hi, glm::vec2(b.centre.x, b.centre.z) + h);
+        }
+        return out;
+    }
+    static float rectDistance(const SweptBox& r, const glm::vec2& p) {
+        const glm::vec2 d = glm::max(glm::max(r.lo - p, p - r.hi), glm::vec2(0.0f));
+        return glm::length(d);
+    }
+    // Stepping from `from` to p at time t would come too close to someone
+    // (walking away from someone already close is allowed).
+    bool blocked(int self, int partner, const glm::vec2& from, const glm::vec2& p, double t) const {
+        constexpr float kNear = 0.45f;
+        for (int c = 0; c < static_cast<int>(scene.characters.size()); ++c) {
+            if (c == self || c == partner || scene.characters[static_cast<std::size_t>(c)].track.empty()) continue;
+            const SweptBox box = bodyBox(c, t);
+            const float dn = rectDistance(box, p);
+            if (dn < kNear && dn < rectDistance(box, from) - 1e-3f) return true;
+        }
+        return false;
+    }
+
+    // Greedy collision-free locomotion (SPEC 4.4) from a placement at t0 to a
+    // target. Appends the actions to `out` (times from t0); returns where and when it ends.
+    std::pair<RootXf, double> locomote(int self, int partner, RootXf at, double t0, int last, const RootXf& target, double timeShift,
+                                       std::vector<ActionInstance>& out) {
+        double t = t0;
+        auto cost = [&](const RootXf& p) {
+            const glm::vec2 d = target.pos - p.pos;
+            const double dist = glm::length(d);
+            const double facing = dist > 1.0 ? std::fabs(wrapAngle(angleOf(d) - p.heading)) : std::fabs(wrapAngle(target.heading - p.heading));
+            return dist + 0.3 * facing;
+        };
+        for (int step = 0; step < kMaxLocomotionSteps; ++step) {
+            const double dist = glm::length(target.pos - at.pos);
+            if (dist < kArriveDistance && std::fabs(wrapAngle(target.heading - at.heading)) < kArriveHeading) break;
+            const double now = cost(at);
+            int best = -1;
+            double bestCost = now - 0.02;
+            for (int a : locomotion) {
+                const auto& A = act(a);
+                const RootXf end = at * A.end;
+                const RootXf mid = at * lib.rootAt(a, 0.5 * A.duration);
+                double c = cost(end);
+                if (last >= 0 && lib.startNode[static_cast<std::size_t>(a)] != lib.endNode[static_cast<std::size_t>(last)]) c += 0.05;
+                if (c >= bestCost) continue;
+                if (!blocked(self, partner, at.pos, mid.pos, t + 0.5 * A.duration + timeShift) &&
+                    !blocked(self, partner, at.pos, end.pos, t + A.duration + timeShift)) {
+                    best = a, bestCost = c;
+                }
+            }
+            if (best < 0) break;
+            out.push_back({best, t, 0.0, t + act(best).duration, at, false, false});
+            at = at * act(best).end;
+            t += act(best).duration;
+            last = best;
+            ++stats.locomotionSteps;
+        }
+        return {at, t};
+    }
+
+    // Places patch p's character `role` as scene character c, the patch starting at t
+    // in the frame xf; appends its actions and the hits of that character as attacker.
+    void placeTrack(const Patch& p, int role, int c, double t, const RootXf& xf) {
+        for (const auto& inst : p.tracks[static_cast<std::size_t>(role)]) {
+            ActionInstance w = inst;
+            w.start += t, w.end += t;
+            w.root = xf * inst.root;
+            track(c).push_back(w);
+        }
+    }
+    void placeHits(const Patch& p, const std::array<int, 2>& who, double t) {
+        for (auto h : p.hits) {
+            h.time += t;
+            h.attacker = who[static_cast<std::size_t>(h.attacker)];
+            h.defender = who[static_cast<std::size_t>(h.defender)];
+            scene.hits.push_back(h);
+        }
+    }
+
+    void used(std::size_t chosen) {
+        for (auto& f : usage) f *= 0.9;
+        usage[chosen] += 1.0;
+        ++stats.patchesUsed;
+    }
+
+    // s_u(p): the main character's actions in p carry the annotation the user asks for at t.
+    double userPreference(const Patch& p, int role, double t) const {
+        const UserCommand* cmd = nullptr;
+        for (const auto& c : spec.commands) {
+            if (c.time <= t) cmd = &c;
+        }
+        if (!cmd) return 0;
+        for (const auto& inst : p.tracks[static_cast<std::size_t>(role)]) {
+            if (matchesAnnotation(act(inst.action), cmd->annotation)) return 1;
+        }
+        return 0;
+    }
+
+    double score(std::size_t i, double density, double user) {
+        const double jitter = std::uniform_real_distribution<double>(0.0, 1e-3)(rng);
+        return spec.wDensity / (spec.densityScale * density + 1.0) + spec.wUsage * (1.0 - std::min(usage[i], 1.0)) +
+               spec.wUser * user + jitter;
+    }
+
+    // The newcomer of patch p enters from outside along the radial direction
+    // through its start and arrives there exactly when its part begins.
+    void enter(int c, int partner, const Patch& p, int role, double t, const RootXf& xf, const glm::vec2& centre) {
+        const auto& first = p.tracks[static_cast<std::size_t>(role)].front();
+        const RootXf goal = xf * first.root;
+        glm::vec2 radial = goal.pos - centre;
+        if (glm::length(radial) < 1e-3f) radial = -headingVector(goal.heading);
+        radial = glm::normalize(radial);
+        RootXf start;
+        start.pos = goal.pos + radial * static_cast<float>(spec.entryRadius);
+        start.heading = angleOf(-radial);
+        const double arrive = t + first.start;
+        // Plan once to learn how long the walk takes, then shift it so it ends on time.
+        std::vector<ActionInstance> walk;
+        const double guess = arrive - spec.entryRadius / 1.2;
+        auto [end, when] = locomote(c, partner, start, 0.0, -1, goal, guess, walk);
+        const double shift = arrive - when;
+        for (auto& w : walk) {
+            w.start += shift, w.end += shift;
+            if (w.end <= 0) continue;  // walked before the scene starts: it enters already under way
+            if (w.start < 0) w.offset = -w.start, w.start = 0;
+            track(c).push_back(w);
+        }
+        stats.maxJunctionError = std::max(stats.maxJunctionError, static_cast<double>(glm::length(end.pos - goal.pos)));
+    }
+
+    // Where everyone but `ignore` is, from t on: their bodies now and where
+    // they end up (those who fell stay down).
+    std::vector<SweptBox> obstacles(double t, int ignore) const {
+        std::vector<SweptBox> out;
+        for (int c = 0; c < static_cast<int>(scene.characters.size()); ++c) {
+            if (c == ignore || scene.characters[static_cast<std::size_t>(c)].track.empty()) continue;
+            SweptBox a = bodyBox(c, t);
+            const SweptBox b = bodyBox(c, std::max(t, freeAt(c)));
+            a.lo = glm::min(a.lo, b.lo), a.hi = glm::max(a.hi, b.hi);
+            out.push_back(a);
+        }
+        return out;
+    }
+
+    // A patch placed by xf would touch one of the obstacles (both characters' swept boxes).
+    static bool collides(const Patch& p, const RootXf& xf, const std::vector<SweptBox>& obstacles) {
+        for (int r = 0; r < 2; ++r) {
+            for (const auto& s : p.swept[static_cast<std::size_t>(r)]) {
+                const glm::vec2 c0 = xf.apply((s.lo + s.hi) * 0.5f);
+                const glm::vec2 h = (s.hi - s.lo) * 0.5f;
+                const float e = std::max(h.x, h.y);
+                const SweptBox w{c0 - glm::vec2(e), c0 + glm::vec2(e)};
+                for (const auto& o : obstacles) {
+                    if (w.overlaps(o, kClearance)) return true;
+                }
+            }
+        }
+        return false;
+    }
+
+    int densityAround(const glm::vec2& p, double t) const {
+        int n = 0;
+        for (const glm::vec2 o : others(-1, t)) n += glm::length(o - p) < 2.5f ? 1 : 0;
+        return n;
+    }
+
+    // ---- one vs many: the main character meets the enemies one after another.
+    Status oneVsMany(const ProgressFn& progress) {
+        const int mainC = addCharacter("main", 0);
+        append(mainC, hold, 0.0, RootXf{}, 0, 1.0);
+        int prev = -1;
+        int moves = 0;
+        for (int k = 0; k < spec.enemies; ++k) {
+            const double t0 = freeAt(mainC);
+            if (t0 >= spec.duration) break;
+            const RootXf at = leaves(mainC);
+            const int lastMain = track(mainC).back().action;
+            // Candidates: temporal links where the main character continues, else any (recycling).
+            std::vector<std::size_t> cands;
+            if (prev >= 0) {
+                for (const auto& l : patches.temporal[static_cast<std::size_t>(prev)]) {
+                    if (l.shared == 0 && l.roles == 0 && allowed[static_cast<std::size_t>(l.to)]) cands.push_back(static_cast<std::size_t>(l.to));
+                }
+            }
+            const bool linked = !cands.empty();
+            if (!linked) {
+                for (std::size_t i = 0; i < patches.patches.size(); ++i) {
+                    if (allowed[i] && patches.patches[i].tracks[0].front().start == 0.0) cands.push_back(i);
+                }
+            }
+            // The main character may first take one locomotion step (turn,
+            // step) so the patch fits beside those already down.
+            int bestI = -1, bestMove = -1;
+            double bestS = -std::numeric_limits<double>::max();
+            std::vector<int> moves0 = {-1};
+            moves0.insert(moves0.end(), locomotion.begin(), locomotion.end());
+            const auto obstacleBoxes = obstacles(t0, mainC);
+            for (int mv : moves0) {
+                RootXf from = at;
+                double tm = t0;
+                if (mv >= 0) {
+                    from = at * act(mv).end;
+                    tm = t0 + act(mv).duration;
+                    bool stuck = false;
+                    stuck = blocked(mainC, -1, at.pos, from.pos, tm) ||
+                            blocked(mainC, -1, at.pos, (at * lib.rootAt(mv, 0.5 * act(mv).duration)).pos, t0);
+                    if (stuck) continue;
+                }
+                const int lastA = mv >= 0 ? mv : lastMain;
+                for (std::size_t i : cands) {
+                    const Patch& p = patches.patches[i];
+                    const RootXf xf = from * p.tracks[0].front().root.inverse();
+                    if (collides(p, xf, obstacleBoxes)) continue;
+                    const double s = score(i, densityAround(xf.apply(p.tracks[1].front().root.pos), tm), userPreference(p, 0, tm)) +
+                                     (lib.startNode[static_cast<std::size_t>(p.tracks[0].front().action)] ==
+                                              lib.endNode[static_cast<std::size_t>(lastA)] ? 1.0 : 0.0) -
+                                     (mv >= 0 ? 5.0 : 0.0);
+                    if (s > bestS) bestS = s, bestI = static_cast<int>(i), bestMove = mv;
+                }
+            }
+            if (bestI < 0) {
+                // Crowded: the main character walks into open space and tries again.
+                if (++moves > 4) return makeError("one-vs-many: no patch fits around the main character at " + std::to_string(t0) + " s");
+                // Candidate spots around, best first: most room, then nearest the scene centre.
+                const auto boxes = obstacles(t0, mainC);
+                std::vector<std::pair<double, RootXf>> spots;
+                for (float dist : {2.0f, 3.5f, 5.0f}) {
+                    for (int dir = 0; dir < 12; ++dir) {
+                        RootXf goal;
+                        goal.heading = wrapAngle(at.heading + dir * std::numbers::pi / 6);
+                        goal.pos = at.pos + headingVector(goal.heading) * dist;
+                        float room = 10.0f;
+                        for (const auto& o : boxes) room = std::min(room, rectDistance(o, goal.pos));
+                        if (room < 1.2f) continue;
+                        spots.push_back({-static_cast<double>(std::min(room, 3.0f)) + 0.2 * static_cast<double>(glm::length(goal.pos)), goal});
+                    }
+                }
+                std::stable_sort(spots.begin(), spots.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+                std::vector<ActionInstance> walk;
+                for (const auto& [rank, goal] : spots) {
+                    walk.clear();
+                    locomote(mainC, -1, at, t0, lastMain, goal, 0.0, walk);
+                    if (!walk.empty()) break;
+                }
+                if (walk.empty()) return makeError("one-vs-many: the main character is boxed in at " + std::to_string(t0) + " s");
+                for (auto& w : walk) track(mainC).push_back(w);
+                --k;
+                continue;
+            }
+            moves = 0;
+            (linked ? stats.temporalLinks : stats.recycled) += 1;
+            const Patch& p = patches.patches[static_cast<std::size_t>(bestI)];
+            RootXf from = at;
+            double t = t0;
+            if (bestMove >= 0) {
+                append(mainC, bestMove, t, at);
+                ++stats.locomotionSteps;
+                from = leaves(mainC);
+                t = freeAt(mainC);
+            }
+            const RootXf xf = from * p.tracks[0].front().root.inverse();
+            const int enemy = addCharacter("enemy-" + std::to_string(k + 1), 1);
+            enter(enemy, mainC, p, 1, t, xf, from.pos);
+            placeTrack(p, 0, mainC, t, xf);
+            placeTrack(p, 1, enemy, t, xf);
+            placeHits(p, {mainC, enemy}, t);
+            used(static_cast<std::size_t>(bestI));
+            prev = bestI;
+            if (!reportProgress(progress, static_cast<double>(k + 1) / spec.enemies, "compose")) return makeError("cancelled");
+        }
+        return {};
+    }
+
+    // ---- one vs one: two characters fight on, patch after patch.
+    Status oneVsOne(const ProgressFn& progress) {
+        const std::array<int, 2> who = {addCharacter("a", 0), addCharacter("b", 1)};
+        int prev = -1;
+        std::array<int, 2> roleOf = {0, 1};  // scene character -> role in the previous patch
+        while (true) {
+            const double ta = freeAt0(who[0]), tb = freeAt0(who[1]);
+            const double t = std::max(ta, tb);
+            if (prev >= 0 && t >= spec.duration) break;
+            struct Choice {
+                std::size_t patch;
+                int roles;  // 0: a plays character 1
+            };
+            std::vector<Choice> cands;
+            if (prev >= 0) {
+                for (const auto& l : patches.temporal[static_cast<std::size_t>(prev)]) {
+                    if (l.shared == -1 && allowed[static_cast<std::size_t>(l.to)]) {
+                        // a's role in prev maps through the link's roles.
+                        const int aRole = roleOf[0] ^ l.roles;
+                        cands.push_back({static_cast<std::size_t>(l.to), aRole});
+                    }
+                }
+            }
+            const bool linked = !cands.empty();
+            if (!linked) {
+                // Recycling: patches starting from the standard pose nearest to where the two are now.
+                PatchConfig now{};
+                if (prev >= 0) now = configOf(leaves(who[0]), leaves(who[1]));
+                for (int roles = 0; roles < 2; ++roles) {
+                    const PatchConfig c = roles ? PatchConfig{now.r, now.theta2, now.theta1, 0} : now;
+                    const int pose = prev >= 0 ? patches.nearestPose(c) : -1;
+                    for (std::size_t i = 0; i < patches.patches.size(); ++i) {
+                        if (!allowed[i]) continue;
+                        if (pose >= 0 && patches.initialPose[i] != pose) continue;
+                        cands.push_back({i, roles});
+                    }
+                }
+            }
+            if (cands.empty()) return makeError("one-vs-one: no patch can follow at " + std::to_string(t) + " s");
+            int best = -1;
+            double bestS = -std::numeric_limits<double>::max();
+            for (std::size_t k = 0; k < cands.size(); ++k) {
+                const auto& c = cands[k];
+                const double s = score(c.patch, 0, userPreference(patches.patches[c.patch], c.roles, t));
+                if (s > bestS) bestS = s, best = static_cast<int>(k);
+            }
+            const Choice ch = cands[static_cast<std::size_t>(best)];
+            const Patch& p = patches.patches[ch.patch];
+            (linked ? stats.temporalLinks : stats.recycled) += 1;
+            // Scene character of each role.
+            const std::array<int, 2> sc = ch.roles == 0 ? who : std::array<int, 2>{who[1], who[0]};
+            double start = t;
+            RootXf xf;
+            if (prev < 0) {
+                xf = RootXf{};
+            } else {
+                // The later character anchors the patch; the earlier walks into
+                // place (one step usually) and both wait for each other.
+                const int anchorRole = freeAt(sc[0]) >= freeAt(sc[1]) ? 0 : 1;
+                const int anchor = sc[static_cast<std::size_t>(anchorRole)];
+                const int mover = sc[static_cast<std::size_t>(1 - anchorRole)];
+                xf = leaves(anchor) * p.tracks[static_cast<std::size_t>(anchorRole)].front().root.inverse();
+                const RootXf goal = xf * p.tracks[static_cast<std::size_t>(1 - anchorRole)].front().root;
+                std::vector<ActionInstance> walk;
+                auto [end, when] = locomote(mover, anchor, leaves(mover), freeAt(mover), track(mover).back().action, goal, 0.0, walk);
+                for (auto& w : walk) track(mover).push_back(w);
+                stats.maxJunctionError = std::max(stats.maxJunctionError, static_cast<double>(glm::length(end.pos - goal.pos)));
+                start = std::max(freeAt(anchor) - p.tracks[static_cast<std::size_t>(anchorRole)].front().start,
+                                 when - p.tracks[static_cast<std::size_t>(1 - anchorRole)].front().start);
+            }
+            for (int r = 0; r < 2; ++r) {
+                const int c = sc[static_cast<std::size_t>(r)];
+                if (!track(c).empty()) waitUntil(c, start + p.tracks[static_cast<std::size_t>(r)].front().start);
+                placeTrack(p, r, c, start, xf);
+            }
+            placeHits(p, sc, start);
+            used(ch.patch);
+            prev = static_cast<int>(ch.patch);
+            roleOf = ch.roles == 0 ? std::array<int, 2>{0, 1} : std::array<int, 2>{1, 0};
+            if (!reportProgress(progress, std::min(t / spec.duration, 1.0), "compose")) return makeError("cancelled");
+            if (stats.patchesUsed > 10000) break;
+        }
+        return {};
+    }
+    double freeAt0(int c) const { return track0(c).empty() ? 0.0 : freeAt(c); }
+    const std::vector<ActionInstance>& track0(int c) const { return scene.characters[static_cast<std::size_t>(c)].track; }
+};
+
+}  // namespace
+
+const char* sceneKindName(SceneKind kind) {
+    switch (kind) {
+        case SceneKind::OneVsMany: return "one-vs-many";
+        case SceneKind::OneVsOne: return "one-vs-one";
+    }
+    return "?";
+}
+
+Result<ComposeSpec> parseComposeSpec(std::string_view text, std::string_view fileName, const PatchLibrary& patches) {
+    const prep::JsonReader rd(fileName);
+    json j;
+    try {
+        j = json::parse(text.begin(), text.end());
+    } catch (const json::parse_error& e) {
+        return rd.error("", std::string("not valid JSON (") + std::string(e.what()).substr(0, 120) + ")");
+    }
+    if (!j.is_object()) return rd.error("", "must be an object");
+    ComposeSpec s;
+    s.text = std::string(text);
+    static const char* const known[] = {"version", "kind", "duration", "seed", "enemies", "entry_radius", "patterns", "commands"};
+    for (auto it = j.begin(); it != j.end(); ++it) {
+        if (std::find_if(std::begin(known), std::end(known), [&](const char* k) { return it.key() == k; }) == std::end(known)) {
+            return rd.error("/" + it.key(), "unknown field");
+        }
+    }
+    FRAY_TRY(kind, rd.stringAt(j, "", "kind"));
+    if (kind == "one-vs-many") s.kind = SceneKind::OneVsMany;
+    else if (kind == "one-vs-one") s.kind = SceneKind::OneVsOne;
+    else return rd.error("/kind", "unknown scene kind '" + kind + "' (this build composes one-vs-many and one-vs-one)");
+    if (auto f = rd.field(j, "", "duration", false); !f) return f.error();
+    else if (*f) {
+        FRAY_TRY(d, rd.number(**f, "/duration"));
+        if (!(d > 0) || d > 3600) return rd.error("/duration", "must be in (0, 3600] seconds");
+        s.duration = d;
+    }
+    if (auto f = rd.field(j, "", "seed", false); !f) return f.error();
+    else if (*f) {
+        FRAY_TRY(d, rd.integer(**f, "/seed"));
+        if (d < 0) return rd.error("/seed", "must not be negative");
+        s.seed = static_cast<std::uint64_t>(d);
+    }
+    if (auto f = rd.field(j, "", "enemies", false); !f) return f.error();
+    else if (*f) {
+        FRAY_TRY(d, rd.integer(**f, "/enemies"));
+        if (d < 1 || d > 1000) return rd.error("/enemies", "must be between 1 and 1000");
+        s.enemies = d;
+    }
+    if (auto f = rd.field(j, "", "entry_radius", false); !f) return f.error();
+    else if (*f) {
+        FRAY_TRY(d, rd.number(**f, "/entry_radius"));
+        if (!(d > 0) || d > 1000) return rd.error("/entry_radius", "must be in (0, 1000] m");
+        s.entryRadius = d;
+    }
+    if (auto f = rd.field(j, "", "patterns", false); !f) return f.error();
+    else if (*f) {
+        FRAY_TRY(names, rd.strings(**f, "/patterns"));
+        for (std::size_t i = 0; i < names.size(); ++i) {
+            const bool found = std::any_of(patches.patterns.begin(), patches.patterns.end(),
+                                           [&](const PatternList& p) { return p.name == names[i]; });
+            if (!found) return rd.error("/patterns/" + std::to_string(i), "no pattern '" + names[i] + "' in the patch library");
+        }
+        s.patterns = names;
+    }
+    if (auto f = rd.field(j, "", "commands", false); !f) return f.error();
+    else if (*f) {
+        if (!(*f)->is_array()) return rd.error("/commands", "must be an array of {time, action}");
+        for (std::size_t i = 0; i < (*f)->size(); ++i) {
+            const std::string p = "/commands/" + std::to_string(i);
+            const json& c = (**f)[i];
+            if (!c.is_object()) return rd.error(p, "must be an object {time, action}");
+            FRAY_TRY(t, rd.numberAt(c, p, "time"));
+            FRAY_TRY(a, rd.stringAt(c, p, "action"));
+            static const char* const verbs[] = {"punch", "kick", "avoid", "attack", "defence", "block"};
+            if (std::find_if(std::begin(verbs), std::end(verbs), [&](const char* v) { return a == v; }) == std::end(verbs)) {
+                return rd.error(p + "/action", "unknown command '" + a + "' (punch, kick, avoid, attack, defence, block)");
+            }
+            if (t < 0) return rd.error(p + "/time", "must not be negative");
+            if (!s.commands.empty() && t < s.commands.back().time) return rd.error(p + "/time", "commands must be in time order");
+            s.commands.push_back({t, a});
+        }
+    }
+    return s;
+}
+
+Result<Scene> compose(const ActionLibrary& lib, const PatchLibrary& patches, const ComposeSpec& spec, ComposeStats* stats,
+                      const ProgressFn& progress) {
+    if (patches.patches.empty()) return makeError("the patch library is empty (run patches generate first)");
+    if (patches.temporal.size() != patches.patches.size()) return makeError("the patch library has no connection tables");
+    const auto wallStart = std::chrono::steady_clock::now();
+    ComposeStats local;
+    ComposeStats& st = stats ? *stats : local;
+    st = {};
+    Composer c(lib, patches, spec, st);
+    if (c.hold < 0) return makeError("the project has no idle action (characters need one to wait)");
+    if (c.locomotion.empty()) return makeError("the project has no walk, step or turn action (characters need them to move)");
+    const Status done = spec.kind == SceneKind::OneVsMany ? c.oneVsMany(progress) : c.oneVsOne(progress);
+    if (!done) return done.error();
+    Scene scene = std::move(c.scene);
+    scene.seed = spec.seed;
+    scene.spec = spec.text;
+    double end = 0;
+    for (const auto& ch : scene.characters) end = std::max(end, ch.track.empty() ? 0.0 : ch.track.back().end);
+    scene.duration = end;
+    std::sort(scene.hits.begin(), scene.hits.end(), [](const HitEvent& a, const HitEvent& b) {
+        return a.time != b.time ? a.time < b.time : a.attacker < b.attacker;
+    });
+    scene.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
+    st.seconds = scene.stats.seconds;
+    reportProgress(progress, 1.0, "compose");
+    return scene;
+}
+
+}  // namespace fray::sim

@@ -1,0 +1,398 @@
+// Connection tables, standard poses (SPEC 4.3, 4.4) and the patch cache.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <numbers>
+#include <unordered_map>
+
+#include "fray/core/atomic_file.h"
+#include "fray/sim/patches.h"
+
+namespace fray::sim {
+
+namespace {
+
+constexpr double kContinueF = 0.5;    // F below which a final configuration continues into an initial one
+constexpr double kStandardF = 0.35;   // clusters grow until every configuration is this close to its pose
+constexpr int kMaxStandardPoses = 64;
+constexpr float kClearance = 0.15f;   // m between the bounding boxes of characters that must not meet
+
+PatchConfig swapped(const PatchConfig& c) { return {c.r, c.theta2, c.theta1, c.delay}; }
+
+bool continues(const ActionLibrary& lib, int from, int to) {
+    return lib.startNode[static_cast<std::size_t>(to)] == lib.endNode[static_cast<std::size_t>(from)];
+}
+
+// Box of a floor rectangle after a placement (conservative: the box of the rotated rectangle).
+SweptBox transformed(const SweptBox& b, const RootXf& xf) {
+    const glm::vec2 c = xf.apply((b.lo + b.hi) * 0.5f);
+    const glm::vec2 h = (b.hi - b.lo) * 0.5f;
+    const float cs = std::fabs(std::cos(static_cast<float>(xf.heading))), sn = std::fabs(std::sin(static_cast<float>(xf.heading)));
+    const glm::vec2 e(cs * h.x + sn * h.y, sn * h.x + cs * h.y);
+    return {c - e, c + e};
+}
+
+// Does character `who` of b, placed by xf and shifted by offset s, ever meet `box` during [t0, t1] of a's time?
+bool sweptMeets(const Patch& b, int who, const RootXf& xf, double offset, const SweptBox& box) {
+    for (const auto& s : b.swept[static_cast<std::size_t>(who)]) {
+        (void)offset;
+        if (transformed(s, xf).overlaps(box, kClearance)) return true;
+    }
+    return false;
+}
+
+void temporalTable(const ActionLibrary& lib, PatchLibrary& out) {
+    const auto n = out.patches.size();
+    out.temporal.assign(n, {});
+    for (std::size_t ia = 0; ia < n; ++ia) {
+        const Patch& a = out.patches[ia];
+        const std::array<int, 2> lastA = {a.tracks[0].back().action, a.tracks[1].back().action};
+        for (std::size_t ib = 0; ib < n; ++ib) {
+            const Patch& b = out.patches[ib];
+            for (int roles = 0; roles < 2; ++roles) {
+                // b's character m is a's character (roles ? 1 - m : m).
+                const int m0 = roles ? 1 : 0;  // b's character that a's character 0 becomes
+                const std::array<bool, 2> cont = {continues(lib, lastA[0], b.tracks[static_cast<std::size_t>(m0)].front().action),
+                                                  continues(lib, lastA[1], b.tracks[static_cast<std::size_t>(1 - m0)].front().action)};
+                const PatchConfig fin = roles ? swapped(a.final) : a.final;
+                if (cont[0] && cont[1] && configDistance(fin, b.initial) <= kContinueF) {
+                    out.temporal[ia].push_back({static_cast<int>(ib), static_cast<std::int8_t>(roles), -1});
+                    continue;
+                }
+                // One continues, the other leaves and b's other character joins:
+                // the leaving one (standing where a leaves it) must not meet the joiner.
+                for (int k = 0; k < 2; ++k) {
+                    if (!cont[static_cast<std::size_t>(k)]) continue;
+                    const int m = k == 0 ? m0 : 1 - m0;
+                    const RootXf endK = a.endPlacement(lib, k);
+                    const RootXf xf = endK * b.tracks[static_cast<std::size_t>(m)].front().root.inverse();
+                    const SweptBox leaving = a.swept[static_cast<std::size_t>(1 - k)].back();
+                    if (sweptMeets(b, 1 - m, xf, 0, leaving)) continue;
+                    out.temporal[ia].push_back({static_cast<int>(ib), static_cast<std::int8_t>(roles), static_cast<std::int8_t>(k)});
+                    break;
+                }
+            }
+        }
+    }
+}
+
+void spatialTable(const ActionLibrary& lib, PatchLibrary& out) {
+    (void)lib;
+    const auto n = out.patches.size();
+    out.spatial.assign(n, {});
+    // Index: first action of each character of every patch.
+    std::unordered_map<int, std::vector<std::pair<int, int>>> heads;  // action -> (patch, character)
+    for (std::size_t ib = 0; ib < n; ++ib) {
+        for (int m = 0; m < 2; ++m) heads[out.patches[ib].tracks[static_cast<std::size_t>(m)].front().action].push_back({static_cast<int>(ib), m});
+    }
+    for (std::size_t ia = 0; ia < n; ++ia) {
+        const Patch& a = out.patches[ia];
+        for (int k = 0; k < 2; ++k) {
+            const auto& ta = a.tracks[static_cast<std::size_t>(k)];
+            for (std::size_t j = 0; j < ta.size(); ++j) {
+                const auto it = heads.find(ta[j].action);
+                if (it == heads.end()) continue;
+                for (const auto& [ibi, m] : it->second) {
+                    if (static_cast<std::size_t>(ibi) == ia) continue;
+                    const Patch& b = out.patches[static_cast<std::size_t>(ibi)];
+                    const auto& tb = b.tracks[static_cast<std::size_t>(m)];
+                    // The shared character's series: a's tail from j equals b's head (or contains it).
+                    bool same = true;
+                    for (std::size_t q = 0; q < tb.size() && j + q < ta.size() && same; ++q) {
+                        const auto& x = ta[j + q];
+                        const auto& y = tb[q];
+                        same = x.action == y.action && std::fabs(x.offset - y.offset) < 1e-6 &&
+                               std::fabs((x.end - x.start) - (y.end - y.start)) < 1e-6 && x.forced == y.forced;
+                    }
+                    if (!same) continue;
+                    const double offset = ta[j].start - tb.front().start;
+                    const RootXf xf = ta[j].root * tb.front().root.inverse();
+                    // The unshared characters never meet while both exist.
+                    const auto& sa = a.swept[static_cast<std::size_t>(1 - k)];
+                    const auto& sb = b.swept[static_cast<std::size_t>(1 - m)];
+                    bool meet = false;
+                    for (std::size_t q = 0; q < sb.size() && !meet; ++q) {
+                        const double t = offset + static_cast<double>(q) * kSweptSlice;
+                        const auto slice = static_cast<std::size_t>(std::max(0.0, std::floor(t / kSweptSlice)));
+                        const SweptBox other = slice < sa.size() ? sa[slice] : sa.back();
+                        meet = transformed(sb[q], xf).overlaps(other, kClearance);
+                    }
+                    if (meet) continue;
+                    out.spatial[ia].push_back({ibi, static_cast<std::int8_t>(k), static_cast<std::int8_t>(m), static_cast<float>(offset)});
+                }
+            }
+        }
+    }
+}
+
+PatchConfig meanConfig(const std::vector<const PatchConfig*>& members) {
+    PatchConfig c;
+    double s1 = 0, c1 = 0, s2 = 0, c2 = 0;
+    for (const auto* m : members) {
+        c.r += m->r;
+        s1 += std::sin(m->theta1), c1 += std::cos(m->theta1);
+        s2 += std::sin(m->theta2), c2 += std::cos(m->theta2);
+    }
+    c.r /= static_cast<double>(members.size());
+    c.theta1 = std::atan2(s1, c1);
+    c.theta2 = std::atan2(s2, c2);
+    return c;
+}
+
+// K-means under F, K grown (farthest point first) until every configuration
+// is within kStandardF of its pose.
+void standardPoses(PatchLibrary& out) {
+    std::vector<PatchConfig> configs;
+    for (const auto& p : out.patches) configs.push_back(p.initial), configs.push_back(p.final);
+    out.standardPoses.clear();
+    if (configs.empty()) return;
+    std::vector<PatchConfig> centres = {configs.front()};
+    std::vector<int> label(configs.size(), 0);
+    for (;;) {
+        for (int iter = 0; iter < 12; ++iter) {
+            for (std::size_t i = 0; i < configs.size(); ++i) {
+                double best = std::numeric_limits<double>::max();
+                for (std::size_t k = 0; k < centres.size(); ++k) {
+                    const double d = configDistance(configs[i], centres[k]);
+                    if (d < best) best = d, label[i] = static_cast<int>(k);
+                }
+            }
+            for (std::size_t k = 0; k < centres.size(); ++k) {
+                std::vector<const PatchConfig*> members;
+                for (std::size_t i = 0; i < configs.size(); ++i) {
+                    if (label[i] == static_cast<int>(k)) members.push_back(&configs[i]);
+                }
+                if (!members.empty()) centres[k] = meanConfig(members);
+            }
+        }
+        double worst = -1;
+        std::size_t worstI = 0;
+        for (std::size_t i = 0; i < configs.size(); ++i) {
+            const double d = configDistance(configs[i], centres[static_cast<std::size_t>(label[i])]);
+            if (d > worst) worst = d, worstI = i;
+        }
+        if (worst <= kStandardF || static_cast<int>(centres.size()) >= kMaxStandardPoses) break;
+        centres.push_back(configs[worstI]);
+    }
+    out.standardPoses = centres;
+    out.initialPose.assign(out.patches.size(), 0);
+    out.finalPose.assign(out.patches.size(), 0);
+    for (std::size_t i = 0; i < out.patches.size(); ++i) {
+        out.initialPose[i] = out.nearestPose(out.patches[i].initial);
+        out.finalPose[i] = out.nearestPose(out.patches[i].final);
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Binary cache: little-endian fixed-size fields, bounds-checked on read.
+
+constexpr char kMagic[8] = {'F', 'R', 'A', 'Y', 'P', 'T', 'C', 'H'};
+
+struct Writer {
+    std::string out;
+    template <class T>
+    void put(T v) {
+        char b[sizeof(T)];
+        std::memcpy(b, &v, sizeof(T));
+        out.append(b, sizeof(T));
+    }
+    void str(const std::string& s) {
+        put(static_cast<std::uint32_t>(s.size()));
+        out += s;
+    }
+    void xf(const RootXf& r) { put(r.pos.x), put(r.pos.y), put(r.heading); }
+    void cfg(const PatchConfig& c) { put(c.r), put(c.theta1), put(c.theta2), put(c.delay); }
+};
+
+struct Reader {
+    std::string_view in;
+    std::size_t at = 0;
+    bool bad = false;
+    template <class T>
+    T get() {
+        T v{};
+        if (bad || in.size() - at < sizeof(T)) {
+            bad = true;
+            return v;
+        }
+        std::memcpy(&v, in.data() + at, sizeof(T));
+        at += sizeof(T);
+        return v;
+    }
+    // A count of items that each take at least minBytes: refuses counts the file cannot hold.
+    std::size_t count(std::size_t minBytes) {
+        const auto n = get<std::uint32_t>();
+        if (bad || static_cast<std::size_t>(n) * minBytes > in.size() - at) {
+            bad = true;
+            return 0;
+        }
+        return n;
+    }
+    std::string str() {
+        const std::size_t n = count(1);
+        if (bad) return {};
+        std::string s(in.substr(at, n));
+        at += n;
+        return s;
+    }
+    RootXf xf() {
+        RootXf r;
+        r.pos.x = get<float>(), r.pos.y = get<float>(), r.heading = get<double>();
+        return r;
+    }
+    PatchConfig cfg() {
+        PatchConfig c;
+        c.r = get<double>(), c.theta1 = get<double>(), c.theta2 = get<double>(), c.delay = get<double>();
+        return c;
+    }
+};
+
+}  // namespace
+
+void buildConnections(const ActionLibrary& lib, PatchLibrary& out) {
+    temporalTable(lib, out);
+    spatialTable(lib, out);
+    standardPoses(out);
+}
+
+Status savePatchLibrary(const PatchLibrary& lib, const std::filesystem::path& file) {
+    Writer w;
+    w.out.append(kMagic, sizeof(kMagic));
+    w.put(kPatchCacheVersion);
+    w.put(lib.libraryKey);
+    w.put(static_cast<std::uint32_t>(lib.patterns.size()));
+    for (const auto& p : lib.patterns) {
+        w.str(p.name);
+        w.put(static_cast<std::uint32_t>(p.entries.size()));
+        for (const auto& e : p.entries) w.put(static_cast<std::int32_t>(e.character)), w.str(e.annotation);
+        w.put(p.weights.contact), w.put(p.weights.distance), w.put(p.weights.timing), w.put(p.threshold);
+    }
+    w.put(static_cast<std::uint32_t>(lib.patches.size()));
+    for (const auto& p : lib.patches) {
+        w.put(static_cast<std::int32_t>(p.pattern));
+        w.put(p.duration), w.put(p.score), w.put(p.contact), w.put(p.distance), w.put(p.timing);
+        w.cfg(p.initial), w.cfg(p.final);
+        w.put(static_cast<std::uint8_t>(p.handMade));
+        for (const auto& t : p.tracks) {
+            w.put(static_cast<std::uint32_t>(t.size()));
+            for (const auto& i : t) {
+                w.put(static_cast<std::int32_t>(i.action)), w.put(i.start), w.put(i.offset), w.put(i.end);
+                w.xf(i.root);
+                w.put(static_cast<std::uint8_t>((i.forced ? 1 : 0) | (i.fallback ? 2 : 0)));
+            }
+        }
+        w.put(static_cast<std::uint32_t>(p.hits.size()));
+        for (const auto& h : p.hits) {
+            w.put(h.time), w.put(static_cast<std::int32_t>(h.attacker)), w.put(static_cast<std::int32_t>(h.defender));
+            w.put(static_cast<std::int32_t>(h.attackAction)), w.put(static_cast<std::int32_t>(h.effector));
+            w.put(static_cast<std::int32_t>(h.target)), w.put(h.speed), w.put(h.impulse), w.put(static_cast<std::uint8_t>(h.blocked));
+        }
+        for (const auto& s : p.swept) {
+            w.put(static_cast<std::uint32_t>(s.size()));
+            for (const auto& b : s) w.put(b.lo.x), w.put(b.lo.y), w.put(b.hi.x), w.put(b.hi.y);
+        }
+    }
+    const auto& st = lib.stats;
+    for (std::int64_t v : {st.initialConditions, st.paths, st.tooClose, st.wrongOrder, st.unintendedHit, st.missedContact,
+                           st.belowThreshold, st.duplicates, st.kept}) {
+        w.put(v);
+    }
+    w.put(st.seconds);
+    return writeFileAtomically(file, w.out);
+}
+
+Result<PatchLibrary> readPatchLibrary(std::string_view bytes, std::string_view fileName, std::uint64_t expectedKey, int actionCount) {
+    const std::string name(fileName);
+    if (bytes.size() < sizeof(kMagic) || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) {
+        return makeError(name + ": not a Fray patch library");
+    }
+    Reader r{bytes.substr(sizeof(kMagic))};
+    const auto version = r.get<std::uint32_t>();
+    if (!r.bad && version != kPatchCacheVersion) {
+        return makeError(name + ": patch library version " + std::to_string(version) + ", this build reads version " +
+                         std::to_string(kPatchCacheVersion) + " (generate the patches again)");
+    }
+    PatchLibrary lib;
+    lib.libraryKey = r.get<std::uint64_t>();
+    if (!r.bad && lib.libraryKey != expectedKey) {
+        return makeError(name + ": made from other actions than the project has now (generate the patches again)");
+    }
+    const std::size_t np = r.count(12);
+    for (std::size_t i = 0; i < np && !r.bad; ++i) {
+        PatternList p;
+        p.name = r.str();
+        const std::size_t ne = r.count(8);
+        for (std::size_t e = 0; e < ne && !r.bad; ++e) {
+            PatternEntry pe;
+            pe.character = r.get<std::int32_t>();
+            pe.annotation = r.str();
+            if (pe.character != 0 && pe.character != 1) r.bad = true;
+            p.entries.push_back(pe);
+        }
+        p.weights.contact = r.get<double>(), p.weights.distance = r.get<double>(), p.weights.timing = r.get<double>();
+        p.threshold = r.get<double>();
+        lib.patterns.push_back(std::move(p));
+    }
+    const std::size_t nq = r.count(64);
+    for (std::size_t i = 0; i < nq && !r.bad; ++i) {
+        Patch p;
+        p.pattern = r.get<std::int32_t>();
+        if (p.pattern < 0 || static_cast<std::size_t>(p.pattern) >= lib.patterns.size()) r.bad = true;
+        p.duration = r.get<double>(), p.score = r.get<double>();
+        p.contact = r.get<double>(), p.distance = r.get<double>(), p.timing = r.get<double>();
+        p.initial = r.cfg(), p.final = r.cfg();
+        p.handMade = r.get<std::uint8_t>() != 0;
+        for (auto& t : p.tracks) {
+            const std::size_t n = r.count(41);
+            if (n == 0) r.bad = true;
+            for (std::size_t k = 0; k < n && !r.bad; ++k) {
+                ActionInstance inst;
+                inst.action = r.get<std::int32_t>();
+                inst.start = r.get<double>(), inst.offset = r.get<double>(), inst.end = r.get<double>();
+                inst.root = r.xf();
+                const auto flags = r.get<std::uint8_t>();
+                inst.forced = (flags & 1) != 0, inst.fallback = (flags & 2) != 0;
+                if (inst.action < 0 || inst.action >= actionCount || !(inst.end >= inst.start)) r.bad = true;
+                t.push_back(inst);
+            }
+        }
+        const std::size_t nh = r.count(49);
+        for (std::size_t k = 0; k < nh && !r.bad; ++k) {
+            HitEvent h;
+            h.time = r.get<double>();
+            h.attacker = r.get<std::int32_t>(), h.defender = r.get<std::int32_t>();
+            h.attackAction = r.get<std::int32_t>(), h.effector = r.get<std::int32_t>(), h.target = r.get<std::int32_t>();
+            h.speed = r.get<double>(), h.impulse = r.get<double>();
+            h.blocked = r.get<std::uint8_t>() != 0;
+            p.hits.push_back(h);
+        }
+        for (auto& s : p.swept) {
+            const std::size_t n = r.count(16);
+            if (n == 0) r.bad = true;
+            for (std::size_t k = 0; k < n && !r.bad; ++k) {
+                SweptBox b;
+                b.lo.x = r.get<float>(), b.lo.y = r.get<float>(), b.hi.x = r.get<float>(), b.hi.y = r.get<float>();
+                s.push_back(b);
+            }
+        }
+        lib.patches.push_back(std::move(p));
+    }
+    auto& st = lib.stats;
+    for (std::int64_t* v : {&st.initialConditions, &st.paths, &st.tooClose, &st.wrongOrder, &st.unintendedHit, &st.missedContact,
+                            &st.belowThreshold, &st.duplicates, &st.kept}) {
+        *v = r.get<std::int64_t>();
+    }
+    st.seconds = r.get<double>();
+    if (r.bad) return makeError(name + ": the patch library is truncated or corrupt at byte " + std::to_string(r.at + sizeof(kMagic)));
+    if (r.at != r.in.size()) return makeError(name + ": unexpected data after the patch library");
+    return lib;
+}
+
+Result<PatchLibrary> loadPatchLibrary(const std::filesystem::path& file, std::uint64_t expectedKey, int actionCount) {
+    auto bytes = readWholeFile(file, "the patch library");
+    if (!bytes) return bytes.error();
+    return readPatchLibrary(*bytes, file.string(), expectedKey, actionCount);
+}
+
+}  // namespace fray::sim
