@@ -1,9 +1,15 @@
-// Interaction Patches (SPEC 4): PatternLists, generation, the validity rules,
-// connection tables, standard poses and the patch cache, on the demo project.
+// Interaction Patches (SPEC 4): PatternLists, generation and its validity
+// rules, connection tables, standard poses, the patch cache and composition,
+// on the demo project.
 #include <gtest/gtest.h>
 
-#include <cstdio>
+#include <algorithm>
+#include <atomic>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
 
+#include "fray/core/atomic_file.h"
 #include "fray/sim/compose.h"
 #include "fray/sim/metrics.h"
 #include "fray/sim/patches.h"
@@ -22,46 +28,383 @@ PatternList pattern(const std::string& name) {
     throw std::runtime_error("no pattern " + name);
 }
 
-TEST(PatchProbe, Generate) {
-    const auto& lib = demoWorld().library;
-    PatternSet set;
-    for (const char* name : {"attack-fall", "attack-defence", "attack-defence-attack-fall", "attack-attack-fall"}) {
+// The fighting library used by the composition tests (generated once).
+const PatchLibrary& fightLibrary() {
+    static const PatchLibrary lib = [] {
         PatchLibrary out;
-        auto st = generatePatches(lib, pattern(name), set, out);
-        ASSERT_TRUE(st) << st.error().message;
-        const auto& s = out.stats;
-        std::printf("%s: ics %lld paths %lld dup %lld kept %lld close %lld order %lld hit %lld missed %lld below %lld %.2fs\n", name,
-                    (long long)s.initialConditions, (long long)s.paths, (long long)s.duplicates, (long long)s.kept, (long long)s.tooClose,
-                    (long long)s.wrongOrder, (long long)s.unintendedHit, (long long)s.missedContact, (long long)s.belowThreshold,
-                    s.seconds);
-        buildConnections(lib, out);
-        std::size_t t = 0, sp = 0;
-        for (auto& v : out.temporal) t += v.size();
-        for (auto& v : out.spatial) sp += v.size();
-        std::printf("  temporal %zu spatial %zu poses %zu\n", t, sp, out.standardPoses.size());
+        const PatternSet set;
+        for (const char* name : {"attack-defence-attack-fall", "attack-fall", "attack-attack-fall"}) {
+            auto st = generatePatches(demoWorld().library, pattern(name), set, out);
+            if (!st) throw std::runtime_error(st.error().message);
+        }
+        buildConnections(demoWorld().library, out);
+        return out;
+    }();
+    return lib;
+}
+
+prep::Project projectWithPatterns(const std::string& section) {
+    prep::Project p = demoWorld().project;
+    p.laterSections[kPatternSection] = section;
+    return p;
+}
+
+TEST(PatchPatterns, ProjectSectionRoundTripAndErrors) {
+    const auto ok = projectPatterns(projectWithPatterns(R"({"patterns": [{"name": "p", "entries": [
+        {"character": 1, "annotation": "attack"}, {"character": 2, "annotation": "fall"}],
+        "weights": {"contact": 2, "distance": 1, "timing": 0.5}, "threshold": 0.6}],
+        "initial_conditions": {"punch": {"distance": [0.5, 1.0]}}})"),
+                                    "demo.frayproj");
+    ASSERT_TRUE(ok) << ok.error().message;
+    ASSERT_EQ(ok->patterns.size(), 1u);
+    EXPECT_EQ(ok->patterns[0].entries[1], (PatternEntry{1, "fall"}));
+    EXPECT_DOUBLE_EQ(ok->patterns[0].weights.contact, 2.0);
+    EXPECT_DOUBLE_EQ(ok->rangeFor("punch").maxDistance, 1.0);
+    EXPECT_DOUBLE_EQ(ok->rangeFor("punch").maxAngle, defaultRange("punch").maxAngle);  // unset fields keep the default
+    prep::Project written = demoWorld().project;
+    setProjectPatterns(written, *ok);
+    const auto again = projectPatterns(written, "again");
+    ASSERT_TRUE(again);
+    EXPECT_EQ(again->patterns, ok->patterns);
+    EXPECT_EQ(again->rangeFor("punch"), ok->rangeFor("punch"));
+
+    const std::pair<std::string, std::string> bad[] = {
+        {R"({"patterns": [{"name": "p", "entries": [{"character": 1, "annotation": "uppercutz"}, {"character": 2, "annotation": "fall"}]}]})",
+         "/pattern_lists/patterns/0/entries/0/annotation: unknown annotation 'uppercutz'"},
+        {R"({"patterns": [{"name": "p", "entries": [{"character": 3, "annotation": "attack"}]}]})",
+         "/pattern_lists/patterns/0/entries/0/character: must be 1 or 2"},
+        {R"({"patterns": [{"name": "p", "entries": []}]})", "/pattern_lists/patterns/0/entries: must be a non-empty array"},
+        {R"({"patterns": [{"name": "p", "entries": [{"character": 1, "annotation": "attack"}]}]})",
+         "needs entries for both characters"},
+        {R"({"initial_conditions": {"punch": {"distance": [1.5, 0.5]}}})", "/pattern_lists/initial_conditions/punch/distance: low is above high"},
+        {R"({"patterns": [], "extra": 1})", "/pattern_lists/extra: unknown field"},
+    };
+    for (const auto& [section, message] : bad) {
+        const auto r = projectPatterns(projectWithPatterns(section), "demo.frayproj");
+        ASSERT_FALSE(r) << section;
+        EXPECT_NE(r.error().message.find(message), std::string::npos) << r.error().message;
+        EXPECT_EQ(r.error().message.rfind("demo.frayproj: ", 0), 0u) << r.error().message;
     }
 }
 
-TEST(PatchProbe, Compose) {
+TEST(PatchPatterns, UnsatisfiableEntriesAreNamed) {
     const auto& lib = demoWorld().library;
-    PatternSet set;
+    const PatternSet set;
+    PatternList p;
+    p.name = "football";
+    p.entries = {{0, "run"}, {1, "tackle"}, {0, "avoid"}};
+    auto st = checkPattern(p, set, lib);
+    ASSERT_FALSE(st);
+    EXPECT_NE(st.error().message.find("pattern 'football', entry 2 (character 2, tackle): no action in the project has this annotation"),
+              std::string::npos)
+        << st.error().message;
+    p.entries = {{1, "fall"}, {0, "attack"}};
+    st = checkPattern(p, set, lib);
+    ASSERT_FALSE(st);
+    EXPECT_NE(st.error().message.find("entry 1 (character 2, fall): a reaction needs an earlier action of the other character"),
+              std::string::npos)
+        << st.error().message;
     PatchLibrary out;
-    for (const char* name : {"attack-fall", "attack-defence", "attack-defence-attack-fall", "attack-attack-fall"}) {
-        ASSERT_TRUE(generatePatches(lib, pattern(name), set, out));
+    EXPECT_FALSE(generatePatches(lib, p, set, out));
+    EXPECT_TRUE(out.patches.empty());
+}
+
+TEST(PatchConfigs, DistanceAndPlacement) {
+    // F of SPEC 4.4: C_r = 0.30 m, C_theta = 180 degrees.
+    EXPECT_NEAR(configDistance({1.0, 0, 0, 0}, {1.3, 0, 0, 0}), 1.0, 1e-9);
+    EXPECT_NEAR(configDistance({1.0, std::numbers::pi / 2, 0, 0}, {1.0, 0, 0, 0}), 0.25, 1e-9);
+    const PatchConfig c{1.2, 0.3, -0.5, 0};
+    const auto places = placeConfig(c);
+    const PatchConfig back = configOf(places[0], places[1]);
+    EXPECT_NEAR(back.r, c.r, 1e-5);
+    EXPECT_NEAR(back.theta1, c.theta1, 1e-5);
+    EXPECT_NEAR(back.theta2, c.theta2, 1e-5);
+}
+
+TEST(PatchGeneration, KeptPatchesFollowTheirPattern) {
+    const auto& lib = demoWorld().library;
+    const auto& out = fightLibrary();
+    ASSERT_GT(out.patches.size(), 100u);
+    const auto& s = out.stats;
+    EXPECT_EQ(s.paths, s.kept + s.duplicates + s.belowThreshold + s.tooClose + s.wrongOrder + s.unintendedHit + s.missedContact);
+    EXPECT_GT(s.unintendedHit + s.tooClose + s.missedContact, 0);  // the rules do discard paths
+    for (const auto& p : out.patches) {
+        const auto& pattern = out.patterns[static_cast<std::size_t>(p.pattern)];
+        EXPECT_GE(p.score, pattern.threshold);
+        // Every action a character plays follows its entries in order; reactions are forced by a blow.
+        std::array<std::vector<const PatternEntry*>, 2> entries;
+        for (const auto& e : pattern.entries) entries[static_cast<std::size_t>(e.character)].push_back(&e);
+        for (int c = 0; c < 2; ++c) {
+            std::size_t k = 0;
+            for (const auto& inst : p.tracks[static_cast<std::size_t>(c)]) {
+                const auto& act = lib.actions[static_cast<std::size_t>(inst.action)];
+                if (k < entries[static_cast<std::size_t>(c)].size() &&
+                    matchesAnnotation(act, entries[static_cast<std::size_t>(c)][k]->annotation)) {
+                    if (isReactiveAnnotation(entries[static_cast<std::size_t>(c)][k]->annotation)) {
+                        EXPECT_TRUE(inst.forced);
+                        const bool caused = std::any_of(p.hits.begin(), p.hits.end(), [&](const HitEvent& h) {
+                            return h.defender == c && std::fabs(h.time - inst.start) < 1e-9;
+                        });
+                        EXPECT_TRUE(caused) << "a reaction without a blow";
+                    }
+                    ++k;
+                } else {
+                    EXPECT_TRUE(act.is(kIdle)) << act.label() << " is neither the next entry nor a hold";
+                }
+            }
+            EXPECT_EQ(k, entries[static_cast<std::size_t>(c)].size()) << "character " << c + 1 << " missed an entry";
+        }
+        // Blows land only on a character whose next entry is a reaction, never on an avoid.
+        for (const auto& h : p.hits) {
+            const auto& track = p.tracks[static_cast<std::size_t>(h.defender)];
+            const bool reacted = std::any_of(track.begin(), track.end(), [&](const ActionInstance& i) {
+                return i.forced && std::fabs(i.start - h.time) < 1e-9;
+            });
+            EXPECT_TRUE(reacted || h.blocked);
+        }
+        EXPECT_EQ(p.swept[0].size(), p.swept[1].size());
+        EXPECT_GE(static_cast<double>(p.swept[0].size()) * kSweptSlice, p.duration - 1e-9);
     }
-    buildConnections(lib, out);
-    for (auto kind : {SceneKind::OneVsMany, SceneKind::OneVsOne}) {
-        ComposeSpec spec;
-        spec.kind = kind;
-        spec.enemies = 10;
-        ComposeStats st;
-        auto scene = compose(lib, out, spec, &st);
-        ASSERT_TRUE(scene) << scene.error().message;
-        const auto m = computeMetrics(*scene, lib);
-        std::printf("%s: chars %zu dur %.1f hits %zu used %d linked %d recycled %d steps %d junction %.2f pen %d hitrate %.2f %.3fs\n",
-                    sceneKindName(kind), scene->characters.size(), scene->duration, scene->hits.size(), st.patchesUsed,
-                    st.temporalLinks, st.recycled, st.locomotionSteps, st.maxJunctionError, m.penetrationFrames, m.hitRate, st.seconds);
+}
+
+TEST(PatchGeneration, DeterministicAndParallelIndependent) {
+    const auto& lib = demoWorld().library;
+    const PatternSet set;
+    GenerateOptions serial;
+    serial.parallel = false;
+    PatchLibrary a, b;
+    ASSERT_TRUE(generatePatches(lib, pattern("attack-attack-fall"), set, a));
+    ASSERT_TRUE(generatePatches(lib, pattern("attack-attack-fall"), set, b, serial));
+    const auto dir = std::filesystem::temp_directory_path() / "fray_patch_determinism";
+    std::filesystem::create_directories(dir);
+    a.stats.seconds = b.stats.seconds = 0;
+    ASSERT_TRUE(savePatchLibrary(a, dir / "a.patches"));
+    ASSERT_TRUE(savePatchLibrary(b, dir / "b.patches"));
+    EXPECT_EQ(*readWholeFile(dir / "a.patches"), *readWholeFile(dir / "b.patches"));
+    std::filesystem::remove_all(dir);
+}
+
+TEST(PatchGeneration, ProgressAndCancel) {
+    const auto& lib = demoWorld().library;
+    const PatternSet set;
+    std::atomic<bool> cancel{true};
+    GenerateOptions opt;
+    opt.cancel = &cancel;
+    PatchLibrary out;
+    auto st = generatePatches(lib, pattern("attack-fall"), set, out, opt);
+    ASSERT_FALSE(st);
+    EXPECT_EQ(st.error().message, "cancelled");
+    EXPECT_TRUE(out.patches.empty());
+    int calls = 0;
+    st = generatePatches(lib, pattern("attack-fall"), set, out, {}, [&](double, std::string_view) { return ++calls < 3; });
+    ASSERT_FALSE(st);
+    EXPECT_EQ(calls, 3);
+}
+
+TEST(PatchGeneration, HandMadePatchesUseTheSameRules) {
+    const auto& lib = demoWorld().library;
+    const auto& gen = fightLibrary();
+    // Replaying a generated attack-fall patch by hand gives the same patch.
+    const Patch* src = nullptr;
+    for (const auto& p : gen.patches) {
+        if (gen.patterns[static_cast<std::size_t>(p.pattern)].name == "attack-fall") src = &p;
     }
+    ASSERT_NE(src, nullptr);
+    PatchLibrary out;
+    ASSERT_TRUE(addHandMadePatch(lib, pattern("attack-fall"), src->initial, {{{src->tracks[0][0].action}, {}}}, out));
+    ASSERT_EQ(out.patches.size(), 1u);
+    EXPECT_TRUE(out.patches[0].handMade);
+    EXPECT_EQ(out.patches[0].hits.size(), src->hits.size());
+    EXPECT_NEAR(out.patches[0].score, src->score, 1e-9);
+    // Out of reach: the blow never lands, the fall is never caused.
+    PatchConfig far = src->initial;
+    far.r = 3.0;
+    auto st = addHandMadePatch(lib, pattern("attack-fall"), far, {{{src->tracks[0][0].action}, {}}}, out);
+    ASSERT_FALSE(st);
+    EXPECT_NE(st.error().message.find("never caused by a blow"), std::string::npos) << st.error().message;
+    // A kick where the pattern wants a punch... any attack is fine; a block is not.
+    int block = -1;
+    for (int i = 0; i < lib.size() && block < 0; ++i) {
+        if (lib.actions[static_cast<std::size_t>(i)].is(kBlock)) block = i;
+    }
+    st = addHandMadePatch(lib, pattern("attack-fall"), src->initial, {{{block}, {}}}, out);
+    ASSERT_FALSE(st);
+    EXPECT_NE(st.error().message.find("is not 'attack' (entry 1)"), std::string::npos) << st.error().message;
+}
+
+TEST(PatchTables, ConnectionsAndStandardPoses) {
+    const auto& lib = demoWorld().library;
+    const auto& out = fightLibrary();
+    ASSERT_EQ(out.temporal.size(), out.patches.size());
+    std::size_t both = 0, one = 0, spatial = 0;
+    for (std::size_t a = 0; a < out.patches.size(); ++a) {
+        const Patch& pa = out.patches[a];
+        for (const auto& l : out.temporal[a]) {
+            const Patch& pb = out.patches[static_cast<std::size_t>(l.to)];
+            for (int k = 0; k < 2; ++k) {
+                if (l.shared >= 0 && l.shared != k) continue;
+                const int m = l.roles ? 1 - k : k;
+                // Motion-graph continuity of every continuing character.
+                EXPECT_EQ(lib.startNode[static_cast<std::size_t>(pb.tracks[static_cast<std::size_t>(m)].front().action)],
+                          lib.endNode[static_cast<std::size_t>(pa.tracks[static_cast<std::size_t>(k)].back().action)]);
+            }
+            if (l.shared < 0) {
+                ++both;
+                const PatchConfig fin = l.roles ? PatchConfig{pa.final.r, pa.final.theta2, pa.final.theta1, 0} : pa.final;
+                EXPECT_LE(configDistance(fin, pb.initial), 0.5 + 1e-9);
+            } else {
+                ++one;
+            }
+        }
+        for (const auto& l : out.spatial[a]) {
+            ++spatial;
+            const auto& ta = pa.tracks[static_cast<std::size_t>(l.sharedA)];
+            const auto& tb = out.patches[static_cast<std::size_t>(l.to)].tracks[static_cast<std::size_t>(l.sharedB)];
+            const auto it = std::find_if(ta.begin(), ta.end(), [&](const ActionInstance& i) {
+                return std::fabs(i.start - tb.front().start - static_cast<double>(l.offset)) < 1e-4;
+            });
+            ASSERT_NE(it, ta.end());
+            EXPECT_EQ(it->action, tb.front().action);  // the shared character's series lines up
+        }
+    }
+    EXPECT_GT(both, 0u);
+    EXPECT_GT(one, 0u);
+    // Every initial and final configuration is close to its standard pose (unless the pose count hit its cap).
+    ASSERT_FALSE(out.standardPoses.empty());
+    if (out.standardPoses.size() < 64) {
+        for (std::size_t i = 0; i < out.patches.size(); ++i) {
+            EXPECT_LE(configDistance(out.patches[i].initial, out.standardPoses[static_cast<std::size_t>(out.initialPose[i])]), 0.35 + 1e-9);
+        }
+    }
+    (void)spatial;
+}
+
+TEST(PatchCache, RoundTripAndBadFiles) {
+    const auto& lib = demoWorld().library;
+    const auto& gen = fightLibrary();
+    const auto dir = std::filesystem::temp_directory_path() / "fray_patch_cache";
+    std::filesystem::create_directories(dir);
+    const auto file = dir / "demo.patches";
+    ASSERT_TRUE(savePatchLibrary(gen, file));
+    auto back = loadPatchLibrary(file, libraryFingerprint(lib), lib.size());
+    ASSERT_TRUE(back) << back.error().message;
+    ASSERT_EQ(back->patches.size(), gen.patches.size());
+    for (std::size_t i = 0; i < gen.patches.size(); ++i) {
+        EXPECT_EQ(back->patches[i].tracks[0].size(), gen.patches[i].tracks[0].size());
+        EXPECT_EQ(back->patches[i].initial, gen.patches[i].initial);
+        EXPECT_EQ(back->patches[i].hits.size(), gen.patches[i].hits.size());
+    }
+    EXPECT_EQ(back->patterns, gen.patterns);
+    const std::string bytes = *readWholeFile(file);
+    auto r = readPatchLibrary(bytes, "x.patches", libraryFingerprint(lib) + 1, lib.size());
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message.find("made from other actions"), std::string::npos);
+    r = readPatchLibrary(bytes.substr(0, bytes.size() / 2), "x.patches", libraryFingerprint(lib), lib.size());
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message.find("x.patches: the patch library is truncated or corrupt"), std::string::npos);
+    r = readPatchLibrary("{\"not\": \"binary\"}", "x.patches", 0, lib.size());
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error().message, "x.patches: not a Fray patch library");
+    r = readPatchLibrary(bytes, "x.patches", libraryFingerprint(lib), 3);  // actions the project does not have
+    EXPECT_FALSE(r);
+    std::filesystem::remove_all(dir);
+}
+
+int countAttacks(const Scene& scene, int c, std::uint32_t flag) {
+    int n = 0;
+    for (const auto& i : scene.characters[static_cast<std::size_t>(c)].track) {
+        n += demoWorld().library.actions[static_cast<std::size_t>(i.action)].is(flag) ? 1 : 0;
+    }
+    return n;
+}
+
+TEST(PatchCompose, OneVsManyMeetsEnemiesInSequenceWithoutCollisions) {
+    const auto& lib = demoWorld().library;
+    ComposeSpec spec;
+    spec.kind = SceneKind::OneVsMany;
+    spec.enemies = 10;
+    spec.duration = 120;
+    ComposeStats st;
+    auto scene = compose(lib, fightLibrary(), spec, &st);
+    ASSERT_TRUE(scene) << scene.error().message;
+    ASSERT_EQ(scene->characters.size(), 11u);
+    // Each enemy is knocked down by the main character, one after another.
+    double last = -1;
+    int met = 0;
+    for (int e = 1; e <= 10; ++e) {
+        const auto it = std::find_if(scene->hits.begin(), scene->hits.end(),
+                                     [&](const HitEvent& h) { return h.attacker == 0 && h.defender == e && !h.blocked; });
+        if (it == scene->hits.end()) continue;
+        EXPECT_GT(it->time, last) << "enemy " << e << " out of sequence";
+        last = it->time;
+        ++met;
+    }
+    EXPECT_GE(met, 8);
+    const auto m = computeMetrics(*scene, lib);
+    EXPECT_EQ(m.penetrationFrames, 0) << "unintended collisions";
+    // Newcomers are not in the scene before they walk in.
+    for (int e = 2; e <= 10; ++e) EXPECT_FALSE(scene->present(e, 0.5));
+    // Same seed, same scene.
+    auto again = compose(lib, fightLibrary(), spec);
+    ASSERT_TRUE(again);
+    EXPECT_EQ(sceneToJson(*scene, lib), sceneToJson(*again, lib));
+}
+
+TEST(PatchCompose, UserCommandsSteerTheMainCharacter) {
+    const auto& lib = demoWorld().library;
+    ComposeSpec spec;
+    spec.kind = SceneKind::OneVsMany;
+    spec.enemies = 8;
+    spec.duration = 120;
+    spec.commands = {{0.0, "kick"}};
+    auto kicks = compose(lib, fightLibrary(), spec);
+    spec.commands = {{0.0, "punch"}};
+    auto punches = compose(lib, fightLibrary(), spec);
+    ASSERT_TRUE(kicks && punches);
+    EXPECT_GT(countAttacks(*kicks, 0, kKick), countAttacks(*punches, 0, kKick));
+    EXPECT_GT(countAttacks(*punches, 0, kPunch), countAttacks(*kicks, 0, kPunch));
+}
+
+TEST(PatchCompose, OneVsOneFightsOnWithRecycling) {
+    const auto& lib = demoWorld().library;
+    ComposeSpec spec;
+    spec.kind = SceneKind::OneVsOne;
+    spec.duration = 40;
+    ComposeStats st;
+    auto scene = compose(lib, fightLibrary(), spec, &st);
+    ASSERT_TRUE(scene) << scene.error().message;
+    ASSERT_EQ(scene->characters.size(), 2u);
+    EXPECT_GE(scene->duration, 40.0);
+    EXPECT_GE(st.patchesUsed, 5);
+    EXPECT_GT(st.temporalLinks + st.recycled, 0);
+    EXPECT_LE(st.maxJunctionError, 0.3);
+    EXPECT_GE(scene->hits.size(), 3u);
+    const auto m = computeMetrics(*scene, lib);
+    EXPECT_EQ(m.penetrationFrames, 0);
+    // Both characters' tracks are continuous in time.
+    for (const auto& c : scene->characters) {
+        for (std::size_t i = 1; i < c.track.size(); ++i) EXPECT_NEAR(c.track[i].start, c.track[i - 1].end, 1e-6);
+    }
+}
+
+TEST(PatchCompose, SpecErrorsNameTheField) {
+    const auto& lib = fightLibrary();
+    const std::pair<std::string, std::string> bad[] = {
+        {R"({"kind": "domino-ish"})", "c.json: /kind: unknown scene kind 'domino-ish'"},
+        {R"({"kind": "one-vs-many", "enemies": 0})", "c.json: /enemies: must be between 1 and 1000"},
+        {R"({"kind": "one-vs-many", "patterns": ["nope"]})", "c.json: /patterns/0: no pattern 'nope' in the patch library"},
+        {R"({"kind": "one-vs-many", "commands": [{"time": 1, "action": "dance"}]})", "c.json: /commands/0/action: unknown command 'dance'"},
+        {R"({"kind": "one-vs-many", "duration": -3})", "c.json: /duration: must be in (0, 3600] seconds"},
+        {R"({"kind": "one-vs-many", "color": 1})", "c.json: /color: unknown field"},
+        {R"([1, 2)", "c.json: /: not valid JSON"},
+    };
+    for (const auto& [text, message] : bad) {
+        const auto r = parseComposeSpec(text, "c.json", lib);
+        ASSERT_FALSE(r) << text;
+        EXPECT_EQ(r.error().message.rfind(message, 0), 0u) << r.error().message;
+    }
+    PatchLibrary empty;
+    EXPECT_FALSE(compose(demoWorld().library, empty, ComposeSpec{}));
 }
 
 }  // namespace

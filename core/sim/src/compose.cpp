@@ -141,6 +141,12 @@ struct Composer {
             const float dn = rectDistance(box, p);
             if (dn < kNear && dn < rectDistance(box, from) - 1e-3f) return true;
         }
+        if (partner >= 0) {
+            // The one it is walking up to: no closer than touching distance.
+            const SweptBox box = bodyBox(partner, t);
+            const float dn = rectDistance(box, p);
+            if (dn < 0.15f && dn < rectDistance(box, from) - 1e-3f) return true;
+        }
         return false;
     }
 
@@ -345,18 +351,18 @@ struct Composer {
             }
             if (bestI < 0) {
                 // Crowded: the main character walks into open space and tries again.
-                if (++moves > 4) return makeError("one-vs-many: no patch fits around the main character at " + std::to_string(t0) + " s");
+                if (++moves > 8) return makeError("one-vs-many: no patch fits around the main character at " + std::to_string(t0) + " s");
                 // Candidate spots around, best first: most room, then nearest the scene centre.
                 const auto boxes = obstacles(t0, mainC);
                 std::vector<std::pair<double, RootXf>> spots;
-                for (float dist : {2.0f, 3.5f, 5.0f}) {
+                for (float dist : {2.5f, 4.0f, 6.0f}) {
                     for (int dir = 0; dir < 12; ++dir) {
                         RootXf goal;
                         goal.heading = wrapAngle(at.heading + dir * std::numbers::pi / 6);
                         goal.pos = at.pos + headingVector(goal.heading) * dist;
                         float room = 10.0f;
                         for (const auto& o : boxes) room = std::min(room, rectDistance(o, goal.pos));
-                        if (room < 1.2f) continue;
+                        if (room < 2.0f) continue;
                         spots.push_back({-static_cast<double>(std::min(room, 3.0f)) + 0.2 * static_cast<double>(glm::length(goal.pos)), goal});
                     }
                 }

@@ -111,11 +111,12 @@ SceneMetrics computeMetrics(const Scene& scene, const ActionLibrary& lib, const 
         bool any = false;
         for (int a = 0; a < n; ++a) {
             const auto& ca = scene.characters[static_cast<std::size_t>(a)];
+            if (!scene.present(a, t)) continue;
             // Opponent distance: explicit opponent, else the nearest enemy in its group.
             double best = -1;
             for (int b = 0; b < n; ++b) {
                 const auto& cb = scene.characters[static_cast<std::size_t>(b)];
-                if (b == a || cb.group != ca.group || cb.side == ca.side) continue;
+                if (b == a || cb.group != ca.group || cb.side == ca.side || !scene.present(b, t)) continue;
                 if (ca.opponent >= 0 && b != ca.opponent) continue;
                 const double d = glm::length(placed[static_cast<std::size_t>(a)].pelvis.pos - placed[static_cast<std::size_t>(b)].pelvis.pos);
                 if (best < 0 || d < best) best = d;
@@ -128,6 +129,7 @@ SceneMetrics computeMetrics(const Scene& scene, const ActionLibrary& lib, const 
                 cm.pathErrorMax = std::max(cm.pathErrorMax.value_or(0.0), e);
             }
             for (int b = a + 1; b < n; ++b) {
+                if (!scene.present(b, t)) continue;
                 if (!penetrate(lib, placed[static_cast<std::size_t>(a)], placed[static_cast<std::size_t>(b)])) continue;
                 const bool intended = std::any_of(scene.hits.begin(), scene.hits.end(), [&](const HitEvent& h) {
                     const bool pair = (h.attacker == a && h.defender == b) || (h.attacker == b && h.defender == a);
@@ -136,6 +138,7 @@ SceneMetrics computeMetrics(const Scene& scene, const ActionLibrary& lib, const 
                 if (intended) continue;
                 penetrating[static_cast<std::size_t>(a)] = penetrating[static_cast<std::size_t>(b)] = 1;
                 any = true;
+                if (m.penetrations.size() < SceneMetrics::kMaxListed) m.penetrations.push_back({t, a, b});
                 if (scene.characters[static_cast<std::size_t>(b)].group != ca.group) ++m.crossGroupPenetrations;
             }
         }
@@ -192,6 +195,12 @@ std::string metricsToJson(const SceneMetrics& m) {
     j["hit_rate"] = m.hitRate;
     j["penetration_frames"] = m.penetrationFrames;
     j["cross_group_penetrations"] = m.crossGroupPenetrations;
+    json list = json::array();
+    for (const auto& p : m.penetrations) {
+        list.push_back(json{{"time", p.time}, {"a", m.characters[static_cast<std::size_t>(p.a)].name},
+                            {"b", m.characters[static_cast<std::size_t>(p.b)].name}});
+    }
+    j["penetrations"] = list;
     j["sample_rate"] = m.sampleRate;
     json chars = json::array();
     auto opt = [](const std::optional<double>& v) { return v ? json(*v) : json(nullptr); };

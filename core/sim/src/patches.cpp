@@ -19,8 +19,8 @@ namespace {
 using detail::Playing;
 
 constexpr double kDegree = std::numbers::pi / 180.0;
-constexpr double kStep = 1.0 / 15.0;            // s between body tests
-constexpr float kShrink = 0.8f;                  // grazing contact is not penetration
+constexpr double kStep = 1.0 / kSampleRate;     // s between body tests: every sample of the tracks
+constexpr float kShrink = 0.82f;                 // grazing contact is not penetration (a little stricter than the metrics' 0.8)
 constexpr double kReachMargin = 0.35;            // m beyond an attack's reach (as the planner)
 constexpr double kNearMiss = 0.45;               // m: an attack this close to a defender that avoided it counts
 constexpr double kHitGrace = 0.25;               // s after a blow during which bodies may touch
@@ -37,7 +37,7 @@ struct Actor {
     int pos = 0;           // next position in this character's entry list
     int last = -1;         // last action launched (motion-graph continuity)
     bool attackDone = false, reacting = false, finished = false;
-    double reactUntil = -1;  // bodies may touch until then (after a blow)
+    double reactUntil = -1;  // bodies may touch until then (just after a blow)
 };
 
 struct State {
@@ -150,7 +150,7 @@ struct Engine {
         const auto& p = s.a[0].cur;
         const auto& q = s.a[1].cur;
         const glm::vec2 d = p.placement(lib, t).pos - q.placement(lib, t).pos;
-        if (glm::dot(d, d) > 0.8f * 0.8f) return false;
+        if (glm::dot(d, d) > 1.2f * 1.2f) return false;  // core segments never reach farther (metrics use the same)
         for (int i : kCoreSegments) {
             const Obb bi = p.box(lib, t, i).shrunk(kShrink);
             for (int j : kCoreSegments) {
@@ -211,7 +211,8 @@ struct Engine {
             }
             const double until = best.time >= 0 ? best.time : t1;
             for (double t = s.time; t <= until + 1e-9; t += kStep) {
-                const bool grace = s.a[0].reacting || s.a[1].reacting || t < s.a[0].reactUntil || t < s.a[1].reactUntil;
+                // Bodies may touch only right after a blow (the metrics' intended-contact window).
+                const bool grace = t < s.a[0].reactUntil || t < s.a[1].reactUntil;
                 if (!grace && corePenetrates(s, t)) {
                     verdict = Verdict::TooClose;
                     return -1;
@@ -283,7 +284,7 @@ struct Engine {
             y.last = reaction;
             y.reacting = true;
             y.attackDone = false;  // a falling body can push in turn
-            y.reactUntil = y.end;
+            x.reactUntil = y.reactUntil = te + kHitGrace;
             ++y.pos;
             s.entryStart[static_cast<std::size_t>(e)] = te;
             s.started[static_cast<std::size_t>(e)] = true;

@@ -33,6 +33,12 @@ struct SceneMetrics {
     std::vector<CharacterMetrics> characters;
     int penetrationFrames = 0;       // samples where any two bodies penetrate outside intended hits
     int crossGroupPenetrations = 0;  // of which between characters of different groups
+    struct Penetration {
+        double time = 0;
+        int a = 0, b = 0;
+    };
+    std::vector<Penetration> penetrations;  // the first kMaxListed samples, to find them
+    static constexpr std::size_t kMaxListed = 100;
     int hits = 0, blocked = 0, attacks = 0;
     double hitRate = 0;              // successful hits / attacks launched
 };
