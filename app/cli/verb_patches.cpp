@@ -40,7 +40,7 @@ void runGenerate(const PatchesArgs& a, SimSession& s) {
     auto set = sim::projectPatterns(s.session.project, a.project);
     if (!set) return fail(set.error().message);
     if (set->patterns.empty()) {
-        std::fprintf(stderr, "%s has no PatternLists: using the default ones\n", a.project.c_str());
+        if (!a.quiet) std::fprintf(stderr, "%s has no PatternLists: using the default ones\n", a.project.c_str());
         set->patterns = sim::defaultPatterns();
     }
     std::vector<const sim::PatternList*> chosen;

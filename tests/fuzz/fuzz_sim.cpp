@@ -1,11 +1,17 @@
-// libFuzzer target for the tree-expansion readers: the scene spec
-// (fray-cli simulate --spec) and the scene file, parsed against a small
+// libFuzzer target for the planners' readers: the scene spec (fray-cli
+// simulate --spec), the scene file, the project's PatternList section, the
+// compose spec and the binary patch library, parsed against a small
 // hand-made action library. The first input byte picks the parser. They must
 // return an error, never crash, hang or leak; what loads must save.
 #include <cstddef>
 #include <cstdint>
 #include <string_view>
 
+#include <cstring>
+
+#include "fray/sim/compose.h"
+#include "fray/sim/patches.h"
+#include "fray/sim/patterns.h"
 #include "fray/sim/scene.h"
 #include "fray/sim/spec.h"
 
@@ -49,11 +55,38 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (size == 0) return 0;
     const std::string_view text(reinterpret_cast<const char*>(data + 1), size - 1);
     const auto& lib = library();
-    if (data[0] % 2 == 0) {
-        (void)fray::sim::parseSceneSpec(text, "fuzz.json", lib, fray::sim::builtinPresets());
-    } else {
-        auto scene = fray::sim::sceneFromJson(text, "fuzz.frayscene", lib);
-        if (scene) (void)fray::sim::sceneToJson(*scene, lib);
+    switch (data[0] % 5) {
+        case 0: (void)fray::sim::parseSceneSpec(text, "fuzz.json", lib, fray::sim::builtinPresets()); break;
+        case 1: {
+            auto scene = fray::sim::sceneFromJson(text, "fuzz.frayscene", lib);
+            if (scene) (void)fray::sim::sceneToJson(*scene, lib);
+            break;
+        }
+        case 2: {
+            fray::prep::Project project;
+            project.vocabulary = lib.vocabulary;
+            project.laterSections[fray::sim::kPatternSection] = std::string(text);
+            auto set = fray::sim::projectPatterns(project, "fuzz.frayproj");
+            if (set) {
+                fray::sim::setProjectPatterns(project, *set);
+                if (!fray::sim::projectPatterns(project, "again")) __builtin_trap();  // what loads must save
+            }
+            break;
+        }
+        case 3: {
+            fray::sim::PatchLibrary patches;
+            patches.patterns = fray::sim::defaultPatterns();
+            (void)fray::sim::parseComposeSpec(text, "fuzz.json", patches);
+            break;
+        }
+        default: {
+            // The key sits after the magic and the version: take the file's own
+            // so the fuzzer gets past the staleness check.
+            std::uint64_t key = 0;
+            if (text.size() >= 20) std::memcpy(&key, text.data() + 12, sizeof key);
+            (void)fray::sim::readPatchLibrary(text, "fuzz.patches", key, lib.size());
+            break;
+        }
     }
     return 0;
 }

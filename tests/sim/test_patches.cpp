@@ -307,6 +307,13 @@ TEST(PatchCache, RoundTripAndBadFiles) {
     EXPECT_EQ(r.error().message, "x.patches: not a Fray patch library");
     r = readPatchLibrary(bytes, "x.patches", libraryFingerprint(lib), 3);  // actions the project does not have
     EXPECT_FALSE(r);
+    // The fuzzer's seed is a valid file (so fuzzing starts deep in the format).
+    const auto seed = readWholeFile(std::filesystem::path(FRAY_FUZZ_SEEDS) / "patches.seed");
+    ASSERT_TRUE(seed);
+    r = readPatchLibrary(std::string_view(*seed).substr(1), "patches.seed", 0x1234, 5);
+    ASSERT_TRUE(r) << r.error().message;
+    EXPECT_EQ(r->patches.size(), 1u);
+    EXPECT_EQ(r->patches[0].hits.size(), 1u);
     std::filesystem::remove_all(dir);
 }
 

@@ -344,7 +344,7 @@ Result<PatchLibrary> readPatchLibrary(std::string_view bytes, std::string_view f
         p.initial = r.cfg(), p.final = r.cfg();
         p.handMade = r.get<std::uint8_t>() != 0;
         for (auto& t : p.tracks) {
-            const std::size_t n = r.count(41);
+            const std::size_t n = r.count(45);  // bytes per action
             if (n == 0) r.bad = true;
             for (std::size_t k = 0; k < n && !r.bad; ++k) {
                 ActionInstance inst;
@@ -357,7 +357,7 @@ Result<PatchLibrary> readPatchLibrary(std::string_view bytes, std::string_view f
                 t.push_back(inst);
             }
         }
-        const std::size_t nh = r.count(49);
+        const std::size_t nh = r.count(45);  // bytes per hit
         for (std::size_t k = 0; k < nh && !r.bad; ++k) {
             HitEvent h;
             h.time = r.get<double>();

@@ -1,0 +1,77 @@
+#!/usr/bin/env bash
+# Interaction Patches from the command line on a small demo project: generate
+# a patch library from PatternLists stored in the project, list it, compose a
+# one-vs-many scene (same seed, same bytes), read its metrics; and bad input:
+# an unknown annotation in a PatternList, a pattern no action can satisfy, an
+# unknown pattern name, a corrupt or stale patch library, a bad compose spec,
+# a file that is not ours. Each is a one-line error that leaves files untouched.
+set -eu
+cli=$1
+. "$(dirname "$0")/cli_lib.sh"
+
+"$cli" demo-library "$tmp/lib" --minutes 3 > /dev/null 2>&1
+p=$tmp/lib/demo.frayproj
+# PatternLists live in the project file.
+python3 - "$p" <<'PY'
+import json, sys
+path = sys.argv[1]
+project = json.load(open(path))
+project["pattern_lists"] = {"patterns": [
+    {"name": "punch-fall", "entries": [{"character": 1, "annotation": "attack"}, {"character": 2, "annotation": "fall"}],
+     "weights": {"contact": 1, "distance": 1, "timing": 1}, "threshold": 0.5},
+    {"name": "jab-jab-fall", "entries": [{"character": 1, "annotation": "attack"}, {"character": 1, "annotation": "attack"},
+                                          {"character": 2, "annotation": "fall"}]}],
+  "initial_conditions": {"attack": {"distance": [0.6, 1.2]}}}
+json.dump(project, open(path, "w"), indent=2)
+PY
+"$cli" patches generate "$p" 2> "$tmp/progress.txt" > "$tmp/gen.txt"
+check "progress on stderr" "grep -q 'patches 100%' '$tmp/progress.txt'"
+check "per-pattern stats" "grep -q '^punch-fall: .* initial conditions' '$tmp/gen.txt' && grep -q '^jab-jab-fall:' '$tmp/gen.txt'"
+check "library beside the project" "[ -s '$p.patches' ] && grep -q 'temporal and .* spatial connections' '$tmp/gen.txt'"
+"$cli" patches list "$p" --json -q > "$tmp/list.json"
+check "list" "python3 -c 'import json,sys; l=json.load(open(sys.argv[1])); assert len(l) > 5 and all(x[\"score\"] >= 0.5 for x in l)' '$tmp/list.json'"
+
+cat > "$tmp/ovm.json" <<'JSON'
+{"kind": "one-vs-many", "duration": 120, "seed": 5, "enemies": 4,
+ "commands": [{"time": 0, "action": "punch"}]}
+JSON
+"$cli" compose "$p" --spec "$tmp/ovm.json" --out "$tmp/ovm.frayscene" 2> /dev/null > "$tmp/compose.txt"
+check "composed" "grep -q 'one-vs-many, 5 characters' '$tmp/compose.txt'"
+"$cli" compose "$p" --spec "$tmp/ovm.json" --out "$tmp/again.frayscene" -q > /dev/null
+check "same seed, same bytes" "cmp -s '$tmp/ovm.frayscene' '$tmp/again.frayscene'"
+"$cli" metrics "$tmp/ovm.frayscene" --json -q > "$tmp/metrics.json"
+check "no unintended penetration" "python3 -c 'import json,sys; m=json.load(open(sys.argv[1])); assert m[\"penetration_frames\"] == 0, m[\"penetrations\"]; assert m[\"hits\"] >= 4' '$tmp/metrics.json'"
+
+# Bad input.
+cp "$p" "$tmp/before.frayproj"
+sed 's/"annotation": "fall"/"annotation": "fal"/' "$p" > "$tmp/lib/badann.frayproj"
+expect_fail "unknown annotation" "badann.frayproj: /pattern_lists/patterns/0/entries/1/annotation: unknown annotation 'fal'" \
+  "$cli" patches generate "$tmp/lib/badann.frayproj" -q
+sed 's/"annotation": "fall"/"annotation": "tackle"/' "$p" > "$tmp/lib/nosuch.frayproj"
+expect_fail "pattern no action satisfies" "pattern 'punch-fall', entry 2 (character 2, tackle): no action in the project has this annotation" \
+  "$cli" patches generate "$tmp/lib/nosuch.frayproj" -q --out "$tmp/nosuch.patches"
+expect_fail "unknown pattern" "no PatternList named 'kick-fall'" "$cli" patches generate "$p" --pattern kick-fall -q
+echo "my notes" > "$tmp/notes.txt"
+expect_fail "never overwrite other files" "refusing to overwrite" "$cli" patches generate "$p" -q --out "$tmp/notes.txt"
+check "notes untouched" "[ \"\$(cat '$tmp/notes.txt')\" = 'my notes' ]"
+head -c 300 "$p.patches" > "$tmp/cut.patches"
+expect_fail "truncated library" "cut.patches: the patch library is truncated or corrupt" \
+  "$cli" compose "$p" --spec "$tmp/ovm.json" --patches "$tmp/cut.patches" --out "$tmp/x.frayscene" -q
+expect_fail "no library" "no patch library (make it with: fray-cli patches generate" \
+  "$cli" compose "$p" --spec "$tmp/ovm.json" --patches "$tmp/missing.patches" --out "$tmp/x.frayscene" -q
+echo '{"kind": "one-vs-many", "enemies": -2}' > "$tmp/bad.json"
+expect_fail "bad compose spec" "bad.json: /enemies: must be between 1 and 1000" \
+  "$cli" compose "$p" --spec "$tmp/bad.json" --out "$tmp/x.frayscene" -q
+check "no scene from bad input" "[ ! -e '$tmp/x.frayscene' ]"
+check "project untouched by failures" "cmp -s '$p' '$tmp/before.frayproj'"
+# A library made before the actions were re-cut is refused.
+python3 - "$p" "$tmp/lib/recut.frayproj" <<'PY'
+import json, sys
+project = json.load(open(sys.argv[1]))
+project["motions"][0]["cuts"][0] += 5
+json.dump(project, open(sys.argv[2], "w"), indent=2)
+PY
+cp "$p.patches" "$tmp/lib/recut.frayproj.patches"
+expect_fail "stale library" "made from other actions than the project has now" \
+  "$cli" compose "$tmp/lib/recut.frayproj" --spec "$tmp/ovm.json" --out "$tmp/x.frayscene" -q
+echo "PASS"
