@@ -502,12 +502,8 @@ const char* sceneKindName(SceneKind kind) {
 
 Result<ComposeSpec> parseComposeSpec(std::string_view text, std::string_view fileName, const PatchLibrary& patches) {
     const prep::JsonReader rd(fileName);
-    json j;
-    try {
-        j = json::parse(text.begin(), text.end());
-    } catch (const json::parse_error& e) {
-        return rd.error("", std::string("not valid JSON (") + std::string(e.what()).substr(0, 120) + ")");
-    }
+    const json j = json::parse(text, nullptr, false);
+    if (j.is_discarded()) return rd.error("", "not valid JSON");
     if (!j.is_object()) return rd.error("", "must be an object");
     ComposeSpec s;
     s.text = std::string(text);
