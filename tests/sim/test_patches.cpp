@@ -349,6 +349,16 @@ TEST(PatchCompose, OneVsManyMeetsEnemiesInSequenceWithoutCollisions) {
     EXPECT_GE(met, 8);
     const auto m = computeMetrics(*scene, lib);
     EXPECT_EQ(m.penetrationFrames, 0) << "unintended collisions";
+    EXPECT_LE(st.maxJunctionError, 0.3);  // newcomers walk all the way to their patch
+    // Other seeds: still no collision.
+    for (std::uint64_t seed : {2u, 3u}) {
+        ComposeSpec other = spec;
+        other.seed = seed;
+        other.enemies = 8;
+        auto s2 = compose(lib, fightLibrary(), other);
+        ASSERT_TRUE(s2) << s2.error().message;
+        EXPECT_EQ(computeMetrics(*s2, lib).penetrationFrames, 0) << "seed " << seed;
+    }
     // Newcomers are not in the scene before they walk in.
     for (int e = 2; e <= 10; ++e) EXPECT_FALSE(scene->present(e, 0.5));
     // Same seed, same scene.

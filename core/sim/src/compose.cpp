@@ -6,7 +6,9 @@
 #include <limits>
 #include <map>
 #include <numbers>
+#include <optional>
 #include <random>
+#include <tuple>
 
 #include "fray/prep/json_reader.h"
 
@@ -150,6 +152,33 @@ struct Composer {
         return false;
     }
 
+    // Would a planned list of actions for character `self` put its body inside
+    // anyone else's (the metrics' test, at every 30 Hz sample)?
+    bool penetrates(const std::vector<ActionInstance>& walk, int self) const {
+        constexpr float kShrink = 0.82f;
+        for (const auto& w : walk) {
+            for (double t = w.start; t <= w.end + 1e-9; t += 1.0 / kSampleRate) {
+                const double tau = w.offset + (t - w.start);
+                const RootXf me = w.placementAt(lib, tau);
+                const Obb* mine = lib.boxesAt(w.action, lib.sampleAt(w.action, tau));
+                for (int c = 0; c < static_cast<int>(scene.characters.size()); ++c) {
+                    if (c == self || !scene.present(c, t)) continue;
+                    const auto& inst = scene.characters[static_cast<std::size_t>(c)].track[static_cast<std::size_t>(scene.instanceAt(c, t))];
+                    const double tc = inst.offset + (std::clamp(t, inst.start, inst.end) - inst.start);
+                    if (glm::length(inst.placementAt(lib, tc).pos - me.pos) > 1.2f) continue;
+                    const Obb* theirs = lib.boxesAt(inst.action, lib.sampleAt(inst.action, tc));
+                    for (int i : kCoreSegments) {
+                        const Obb a = mine[i].placed(w.root).shrunk(kShrink);
+                        for (int j : kCoreSegments) {
+                            if (overlaps(a, theirs[j].placed(inst.root).shrunk(kShrink))) return true;
+                        }
+                    }
+                }
+            }
+        }
+        return false;
+    }
+
     // Greedy collision-free locomotion (SPEC 4.4) from a placement at t0 to a
     // target. Appends the actions to `out` (times from t0); returns where and when it ends.
     std::pair<RootXf, double> locomote(int self, int partner, RootXf at, double t0, int last, const RootXf& target, double timeShift,
@@ -184,7 +213,6 @@ struct Composer {
             at = at * act(best).end;
             t += act(best).duration;
             last = best;
-            ++stats.locomotionSteps;
         }
         return {at, t};
     }
@@ -234,29 +262,56 @@ struct Composer {
     }
 
     // The newcomer of patch p enters from outside along the radial direction
-    // through its start and arrives there exactly when its part begins.
-    void enter(int c, int partner, const Patch& p, int role, double t, const RootXf& xf, const glm::vec2& centre) {
+    // through its start (or up to 90 degrees off it when the way is blocked)
+    // and arrives there exactly when its part begins. Returns the walk, or
+    // nothing when no entry gets within kMaxJunction of the start.
+    std::optional<std::vector<ActionInstance>> planEntry(int c, int partner, const Patch& p, int role, double t, const RootXf& xf,
+                                                         const glm::vec2& centre) {
+        constexpr double kMaxJunction = 0.3;
         const auto& first = p.tracks[static_cast<std::size_t>(role)].front();
         const RootXf goal = xf * first.root;
         glm::vec2 radial = goal.pos - centre;
         if (glm::length(radial) < 1e-3f) radial = -headingVector(goal.heading);
         radial = glm::normalize(radial);
-        RootXf start;
-        start.pos = goal.pos + radial * static_cast<float>(spec.entryRadius);
-        start.heading = angleOf(-radial);
         const double arrive = t + first.start;
-        // Plan once to learn how long the walk takes, then shift it so it ends on time.
-        std::vector<ActionInstance> walk;
-        const double guess = arrive - spec.entryRadius / 1.2;
-        auto [end, when] = locomote(c, partner, start, 0.0, -1, goal, guess, walk);
-        const double shift = arrive - when;
-        for (auto& w : walk) {
-            w.start += shift, w.end += shift;
-            if (w.end <= 0) continue;  // walked before the scene starts: it enters already under way
-            if (w.start < 0) w.offset = -w.start, w.start = 0;
-            track(c).push_back(w);
+        for (double turn : {0.0, 0.5, -0.5, 1.0, -1.0, 1.5, -1.5}) {
+            const glm::vec2 dir = rotateFloor(radial, turn);
+            RootXf start;
+            start.pos = goal.pos + dir * static_cast<float>(spec.entryRadius);
+            start.heading = angleOf(-dir);
+            // Plan to learn how long the walk takes, then again with the
+            // timing that makes it end on time (others move meanwhile), until
+            // the plan keeps its length.
+            std::vector<ActionInstance> walk;
+            double timeShift = arrive - spec.entryRadius / 1.2;
+            RootXf end;
+            double when = 0;
+            bool settled = false;
+            for (int pass = 0; pass < 4 && !settled; ++pass) {
+                if (blocked(c, partner, start.pos + dir * 10.0f, start.pos, timeShift)) break;  // someone stands at the entry
+                walk.clear();
+                std::tie(end, when) = locomote(c, partner, start, 0.0, -1, goal, timeShift, walk);
+                const double next = arrive - when;
+                settled = std::fabs(next - timeShift) < 1e-9;
+                timeShift = next;
+            }
+            if (!settled) continue;
+            const double error = glm::length(end.pos - goal.pos);
+            if (error > kMaxJunction) continue;
+            const double shift = timeShift;
+            std::vector<ActionInstance> out;
+            for (auto& w : walk) {
+                w.start += shift, w.end += shift;
+                if (w.end <= 0) continue;  // walked before the scene starts: it enters already under way
+                if (w.start < 0) w.offset = -w.start, w.start = 0;
+                out.push_back(w);
+            }
+            if (penetrates(out, c)) continue;
+            stats.maxJunctionError = std::max(stats.maxJunctionError, error);
+            stats.locomotionSteps += static_cast<int>(out.size());
+            return out;
         }
-        stats.maxJunctionError = std::max(stats.maxJunctionError, static_cast<double>(glm::length(end.pos - goal.pos)));
+        return std::nullopt;
     }
 
     // Where everyone but `ignore` is, from t on: their bodies now and where
@@ -321,8 +376,12 @@ struct Composer {
             }
             // The main character may first take one locomotion step (turn,
             // step) so the patch fits beside those already down.
-            int bestI = -1, bestMove = -1;
-            double bestS = -std::numeric_limits<double>::max();
+            struct Option {
+                double score;
+                std::size_t patch;
+                int move;
+            };
+            std::vector<Option> options;
             std::vector<int> moves0 = {-1};
             moves0.insert(moves0.end(), locomotion.begin(), locomotion.end());
             const auto obstacleBoxes = obstacles(t0, mainC);
@@ -332,10 +391,11 @@ struct Composer {
                 if (mv >= 0) {
                     from = at * act(mv).end;
                     tm = t0 + act(mv).duration;
-                    bool stuck = false;
-                    stuck = blocked(mainC, -1, at.pos, from.pos, tm) ||
-                            blocked(mainC, -1, at.pos, (at * lib.rootAt(mv, 0.5 * act(mv).duration)).pos, t0);
-                    if (stuck) continue;
+                    if (blocked(mainC, -1, at.pos, from.pos, tm) ||
+                        blocked(mainC, -1, at.pos, (at * lib.rootAt(mv, 0.5 * act(mv).duration)).pos, t0) ||
+                        penetrates({ActionInstance{mv, t0, 0.0, tm, at, false, false}}, mainC)) {
+                        continue;
+                    }
                 }
                 const int lastA = mv >= 0 ? mv : lastMain;
                 for (std::size_t i : cands) {
@@ -346,9 +406,25 @@ struct Composer {
                                      (lib.startNode[static_cast<std::size_t>(p.tracks[0].front().action)] ==
                                               lib.endNode[static_cast<std::size_t>(lastA)] ? 1.0 : 0.0) -
                                      (mv >= 0 ? 5.0 : 0.0);
-                    if (s > bestS) bestS = s, bestI = static_cast<int>(i), bestMove = mv;
+                    options.push_back({s, i, mv});
                 }
             }
+            std::stable_sort(options.begin(), options.end(), [](const Option& x, const Option& y) { return x.score > y.score; });
+            // The best option whose newcomer can walk in.
+            int bestI = -1, bestMove = -1;
+            std::vector<ActionInstance> entry;
+            const int enemy = addCharacter("enemy-" + std::to_string(k + 1), 1);
+            for (std::size_t o = 0; o < options.size() && o < 40 && bestI < 0; ++o) {
+                const Patch& p = patches.patches[options[o].patch];
+                const int mv = options[o].move;
+                const RootXf from = mv >= 0 ? at * act(mv).end : at;
+                const double t = mv >= 0 ? t0 + act(mv).duration : t0;
+                const RootXf xf = from * p.tracks[0].front().root.inverse();
+                if (auto walk = planEntry(enemy, mainC, p, 1, t, xf, from.pos)) {
+                    bestI = static_cast<int>(options[o].patch), bestMove = mv, entry = std::move(*walk);
+                }
+            }
+            if (bestI < 0) scene.characters.pop_back();
             if (bestI < 0) {
                 // Crowded: the main character walks into open space and tries again.
                 if (++moves > 8) return makeError("one-vs-many: no patch fits around the main character at " + std::to_string(t0) + " s");
@@ -371,10 +447,12 @@ struct Composer {
                 for (const auto& [rank, goal] : spots) {
                     walk.clear();
                     locomote(mainC, -1, at, t0, lastMain, goal, 0.0, walk);
-                    if (!walk.empty()) break;
+                    if (!walk.empty() && !penetrates(walk, mainC)) break;
+                    walk.clear();
                 }
                 if (walk.empty()) return makeError("one-vs-many: the main character is boxed in at " + std::to_string(t0) + " s");
                 for (auto& w : walk) track(mainC).push_back(w);
+                stats.locomotionSteps += static_cast<int>(walk.size());
                 --k;
                 continue;
             }
@@ -390,8 +468,7 @@ struct Composer {
                 t = freeAt(mainC);
             }
             const RootXf xf = from * p.tracks[0].front().root.inverse();
-            const int enemy = addCharacter("enemy-" + std::to_string(k + 1), 1);
-            enter(enemy, mainC, p, 1, t, xf, from.pos);
+            for (auto& w : entry) track(enemy).push_back(w);
             placeTrack(p, 0, mainC, t, xf);
             placeTrack(p, 1, enemy, t, xf);
             placeHits(p, {mainC, enemy}, t);
@@ -468,6 +545,7 @@ struct Composer {
                 std::vector<ActionInstance> walk;
                 auto [end, when] = locomote(mover, anchor, leaves(mover), freeAt(mover), track(mover).back().action, goal, 0.0, walk);
                 for (auto& w : walk) track(mover).push_back(w);
+                stats.locomotionSteps += static_cast<int>(walk.size());
                 stats.maxJunctionError = std::max(stats.maxJunctionError, static_cast<double>(glm::length(end.pos - goal.pos)));
                 start = std::max(freeAt(anchor) - p.tracks[static_cast<std::size_t>(anchorRole)].front().start,
                                  when - p.tracks[static_cast<std::size_t>(1 - anchorRole)].front().start);
