@@ -509,7 +509,7 @@ struct Composer {
                 if (prev >= 0) now = configOf(leaves(who[0]), leaves(who[1]));
                 for (int roles = 0; roles < 2; ++roles) {
                     const PatchConfig c = roles ? PatchConfig{now.r, now.theta2, now.theta1, 0} : now;
-                    const int pose = prev >= 0 ? patches.nearestPose(c) : -1;
+                    const int pose = prev >= 0 ? nearestStartingPose(c) : -1;
                     for (std::size_t i = 0; i < patches.patches.size(); ++i) {
                         if (!allowed[i]) continue;
                         if (pose >= 0 && patches.initialPose[i] != pose) continue;
@@ -563,6 +563,18 @@ struct Composer {
             if (stats.patchesUsed > 10000) break;
         }
         return {};
+    }
+    // The standard pose nearest to c among those some usable patch starts from.
+    int nearestStartingPose(const PatchConfig& c) const {
+        int best = -1;
+        double bestD = std::numeric_limits<double>::max();
+        for (std::size_t i = 0; i < patches.patches.size(); ++i) {
+            if (!allowed[i]) continue;
+            const int pose = patches.initialPose[i];
+            const double d = configDistance(c, patches.standardPoses[static_cast<std::size_t>(pose)]);
+            if (d < bestD) bestD = d, best = pose;
+        }
+        return best;
     }
     double freeAt0(int c) const { return track0(c).empty() ? 0.0 : freeAt(c); }
     const std::vector<ActionInstance>& track0(int c) const { return scene.characters[static_cast<std::size_t>(c)].track; }

@@ -72,7 +72,7 @@ struct Engine {
             for (int i = 0; i < lib.size(); ++i) {
                 const auto& act = lib.actions[static_cast<std::size_t>(i)];
                 if (!matchesAnnotation(act, pe.annotation)) continue;
-                if (isReactiveAnnotation(pe.annotation)) {
+                if (isResponse(p, e)) {
                     pools[e].push_back(i);
                     continue;
                 }
@@ -110,7 +110,8 @@ struct Engine {
         x.end = t + act(action).duration;
         x.entry = entryIndex;
         x.attackDone = false;
-        x.reacting = false;
+        // Character 1 starting in a fall (domino) pushes whoever its body hits.
+        x.reacting = entryIndex == 0 && isReactiveAnnotation(entry(0).annotation);
         x.last = action;
         s.tracks[static_cast<std::size_t>(c)].push_back({action, t, 0.0, x.end, root, false, false});
         if (entryIndex >= 0) {
@@ -229,7 +230,7 @@ struct Engine {
                         x.finished = true;
                         continue;
                     }
-                    if (isReactiveAnnotation(entry(e).annotation)) {
+                    if (isResponse(pattern, static_cast<std::size_t>(e))) {
                         if (x.entry < 0 && x.cur.action == hold && x.last == hold) {
                             verdict = Verdict::MissedContact;  // waited a whole hold for a blow that never came
                             return -1;
@@ -259,7 +260,7 @@ struct Engine {
             }
             const int e = pendingEntry(y, 1 - att);
             const bool avoiding = y.entry >= 0 && (act(y.cur.action).has("avoid") || act(y.cur.action).has("dodge"));
-            if (e < 0 || !isReactiveAnnotation(entry(e).annotation) || avoiding) {
+            if (e < 0 || !isResponse(pattern, static_cast<std::size_t>(e)) || avoiding) {
                 verdict = Verdict::UnintendedHit;
                 return -1;
             }
@@ -328,7 +329,7 @@ Scores evaluate(const Engine& eng, const State& s) {
     int items = 0;
     for (std::size_t e = 0; e < eng.pattern.entries.size(); ++e) {
         const auto& pe = eng.pattern.entries[e];
-        if (isReactiveAnnotation(pe.annotation)) {
+        if (isResponse(eng.pattern, e)) {
             sum += 1, ++items;
             continue;
         }
@@ -516,7 +517,7 @@ struct Expansion {
     void start() {
         State s = initialState(ic);
         const int e1 = eng.entriesOf[1].front();
-        const bool reactiveFirst = isReactiveAnnotation(eng.entry(e1).annotation);
+        const bool reactiveFirst = isResponse(eng.pattern, static_cast<std::size_t>(e1));
         // Character 2 first: a hold from 0, or its first action at the delay
         // (a placeholder until then: the first sample of that action).
         if (reactiveFirst) {
@@ -646,12 +647,12 @@ Status generatePatches(const ActionLibrary& lib, const PatternList& pattern, con
     const auto wallStart = std::chrono::steady_clock::now();
     const Engine eng(lib, pattern, options);
     if (eng.hold < 0) {
-        for (const auto& e : pattern.entries) {
-            if (isReactiveAnnotation(e.annotation)) return makeError("the project has no idle action to wait for a blow in");
+        for (std::size_t e = 0; e < pattern.entries.size(); ++e) {
+            if (isResponse(pattern, e)) return makeError("the project has no idle action to wait for a blow in");
         }
     }
     for (std::size_t e = 0; e < pattern.entries.size(); ++e) {
-        if (!isReactiveAnnotation(pattern.entries[e].annotation) && eng.choices[e].empty()) {
+        if (!isResponse(pattern, e) && eng.choices[e].empty()) {
             return makeError("pattern '" + pattern.name + "', entry " + std::to_string(e + 1) + ": no action to choose");
         }
     }
@@ -662,7 +663,7 @@ Status generatePatches(const ActionLibrary& lib, const PatternList& pattern, con
     const auto rs = grid(std::max(a.minDistance, b.minDistance), std::min(a.maxDistance, b.maxDistance), options.distanceStep);
     const auto t1s = grid(a.minAngle, a.maxAngle, options.angleStepDegrees);
     const auto t2s = grid(b.minAngle, b.maxAngle, options.angleStepDegrees);
-    const auto ds = isReactiveAnnotation(f2.annotation)
+    const auto ds = isResponse(pattern, static_cast<std::size_t>(eng.entriesOf[1].front()))
                         ? std::vector<double>{0.0}
                         : grid(std::max(a.minDelay, b.minDelay), std::min(a.maxDelay, b.maxDelay), options.delayStep);
     std::vector<PatchConfig> ics;
@@ -709,7 +710,7 @@ Status generatePatches(const ActionLibrary& lib, const PatternList& pattern, con
         out.stats.belowThreshold += r.stats.belowThreshold;
         for (auto& p : r.kept) candidates.push_back(std::move(p));
     }
-    keepBestPerPath(lib, candidates, options.keepPerPath, out);
+    keepBestPerPath(lib, candidates, options.keepPerPath >= 0 ? options.keepPerPath : pattern.keepPerPath, out);
     out.stats.initialConditions += static_cast<std::int64_t>(ics.size());
     out.stats.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
     out.libraryKey = libraryFingerprint(lib);
@@ -723,7 +724,7 @@ Status addHandMadePatch(const ActionLibrary& lib, const PatternList& pattern, co
     for (int c = 0; c < 2; ++c) {
         std::size_t k = 0;
         for (int e : eng.entriesOf[static_cast<std::size_t>(c)]) {
-            if (isReactiveAnnotation(eng.entry(e).annotation)) continue;
+            if (isResponse(pattern, static_cast<std::size_t>(e))) continue;
             const auto& list = actions[static_cast<std::size_t>(c)];
             if (k >= list.size()) {
                 return makeError("hand-made patch: character " + std::to_string(c + 1) + " needs an action for entry " +
@@ -744,7 +745,7 @@ Status addHandMadePatch(const ActionLibrary& lib, const PatternList& pattern, co
     const int e1 = eng.entriesOf[1].front();
     auto take = [&](int c) { return actions[static_cast<std::size_t>(c)][next[static_cast<std::size_t>(c)]++]; };
     eng.launch(s, 0, take(0), eng.entriesOf[0].front(), 0.0, true);
-    if (isReactiveAnnotation(eng.entry(e1).annotation)) {
+    if (isResponse(pattern, static_cast<std::size_t>(e1))) {
         eng.launch(s, 1, eng.hold, -1, 0.0, true);
     } else {
         eng.launch(s, 1, take(1), e1, initial.delay, true);

@@ -58,6 +58,12 @@ json rangeToJson(const InitialRange& r) {
 Result<PatternList> patternFromJson(const JsonReader& rd, const json& v, const std::string& path,
                                     const std::vector<std::string>& vocabulary) {
     if (!v.is_object()) return rd.error(path, "must be an object");
+    for (auto it = v.begin(); it != v.end(); ++it) {
+        static const char* const known[] = {"name", "entries", "weights", "threshold", "keep_per_path"};
+        if (std::find_if(std::begin(known), std::end(known), [&](const char* k) { return it.key() == k; }) == std::end(known)) {
+            return rd.error(path + "/" + it.key(), "unknown field (expected name, entries, weights, threshold, keep_per_path)");
+        }
+    }
     PatternList p;
     FRAY_TRY(name, rd.stringAt(v, path, "name"));
     if (name.empty()) return rd.error(path + "/name", "must not be empty");
@@ -96,6 +102,12 @@ Result<PatternList> patternFromJson(const JsonReader& rd, const json& v, const s
             return rd.error(path + "/weights", "at least one weight must be positive");
         }
     }
+    FRAY_TRY(keep, rd.field(v, path, "keep_per_path", false));
+    if (keep) {
+        FRAY_TRY(x, rd.integer(*keep, path + "/keep_per_path"));
+        if (x < 0 || x > 1000) return rd.error(path + "/keep_per_path", "must be between 0 (all) and 1000");
+        p.keepPerPath = x;
+    }
     FRAY_TRY(th, rd.field(v, path, "threshold", false));
     if (th) {
         FRAY_TRY(x, rd.number(*th, path + "/threshold"));
@@ -126,7 +138,8 @@ InitialRange defaultRange(const std::string& a) {
     if (a == "kick") r.minDistance = 0.8, r.maxDistance = 1.6;
     if (a == "attack") r.maxDistance = 1.6;
     if (a == "block" || a == "avoid" || a == "dodge" || a == "defence") r.minDistance = 0.6, r.maxDistance = 1.6;
-    if (a == "pushed" || a == "falling" || a == "fall") r.minDistance = 0.4, r.maxDistance = 1.4, r.minAngle = -60, r.maxAngle = 60;
+    // Anyone can be knocked over from any side.
+    if (a == "pushed" || a == "falling" || a == "fall") r.minDistance = 0.4, r.maxDistance = 1.4, r.minAngle = -180, r.maxAngle = 160;
     if (a == "carry" || a == "hand" || a == "receive") {
         r.minDistance = 0.6, r.maxDistance = 1.2, r.minAngle = -20, r.maxAngle = 20, r.maxDelay = 0.6;
     }
@@ -143,12 +156,17 @@ std::vector<PatternList> defaultPatterns() {
         p.entries = std::move(e);
         return p;
     };
+    // Domino (SPEC 4.5): a falling body knocks the next character down.
+    PatternList domino = make("fall-fall", {{0, "fall"}, {1, "fall"}});
+    domino.weights = {1.0, 0.0, 0.0};
+    domino.keepPerPath = 0;
     return {
         make("attack-defence-attack-fall", {{0, "attack"}, {1, "defence"}, {0, "attack"}, {1, "fall"}}),
         make("attack-fall", {{0, "attack"}, {1, "fall"}}),
         make("attack-attack-fall", {{0, "attack"}, {0, "attack"}, {1, "fall"}}),
         make("attack-defence", {{0, "attack"}, {1, "defence"}}),
         make("attack-pushed", {{0, "attack"}, {1, "pushed"}}),
+        domino,
     };
 }
 
@@ -162,6 +180,11 @@ bool matchesAnnotation(const LibraryAction& action, const std::string& a) {
 }
 
 bool isReactiveAnnotation(const std::string& a) { return a == "pushed" || a == "falling" || a == "fall"; }
+
+bool isResponse(const PatternList& pattern, std::size_t e) {
+    const auto& entry = pattern.entries[e];
+    return isReactiveAnnotation(entry.annotation) && !(e == 0 && entry.character == 0);
+}
 
 Result<PatternSet> projectPatterns(const prep::Project& project, std::string_view fileName) {
     PatternSet set;
@@ -210,7 +233,8 @@ void setProjectPatterns(prep::Project& project, const PatternSet& set) {
         patterns.push_back(json{{"name", p.name},
                                 {"entries", entries},
                                 {"weights", {{"contact", p.weights.contact}, {"distance", p.weights.distance}, {"timing", p.weights.timing}}},
-                                {"threshold", p.threshold}});
+                                {"threshold", p.threshold},
+                                {"keep_per_path", p.keepPerPath}});
     }
     json ranges = json::object();
     for (const auto& [key, r] : set.ranges) ranges[key] = rangeToJson(r);
@@ -227,8 +251,10 @@ Status checkPattern(const PatternList& pattern, const PatternSet& set, const Act
             return makeError(who + ", entry " + std::to_string(i + 1) + " (character " + std::to_string(e.character + 1) + ", " +
                              e.annotation + "): no action in the project has this annotation");
         }
-        if (isReactiveAnnotation(e.annotation)) {
+        if (isReactiveAnnotation(e.annotation) && !(i == 0 && e.character == 0)) {
             // A response needs a cause: an earlier entry of the other character.
+            // (Character 1's first entry may be one: it is already falling or
+            // staggering when the patch starts, pushed in the patch before.)
             bool cause = false;
             for (std::size_t k = 0; k < i; ++k) cause = cause || pattern.entries[k].character != e.character;
             if (!cause) {

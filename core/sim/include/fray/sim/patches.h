@@ -66,8 +66,9 @@ struct GenerateOptions {
     double fallImpulse = 30;                     // N s: a stronger blow knocks down
     double collisionSpeed = 1.2;                 // m/s: a body segment this fast pushes what it hits
     // Paths that play the same actions (by name) from neighbouring initial
-    // conditions are near duplicates: keep the best this many of each.
-    int keepPerPath = 3;
+    // conditions are near duplicates: keep the best this many of each (0:
+    // all; -1: the pattern's own setting).
+    int keepPerPath = -1;
     bool parallel = true;
     const std::atomic<bool>* cancel = nullptr;
 };
@@ -126,7 +127,7 @@ std::uint64_t libraryFingerprint(const ActionLibrary& lib);
 
 // Versioned binary cache. Loading refuses a foreign, truncated or stale file
 // (made from other actions) with a message naming the file.
-inline constexpr std::uint32_t kPatchCacheVersion = 1;
+inline constexpr std::uint32_t kPatchCacheVersion = 2;
 Status savePatchLibrary(const PatchLibrary& lib, const std::filesystem::path& file);
 // The connection tables and standard poses are not stored: buildConnections
 // after loading (they follow from the patches).

@@ -37,6 +37,9 @@ struct PatternList {
     std::vector<PatternEntry> entries;
     PatternWeights weights;
     double threshold = 0.5;
+    // Best patches kept per distinct action sequence (neighbouring initial
+    // conditions give near duplicates); 0 keeps all (a domino needs the whole grid).
+    int keepPerPath = 3;
     friend bool operator==(const PatternList&, const PatternList&) = default;
 };
 
@@ -69,6 +72,10 @@ bool matchesAnnotation(const LibraryAction& action, const std::string& annotatio
 // Reactive annotations (pushed, falling, fall): the entry is a response to a
 // hit or a collision, not a choice.
 bool isReactiveAnnotation(const std::string& annotation);
+// Is entry e of the pattern a response (caused by a blow or a body) rather
+// than a choice? Character 1's first entry is always a choice: a reactive one
+// means the character is already falling when the patch starts (domino).
+bool isResponse(const PatternList& pattern, std::size_t e);
 
 // Reads the project's section (absent: no patterns, default ranges). Errors
 // name the file and the JSON path: unknown annotations, bad characters,
