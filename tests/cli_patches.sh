@@ -74,4 +74,42 @@ PY
 cp "$p.patches" "$tmp/lib/recut.frayproj.patches"
 expect_fail "stale library" "made from other actions than the project has now" \
   "$cli" compose "$tmp/lib/recut.frayproj" --spec "$tmp/ovm.json" --out "$tmp/x.frayscene" -q
+# Domino: people fall inside a painted floor bitmap (PNG), bystanders outside stay up.
+python3 - "$p" "$tmp" <<'PY'
+import json, struct, sys, zlib
+project, tmp = sys.argv[1], sys.argv[2]
+def png(path, w, h, colour):
+    raw = b''.join(b'\x00' + b''.join(colour(x, y) for x in range(w)) for y in range(h))
+    def chunk(t, d): return struct.pack('>I', len(d)) + t + d + struct.pack('>I', zlib.crc32(t + d) & 0xffffffff)
+    open(path, 'wb').write(b'\x89PNG\r\n\x1a\n' + chunk(b'IHDR', struct.pack('>IIBBBBB', w, h, 8, 6, 0, 0, 0)) +
+                           chunk(b'IDAT', zlib.compress(raw)) + chunk(b'IEND', b''))
+black, white, grey = b'\x00\x00\x00\xff', b'\xff\xff\xff\xff', b'\x80\x80\x80\xff'
+png(tmp + '/disc.png', 160, 160, lambda x, y: black if (x - 80) ** 2 + (y - 80) ** 2 < 40 ** 2 else white)
+png(tmp + '/grey.png', 20, 20, lambda x, y: grey if (x, y) == (3, 4) else white)
+open(tmp + '/notpng.png', 'w').write('not an image')
+# The project's PatternLists gain the domino pattern.
+j = json.load(open(project))
+j["pattern_lists"]["patterns"].append({"name": "domino", "entries": [{"character": 1, "annotation": "fall"},
+                                       {"character": 2, "annotation": "fall"}], "weights": {"contact": 1, "distance": 0, "timing": 0},
+                                       "keep_per_path": 0})
+json.dump(j, open(project, "w"), indent=2)
+for name, bitmap, start in (("domino", "disc.png", [0, 0]), ("grey", "grey.png", [0, 0]), ("notpng", "notpng.png", [0, 0]),
+                            ("outside", "disc.png", [7.5, 7.5]), ("missing", "nothere.png", [0, 0])):
+    json.dump({"kind": "domino", "seed": 4, "floor": {"bitmap": bitmap, "metres_per_pixel": 0.1, "origin": [-8, -8]},
+               "starts": [{"time": 0.5, "x": start[0], "z": start[1]}], "background": 20}, open(f"{tmp}/{name}.json", "w"))
+PY
+"$cli" patches generate "$p" --pattern domino --out "$tmp/domino.patches" -q > /dev/null
+"$cli" compose "$p" --spec "$tmp/domino.json" --patches "$tmp/domino.patches" --out "$tmp/domino.frayscene" -q > "$tmp/domino.txt"
+check "domino composed" "grep -q 'domino, .* chain falls' '$tmp/domino.txt'"
+"$cli" metrics "$tmp/domino.frayscene" --json -q > "$tmp/domino_metrics.json"
+check "domino: falls, no penetration" "python3 -c 'import json,sys; m=json.load(open(sys.argv[1])); assert m[\"penetration_frames\"] == 0 and m[\"hits\"] >= 3, m' '$tmp/domino_metrics.json'"
+expect_fail "non-binary bitmap" "grey.png: not a two-colour image: pixel (3, 4) is #808080" \
+  "$cli" compose "$p" --spec "$tmp/grey.json" --patches "$tmp/domino.patches" --out "$tmp/x.frayscene" -q
+expect_fail "unreadable bitmap" "notpng.png" \
+  "$cli" compose "$p" --spec "$tmp/notpng.json" --patches "$tmp/domino.patches" --out "$tmp/x.frayscene" -q
+expect_fail "missing bitmap" "nothere.png" \
+  "$cli" compose "$p" --spec "$tmp/missing.json" --patches "$tmp/domino.patches" --out "$tmp/x.frayscene" -q
+expect_fail "start off the painted area" "start 0 at (7.5" \
+  "$cli" compose "$p" --spec "$tmp/outside.json" --patches "$tmp/domino.patches" --out "$tmp/x.frayscene" -q
+check "no scene from a bad bitmap" "[ ! -e '$tmp/x.frayscene' ]"
 echo "PASS"

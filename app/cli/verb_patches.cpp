@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "fray/core/atomic_file.h"
+#include "fray/render/image.h"
 #include "fray/sim/compose.h"
 #include "fray/sim/patches.h"
 #include "fray/sim/patterns.h"
@@ -131,6 +132,38 @@ void runPatches(const PatchesArgs& a) {
 }
 
 // ---- compose --------------------------------------------------------------------
+// A painted floor area from a two-colour PNG: dark pixels are painted, light or
+// transparent ones are not; anything in between is refused (it is not a mask).
+Result<sim::FloorBitmap> loadFloorBitmap(const fs::path& file, double metresPerPixel, glm::vec2 origin) {
+    auto image = render::readPng(file);
+    if (!image) return image.error();
+    sim::FloorBitmap floor;
+    floor.width = image->width, floor.height = image->height;
+    floor.metresPerPixel = metresPerPixel;
+    floor.origin = origin;
+    floor.painted.assign(static_cast<std::size_t>(floor.width) * static_cast<std::size_t>(floor.height), 0);
+    std::size_t count = 0;
+    for (int y = 0; y < image->height; ++y) {
+        for (int x = 0; x < image->width; ++x) {
+            const std::uint8_t* px = image->pixel(x, y);
+            if (px[3] < 128) continue;  // transparent: not painted
+            const int luma = (299 * px[0] + 587 * px[1] + 114 * px[2]) / 1000;
+            if (luma > 64 && luma < 192) {
+                char colour[8];
+                std::snprintf(colour, sizeof colour, "#%02x%02x%02x", px[0], px[1], px[2]);
+                return makeError(file.string() + ": not a two-colour image: pixel (" + std::to_string(x) + ", " + std::to_string(y) +
+                                 ") is " + colour + "; paint the area in black on white (or on transparent)");
+            }
+            if (luma <= 64) {
+                floor.painted[static_cast<std::size_t>(y) * static_cast<std::size_t>(floor.width) + static_cast<std::size_t>(x)] = 1;
+                ++count;
+            }
+        }
+    }
+    if (count == 0) return makeError(file.string() + ": nothing is painted (paint the area in black on white)");
+    return floor;
+}
+
 struct ComposeArgs {
     std::string project, spec, out, patches;
     bool quiet = false;
@@ -153,6 +186,13 @@ void runCompose(const ComposeArgs& a) {
     if (!patches) return fail(patches.error().message);
     auto spec = sim::parseComposeSpec(*specText, a.spec, *patches);
     if (!spec) return fail(spec.error().message);
+    if (!spec->floorFile.empty()) {
+        fs::path bitmap(spec->floorFile);
+        if (bitmap.is_relative()) bitmap = fs::path(a.spec).parent_path() / bitmap;  // relative to the spec
+        auto floor = loadFloorBitmap(bitmap, spec->metresPerPixel, spec->floorOrigin);
+        if (!floor) return fail(floor.error().message);
+        spec->floor = std::move(*floor);
+    }
     sim::ComposeStats st;
     auto scene = sim::compose(s.library, *patches, *spec, &st, stderrProgress(a.quiet));
     if (!scene) return fail(a.spec + ": " + scene.error().message);
@@ -161,9 +201,9 @@ void runCompose(const ComposeArgs& a) {
     scene->project = (!ec && !rel.empty()) ? rel.generic_string() : fs::absolute(a.project).generic_string();
     if (auto saved = sim::saveScene(*scene, s.library, outFile); !saved) return fail(saved.error().message);
     std::printf("%s: %s, %zu characters, %.1f s, %zu hits; %d patches (%d by temporal connection, %d recycled through "
-                "standard poses), %d locomotion steps, worst junction %.2f m; %.3f s\n",
+                "standard poses, %d chain falls), %d locomotion steps, worst junction %.2f m; %.3f s\n",
                 a.out.c_str(), sim::sceneKindName(spec->kind), scene->characters.size(), scene->duration, scene->hits.size(),
-                st.patchesUsed, st.temporalLinks, st.recycled, st.locomotionSteps, st.maxJunctionError, st.seconds);
+                st.patchesUsed, st.temporalLinks, st.recycled, st.chainFalls, st.locomotionSteps, st.maxJunctionError, st.seconds);
 }
 
 }  // namespace

@@ -404,6 +404,110 @@ TEST(PatchCompose, OneVsOneFightsOnWithRecycling) {
     }
 }
 
+// The domino library: falling bodies knocking people over (generated once).
+const PatchLibrary& dominoLibrary() {
+    static const PatchLibrary lib = [] {
+        PatchLibrary out;
+        auto st = generatePatches(demoWorld().library, pattern("fall-fall"), PatternSet{}, out);
+        if (!st) throw std::runtime_error(st.error().message);
+        buildConnections(demoWorld().library, out);
+        return out;
+    }();
+    return lib;
+}
+
+// Discs painted on a 16 m x 16 m floor at 0.1 m per pixel.
+FloorBitmap discs(const std::vector<std::pair<glm::vec2, float>>& centres) {
+    FloorBitmap f;
+    f.width = f.height = 160;
+    f.metresPerPixel = 0.1;
+    f.origin = glm::vec2(-8.0f);
+    f.painted.assign(160 * 160, 0);
+    for (int y = 0; y < 160; ++y) {
+        for (int x = 0; x < 160; ++x) {
+            const glm::vec2 p = f.origin + glm::vec2(static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f) * 0.1f;
+            for (const auto& [c, r] : centres) {
+                if (glm::length(p - c) < r) f.painted[static_cast<std::size_t>(y * 160 + x)] = 1;
+            }
+        }
+    }
+    return f;
+}
+
+bool falls(const SceneCharacter& c) {
+    return std::any_of(c.track.begin(), c.track.end(), [](const ActionInstance& i) { return i.forced; }) ||
+           (!c.track.empty() && demoWorld().library.actions[static_cast<std::size_t>(c.track.back().action)].is(kFalling));
+}
+
+TEST(PatchCompose, DominoFallsInsideThePaintedAreaOnly) {
+    const auto& lib = demoWorld().library;
+    ComposeSpec spec;
+    spec.kind = SceneKind::Domino;
+    spec.floor = discs({{glm::vec2(0.0f), 4.0f}});
+    spec.starts = {{0.5, glm::vec2(0.0f)}};
+    spec.background = 30;
+    int totalChain = 0;
+    for (std::uint64_t seed : {1u, 3u, 4u}) {
+        spec.seed = seed;
+        ComposeStats st;
+        auto scene = compose(lib, dominoLibrary(), spec, &st);
+        ASSERT_TRUE(scene) << scene.error().message;
+        int inside = 0, insideFell = 0, outside = 0, outsideFell = 0;
+        for (int c = 0; c < static_cast<int>(scene->characters.size()); ++c) {
+            const auto& ch = scene->characters[static_cast<std::size_t>(c)];
+            const auto& first = ch.track.front();
+            const glm::vec2 standing = first.placementAt(lib, first.offset).pos;
+            if (spec.floor.paintedAt(standing)) {
+                ++inside, insideFell += falls(ch) ? 1 : 0;
+            } else {
+                ++outside, outsideFell += falls(ch) ? 1 : 0;
+            }
+        }
+        EXPECT_GE(insideFell, 0.95 * inside) << "seed " << seed;
+        EXPECT_LE(outsideFell, 0.05 * outside) << "seed " << seed;
+        EXPECT_EQ(outside, 30);
+        EXPECT_GE(st.chainFalls, 3) << "seed " << seed;
+        EXPECT_EQ(static_cast<int>(scene->hits.size()), st.chainFalls);
+        totalChain += st.chainFalls;
+        const auto m = computeMetrics(*scene, lib);
+        EXPECT_EQ(m.penetrationFrames, 0) << "seed " << seed;
+        // Each fall is caused by the one before it: the pusher is already falling.
+        for (const auto& h : scene->hits) {
+            const auto& pusher = scene->characters[static_cast<std::size_t>(h.attacker)];
+            const int i = scene->instanceAt(h.attacker, h.time);
+            EXPECT_TRUE(lib.actions[static_cast<std::size_t>(pusher.track[static_cast<std::size_t>(i)].action)].is(kFalling));
+        }
+    }
+    EXPECT_GE(totalChain, 25);
+}
+
+TEST(PatchCompose, DominoLettersStartWhenTold) {
+    const auto& lib = demoWorld().library;
+    ComposeSpec spec;
+    spec.kind = SceneKind::Domino;
+    spec.seed = 4;
+    spec.floor = discs({{glm::vec2(-4.0f, 0.0f), 2.5f}, {glm::vec2(4.0f, 0.0f), 2.5f}});
+    spec.starts = {{0.5, glm::vec2(-4.0f, 0.0f)}, {4.0, glm::vec2(4.0f, 0.0f)}};
+    spec.background = 0;
+    auto scene = compose(lib, dominoLibrary(), spec);
+    ASSERT_TRUE(scene) << scene.error().message;
+    for (const auto& h : scene->hits) {
+        const auto& v = scene->characters[static_cast<std::size_t>(h.defender)].track.front();
+        const bool right = v.placementAt(lib, v.offset).pos.x > 0;
+        if (right) {
+            EXPECT_GE(h.time, 4.0);  // the second letter falls only after its start time
+        }
+    }
+    spec.starts = {{0.0, glm::vec2(7.5f, 7.5f)}};
+    auto bad = compose(lib, dominoLibrary(), spec);
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.error().message.find("is not on the painted area"), std::string::npos) << bad.error().message;
+    spec.starts = {{0.0, glm::vec2(-4.0f, 0.0f)}};
+    auto none = compose(lib, fightLibrary(), spec);
+    ASSERT_FALSE(none);
+    EXPECT_NE(none.error().message.find("no patch where a falling body knocks someone over"), std::string::npos);
+}
+
 TEST(PatchCompose, SpecErrorsNameTheField) {
     const auto& lib = fightLibrary();
     const std::pair<std::string, std::string> bad[] = {
@@ -414,6 +518,10 @@ TEST(PatchCompose, SpecErrorsNameTheField) {
         {R"({"kind": "one-vs-many", "duration": -3})", "c.json: /duration: must be in (0, 3600] seconds"},
         {R"({"kind": "one-vs-many", "color": 1})", "c.json: /color: unknown field"},
         {R"([1, 2)", "c.json: /: not valid JSON"},
+        {R"({"kind": "domino", "starts": [{"time": 0, "x": 0, "z": 0}]})", "c.json: /floor: a domino scene needs a floor bitmap"},
+        {R"({"kind": "domino", "floor": {"bitmap": "a.png"}})", "c.json: /starts: a domino scene needs at least one start"},
+        {R"({"kind": "domino", "floor": {"bitmap": "a.png", "metres_per_pixel": 0}, "starts": []})", "c.json: /floor/metres_per_pixel: must be in"},
+        {R"({"kind": "domino", "floor": {"bitmap": "a.png"}, "starts": [{"time": 0, "x": 0}]})", "c.json: /starts/0/z: missing"},
     };
     for (const auto& [text, message] : bad) {
         const auto r = parseComposeSpec(text, "c.json", lib);

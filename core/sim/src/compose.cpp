@@ -564,6 +564,204 @@ struct Composer {
         }
         return {};
     }
+    // ---- domino: falling bodies knock the next people over, inside the painted area.
+    struct Faller {
+        int c = 0;
+        double clipStart = 0;  // scene time of the clip's time 0
+        int action = 0;
+        RootXf root;           // placement of the clip's first frame
+        double offset = 0;     // clip time the fall started at
+    };
+
+    SweptBox standingBox(const glm::vec2& p) const { return {p - glm::vec2(0.35f), p + glm::vec2(0.35f)}; }
+
+    static SweptBox unite(SweptBox a, const SweptBox& b) {
+        a.lo = glm::min(a.lo, b.lo), a.hi = glm::max(a.hi, b.hi);
+        return a;
+    }
+
+    // Floor area a character covers: the box around all of it, and the
+    // boxes of its body per quarter second (their union in time).
+    struct Print {
+        SweptBox all{glm::vec2(std::numeric_limits<float>::max()), glm::vec2(-std::numeric_limits<float>::max())};
+        std::vector<SweptBox> parts;
+        void add(const SweptBox& b) {
+            all = unite(all, b);
+            parts.push_back(b);
+        }
+        bool overlaps(const Print& o, float margin) const {
+            if (!all.overlaps(o.all, margin)) return false;
+            for (const auto& a : parts) {
+                if (!a.overlaps(o.all, margin)) continue;
+                for (const auto& b : o.parts) {
+                    if (a.overlaps(b, margin)) return true;
+                }
+            }
+            return false;
+        }
+    };
+
+    // Where patch character `role` goes over the whole patch, placed by xf.
+    static Print footprint(const Patch& p, int role, const RootXf& xf) {
+        Print out;
+        for (const auto& s : p.swept[static_cast<std::size_t>(role)]) {
+            const glm::vec2 c0 = xf.apply((s.lo + s.hi) * 0.5f);
+            const glm::vec2 h = (s.hi - s.lo) * 0.5f;
+            const float cs = std::fabs(std::cos(static_cast<float>(xf.heading))), sn = std::fabs(std::sin(static_cast<float>(xf.heading)));
+            const glm::vec2 e(cs * h.x + sn * h.y, sn * h.x + cs * h.y);
+            out.add(SweptBox{c0 - e, c0 + e});
+        }
+        return out;
+    }
+
+    // Stands character c in the guard from its first free moment until `until`,
+    // the last guard timed so that its clip is at `clipTimeAtEnd` then.
+    void standUntil(int c, const RootXf& at, double until, double clipTimeAtEnd) {
+        const double lastStart = until - clipTimeAtEnd;
+        auto holdAt = [&](double start, double end, double offset) {
+            append(c, hold, start, at * lib.rootAt(hold, 0).inverse(), offset, end);
+        };
+        double t = track(c).empty() ? 0.0 : freeAt(c);
+        while (t < lastStart - 1e-6) {
+            const double end = std::min(lastStart, t + act(hold).duration);
+            holdAt(t, end, 0.0);
+            t = end;
+        }
+        if (until > t + 1e-9) holdAt(t, until, std::max(0.0, clipTimeAtEnd - (until - t)));
+    }
+
+    Status domino(const ProgressFn& progress) {
+        if (spec.floor.empty()) return makeError("domino: no floor bitmap");
+        if (spec.starts.empty()) return makeError("domino: no start (where the first person falls)");
+        std::vector<std::size_t> chainPatches;
+        for (std::size_t i = 0; i < patches.patches.size(); ++i) {
+            const auto& p = patches.patches[i];
+            const auto& pattern = patches.patterns[static_cast<std::size_t>(p.pattern)];
+            if (!allowed[i] || pattern.entries.empty() || !isReactiveAnnotation(pattern.entries[0].annotation) ||
+                pattern.entries[0].character != 0)
+                continue;
+            const bool pushes = std::any_of(p.hits.begin(), p.hits.end(), [](const HitEvent& h) { return h.attacker == 0 && !h.blocked; });
+            if (pushes) chainPatches.push_back(i);
+        }
+        if (chainPatches.empty()) return makeError("domino: the patch library has no patch where a falling body knocks someone over (generate the fall-fall pattern)");
+        std::vector<Print> prints;     // per character: where it stands and falls
+        std::vector<glm::vec2> spots;  // per character: where it stands
+        std::vector<Faller> queue;
+        auto byTime = [](const Faller& a, const Faller& b) { return a.clipStart > b.clipStart; };
+        std::uniform_real_distribution<double> unit(0.0, 1.0);
+        for (std::size_t k = 0; k < spec.starts.size(); ++k) {
+            const auto& st = spec.starts[k];
+            if (!spec.floor.paintedAt(st.pos)) {
+                return makeError("domino: start " + std::to_string(k) + " at (" + std::to_string(st.pos.x) + ", " +
+                                 std::to_string(st.pos.y) + ") is not on the painted area");
+            }
+            const Patch& p = patches.patches[chainPatches[static_cast<std::size_t>(rng() % chainPatches.size())]];
+            const int action = p.tracks[0].front().action;
+            RootXf at;
+            at.pos = st.pos;
+            at.heading = wrapAngle(unit(rng) * 2 * std::numbers::pi);
+            const int c = addCharacter("person-" + std::to_string(scene.characters.size() + 1), 0);
+            standUntil(c, at, st.time, 0.0);
+            const RootXf root = at * lib.rootAt(action, 0).inverse();
+            append(c, action, st.time, root);
+            Print first = footprint(p, 0, root * p.tracks[0].front().root.inverse());
+            first.add(standingBox(at.pos));
+            prints.push_back(first);
+            spots.push_back(at.pos);
+            queue.push_back({c, st.time, action, root, 0.0});
+            std::push_heap(queue.begin(), queue.end(), byTime);
+        }
+        constexpr int kBranch = 3;
+        while (!queue.empty() && static_cast<int>(scene.characters.size()) < spec.maxCharacters) {
+            std::pop_heap(queue.begin(), queue.end(), byTime);
+            const Faller f = queue.back();
+            queue.pop_back();
+            for (int child = 0; child < kBranch && static_cast<int>(scene.characters.size()) < spec.maxCharacters; ++child) {
+                int best = -1;
+                double bestS = -std::numeric_limits<double>::max();
+                for (std::size_t idx : chainPatches) {
+                    const Patch& p = patches.patches[idx];
+                    if (p.tracks[0].front().action != f.action) continue;
+                    const HitEvent& hit = *std::find_if(p.hits.begin(), p.hits.end(), [](const HitEvent& h) { return h.attacker == 0; });
+                    if (hit.time < f.offset + 0.05) continue;  // the fall is already past that point
+                    const RootXf xf = f.root * p.tracks[0].front().root.inverse();
+                    const glm::vec2 q = (xf * p.tracks[1].front().placementAt(lib, 0)).pos;
+                    if (!spec.floor.paintedAt(q)) continue;
+
+                    Print print = footprint(p, 1, xf);
+                    print.add(standingBox(q));
+                    bool clear = true;
+                    for (std::size_t o = 0; o < prints.size() && clear; ++o) {
+                        // Boxes around bodies are generous: they must overlap by 0.15 m to count.
+                        if (static_cast<int>(o) != f.c) clear = !prints[o].overlaps(print, -0.15f);
+                    }
+                    if (!clear) continue;
+                    int near = 0;
+                    for (const auto& sp : spots) near += glm::length(sp - q) < 1.5f ? 1 : 0;
+                    const double sc = score(idx, near, 0);
+                    if (sc > bestS) bestS = sc, best = static_cast<int>(idx);
+                }
+                if (best < 0) break;
+                const Patch& p = patches.patches[static_cast<std::size_t>(best)];
+                const HitEvent hit = *std::find_if(p.hits.begin(), p.hits.end(), [](const HitEvent& h) { return h.attacker == 0; });
+                const RootXf xf = f.root * p.tracks[0].front().root.inverse();
+                const RootXf standing = xf * p.tracks[1].front().placementAt(lib, 0);
+                const double tHit = f.clipStart + hit.time;
+                const int n = addCharacter("person-" + std::to_string(scene.characters.size() + 1), 0);
+                // It stands in the guard, at the clip time the patch had when the body hit it.
+                const double holdTime = hit.time - p.tracks[1].front().start;
+                standUntil(n, standing, tHit, holdTime);
+                const auto& reaction = *std::find_if(p.tracks[1].begin(), p.tracks[1].end(), [](const ActionInstance& i) { return i.forced; });
+                ActionInstance fall = reaction;
+                fall.start = tHit;
+                fall.end = tHit + (reaction.end - reaction.start);
+                fall.root = xf * reaction.root;
+                track(n).push_back(fall);
+                HitEvent h = hit;
+                h.time = tHit, h.attacker = f.c, h.defender = n, h.attackAction = f.action;
+                scene.hits.push_back(h);
+                Print print = footprint(p, 1, xf);
+                print.add(standingBox(standing.pos));
+                prints.push_back(print);
+                spots.push_back(standing.pos);
+                used(static_cast<std::size_t>(best));
+                ++stats.chainFalls;
+                queue.push_back({n, tHit - reaction.offset, reaction.action, fall.root, reaction.offset});
+                std::push_heap(queue.begin(), queue.end(), byTime);
+            }
+            if (!reportProgress(progress, std::min(1.0, static_cast<double>(scene.characters.size()) / spec.maxCharacters), "compose")) {
+                return makeError("cancelled");
+            }
+        }
+        // Bystanders outside the painted area, clear of every fall.
+        const glm::vec2 lo = spec.floor.extentMin(), hi = spec.floor.extentMax();
+        for (int b = 0, tries = 0; b < spec.background && tries < 200 * spec.background; ++tries) {
+            const float ux = static_cast<float>(unit(rng)), uz = static_cast<float>(unit(rng));
+            const glm::vec2 q(lo.x + ux * (hi.x - lo.x), lo.y + uz * (hi.y - lo.y));
+            if (spec.floor.paintedAt(q)) continue;
+            Print box;
+            box.add(standingBox(q));
+            bool clear = true;
+            for (const auto& pr : prints) clear = clear && !pr.overlaps(box, 0.3f);
+            if (!clear) continue;
+            RootXf at;
+            at.pos = q;
+            at.heading = wrapAngle(unit(rng) * 2 * std::numbers::pi);
+            const int c = addCharacter("bystander-" + std::to_string(b + 1), 1);
+            append(c, hold, 0.0, at * lib.rootAt(hold, 0).inverse());
+            prints.push_back(box);
+            spots.push_back(q);
+            ++b;
+        }
+        // Everyone still standing stays until the last one has fallen.
+        double end = 0;
+        for (int c = 0; c < static_cast<int>(scene.characters.size()); ++c) end = std::max(end, freeAt(c));
+        for (int c = 0; c < static_cast<int>(scene.characters.size()); ++c) {
+            if (!act(track(c).back().action).is(kReactive)) waitUntil(c, end);
+        }
+        return {};
+    }
+
     // The standard pose nearest to c among those some usable patch starts from.
     int nearestStartingPose(const PatchConfig& c) const {
         int best = -1;
@@ -582,10 +780,19 @@ struct Composer {
 
 }  // namespace
 
+bool FloorBitmap::paintedAt(glm::vec2 floor) const {
+    if (empty() || !(metresPerPixel > 0)) return false;
+    const double x = (static_cast<double>(floor.x) - static_cast<double>(origin.x)) / metresPerPixel;
+    const double y = (static_cast<double>(floor.y) - static_cast<double>(origin.y)) / metresPerPixel;
+    if (!(x >= 0 && y >= 0 && x < width && y < height)) return false;
+    return painted[static_cast<std::size_t>(static_cast<int>(y)) * static_cast<std::size_t>(width) + static_cast<std::size_t>(static_cast<int>(x))] != 0;
+}
+
 const char* sceneKindName(SceneKind kind) {
     switch (kind) {
         case SceneKind::OneVsMany: return "one-vs-many";
         case SceneKind::OneVsOne: return "one-vs-one";
+        case SceneKind::Domino: return "domino";
     }
     return "?";
 }
@@ -597,7 +804,8 @@ Result<ComposeSpec> parseComposeSpec(std::string_view text, std::string_view fil
     if (!j.is_object()) return rd.error("", "must be an object");
     ComposeSpec s;
     s.text = std::string(text);
-    static const char* const known[] = {"version", "kind", "duration", "seed", "enemies", "entry_radius", "patterns", "commands"};
+    static const char* const known[] = {"version", "kind",  "duration", "seed",       "enemies",       "entry_radius",
+                                        "patterns", "commands", "floor", "starts", "background", "max_characters"};
     for (auto it = j.begin(); it != j.end(); ++it) {
         if (std::find_if(std::begin(known), std::end(known), [&](const char* k) { return it.key() == k; }) == std::end(known)) {
             return rd.error("/" + it.key(), "unknown field");
@@ -606,7 +814,8 @@ Result<ComposeSpec> parseComposeSpec(std::string_view text, std::string_view fil
     FRAY_TRY(kind, rd.stringAt(j, "", "kind"));
     if (kind == "one-vs-many") s.kind = SceneKind::OneVsMany;
     else if (kind == "one-vs-one") s.kind = SceneKind::OneVsOne;
-    else return rd.error("/kind", "unknown scene kind '" + kind + "' (this build composes one-vs-many and one-vs-one)");
+    else if (kind == "domino") s.kind = SceneKind::Domino;
+    else return rd.error("/kind", "unknown scene kind '" + kind + "' (this build composes one-vs-many, one-vs-one and domino)");
     if (auto f = rd.field(j, "", "duration", false); !f) return f.error();
     else if (*f) {
         FRAY_TRY(d, rd.number(**f, "/duration"));
@@ -659,6 +868,59 @@ Result<ComposeSpec> parseComposeSpec(std::string_view text, std::string_view fil
             s.commands.push_back({t, a});
         }
     }
+    if (auto f = rd.field(j, "", "floor", false); !f) return f.error();
+    else if (*f) {
+        const json& fl = **f;
+        if (!fl.is_object()) return rd.error("/floor", "must be an object {bitmap, metres_per_pixel, origin}");
+        FRAY_TRY(file, rd.stringAt(fl, "/floor", "bitmap"));
+        if (file.empty()) return rd.error("/floor/bitmap", "must name a PNG file");
+        s.floorFile = file;
+        if (auto m = rd.field(fl, "/floor", "metres_per_pixel", false); !m) return m.error();
+        else if (*m) {
+            FRAY_TRY(x, rd.number(**m, "/floor/metres_per_pixel"));
+            if (!(x > 0.001) || x > 10) return rd.error("/floor/metres_per_pixel", "must be in (0.001, 10]");
+            s.metresPerPixel = x;
+        }
+        if (auto o = rd.field(fl, "/floor", "origin", false); !o) return o.error();
+        else if (*o) {
+            if (!(*o)->is_array() || (*o)->size() != 2) return rd.error("/floor/origin", "must be [x, z]");
+            FRAY_TRY(x, rd.number((**o)[0], "/floor/origin/0"));
+            FRAY_TRY(z, rd.number((**o)[1], "/floor/origin/1"));
+            if (std::fabs(x) > 1e4 || std::fabs(z) > 1e4) return rd.error("/floor/origin", "is too far out");
+            s.floorOrigin = glm::vec2(static_cast<float>(x), static_cast<float>(z));
+        }
+    }
+    if (auto f = rd.field(j, "", "starts", false); !f) return f.error();
+    else if (*f) {
+        if (!(*f)->is_array()) return rd.error("/starts", "must be an array of {time, x, z}");
+        for (std::size_t i = 0; i < (*f)->size(); ++i) {
+            const std::string p = "/starts/" + std::to_string(i);
+            const json& st = (**f)[i];
+            if (!st.is_object()) return rd.error(p, "must be an object {time, x, z}");
+            FRAY_TRY(t, rd.numberAt(st, p, "time"));
+            FRAY_TRY(x, rd.numberAt(st, p, "x"));
+            FRAY_TRY(z, rd.numberAt(st, p, "z"));
+            if (t < 0 || t > 3600) return rd.error(p + "/time", "must be in [0, 3600] seconds");
+            if (std::fabs(x) > 1e4 || std::fabs(z) > 1e4) return rd.error(p, "is too far out");
+            s.starts.push_back({t, glm::vec2(static_cast<float>(x), static_cast<float>(z))});
+        }
+    }
+    if (auto f = rd.field(j, "", "background", false); !f) return f.error();
+    else if (*f) {
+        FRAY_TRY(n, rd.integer(**f, "/background"));
+        if (n < 0 || n > 10000) return rd.error("/background", "must be between 0 and 10000");
+        s.background = n;
+    }
+    if (auto f = rd.field(j, "", "max_characters", false); !f) return f.error();
+    else if (*f) {
+        FRAY_TRY(n, rd.integer(**f, "/max_characters"));
+        if (n < 1 || n > 100000) return rd.error("/max_characters", "must be between 1 and 100000");
+        s.maxCharacters = n;
+    }
+    if (s.kind == SceneKind::Domino) {
+        if (s.floorFile.empty()) return rd.error("/floor", "a domino scene needs a floor bitmap (the painted area where people fall)");
+        if (s.starts.empty()) return rd.error("/starts", "a domino scene needs at least one start (where the first person falls)");
+    }
     return s;
 }
 
@@ -673,7 +935,9 @@ Result<Scene> compose(const ActionLibrary& lib, const PatchLibrary& patches, con
     Composer c(lib, patches, spec, st);
     if (c.hold < 0) return makeError("the project has no idle action (characters need one to wait)");
     if (c.locomotion.empty()) return makeError("the project has no walk, step or turn action (characters need them to move)");
-    const Status done = spec.kind == SceneKind::OneVsMany ? c.oneVsMany(progress) : c.oneVsOne(progress);
+    const Status done = spec.kind == SceneKind::OneVsMany  ? c.oneVsMany(progress)
+                        : spec.kind == SceneKind::OneVsOne ? c.oneVsOne(progress)
+                                                           : c.domino(progress);
     if (!done) return done.error();
     Scene scene = std::move(c.scene);
     scene.seed = spec.seed;

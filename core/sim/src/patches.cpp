@@ -76,6 +76,12 @@ struct Engine {
                     pools[e].push_back(i);
                     continue;
                 }
+                if (isReactiveAnnotation(pe.annotation)) {
+                    // Already falling (domino): every clip, so a chain can
+                    // continue from whichever reaction the last blow chose.
+                    choices[e].push_back(i);
+                    continue;
+                }
                 reps.emplace(std::make_pair(lib.variantClass[static_cast<std::size_t>(i)], lib.startNode[static_cast<std::size_t>(i)]), i);
             }
             for (const auto& [key, i] : reps) choices[e].push_back(i);

@@ -22,7 +22,29 @@ struct UserCommand {
     std::string annotation;  // punch, kick, avoid, ... or a group (attack, defence)
 };
 
-enum class SceneKind { OneVsMany, OneVsOne };
+enum class SceneKind { OneVsMany, OneVsOne, Domino };
+
+// A painted floor area (domino, SPEC 4.5): pixel (x, y) covers the floor
+// square [origin.x + x m, + m) x [origin.y + y m, + m), m = metresPerPixel;
+// image rows run along +z.
+struct FloorBitmap {
+    int width = 0, height = 0;
+    std::vector<std::uint8_t> painted;  // row-major, 1 where painted
+    glm::vec2 origin{0.0f};
+    double metresPerPixel = 0.1;
+    bool empty() const { return width <= 0 || height <= 0; }
+    bool paintedAt(glm::vec2 floor) const;
+    glm::vec2 extentMin() const { return origin; }
+    glm::vec2 extentMax() const {
+        return origin + glm::vec2(static_cast<float>(width * metresPerPixel), static_cast<float>(height * metresPerPixel));
+    }
+};
+
+// Where and when a domino chain starts: the person standing there falls first.
+struct DominoStart {
+    double time = 0;
+    glm::vec2 pos{0.0f};
+};
 const char* sceneKindName(SceneKind kind);
 
 struct ComposeSpec {
@@ -33,6 +55,16 @@ struct ComposeSpec {
     double entryRadius = 8;        // m: newcomers enter from this far out
     std::vector<std::string> patterns;  // pattern names to use; empty: all in the library
     std::vector<UserCommand> commands;
+    // Domino: the painted area (the CLI reads the bitmap file), the chains' starts
+    // (a letter each, with its own start time), people standing outside the area,
+    // and a cap on the crowd.
+    std::string floorFile;
+    double metresPerPixel = 0.1;
+    glm::vec2 floorOrigin{0.0f};
+    FloorBitmap floor;
+    std::vector<DominoStart> starts;
+    int background = 20;
+    int maxCharacters = 400;
     // Scores (SPEC 4.4).
     double wDensity = 10, wUsage = 1000, wUser = 10000, densityScale = 1.0;
     std::string text;              // the spec as written, kept in the scene
@@ -45,6 +77,7 @@ struct ComposeStats {
     int patchesUsed = 0;
     int temporalLinks = 0, recycled = 0;   // how each next patch was found
     int locomotionSteps = 0;
+    int chainFalls = 0;                    // domino: people knocked over by a falling body
     double maxJunctionError = 0;           // m: worst gap between where locomotion ended and where a patch starts
     double seconds = 0;
 };
