@@ -7,9 +7,9 @@
 # segmentation with annotation proposals, and the action-level motion graph.
 # Then the planner: a duel planned by min-max tree expansion on the authored
 # demo project (resources/demo/duel.json), its metrics, a few frames rendered
-# offscreen; Interaction Patches generated from the demo PatternLists and a
-# one-vs-many fight composed from them; and the `fray` window when a display
-# is available.
+# offscreen; Interaction Patches generated from the demo PatternLists, a
+# one-vs-many fight and a domino crowd composed from them; and the `fray`
+# window when a display is available.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/build.sh
@@ -35,11 +35,16 @@ echo "Interaction Patches from the demo PatternLists, and a one-vs-many fight co
 "$cli" compose "$lib/demo.frayproj" --patches "$run/demo.patches" --spec resources/demo/one_vs_many.json --out "$run/one_vs_many.frayscene" --quiet
 "$cli" metrics "$run/one_vs_many.frayscene" --quiet
 "$cli" render "$run/one_vs_many.frayscene" --frames 0:end:150 --size 960x540 --labels --quiet --out "$run/one_vs_many-frames"
+echo "A crowd falling like dominoes into the painted areas of resources/demo/domino_floor.png:"
+"$cli" compose "$lib/demo.frayproj" --patches "$run/demo.patches" --spec resources/demo/domino.json --out "$run/domino.frayscene" --quiet
+"$cli" metrics "$run/domino.frayscene" --quiet | grep "^scene:"
+"$cli" render "$run/domino.frayscene" --frames 0:end:60 --size 960x540 --pitch 40 --quiet --out "$run/domino-frames"
 echo
 echo "Automatic project: $run/auto.frayproj (list its actions: $cli actions $run/auto.frayproj)"
 echo "Demo project:      $lib/demo.frayproj"
 echo "Duel scene:        $run/duel.frayscene (frames in $run/duel-frames)"
 echo "One vs many:       $run/one_vs_many.frayscene (frames in $run/one_vs_many-frames)"
+echo "Domino:            $run/domino.frayscene (frames in $run/domino-frames)"
 if [[ -n "${DISPLAY:-}${WAYLAND_DISPLAY:-}" && -x build/bin/fray ]]; then
   echo "Opening the fray window on the demo project."
   build/bin/fray "$lib/demo.frayproj"
