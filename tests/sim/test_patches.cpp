@@ -508,6 +508,67 @@ TEST(PatchCompose, DominoLettersStartWhenTold) {
     EXPECT_NE(none.error().message.find("no patch where a falling body knocks someone over"), std::string::npos);
 }
 
+TEST(PatchCompose, LuggageTravelsTheWholeChain) {
+    const auto& lib = demoWorld().library;
+    PatchLibrary patches;
+    for (const char* name : {"carry-walk-hand-receive-turn-carry", "carry-hand-receive-carry"}) {
+        ASSERT_TRUE(generatePatches(lib, pattern(name), PatternSet{}, patches));
+    }
+    buildConnections(lib, patches);
+    ASSERT_GT(patches.patches.size(), 10u);
+    // (Seeds 2 and 5 of the first ten end in "cannot reach the hand-over":
+    // docs/PATCHES.md says why.)
+    for (std::uint64_t seed : {1u, 3u, 8u}) {
+        ComposeSpec spec;
+        spec.kind = SceneKind::Luggage;
+        spec.seed = seed;
+        spec.porters = 4;
+        spec.handoffs = 9;
+        spec.duration = 300;
+        auto scene = compose(lib, patches, spec);
+        ASSERT_TRUE(scene) << scene.error().message;
+        // Every hand-over in time order: the one who received last hands next,
+        // within 0.6 s of the receiver reaching out and 1.3 m of it.
+        struct Event {
+            double time;
+            int who;
+            bool hand;
+            glm::vec2 at;
+        };
+        std::vector<Event> events;
+        for (int c = 0; c < static_cast<int>(scene->characters.size()); ++c) {
+            for (const auto& i : scene->characters[static_cast<std::size_t>(c)].track) {
+                const auto& a = lib.actions[static_cast<std::size_t>(i.action)];
+                if (a.has("hand") || a.has("receive")) events.push_back({i.start, c, a.has("hand"), i.placementAt(lib, i.offset).pos});
+            }
+        }
+        // In time order, a hand before a receive that starts with it.
+        std::sort(events.begin(), events.end(), [](const Event& a, const Event& b) {
+            return a.time != b.time ? a.time < b.time : a.hand > b.hand;
+        });
+        int handovers = 0, holder = -1;
+        std::vector<int> porters;
+        for (std::size_t k = 0; k + 1 < events.size(); ++k) {
+            if (!events[k].hand) continue;
+            const auto& recv = events[k + 1];
+            ASSERT_FALSE(recv.hand) << "a hand-over nobody receives (seed " << seed << ")";
+            EXPECT_LE(recv.time - events[k].time, 0.6 + 1e-9);
+            EXPECT_LE(glm::length(recv.at - events[k].at), 1.3f);
+            if (holder >= 0) {
+                EXPECT_EQ(events[k].who, holder) << "the item skipped a porter";
+            }
+            holder = recv.who;
+            porters.push_back(recv.who);
+            ++handovers;
+        }
+        EXPECT_EQ(handovers, 9) << "seed " << seed;
+        std::sort(porters.begin(), porters.end());
+        porters.erase(std::unique(porters.begin(), porters.end()), porters.end());
+        EXPECT_EQ(porters.size(), 4u) << "every porter is recycled";
+        EXPECT_EQ(computeMetrics(*scene, lib).penetrationFrames, 0) << "seed " << seed;
+    }
+}
+
 TEST(PatchCompose, SpecErrorsNameTheField) {
     const auto& lib = fightLibrary();
     const std::pair<std::string, std::string> bad[] = {
@@ -522,6 +583,7 @@ TEST(PatchCompose, SpecErrorsNameTheField) {
         {R"({"kind": "domino", "floor": {"bitmap": "a.png"}})", "c.json: /starts: a domino scene needs at least one start"},
         {R"({"kind": "domino", "floor": {"bitmap": "a.png", "metres_per_pixel": 0}, "starts": []})", "c.json: /floor/metres_per_pixel: must be in"},
         {R"({"kind": "domino", "floor": {"bitmap": "a.png"}, "starts": [{"time": 0, "x": 0}]})", "c.json: /starts/0/z: missing"},
+        {R"({"kind": "luggage", "porters": 1})", "c.json: /porters: must be between 2 and 100"},
     };
     for (const auto& [text, message] : bad) {
         const auto r = parseComposeSpec(text, "c.json", lib);

@@ -37,6 +37,9 @@ struct Composer {
     int hold = -1;                 // idle action for waiting
     std::vector<double> usage;     // f_p per patch
     std::vector<char> allowed;     // per patch: its pattern is in the spec
+    // Walkers keep this far (m) from other bodies' boxes; the luggage chain,
+    // where porters stand close, relies on the body test (penetrates) instead.
+    float nearDistance = 0.45f;
     std::mt19937_64 rng;
 
     Composer(const ActionLibrary& l, const PatchLibrary& p, const ComposeSpec& s, ComposeStats& st)
@@ -92,9 +95,21 @@ struct Composer {
         while (freeAt(c) < t - 1e-6) {
             const double from = freeAt(c);
             const RootXf at = leaves(c);
-            const double end = std::min(t, from + act(hold).duration);
-            append(c, hold, from, at * lib.rootAt(hold, 0).inverse(), 0, end);
+            const int idle = idleAfter(track(c).back().action);
+            const double end = std::min(t, from + act(idle).duration);
+            append(c, idle, from, at * lib.rootAt(idle, 0).inverse(), 0, end);
         }
+    }
+
+    // The idle that continues an action in the motion graph (the longest such),
+    // else the general guard: a porter waits standing, a boxer in guard.
+    int idleAfter(int action) const {
+        int best = -1;
+        for (int i = 0; i < lib.size(); ++i) {
+            if (!act(i).is(kIdle) || lib.startNode[static_cast<std::size_t>(i)] != lib.endNode[static_cast<std::size_t>(action)]) continue;
+            if (best < 0 || act(i).duration > act(best).duration) best = i;
+        }
+        return best >= 0 ? best : hold;
     }
 
     // Where every other character stands at time t.
@@ -136,12 +151,11 @@ struct Composer {
     // Stepping from `from` to p at time t would come too close to someone
     // (walking away from someone already close is allowed).
     bool blocked(int self, int partner, const glm::vec2& from, const glm::vec2& p, double t) const {
-        constexpr float kNear = 0.45f;
         for (int c = 0; c < static_cast<int>(scene.characters.size()); ++c) {
             if (c == self || c == partner || scene.characters[static_cast<std::size_t>(c)].track.empty()) continue;
             const SweptBox box = bodyBox(c, t);
             const float dn = rectDistance(box, p);
-            if (dn < kNear && dn < rectDistance(box, from) - 1e-3f) return true;
+            if (dn < nearDistance && dn < rectDistance(box, from) - 1e-3f) return true;
         }
         if (partner >= 0) {
             // The one it is walking up to: no closer than touching distance.
@@ -762,6 +776,212 @@ struct Composer {
         return {};
     }
 
+    // A porter who has handed the item on walks 2.5-4 m away, in the first
+    // direction (away from the carrier first) whose walk touches nobody.
+    void stepAside(int c, int carrier) {
+        const RootXf g = leaves(c);
+        glm::vec2 away = g.pos - leaves(carrier).pos;
+        if (glm::length(away) < 1e-3f) away = -headingVector(g.heading);
+        away = glm::normalize(away);
+        for (float dist : {2.5f, 4.0f}) {
+            for (double turn : {0.0, 0.8, -0.8, 1.6, -1.6, 2.4, -2.4}) {
+                const glm::vec2 dir = rotateFloor(away, turn);
+                RootXf spot;
+                spot.pos = g.pos + dir * dist;
+                spot.heading = angleOf(-dir);
+                std::vector<ActionInstance> walk;
+                auto [end, when] = locomote(c, -1, g, freeAt(c), track(c).back().action, spot, 0.0, walk);
+                if (walk.empty() || glm::length(end.pos - g.pos) < 1.0f || penetrates(walk, c)) continue;
+                // Room to wait there: nobody within 1 m of the spot.
+                bool room = true;
+                for (int o = 0; o < static_cast<int>(scene.characters.size()) && room; ++o) {
+                    if (o != c && !track(o).empty()) room = rectDistance(bodyBox(o, when), end.pos) >= 1.0f;
+                }
+                if (!room) continue;
+                for (auto& w : walk) track(c).push_back(w);
+                stats.locomotionSteps += static_cast<int>(walk.size());
+                return;
+            }
+        }
+    }
+
+    // ---- luggage: an item passed along a chain of porters; whoever has handed
+    // it on is recycled as a later receiver.
+    Status luggage(const ProgressFn& progress) {
+        std::vector<std::size_t> handoffs;  // patches where character 1 hands and character 2 receives
+        for (std::size_t i = 0; i < patches.patches.size(); ++i) {
+            if (!allowed[i]) continue;
+            const auto& p = patches.patches[i];
+            auto has = [&](int role, const char* annotation) {
+                return std::any_of(p.tracks[static_cast<std::size_t>(role)].begin(), p.tracks[static_cast<std::size_t>(role)].end(),
+                                   [&](const ActionInstance& inst) { return act(inst.action).has(annotation); });
+            };
+            if (has(0, "hand") && has(1, "receive") && act(p.tracks[0].front().action).has("carry")) handoffs.push_back(i);
+        }
+        if (handoffs.empty()) return makeError("luggage: the patch library has no patch where character 1 hands and character 2 receives");
+        nearDistance = 0.25f;
+        if (spec.porters < 2) return makeError("luggage: needs at least 2 porters");
+        std::vector<int> porters;
+        for (int k = 0; k < spec.porters; ++k) porters.push_back(addCharacter("porter-" + std::to_string(k + 1), 0));
+        // The first hand-over at the origin; the other porters wait in a row behind the receiver.
+        int prev = -1, carrier = porters[0], aside = -1, retries = 0;
+        std::vector<double> lastUsed(porters.size(), -1.0);
+        for (int k = 0; k < spec.handoffs; ++k) {
+            const double t0 = track(carrier).empty() ? 0.0 : freeAt(carrier);
+            if (t0 >= spec.duration) break;
+            const RootXf at = track(carrier).empty() ? RootXf{} : leaves(carrier);
+            std::vector<std::size_t> cands;
+            if (prev >= 0) {
+                for (const auto& l : patches.temporal[static_cast<std::size_t>(prev)]) {
+                    if (l.shared == 1 && l.roles == 1 && std::binary_search(handoffs.begin(), handoffs.end(), static_cast<std::size_t>(l.to))) {
+                        cands.push_back(static_cast<std::size_t>(l.to));
+                    }
+                }
+            }
+            const bool linked = !cands.empty();
+            if (!linked) cands = handoffs;
+            // The receiver: the porter free for longest (never the carrier).
+            int receiver = -1;
+            for (std::size_t j = 0; j < porters.size(); ++j) {
+                if (porters[j] == carrier) continue;
+                if (receiver < 0 || lastUsed[j] < lastUsed[static_cast<std::size_t>(receiver)]) receiver = static_cast<int>(j);
+            }
+            const int rc = porters[static_cast<std::size_t>(receiver)];
+            struct Option {
+                double score;
+                std::size_t patch;
+            };
+            std::vector<Option> options;
+            for (std::size_t i : cands) {
+                const Patch& p = patches.patches[i];
+                options.push_back({score(i, 0, 0) + (track(carrier).empty() || lib.startNode[static_cast<std::size_t>(p.tracks[0].front().action)] ==
+                                                                               lib.endNode[static_cast<std::size_t>(track(carrier).back().action)]
+                                                          ? 1.0
+                                                          : 0.0),
+                                   i});
+            }
+            std::stable_sort(options.begin(), options.end(), [](const Option& x, const Option& y) { return x.score > y.score; });
+            // The other porters, standing where they wait: the hand-over must not
+            // touch them (the last giver steps aside once this one is placed).
+            Print others;
+            for (int c : porters) {
+                if (c != carrier && c != rc && c != aside && !track(c).empty()) others.add(bodyBox(c, std::max(t0, freeAt(c))));
+            }
+            bool placed = false;
+            for (std::size_t o = 0; o < options.size() && o < 60 && !placed; ++o) {
+                const Patch& p = patches.patches[options[o].patch];
+                const RootXf xf = at * p.tracks[0].front().root.inverse();
+                Print print = footprint(p, 0, xf);
+                for (const auto& b : footprint(p, 1, xf).parts) print.add(b);
+                if (!others.parts.empty() && others.overlaps(print, 0.0f)) continue;
+                const RootXf goal = xf * p.tracks[1].front().root;
+                // The receiver walks over from where it is (it starts next to the goal the first time).
+                std::vector<ActionInstance> walk;
+                double arrive = t0;
+                if (!track(rc).empty()) {
+                    // Planned backward from the hand-over: it sets off as late as
+                    // it can (never before it is free) and arrives when the
+                    // carrier is ready; re-planned until the timing settles.
+                    // Straight there, or round the others by a point 2 m off
+                    // to either side of the goal.
+                    bool reached = false;
+                    const RootXf from = leaves(rc);
+                    const glm::vec2 back = glm::length(from.pos - goal.pos) > 1e-3f ? glm::normalize(from.pos - goal.pos) : glm::vec2(0, 1);
+                    for (double turn : {0.0, 1.0, -1.0, 2.0, -2.0}) {
+                        RootXf end;
+                        double when = 0, shift = std::max(freeAt(rc), t0 - 3.0);
+                        RootXf via;
+                        via.pos = goal.pos + rotateFloor(back, turn) * 2.0f;
+                        via.heading = angleOf(goal.pos - via.pos);
+                        for (int pass = 0; pass < 4; ++pass) {
+                            walk.clear();
+                            RootXf mid = from;
+                            double midTime = 0;
+                            if (turn != 0.0) std::tie(mid, midTime) = locomote(rc, carrier, from, 0.0, track(rc).back().action, via, shift, walk);
+                            std::tie(end, when) = locomote(rc, carrier, mid, midTime, walk.empty() ? track(rc).back().action : walk.back().action,
+                                                           goal, shift, walk);
+                            const double next = std::max(freeAt(rc), t0 - when);
+                            if (std::fabs(next - shift) < 1e-9) break;
+                            shift = next;
+                        }
+                        for (auto& w : walk) w.start += shift, w.end += shift;
+                        if (glm::length(end.pos - goal.pos) > 0.3f || penetrates(walk, rc)) continue;
+                        arrive = shift + when;
+                        stats.maxJunctionError = std::max(stats.maxJunctionError, static_cast<double>(glm::length(end.pos - goal.pos)));
+                        reached = true;
+                        break;
+                    }
+                    if (!reached) continue;
+                    if (!walk.empty()) waitUntil(rc, walk.front().start);
+                }
+                const double start = std::max(t0, arrive);
+                if (!track(carrier).empty()) waitUntil(carrier, start);
+                for (auto& w : walk) track(rc).push_back(w);
+                stats.locomotionSteps += static_cast<int>(walk.size());
+                if (!track(rc).empty()) waitUntil(rc, start);
+                placeTrack(p, 0, carrier, start, xf);
+                placeTrack(p, 1, rc, start, xf);
+                used(options[o].patch);
+                (linked ? stats.temporalLinks : stats.recycled) += 1;
+                prev = static_cast<int>(options[o].patch);
+                lastUsed[static_cast<std::size_t>(std::find(porters.begin(), porters.end(), carrier) - porters.begin())] = start;
+                lastUsed[static_cast<std::size_t>(receiver)] = start;
+                placed = true;
+            }
+            if (!placed) {
+                // Nobody can reach the carrier where it stands: it carries on a
+                // step (or turns) and the hand-over is tried again from there.
+                if (++retries > 6 || track(carrier).empty()) {
+                    return makeError("luggage: porter " + std::to_string(receiver + 1) + " cannot reach the hand-over at " + std::to_string(t0) + " s");
+                }
+                int step = -1;
+                for (int i = 0; i < lib.size(); ++i) {
+                    const auto& a = act(i);
+                    if (!a.has("carry") || !(a.is(kWalk) || a.is(kTurn)) || a.has("hand") || a.has("receive")) continue;
+                    if (lib.startNode[static_cast<std::size_t>(i)] != lib.endNode[static_cast<std::size_t>(track(carrier).back().action)]) continue;
+                    if (step < 0 || (rng() & 1)) step = i;
+                }
+                if (step < 0) return makeError("luggage: porter " + std::to_string(receiver + 1) + " cannot reach the hand-over at " + std::to_string(t0) + " s");
+                const ActionInstance move{step, t0, 0.0, t0 + act(step).duration, leaves(carrier), false, false};
+                if (!penetrates({move}, carrier)) track(carrier).push_back(move);
+                --k;
+                continue;
+            }
+            retries = 0;
+            // The previous giver steps out of the way now that this receiver's
+            // walk is known (its own walk is checked against it), and waits
+            // there to be recycled.
+            if (aside >= 0 && aside != rc) stepAside(aside, carrier);
+            aside = carrier;
+            carrier = rc;
+            if (k == 0) {
+                // The waiting porters stand in a row beside the first receiver,
+                // each where its body touches nobody for the first hand-over.
+                const RootXf r = leaves(rc);
+                int row = 1;
+                for (int c : porters) {
+                    if (!track(c).empty()) continue;
+                    for (int tries = 0; tries < 40; ++tries, ++row) {
+                        RootXf spot = r;
+                        spot.pos = r.pos - headingVector(r.heading) * (1.2f * static_cast<float>(row)) +
+                                   rotateFloor(glm::vec2(1.5f, 0.0f), r.heading);
+                        const ActionInstance wait{hold, 0.0, 0.0, freeAt(rc), spot * lib.rootAt(hold, 0).inverse(), false, false};
+                        if (penetrates({wait}, c)) continue;
+                        track(c).push_back(wait);
+                        ++row;
+                        break;
+                    }
+                    if (track(c).empty()) return makeError("luggage: no room for porter " + std::to_string(c + 1) + " to wait");
+                }
+            }
+            if (!reportProgress(progress, static_cast<double>(k + 1) / spec.handoffs, "compose")) return makeError("cancelled");
+        }
+        double end = 0;
+        for (int c : porters) end = std::max(end, freeAt(c));
+        for (int c : porters) waitUntil(c, end);
+        return {};
+    }
+
     // The standard pose nearest to c among those some usable patch starts from.
     int nearestStartingPose(const PatchConfig& c) const {
         int best = -1;
@@ -793,6 +1013,7 @@ const char* sceneKindName(SceneKind kind) {
         case SceneKind::OneVsMany: return "one-vs-many";
         case SceneKind::OneVsOne: return "one-vs-one";
         case SceneKind::Domino: return "domino";
+        case SceneKind::Luggage: return "luggage";
     }
     return "?";
 }
@@ -805,7 +1026,8 @@ Result<ComposeSpec> parseComposeSpec(std::string_view text, std::string_view fil
     ComposeSpec s;
     s.text = std::string(text);
     static const char* const known[] = {"version", "kind",  "duration", "seed",       "enemies",       "entry_radius",
-                                        "patterns", "commands", "floor", "starts", "background", "max_characters"};
+                                        "patterns", "commands", "floor", "starts", "background", "max_characters",
+                                        "porters", "handoffs"};
     for (auto it = j.begin(); it != j.end(); ++it) {
         if (std::find_if(std::begin(known), std::end(known), [&](const char* k) { return it.key() == k; }) == std::end(known)) {
             return rd.error("/" + it.key(), "unknown field");
@@ -815,7 +1037,8 @@ Result<ComposeSpec> parseComposeSpec(std::string_view text, std::string_view fil
     if (kind == "one-vs-many") s.kind = SceneKind::OneVsMany;
     else if (kind == "one-vs-one") s.kind = SceneKind::OneVsOne;
     else if (kind == "domino") s.kind = SceneKind::Domino;
-    else return rd.error("/kind", "unknown scene kind '" + kind + "' (this build composes one-vs-many, one-vs-one and domino)");
+    else if (kind == "luggage") s.kind = SceneKind::Luggage;
+    else return rd.error("/kind", "unknown scene kind '" + kind + "' (this build composes one-vs-many, one-vs-one, domino and luggage)");
     if (auto f = rd.field(j, "", "duration", false); !f) return f.error();
     else if (*f) {
         FRAY_TRY(d, rd.number(**f, "/duration"));
@@ -917,6 +1140,18 @@ Result<ComposeSpec> parseComposeSpec(std::string_view text, std::string_view fil
         if (n < 1 || n > 100000) return rd.error("/max_characters", "must be between 1 and 100000");
         s.maxCharacters = n;
     }
+    if (auto f = rd.field(j, "", "porters", false); !f) return f.error();
+    else if (*f) {
+        FRAY_TRY(n, rd.integer(**f, "/porters"));
+        if (n < 2 || n > 100) return rd.error("/porters", "must be between 2 and 100");
+        s.porters = n;
+    }
+    if (auto f = rd.field(j, "", "handoffs", false); !f) return f.error();
+    else if (*f) {
+        FRAY_TRY(n, rd.integer(**f, "/handoffs"));
+        if (n < 1 || n > 10000) return rd.error("/handoffs", "must be between 1 and 10000");
+        s.handoffs = n;
+    }
     if (s.kind == SceneKind::Domino) {
         if (s.floorFile.empty()) return rd.error("/floor", "a domino scene needs a floor bitmap (the painted area where people fall)");
         if (s.starts.empty()) return rd.error("/starts", "a domino scene needs at least one start (where the first person falls)");
@@ -937,7 +1172,8 @@ Result<Scene> compose(const ActionLibrary& lib, const PatchLibrary& patches, con
     if (c.locomotion.empty()) return makeError("the project has no walk, step or turn action (characters need them to move)");
     const Status done = spec.kind == SceneKind::OneVsMany  ? c.oneVsMany(progress)
                         : spec.kind == SceneKind::OneVsOne ? c.oneVsOne(progress)
-                                                           : c.domino(progress);
+                        : spec.kind == SceneKind::Domino   ? c.domino(progress)
+                                                           : c.luggage(progress);
     if (!done) return done.error();
     Scene scene = std::move(c.scene);
     scene.seed = spec.seed;

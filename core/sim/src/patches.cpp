@@ -38,6 +38,11 @@ struct Actor {
     int last = -1;         // last action launched (motion-graph continuity)
     bool attackDone = false, reacting = false, finished = false;
     double reactUntil = -1;  // bodies may touch until then (just after a blow)
+    // Character 2 whose first entry comes after several of character 1's
+    // (luggage: receive after hand) waits in a guard until entry waitFor has
+    // started, then waitDelay more.
+    int waitFor = -1;
+    double waitDelay = 0;
 };
 
 struct State {
@@ -60,6 +65,7 @@ struct Engine {
     std::vector<std::vector<int>> choices;         // per entry: candidate actions (representatives)
     std::vector<std::vector<int>> pools;           // per entry: reactive pool (ascending)
     int hold = -1;                                 // idle action played while waiting for a blow
+    std::vector<int> holdBefore;                   // per entry: the idle to wait in before it (motion-graph continuity)
 
     Engine(const ActionLibrary& l, const PatternList& p, const GenerateOptions& o) : lib(l), pattern(p), opt(o) {
         reactionDir = detail::reactionDirections(lib);
@@ -99,6 +105,21 @@ struct Engine {
             const auto& act = lib.actions[static_cast<std::size_t>(i)];
             if (act.is(kIdle) && act.duration > best) best = act.duration, hold = i;
         }
+        // Before a chosen entry, the idle most of its choices can follow.
+        holdBefore.assign(p.entries.size(), hold);
+        for (std::size_t e = 0; e < p.entries.size(); ++e) {
+            int bestCount = 0;
+            double bestLength = -1;
+            for (int i = 0; i < lib.size(); ++i) {
+                const auto& idle = lib.actions[static_cast<std::size_t>(i)];
+                if (!idle.is(kIdle)) continue;
+                int count = 0;
+                for (int a : choices[e]) count += lib.startNode[static_cast<std::size_t>(a)] == lib.endNode[static_cast<std::size_t>(i)] ? 1 : 0;
+                if (count > bestCount || (count == bestCount && count > 0 && idle.duration > bestLength)) {
+                    bestCount = count, bestLength = idle.duration, holdBefore[e] = i;
+                }
+            }
+        }
     }
 
     const LibraryAction& act(int a) const { return lib.actions[static_cast<std::size_t>(a)]; }
@@ -111,7 +132,10 @@ struct Engine {
     // Starts an action for character c at time t where its current one leaves it.
     void launch(State& s, int c, int action, int entryIndex, double t, bool first) const {
         auto& x = s.a[static_cast<std::size_t>(c)];
-        const RootXf root = first ? x.cur.root : x.cur.root * act(x.cur.action).end;
+        // Where the current action leaves the character: its end, or where it
+        // is now when the action was cut short (a guard left early).
+        const bool cut = !first && x.end < x.cur.start - x.cur.offset + act(x.cur.action).duration - 1e-6;
+        const RootXf root = first ? x.cur.root : cut ? x.cur.placement(lib, t) : x.cur.root * act(x.cur.action).end;
         x.cur = {action, t, 0.0, root};
         x.end = t + act(action).duration;
         x.entry = entryIndex;
@@ -197,6 +221,9 @@ struct Engine {
             double t1 = std::numeric_limits<double>::max();
             for (const auto& x : s.a) {
                 if (!x.finished) t1 = std::min(t1, x.end);
+                if (x.waitFor >= 0 && s.started[static_cast<std::size_t>(x.waitFor)]) {
+                    t1 = std::min(t1, std::max(s.time, s.entryStart[static_cast<std::size_t>(x.waitFor)] + x.waitDelay));
+                }
             }
             if (t1 == std::numeric_limits<double>::max()) return -1;
             // Earliest blow or collision in (time, t1].
@@ -227,10 +254,31 @@ struct Engine {
             }
             if (best.time < 0) {
                 s.time = t1;
+                // A waiting character whose moment has come leaves its guard now.
+                for (int c = 0; c < 2; ++c) {
+                    auto& x = s.a[static_cast<std::size_t>(c)];
+                    if (x.waitFor < 0 || !s.started[static_cast<std::size_t>(x.waitFor)] ||
+                        s.entryStart[static_cast<std::size_t>(x.waitFor)] + x.waitDelay > t1 + 1e-9) {
+                        continue;
+                    }
+                    x.waitFor = -1;
+                    x.end = t1;
+                    s.tracks[static_cast<std::size_t>(c)].back().end = t1;
+                    const int e = pendingEntry(x, c);
+                    if (!orderOk(s, e)) {
+                        verdict = Verdict::WrongOrder;
+                        return -1;
+                    }
+                    return c;
+                }
                 // Whoever ends now: the next entry (a choice, a hold, or the end).
                 for (int c = 0; c < 2; ++c) {
                     auto& x = s.a[static_cast<std::size_t>(c)];
                     if (x.finished || x.end > t1 + 1e-9) continue;
+                    if (x.waitFor >= 0) {  // still waiting: another guard
+                        launch(s, c, x.cur.action, -1, t1, false);
+                        continue;
+                    }
                     const int e = pendingEntry(x, c);
                     if (e < 0) {
                         x.finished = true;
@@ -525,9 +573,18 @@ struct Expansion {
         const int e1 = eng.entriesOf[1].front();
         const bool reactiveFirst = isResponse(eng.pattern, static_cast<std::size_t>(e1));
         // Character 2 first: a hold from 0, or its first action at the delay
-        // (a placeholder until then: the first sample of that action).
-        if (reactiveFirst) {
-            eng.launch(s, 1, eng.hold, -1, 0.0, true);
+        // (a placeholder until then: the first sample of that action). When
+        // its first entry follows another of character 1's than the first, it
+        // waits in a guard until that entry starts, then the delay.
+        const int e0first = eng.entriesOf[0].front();
+        const bool deferred = !reactiveFirst && e1 - 1 != e0first;
+        if (reactiveFirst || deferred) {
+            if (eng.hold < 0) {
+                ++stats.paths, ++stats.missedContact;
+                return;
+            }
+            eng.launch(s, 1, deferred ? eng.holdBefore[static_cast<std::size_t>(e1)] : eng.hold, -1, 0.0, true);
+            if (deferred) s.a[1].waitFor = e1 - 1, s.a[1].waitDelay = ic.delay;
         }
         // Character 1 chooses its first action at time 0.
         const int e0 = eng.entriesOf[0].front();
@@ -540,7 +597,7 @@ struct Expansion {
         for (int a0 : c0) {
             State s0 = s;
             eng.launch(s0, 0, a0, e0, 0.0, true);
-            if (reactiveFirst) {
+            if (reactiveFirst || deferred) {
                 run(std::move(s0));
                 continue;
             }
@@ -753,6 +810,10 @@ Status addHandMadePatch(const ActionLibrary& lib, const PatternList& pattern, co
     eng.launch(s, 0, take(0), eng.entriesOf[0].front(), 0.0, true);
     if (isResponse(pattern, static_cast<std::size_t>(e1))) {
         eng.launch(s, 1, eng.hold, -1, 0.0, true);
+    } else if (e1 - 1 != eng.entriesOf[0].front()) {
+        if (eng.hold < 0) return makeError("hand-made patch: the project has no idle action to wait in");
+        eng.launch(s, 1, eng.holdBefore[static_cast<std::size_t>(e1)], -1, 0.0, true);
+        s.a[1].waitFor = e1 - 1, s.a[1].waitDelay = initial.delay;
     } else {
         eng.launch(s, 1, take(1), e1, initial.delay, true);
     }

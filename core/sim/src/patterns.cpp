@@ -167,10 +167,18 @@ std::vector<PatternList> defaultPatterns() {
         make("attack-defence", {{0, "attack"}, {1, "defence"}}),
         make("attack-pushed", {{0, "attack"}, {1, "pushed"}}),
         domino,
+        // Luggage passing (SPEC 4.5): the thesis' list, and a shorter one.
+        make("carry-walk-hand-receive-turn-carry", {{0, "carry"}, {0, "walk"}, {0, "hand"}, {1, "receive"}, {1, "turn"}, {1, "carry"}}),
+        make("carry-hand-receive-carry", {{0, "carry"}, {0, "hand"}, {1, "receive"}, {1, "carry"}}),
     };
 }
 
 bool matchesAnnotation(const LibraryAction& action, const std::string& a) {
+    // Handing and receiving need a partner: such an action only plays an
+    // entry that asks for it (a hand-over is not just "carry").
+    for (const char* partnered : {"hand", "receive"}) {
+        if (action.has(partnered) && a != partnered) return false;
+    }
     if (a == "any") return !action.is(kReactive);
     if (a == "attack") return action.is(kAttack) && action.effector >= 0;
     if (a == "defence") return action.has("avoid") || action.has("dodge");

@@ -22,7 +22,7 @@ struct UserCommand {
     std::string annotation;  // punch, kick, avoid, ... or a group (attack, defence)
 };
 
-enum class SceneKind { OneVsMany, OneVsOne, Domino };
+enum class SceneKind { OneVsMany, OneVsOne, Domino, Luggage };
 
 // A painted floor area (domino, SPEC 4.5): pixel (x, y) covers the floor
 // square [origin.x + x m, + m) x [origin.y + y m, + m), m = metresPerPixel;
@@ -65,6 +65,9 @@ struct ComposeSpec {
     std::vector<DominoStart> starts;
     int background = 20;
     int maxCharacters = 400;
+    // Luggage: porters passing one item along, each recycled after handing it on.
+    int porters = 4;
+    int handoffs = 8;
     // Scores (SPEC 4.4).
     double wDensity = 10, wUsage = 1000, wUser = 10000, densityScale = 1.0;
     std::string text;              // the spec as written, kept in the scene

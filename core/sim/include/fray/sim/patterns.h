@@ -68,6 +68,7 @@ InitialRange defaultRange(const std::string& annotation);
 std::vector<PatternList> defaultPatterns();
 
 // True when an action matches an entry's annotation (groups included).
+// Actions annotated hand or receive match only those words.
 bool matchesAnnotation(const LibraryAction& action, const std::string& annotation);
 // Reactive annotations (pushed, falling, fall): the entry is a response to a
 // hit or a collision, not a choice.
