@@ -172,6 +172,7 @@ TEST(ExportSummary, WhoDoesWhichActionWhenAndWhere) {
         const json& cj = s["characters"][c];
         EXPECT_EQ(cj["name"], ch.name);
         EXPECT_EQ(cj["side"], ch.side);
+        EXPECT_EQ(cj["enter"].get<double>(), ch.track.front().start);
         ASSERT_EQ(cj["actions"].size(), ch.track.size());
         for (std::size_t k = 0; k < ch.track.size(); ++k) {
             const json& a = cj["actions"][k];

@@ -49,6 +49,9 @@ json characterJson(const sim::SceneCharacter& c, const CharacterTake& take, cons
             {"group", c.group},
             {"joints", sk.jointCount()},
             {"root_joint", sk.jointCount() > 0 ? sk.names.front() : std::string()},
+            // Composed scenes bring newcomers in later; before this time the
+            // files hold the character in its first pose where it enters.
+            {"enter", c.track.empty() ? 0.0 : c.track.front().start},
             {"actions", std::move(actions)}};
 }
 
