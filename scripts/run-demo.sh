@@ -7,9 +7,9 @@
 # segmentation with annotation proposals, and the action-level motion graph.
 # Then the planner: a duel planned by min-max tree expansion on the authored
 # demo project (resources/demo/duel.json), its metrics, a few frames rendered
-# offscreen; Interaction Patches generated from the demo PatternLists, a
-# one-vs-many fight and a domino crowd composed from them; and the `fray`
-# window when a display is available.
+# offscreen, the duel exported as glTF (docs/EXPORT.md); Interaction Patches
+# generated from the demo PatternLists, a one-vs-many fight and a domino crowd
+# composed from them; and the `fray` window when a display is available.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/build.sh
@@ -29,6 +29,7 @@ echo "A duel planned by tree expansion (resources/demo/duel.json):"
 "$cli" simulate "$lib/demo.frayproj" --spec resources/demo/duel.json --out "$run/duel.frayscene" --quiet
 "$cli" metrics "$run/duel.frayscene" --quiet
 "$cli" render "$run/duel.frayscene" --frames 0:600:60 --size 960x540 --labels --quiet --out "$run/duel-frames"
+"$cli" export "$run/duel.frayscene" --out "$run/duel-export" --quiet
 echo
 echo "Interaction Patches from the demo PatternLists, and a one-vs-many fight composed from them:"
 "$cli" patches generate "$lib/demo.frayproj" --out "$run/demo.patches" --quiet
@@ -42,7 +43,7 @@ echo "A crowd falling like dominoes into the painted areas of resources/demo/dom
 echo
 echo "Automatic project: $run/auto.frayproj (list its actions: $cli actions $run/auto.frayproj)"
 echo "Demo project:      $lib/demo.frayproj"
-echo "Duel scene:        $run/duel.frayscene (frames in $run/duel-frames)"
+echo "Duel scene:        $run/duel.frayscene (frames in $run/duel-frames, glTF in $run/duel-export)"
 echo "One vs many:       $run/one_vs_many.frayscene (frames in $run/one_vs_many-frames)"
 echo "Domino:            $run/domino.frayscene (frames in $run/domino-frames)"
 if [[ -n "${DISPLAY:-}${WAYLAND_DISPLAY:-}" && -x build/bin/fray ]]; then

@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
     fray::cli::registerSim(app);
     fray::cli::registerPatches(app);
     fray::cli::registerRender(app);
+    fray::cli::registerExport(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

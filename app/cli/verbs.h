@@ -16,6 +16,7 @@ void registerPrep(CLI::App& app);
 void registerSim(CLI::App& app);
 void registerPatches(CLI::App& app);
 void registerRender(CLI::App& app);
+void registerExport(CLI::App& app);
 
 // Prints "fray-cli: <message>" on stderr and sets a failing exit code.
 void fail(const std::string& message, int code = 1);

@@ -1,4 +1,4 @@
-#include "fray/render/body_mesh.h"
+#include "fray/core/body_mesh.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 
 #include "fray/core/joint_guess.h"
 
-namespace fray::render {
+namespace fray {
 namespace {
 
 constexpr float kPi = 3.14159265358979f;
@@ -211,4 +211,4 @@ std::uint64_t skeletonFingerprint(const Skeleton& sk) {
     return h;
 }
 
-}  // namespace fray::render
+}  // namespace fray

@@ -1,0 +1,64 @@
+// fray-cli export: a planned scene as files other tools read (docs/EXPORT.md).
+//
+//   export SCENE.frayscene [--format gltf|glb|bvh|fbx] --out DIR [--fps N] [--name NAME]
+//
+// glTF/GLB/FBX: one file with every character skinned and animated; BVH: one
+// file per character; always DIR/NAME.scene.json (who does what, when, where).
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+#include "fray/export/export.h"
+#include "prep_session.h"
+#include "sim_session.h"
+#include "verbs.h"
+
+namespace fray::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ExportArgs {
+    std::string scene, format = "gltf", out, name;
+    double fps = 30.0;
+    bool quiet = false;
+};
+
+void runExport(const ExportArgs& a) {
+    const auto format = exporter::parseFormat(a.format);
+    if (!format) {
+        return fail("export: unknown format '" + a.format + "' (expected " + std::string(exporter::kFormatNames) + ")");
+    }
+    exporter::ExportOptions options;
+    options.format = *format;
+    options.outDir = a.out;
+    options.fps = a.fps;
+    options.name = a.name.empty() ? fs::path(a.scene).stem().string() : a.name;
+    options.source = fs::path(a.scene).filename().string();
+    if (auto st = exporter::validateOptions(options); !st) return fail(st.error().message);
+    const auto progress = stderrProgress(a.quiet);
+    auto loaded = openScene(a.scene, progress);
+    if (!loaded) return fail(loaded.error().message);
+    auto report = exporter::exportScene(loaded->scene, loaded->session->library, options, progress);
+    if (!report) return fail(report.error().message);
+    std::printf("%s: %zu characters, %d frames at %g fps (%.1f s) as %s:\n", a.scene.c_str(),
+                loaded->scene.characters.size(), report->frames, options.fps, loaded->scene.duration, a.format.c_str());
+    for (const auto& f : report->files) std::printf("  %s\n", f.string().c_str());
+}
+
+}  // namespace
+
+void registerExport(CLI::App& app) {
+    auto args = std::make_shared<ExportArgs>();
+    auto* cmd = app.add_subcommand("export", "Write a planned scene as glTF 2.0 / GLB, BVH or FBX (docs/EXPORT.md)");
+    cmd->add_option("scene", args->scene, "Scene file (*.frayscene)")->required();
+    cmd->add_option("--format", args->format, "gltf (one .gltf, buffer embedded; default), glb, bvh (one file per "
+                                              "character) or fbx (centimetres)");
+    cmd->add_option("-o,--out", args->out, "Output folder (created when missing)")->required();
+    cmd->add_option("--fps", args->fps, "Samples per second of scene time (1-1000, default 30)");
+    cmd->add_option("--name", args->name, "File stem (default: the scene file's)");
+    cmd->add_flag("-q,--quiet", args->quiet, "No progress on stderr");
+    cmd->callback([args] { runExport(*args); });
+}
+
+}  // namespace fray::cli

@@ -1,0 +1,63 @@
+#pragma once
+// Scene export: a planned scene (sim::Scene, played back by sim::ScenePoser)
+// written as files other tools read. See docs/EXPORT.md.
+// - glTF 2.0, one file (.gltf with the buffer embedded, or .glb): per scene
+//   character a joint hierarchy, a skin, a capsule body (fray::buildBodyMesh)
+//   tinted by side, and one animation for all characters;
+// - BVH: one file per character, in scene space (metres, Y up);
+// - FBX (binary, through Assimp's exporter): the content of the glTF file, in
+//   centimetres;
+// and with each, <name>.scene.json: who does which action when and where.
+// Deterministic: the same scene and options give byte-identical files.
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "fray/core/progress.h"
+#include "fray/core/result.h"
+#include "fray/sim/action_library.h"
+#include "fray/sim/scene.h"
+
+namespace fray::exporter {
+
+enum class Format { Gltf, Glb, Bvh, Fbx };
+
+std::string_view toString(Format format);  // "gltf", "glb", "bvh", "fbx"
+std::optional<Format> parseFormat(std::string_view name);
+inline constexpr std::string_view kFormatNames = "gltf, glb, bvh or fbx";
+
+// The summary's "format": how an export recognises an earlier one's files.
+inline constexpr std::string_view kSummaryFormat = "fray-export";
+inline constexpr int kSummaryVersion = 1;
+
+struct ExportOptions {
+    Format format = Format::Gltf;
+    std::filesystem::path outDir;  // created when missing
+    double fps = 30.0;             // samples per second of scene time, 1..1000
+    std::string name = "scene";    // file stem: <name>.gltf, <name>_<character>.bvh, <name>.scene.json
+    std::string source;            // the scene file, recorded in the summary ("" = not recorded)
+};
+
+// Checks fps and name; the error says which and why.
+Status validateOptions(const ExportOptions& options);
+
+struct ExportReport {
+    std::vector<std::filesystem::path> files;  // written, in order; the summary last
+    int frames = 0;                            // samples per character
+};
+
+// Samples every character at options.fps over [0, scene.duration] and writes
+// the files, each atomically. Before writing anything it refuses to replace a
+// file that no earlier Fray export of this name in this folder wrote (the
+// summary lists those), and checks that the folder can be written to.
+// Errors name the file or folder and the problem; "cancelled" when progress
+// returns false (files already written stay).
+Result<ExportReport> exportScene(const sim::Scene& scene, const sim::ActionLibrary& lib, const ExportOptions& options,
+                                 const ProgressFn& progress = {});
+
+// Frames an export samples: every 1/fps s from 0 up to the duration, at least 2.
+int exportFrameCount(double duration, double fps);
+
+}  // namespace fray::exporter

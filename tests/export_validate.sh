@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# The Khronos glTF-Validator (scripts/validate-gltf.mjs) on the demo duel
+# (resources/demo/duel.json on the build's demo library) exported as .gltf and
+# .glb: no error and no warning. Without node or the validator the test is
+# skipped (exit 77), unless REQUIRED is ON (the ci preset): then it fails.
+# Usage: export_validate.sh FRAY_CLI DEMO_PROJECT SOURCE_DIR REQUIRED
+set -eu
+cli=$1 project=$2 repo=$3 required=$4
+. "$(dirname "$0")/cli_lib.sh"
+
+validator=${GLTF_VALIDATOR_DIR:-$repo/build-tools/gltf-validator}
+if ! command -v node > /dev/null || [ ! -f "$validator/node_modules/gltf-validator/package.json" ]; then
+  msg="node or the glTF-Validator is missing (looked in $validator; run scripts/install-gltf-validator.sh)"
+  if [ "$required" = ON ]; then echo "FAIL: $msg"; exit 1; fi
+  echo "SKIP: $msg"; exit 77
+fi
+
+"$cli" simulate "$project" --spec "$repo/resources/demo/duel.json" --out "$tmp/duel.frayscene" -q > /dev/null
+"$cli" export "$tmp/duel.frayscene" --format gltf --out "$tmp/out" -q > /dev/null
+"$cli" export "$tmp/duel.frayscene" --format glb --out "$tmp/out" -q > /dev/null
+GLTF_VALIDATOR_DIR=$validator node "$repo/scripts/validate-gltf.mjs" "$tmp/out/duel.gltf" "$tmp/out/duel.glb" | tee "$tmp/report.txt"
+check "both files validated" "[ \$(grep -c ': 0 errors, 0 warnings' '$tmp/report.txt') -eq 2 ]"
+# The validator must be able to fail here: a cubic-spline sampler with one
+# output per key (it needs three) is an error.
+sed '0,/"LINEAR"/s//"CUBICSPLINE"/' "$tmp/out/duel.gltf" > "$tmp/broken.gltf"
+check "the edit broke something" "! cmp -s '$tmp/out/duel.gltf' '$tmp/broken.gltf'"
+if GLTF_VALIDATOR_DIR=$validator node "$repo/scripts/validate-gltf.mjs" "$tmp/broken.gltf" > "$tmp/broken.txt"; then
+  echo "FAIL: the validator accepted a broken file"; exit 1
+fi
+echo "PASS"
