@@ -28,6 +28,7 @@
 #include "fray/core/kinematics.h"
 #include "fray/sim/scene.h"
 #include "prep_session.h"
+#include "scene_stage.h"
 #include "sim_session.h"
 #include "verbs.h"
 
@@ -284,9 +285,7 @@ void runScene(const RenderArgs& a, const FrameRange& range, std::pair<int, int> 
     if (a.contactSheet) return fail("--contact-sheet: takes motions or a project, not a scene", 2);
     auto loaded = openScene(a.inputs[0], stderrProgress(a.quiet));
     if (!loaded) return fail(loaded.error().message);
-    const sim::Scene& scene = loaded->scene;
-    const sim::ActionLibrary& lib = loaded->session->library;
-    const int frames = static_cast<int>(std::floor(scene.duration * kSceneFps)) + 1;
+    const int frames = static_cast<int>(std::floor(loaded->scene.duration * kSceneFps)) + 1;
     if (range.first > frames - 1 || (range.last && *range.last > frames - 1))
         return fail("--frames " + a.frames + ": the scene has " + std::to_string(frames) + " frames at 30 per second (0.." +
                         std::to_string(frames - 1) + ")",
@@ -294,40 +293,11 @@ void runScene(const RenderArgs& a, const FrameRange& range, std::pair<int, int> 
     const int first = range.first, last = range.last.value_or(frames - 1);
     if (Status s = ensureDir(a.out); !s) return fail(s.error().message);
 
-    const sim::ScenePoser poser(scene, lib);
+    SceneStage stage(std::move(*loaded));
+    const sim::Scene& scene = stage.scene();
     const std::size_t n = scene.characters.size();
-    std::vector<Pose> poses(n);
-    std::vector<std::vector<glm::vec3>> positions(n);
-    std::vector<std::vector<glm::quat>> rotations(n);
-    std::vector<std::string> labels(n);
-    std::vector<render::CharacterInstance> instances(n);
-    auto poseAll = [&](double t) {
-        for (std::size_t c = 0; c < n; ++c) {
-            const int ci = static_cast<int>(c);
-            poser.pose(ci, t, poses[c]);
-            const Skeleton& sk = poser.skeleton(ci);
-            positions[c].resize(poses[c].translations.size());
-            rotations[c].resize(poses[c].translations.size());
-            forwardKinematics(sk, poses[c].translations, poses[c].rotations, positions[c], rotations[c]);
-            const int inst = scene.instanceAt(ci, t);
-            const auto& sc = scene.characters[c];
-            labels[c] = sc.name;
-            if (inst >= 0) labels[c] += ": " + lib.actions[static_cast<std::size_t>(sc.track[static_cast<std::size_t>(inst)].action)].label();
-            instances[c] = {&sk, positions[c], rotations[c], render::teamColor(sc.side * 3 + static_cast<int>(c) % 3),
-                            a.labels ? std::string_view(labels[c]) : std::string_view(), false};
-        }
-    };
     // Fixed framing of the whole range.
-    render::Bounds bounds;
-    for (int k = 0; k <= 24; ++k) {
-        const double tk = (first + (last - first) * k / 24) / kSceneFps;
-        poseAll(tk);
-        std::vector<render::CharacterInstance> here;
-        for (std::size_t c = 0; c < n; ++c) {
-            if (scene.present(static_cast<int>(c), tk)) here.push_back(instances[c]);
-        }
-        if (!here.empty()) bounds.add(render::characterBounds(here));
-    }
+    render::Bounds bounds = stage.bounds(first / kSceneFps, last / kSceneFps);
     bounds.add(bounds.min - glm::vec3(0.25f));
     bounds.add(bounds.max + glm::vec3(0.25f));
     const float aspect = static_cast<float>(size.first) / static_cast<float>(size.second);
@@ -372,27 +342,22 @@ void runScene(const RenderArgs& a, const FrameRange& range, std::pair<int, int> 
     frame.trajectories = lines;
     frame.checkpoints = marks;
     std::vector<render::Flash> flashes;
-    std::vector<render::CharacterInstance> shown;  // characters in the scene at that time
-    shown.reserve(n);
     render::Image image;
     int written = 0;
     const auto t0 = std::chrono::steady_clock::now();
     for (int f = first; f <= last; f += range.step) {
         const double t = f / kSceneFps;
-        poseAll(t);
-        shown.clear();
-        for (std::size_t c = 0; c < n; ++c) {
-            if (scene.present(static_cast<int>(c), t)) shown.push_back(instances[c]);
-        }
-        frame.characters = shown;
+        stage.pose(t, a.labels);
+        frame.characters = stage.shown();
         flashes.clear();
         for (const auto& h : scene.hits) {
             const double age = t - h.time;
             if (age < 0 || age > 0.25) continue;
             // At the defender's head or chest joint, fading.
+            const auto& lib = stage.library();
             const auto& joints = lib.motions[static_cast<std::size_t>(lib.actions[static_cast<std::size_t>(h.attackAction)].motion)].joints;
             const int joint = h.target == sim::kHead ? joints.head : (joints.chest >= 0 ? joints.chest : joints.pelvis);
-            const auto& pos = positions[static_cast<std::size_t>(h.defender)];
+            const auto pos = stage.jointPositions(h.defender);
             if (joint < 0 || static_cast<std::size_t>(joint) >= pos.size()) continue;
             const glm::vec4 col = h.blocked ? glm::vec4(0.4f, 0.7f, 1.0f, 0.9f) : glm::vec4(1.0f, 0.35f, 0.1f, 0.9f);
             flashes.push_back({pos[static_cast<std::size_t>(joint)], 0.12f + 0.5f * static_cast<float>(age), col * glm::vec4(1, 1, 1, 1.0f - static_cast<float>(age / 0.25) * 0.7f)});

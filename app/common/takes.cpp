@@ -25,8 +25,8 @@ Result<std::vector<LoadedTake>> loadTakes(const std::vector<std::string>& inputs
     for (const std::string& in : inputs) {
         const fs::path path(in);
         if (path.extension() == ".frayscene")
-            return makeError(in + ": scene files cannot be played yet (they arrive with the scene planner); "
-                                  "give motion files or a .frayproj");
+            return makeError(in + ": a scene is played on its own (one .frayscene, nothing else); the editor does not "
+                                  "play scenes yet: use fray-play or fray-cli render");
         if (path.extension() == ".frayproj") {
             if (inputs.size() != 1) return makeError(in + ": a project must be the only input");
             auto project = prep::loadProject(path);

@@ -1,8 +1,8 @@
 #pragma once
 // What fray-play and fray open: motion files or a project's takes (with their
 // actions as labels), and where the demo project is when no file is given.
-// Scene files (*.frayscene) come with the planner; they are refused with a
-// clear message for now.
+// Scene files (*.frayscene) are not takes: fray-play opens them on their own
+// (app/cli/scene_stage.h); here they are refused with a clear message.
 #include <filesystem>
 #include <memory>
 #include <optional>

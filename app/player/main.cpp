@@ -1,8 +1,9 @@
 // fray-play: the real-time player (GLFW window, Vulkan, Dear ImGui overlay).
-// Plays motion files or a project's takes side by side (scene files come with
-// the planner); with no argument, the demo project the build writes.
+// Plays motion files or a project's takes side by side, or a planned or
+// composed scene (*.frayscene); with no argument, the demo project the build
+// writes.
 //
-//   fray-play [MOTION... | PROJECT.frayproj] [--frames N] [--screenshot out.png]
+//   fray-play [MOTION... | PROJECT.frayproj | SCENE.frayscene] [--frames N] [--screenshot out.png]
 //
 // --frames N draws N frames and exits 0 (CI runs it under xvfb-run).
 #define GLFW_INCLUDE_VULKAN
@@ -17,11 +18,14 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <memory>
 #include <string>
 
 #include "fray/render/presenter.h"
 #include "fray/render/renderer.h"
+#include "prep_session.h"
+#include "scene_stage.h"
 #include "takes.h"
 
 namespace {
@@ -79,8 +83,8 @@ void checkVk(VkResult r) {
 
 int main(int argc, char** argv) {
     Args args;
-    CLI::App cli{"fray-play: play motions (and, later, composed scenes) in real time"};
-    cli.add_option("inputs", args.inputs, "Motion files or one .frayproj (default: the demo project)");
+    CLI::App cli{"fray-play: play motions, a project's takes or a planned scene in real time"};
+    cli.add_option("inputs", args.inputs, "Motion files, one .frayproj or one .frayscene (default: the demo project)");
     cli.add_option("--frames", args.frames, "Draw this many frames, then exit 0 (for tests)");
     cli.add_option("--screenshot", args.screenshot, "Write the last frame as shown (viewport and overlay) to this PNG");
     cli.add_option("--size", args.size, "Window size WIDTHxHEIGHT")->capture_default_str();
@@ -106,8 +110,18 @@ int main(int argc, char** argv) {
                         2);
         args.inputs.push_back(demo->string());
     }
-    auto takes = app::loadTakes(args.inputs);
-    if (!takes) return fail(takes.error().message);
+    // A scene (planned or composed), or takes side by side.
+    std::unique_ptr<cli::SceneStage> scene;
+    std::vector<app::LoadedTake> takeList;
+    if (args.inputs.size() == 1 && std::filesystem::path(args.inputs[0]).extension() == ".frayscene") {
+        auto loaded = cli::openScene(args.inputs[0], {});
+        if (!loaded) return fail(loaded.error().message);
+        scene = std::make_unique<cli::SceneStage>(std::move(*loaded));
+    } else {
+        auto takes = app::loadTakes(args.inputs);
+        if (!takes) return fail(takes.error().message);
+        takeList = std::move(*takes);
+    }
 
     // Window.
     glfwSetErrorCallback(onGlfwError);
@@ -193,14 +207,22 @@ int main(int argc, char** argv) {
 
     // Stage, camera, playback.
     render::MotionStage stage;
-    app::stageTakes(*takes, stage);
+    if (!scene) app::stageTakes(takeList, stage);
     stage.pose(0.0);
     render::FrameDescription frame;
     frame.camera.yaw = 0.5f;
     frame.camera.pitch = 0.35f;
+    const int characters = scene ? scene->characterCount() : static_cast<int>(stage.actors().size());
     auto frameSelection = [&](int selected) {
-        render::Bounds b = selected >= 0 ? render::characterBounds(stage.instances().subspan(static_cast<std::size_t>(selected), 1))
-                                         : stage.bounds();
+        render::Bounds b;
+        if (scene) {
+            // The selected character as it is now, or everyone over the whole scene.
+            std::size_t k = 0;
+            while (k < scene->shown().size() && scene->shownCharacter(k) != selected) ++k;
+            b = k < scene->shown().size() ? render::characterBounds(scene->shown().subspan(k, 1)) : scene->bounds(0.0, scene->duration());
+        } else {
+            b = selected >= 0 ? render::characterBounds(stage.instances().subspan(static_cast<std::size_t>(selected), 1)) : stage.bounds();
+        }
         b.add(b.min - glm::vec3(0.3f));
         b.add(b.max + glm::vec3(0.3f));
         frame.camera.frame(b, static_cast<float>(std::max(fbw, 1)) / static_cast<float>(std::max(fbh, 1)));
@@ -210,7 +232,7 @@ int main(int argc, char** argv) {
     bool playing = true, loop = true;
     float speed = 1.0f;
     double t = 0.0;
-    const double duration = stage.duration();
+    const double duration = scene ? scene->duration() : stage.duration();
     FrameStats frameMs, renderMs;
     auto last = Clock::now();
     int drawn = 0;
@@ -239,8 +261,12 @@ int main(int argc, char** argv) {
             t = duration;
             playing = false;
         }
-        for (std::size_t i = 0; i < stage.actors().size(); ++i) stage.actors()[i].selected = static_cast<int>(i) == selected;
-        stage.pose(t, loop);
+        if (scene) {
+            scene->pose(loop && duration > 0.0 ? std::fmod(t, duration) : std::min(t, duration), true, selected);
+        } else {
+            for (std::size_t i = 0; i < stage.actors().size(); ++i) stage.actors()[i].selected = static_cast<int>(i) == selected;
+            stage.pose(t, loop);
+        }
 
         // Camera from the mouse, unless ImGui uses it.
         ImGuiIO& io = ImGui::GetIO();
@@ -284,15 +310,30 @@ int main(int argc, char** argv) {
         ImGui::SliderFloat("Speed", &speed, 0.1f, 4.0f, "%.2fx");
         ImGui::Separator();
         ImGui::Text("Characters (click to select, F frames)");
-        for (int i = 0; i < static_cast<int>(stage.actors().size()); ++i) {
-            const auto& a = stage.actors()[static_cast<std::size_t>(i)];
+        for (int i = 0; i < characters; ++i) {
+            const glm::vec3 tint = scene ? scene->tint(i) : stage.actors()[static_cast<std::size_t>(i)].tint;
+            const std::string& name = scene ? scene->scene().characters[static_cast<std::size_t>(i)].name
+                                            : stage.actors()[static_cast<std::size_t>(i)].name;
             ImGui::PushID(i);
-            ImGui::ColorButton("##tint", ImVec4(a.tint.x, a.tint.y, a.tint.z, 1.0f), ImGuiColorEditFlags_NoTooltip, ImVec2(12, 12));
+            ImGui::ColorButton("##tint", ImVec4(tint.x, tint.y, tint.z, 1.0f), ImGuiColorEditFlags_NoTooltip, ImVec2(12, 12));
             ImGui::SameLine();
-            if (ImGui::Selectable(a.name.c_str(), selected == i)) selected = selected == i ? -1 : i;
+            if (ImGui::Selectable(name.c_str(), selected == i)) selected = selected == i ? -1 : i;
             ImGui::PopID();
         }
-        if (selected >= 0) {
+        if (scene && selected >= 0) {
+            const auto& sc = scene->scene().characters[static_cast<std::size_t>(selected)];
+            ImGui::Separator();
+            ImGui::Text("%s (side %d)", sc.name.c_str(), sc.side);
+            ImGui::Text("action: %s", scene->present(selected) ? scene->currentAction(selected).c_str() : "(not in the scene yet)");
+            int given = 0, received = 0;
+            for (const auto& h : scene->scene().hits) {
+                if (h.blocked) continue;
+                given += h.attacker == selected ? 1 : 0;
+                received += h.defender == selected ? 1 : 0;
+            }
+            ImGui::Text("hits given %d, received %d", given, received);
+            if (ImGui::Button("Frame selection")) frameSelection(selected);
+        } else if (!scene && selected >= 0) {
             const auto& a = stage.actors()[static_cast<std::size_t>(selected)];
             const std::string_view action = stage.actionOf(selected);
             ImGui::Separator();
@@ -314,7 +355,7 @@ int main(int argc, char** argv) {
         ImGui::End();
         ImGui::Render();
 
-        frame.characters = stage.instances();
+        frame.characters = scene ? scene->shown() : stage.instances();
         const bool lastFrame = args.frames > 0 && drawn + 1 >= args.frames;
         render::Image shown;
         const bool capturing = lastFrame && !args.screenshot.empty() && (*presenter)->captureNextFrame(&shown);

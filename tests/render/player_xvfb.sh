@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # fray-play under Xvfb: a fixed number of frames with validation on, a
-# screenshot of the window as shown that is neither blank nor uniform, and
-# clear errors without a display or for a scene file.
-# Usage: player_xvfb.sh FRAY_PLAY IMAGE_CHECK DEMO_LIBRARY_DIR OUT_DIR
+# screenshot of the window as shown that is neither blank nor uniform, for
+# takes and for a composed scene, and clear errors without a display or for a
+# broken scene file.
+# Usage: player_xvfb.sh FRAY_PLAY IMAGE_CHECK DEMO_LIBRARY_DIR OUT_DIR FRAY_CLI
 set -uo pipefail
-play=$1 check=$2 lib=$3 out=$4
+play=$1 check=$2 lib=$3 out=$4 cli=$5
 rm -rf "$out" && mkdir -p "$out"
 fails=0
 bad() { echo "FAIL: $*"; fails=$((fails + 1)); }
@@ -31,12 +32,27 @@ env -u DISPLAY -u WAYLAND_DISPLAY "$play" "$lib/walking.bvh" --frames 1 >"$out/n
 (( rc == 1 )) || bad "no display: exit code $rc"
 grep -q "DISPLAY" "$out/nodisplay.log" && grep -q "xvfb-run" "$out/nodisplay.log" || bad "no display message: $(cat "$out/nodisplay.log")"
 
-# A scene file is refused for now, with a reason.
-touch "$out/duel.frayscene"
+# A composed scene: one-vs-one from the demo project's attack-fall patches,
+# played for 12 frames with validation on; the shot is neither blank nor uniform.
+cp -r "$lib" "$out/lib"
+"$cli" patches generate "$out/lib/demo.frayproj" --pattern attack-fall --out "$out/lib/demo.frayproj.patches" -q >"$out/gen.log" 2>&1 ||
+  bad "patches: $(cat "$out/gen.log")"
+echo '{"kind": "one-vs-one", "duration": 8, "seed": 2}' > "$out/fight.json"
+"$cli" compose "$out/lib/demo.frayproj" --spec "$out/fight.json" --out "$out/fight.frayscene" -q >"$out/compose.log" 2>&1 ||
+  bad "compose: $(cat "$out/compose.log")"
+if ! timeout 120 "$play" "$out/fight.frayscene" --frames 12 --size 640x360 --validate --screenshot "$out/scene.png" \
+     >"$out/scene.log" 2>&1; then
+  bad "fray-play on a scene failed: $(cat "$out/scene.log")"
+fi
+grep -q "drew 12 frames" "$out/scene.log" || bad "scene: expected 12 frames: $(cat "$out/scene.log")"
+grep -q "validation" "$out/scene.log" && bad "scene: validation messages: $(cat "$out/scene.log")"
+"$check" "$out/scene.png" 640 360 || bad "scene screenshot check"
+# A broken scene file: a clear message, no crash.
+echo '{"format": "fray-scene"' > "$out/broken.frayscene"
 rc=0
-"$play" "$out/duel.frayscene" --frames 1 >"$out/scene.log" 2>&1 || rc=$?
-(( rc != 0 && rc < 128 )) || bad "scene file: exit code $rc"
-grep -q "scene files cannot be played yet" "$out/scene.log" || bad "scene message: $(cat "$out/scene.log")"
+"$play" "$out/broken.frayscene" --frames 1 >"$out/broken.log" 2>&1 || rc=$?
+(( rc == 1 )) || bad "broken scene: exit code $rc"
+grep -q "broken.frayscene" "$out/broken.log" || bad "broken scene message: $(cat "$out/broken.log")"
 
 if (( fails > 0 )); then echo "$fails failure(s)"; exit 1; fi
 echo "player_xvfb: all checks passed"

@@ -1,0 +1,59 @@
+#include "scene_stage.h"
+
+#include "fray/core/kinematics.h"
+#include "fray/render/motion_stage.h"
+
+namespace fray::cli {
+
+SceneStage::SceneStage(LoadedScene scene) : loaded_(std::move(scene)) {
+    poser_ = std::make_unique<sim::ScenePoser>(loaded_.scene, loaded_.session->library);
+    const auto n = loaded_.scene.characters.size();
+    poses_.resize(n);
+    positions_.resize(n);
+    rotations_.resize(n);
+    labels_.resize(n);
+    present_.assign(n, 0);
+    shown_.reserve(n);
+    shownIndex_.reserve(n);
+}
+
+glm::vec3 SceneStage::tint(int c) const {
+    return render::teamColor(loaded_.scene.characters[static_cast<std::size_t>(c)].side * 3 + c % 3);
+}
+
+std::string SceneStage::currentAction(int c) const {
+    const int i = loaded_.scene.instanceAt(c, time_);
+    if (i < 0) return {};
+    const auto& inst = loaded_.scene.characters[static_cast<std::size_t>(c)].track[static_cast<std::size_t>(i)];
+    return library().actions[static_cast<std::size_t>(inst.action)].label() + (inst.forced ? " (hit)" : "");
+}
+
+void SceneStage::pose(double t, bool labels, int selected) {
+    time_ = t;
+    shown_.clear();
+    shownIndex_.clear();
+    for (int c = 0; c < characterCount(); ++c) {
+        const auto k = static_cast<std::size_t>(c);
+        present_[k] = loaded_.scene.present(c, t) ? 1 : 0;
+        if (!present_[k]) continue;
+        poser_->pose(c, t, poses_[k]);
+        const Skeleton& sk = poser_->skeleton(c);
+        positions_[k].resize(poses_[k].translations.size());
+        rotations_[k].resize(poses_[k].translations.size());
+        forwardKinematics(sk, poses_[k].translations, poses_[k].rotations, positions_[k], rotations_[k]);
+        labels_[k] = labels ? loaded_.scene.characters[k].name + ": " + currentAction(c) : std::string();
+        shown_.push_back({&sk, positions_[k], rotations_[k], tint(c), labels_[k], c == selected});
+        shownIndex_.push_back(c);
+    }
+}
+
+render::Bounds SceneStage::bounds(double t0, double t1, int samples) {
+    render::Bounds b;
+    for (int k = 0; k <= samples; ++k) {
+        pose(t0 + (t1 - t0) * k / samples, false);
+        if (!shown_.empty()) b.add(render::characterBounds(shown_));
+    }
+    return b;
+}
+
+}  // namespace fray::cli

@@ -1,0 +1,57 @@
+#pragma once
+// A planned or composed scene ready to draw: every character posed by the
+// scene poser at a time, as renderer instances (only the characters already in
+// the scene then), with its current action as the label. Shared by
+// `fray-cli render` and `fray-play`.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "fray/render/camera.h"
+#include "fray/render/frame.h"
+#include "fray/sim/scene.h"
+#include "sim_session.h"
+
+namespace fray::cli {
+
+class SceneStage {
+public:
+    explicit SceneStage(LoadedScene scene);
+
+    const sim::Scene& scene() const { return loaded_.scene; }
+    const sim::ActionLibrary& library() const { return loaded_.session->library; }
+    int characterCount() const { return static_cast<int>(loaded_.scene.characters.size()); }
+    double duration() const { return loaded_.scene.duration; }
+
+    // Poses everyone at t (s). Labels read "name: action" when `labels`; the
+    // selected character (-1: none) is highlighted.
+    void pose(double t, bool labels = true, int selected = -1);
+    // The characters in the scene at the last pose, in character order.
+    std::span<const render::CharacterInstance> shown() const { return shown_; }
+    // Scene character of shown()[i].
+    int shownCharacter(std::size_t i) const { return shownIndex_[i]; }
+    bool present(int c) const { return present_[static_cast<std::size_t>(c)] != 0; }
+    // World joint positions of character c at the last pose (empty when absent).
+    std::span<const glm::vec3> jointPositions(int c) const {
+        return present(c) ? std::span<const glm::vec3>(positions_[static_cast<std::size_t>(c)]) : std::span<const glm::vec3>();
+    }
+    // The action character c plays at the last pose ("" when none).
+    std::string currentAction(int c) const;
+    glm::vec3 tint(int c) const;
+    // Box around everyone present at a few times over [t0, t1].
+    render::Bounds bounds(double t0, double t1, int samples = 24);
+
+private:
+    LoadedScene loaded_;
+    std::unique_ptr<sim::ScenePoser> poser_;
+    double time_ = 0;
+    std::vector<Pose> poses_;
+    std::vector<std::vector<glm::vec3>> positions_;
+    std::vector<std::vector<glm::quat>> rotations_;
+    std::vector<std::string> labels_;
+    std::vector<std::uint8_t> present_;
+    std::vector<render::CharacterInstance> shown_;
+    std::vector<int> shownIndex_;
+};
+
+}  // namespace fray::cli
