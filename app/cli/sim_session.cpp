@@ -48,4 +48,13 @@ Result<LoadedScene> openScene(const fs::path& sceneFile, const ProgressFn& progr
     return LoadedScene{std::move(*ss), std::move(*scene)};
 }
 
+Status checkSceneOutput(const fs::path& out) {
+    if (!fs::exists(out)) return {};
+    auto old = readWholeFile(out, "the existing output");
+    if (!old || !sim::sceneProjectPath(*old, out.string())) {
+        return makeError(out.string() + ": exists and is not a Fray scene file; refusing to overwrite it");
+    }
+    return {};
+}
+
 }  // namespace fray::cli

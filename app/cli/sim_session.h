@@ -29,4 +29,7 @@ struct LoadedScene {
 // and resolves its actions.
 Result<LoadedScene> openScene(const std::filesystem::path& sceneFile, const ProgressFn& progress);
 
+// A scene may only replace a previous scene: never the user's other files.
+Status checkSceneOutput(const std::filesystem::path& out);
+
 }  // namespace fray::cli

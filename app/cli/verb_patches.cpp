@@ -171,12 +171,7 @@ struct ComposeArgs {
 
 void runCompose(const ComposeArgs& a) {
     const fs::path outFile(a.out);
-    if (fs::exists(outFile)) {
-        auto old = readWholeFile(outFile, "the existing output");
-        if (!old || !sim::sceneProjectPath(*old, a.out)) {
-            return fail(a.out + ": exists and is not a Fray scene file; refusing to overwrite it");
-        }
-    }
+    if (Status st = checkSceneOutput(outFile); !st) return fail(st.error().message);
     auto specText = readWholeFile(a.spec, "the compose spec");
     if (!specText) return fail(specText.error().message);
     auto ss = openSimSession(a.project, stderrProgress(a.quiet));

@@ -27,13 +27,7 @@ struct SimulateArgs {
 
 void runSimulate(const SimulateArgs& a) {
     const fs::path outFile(a.out);
-    if (fs::exists(outFile)) {
-        // Only a previous scene may be replaced: never the user's other files.
-        auto old = readWholeFile(outFile, "the existing output");
-        if (!old || !sim::sceneProjectPath(*old, a.out)) {
-            return fail(a.out + ": exists and is not a Fray scene file; refusing to overwrite it");
-        }
-    }
+    if (Status st = checkSceneOutput(outFile); !st) return fail(st.error().message);
     auto specText = readWholeFile(a.spec, "the scene spec");
     if (!specText) return fail(specText.error().message);
     const auto progress = stderrProgress(a.quiet);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
 #include <numbers>
@@ -1008,6 +1009,41 @@ bool FloorBitmap::paintedAt(glm::vec2 floor) const {
     return painted[static_cast<std::size_t>(static_cast<int>(y)) * static_cast<std::size_t>(width) + static_cast<std::size_t>(static_cast<int>(x))] != 0;
 }
 
+namespace {
+
+// Optional members of the compose spec: absent leaves `out` as it is; present
+// must be a number (an integer for the int form) within [lo, hi].
+Status optionalInt(const prep::JsonReader& rd, const json& obj, const char* key, int lo, int hi, int& out) {
+    const std::string path = std::string("/") + key;
+    auto f = rd.field(obj, "", key, false);
+    if (!f) return f.error();
+    if (!*f) return {};
+    auto n = rd.integer(**f, path);
+    if (!n) return n.error();
+    if (*n < lo || *n > hi) return rd.error(path, "must be between " + std::to_string(lo) + " and " + std::to_string(hi));
+    out = *n;
+    return {};
+}
+
+Status optionalNumber(const prep::JsonReader& rd, const json& obj, const char* key, double lo, double hi, const char* unit,
+                      double& out) {
+    const std::string path = std::string("/") + key;
+    auto f = rd.field(obj, "", key, false);
+    if (!f) return f.error();
+    if (!*f) return {};
+    auto x = rd.number(**f, path);
+    if (!x) return x.error();
+    if (!(*x > lo) || *x > hi) {
+        char range[64];
+        std::snprintf(range, sizeof range, "must be in (%g, %g] %s", lo, hi, unit);
+        return rd.error(path, range);
+    }
+    out = *x;
+    return {};
+}
+
+}  // namespace
+
 const char* sceneKindName(SceneKind kind) {
     switch (kind) {
         case SceneKind::OneVsMany: return "one-vs-many";
@@ -1039,30 +1075,15 @@ Result<ComposeSpec> parseComposeSpec(std::string_view text, std::string_view fil
     else if (kind == "domino") s.kind = SceneKind::Domino;
     else if (kind == "luggage") s.kind = SceneKind::Luggage;
     else return rd.error("/kind", "unknown scene kind '" + kind + "' (this build composes one-vs-many, one-vs-one, domino and luggage)");
-    if (auto f = rd.field(j, "", "duration", false); !f) return f.error();
-    else if (*f) {
-        FRAY_TRY(d, rd.number(**f, "/duration"));
-        if (!(d > 0) || d > 3600) return rd.error("/duration", "must be in (0, 3600] seconds");
-        s.duration = d;
-    }
+    if (auto st = optionalNumber(rd, j, "duration", 0, 3600, "seconds", s.duration); !st) return st.error();
     if (auto f = rd.field(j, "", "seed", false); !f) return f.error();
     else if (*f) {
         FRAY_TRY(d, rd.integer(**f, "/seed"));
         if (d < 0) return rd.error("/seed", "must not be negative");
         s.seed = static_cast<std::uint64_t>(d);
     }
-    if (auto f = rd.field(j, "", "enemies", false); !f) return f.error();
-    else if (*f) {
-        FRAY_TRY(d, rd.integer(**f, "/enemies"));
-        if (d < 1 || d > 1000) return rd.error("/enemies", "must be between 1 and 1000");
-        s.enemies = d;
-    }
-    if (auto f = rd.field(j, "", "entry_radius", false); !f) return f.error();
-    else if (*f) {
-        FRAY_TRY(d, rd.number(**f, "/entry_radius"));
-        if (!(d > 0) || d > 1000) return rd.error("/entry_radius", "must be in (0, 1000] m");
-        s.entryRadius = d;
-    }
+    if (auto st = optionalInt(rd, j, "enemies", 1, 1000, s.enemies); !st) return st.error();
+    if (auto st = optionalNumber(rd, j, "entry_radius", 0, 1000, "m", s.entryRadius); !st) return st.error();
     if (auto f = rd.field(j, "", "patterns", false); !f) return f.error();
     else if (*f) {
         FRAY_TRY(names, rd.strings(**f, "/patterns"));
@@ -1128,30 +1149,10 @@ Result<ComposeSpec> parseComposeSpec(std::string_view text, std::string_view fil
             s.starts.push_back({t, glm::vec2(static_cast<float>(x), static_cast<float>(z))});
         }
     }
-    if (auto f = rd.field(j, "", "background", false); !f) return f.error();
-    else if (*f) {
-        FRAY_TRY(n, rd.integer(**f, "/background"));
-        if (n < 0 || n > 10000) return rd.error("/background", "must be between 0 and 10000");
-        s.background = n;
-    }
-    if (auto f = rd.field(j, "", "max_characters", false); !f) return f.error();
-    else if (*f) {
-        FRAY_TRY(n, rd.integer(**f, "/max_characters"));
-        if (n < 1 || n > 100000) return rd.error("/max_characters", "must be between 1 and 100000");
-        s.maxCharacters = n;
-    }
-    if (auto f = rd.field(j, "", "porters", false); !f) return f.error();
-    else if (*f) {
-        FRAY_TRY(n, rd.integer(**f, "/porters"));
-        if (n < 2 || n > 100) return rd.error("/porters", "must be between 2 and 100");
-        s.porters = n;
-    }
-    if (auto f = rd.field(j, "", "handoffs", false); !f) return f.error();
-    else if (*f) {
-        FRAY_TRY(n, rd.integer(**f, "/handoffs"));
-        if (n < 1 || n > 10000) return rd.error("/handoffs", "must be between 1 and 10000");
-        s.handoffs = n;
-    }
+    if (auto st = optionalInt(rd, j, "background", 0, 10000, s.background); !st) return st.error();
+    if (auto st = optionalInt(rd, j, "max_characters", 1, 100000, s.maxCharacters); !st) return st.error();
+    if (auto st = optionalInt(rd, j, "porters", 2, 100, s.porters); !st) return st.error();
+    if (auto st = optionalInt(rd, j, "handoffs", 1, 10000, s.handoffs); !st) return st.error();
     if (s.kind == SceneKind::Domino) {
         if (s.floorFile.empty()) return rd.error("/floor", "a domino scene needs a floor bitmap (the painted area where people fall)");
         if (s.starts.empty()) return rd.error("/starts", "a domino scene needs at least one start (where the first person falls)");
