@@ -569,6 +569,56 @@ TEST(PatchCompose, LuggageTravelsTheWholeChain) {
     }
 }
 
+// Every stage on a small library (coarse grid, two variants per entry): the
+// sanitizer build runs this one instead of the full-size tests above, which
+// take minutes there. What it composes must load back and measure.
+TEST(PatchSmoke, SmallLibraryThroughEveryStage) {
+    const auto& lib = demoWorld().library;
+    GenerateOptions opt;
+    opt.maxChoicesPerEntry = 2;
+    opt.distanceStep = 0.4;
+    opt.angleStepDegrees = 60;
+    opt.delayStep = 0.2;
+    PatchLibrary out;
+    for (const char* name : {"attack-fall", "attack-defence-attack-fall", "fall-fall", "carry-hand-receive-carry"}) {
+        auto st = generatePatches(lib, pattern(name), PatternSet{}, out, opt);
+        ASSERT_TRUE(st) << name << ": " << st.error().message;
+    }
+    ASSERT_FALSE(out.patches.empty());
+    buildConnections(lib, out);
+    const auto dir = std::filesystem::temp_directory_path() / "fray_patch_smoke";
+    std::filesystem::create_directories(dir);
+    ASSERT_TRUE(savePatchLibrary(out, dir / "s.patches"));
+    auto back = loadPatchLibrary(dir / "s.patches", libraryFingerprint(lib), lib.size());
+    ASSERT_TRUE(back) << back.error().message;
+    EXPECT_EQ(back->patches.size(), out.patches.size());
+    std::filesystem::remove_all(dir);
+
+    std::vector<ComposeSpec> specs(4);
+    specs[0].kind = SceneKind::OneVsMany, specs[0].enemies = 3, specs[0].duration = 60;
+    specs[1].kind = SceneKind::OneVsOne, specs[1].duration = 10;
+    specs[2].kind = SceneKind::Domino, specs[2].floor = discs({{glm::vec2(0.0f), 3.0f}}), specs[2].starts = {{0.2, glm::vec2(0.0f)}};
+    specs[2].background = 5;
+    specs[3].kind = SceneKind::Luggage, specs[3].porters = 3, specs[3].handoffs = 2, specs[3].duration = 100;
+    int composed = 0;
+    for (const auto& spec : specs) {
+        auto scene = compose(lib, out, spec);
+        if (!scene) {
+            // A small library may leave a kind without a fitting patch: then a clear reason.
+            EXPECT_FALSE(scene.error().message.empty());
+            continue;
+        }
+        ++composed;
+        const std::string json = sceneToJson(*scene, lib);
+        auto again = sceneFromJson(json, "smoke.frayscene", lib);
+        ASSERT_TRUE(again) << again.error().message;
+        EXPECT_EQ(sceneToJson(*again, lib), json);
+        const auto m = computeMetrics(*scene, lib);
+        EXPECT_EQ(m.characters.size(), scene->characters.size());
+    }
+    EXPECT_GE(composed, 2) << sceneKindName(specs[0].kind);
+}
+
 TEST(PatchCompose, SpecErrorsNameTheField) {
     const auto& lib = fightLibrary();
     const std::pair<std::string, std::string> bad[] = {

@@ -22,7 +22,6 @@ using json = nlohmann::ordered_json;
 constexpr double kArriveDistance = 0.25;          // m: locomotion is done this close to its target
 constexpr double kArriveHeading = 25 * std::numbers::pi / 180;
 constexpr int kMaxLocomotionSteps = 60;
-constexpr float kPersonalSpace = 0.7f;           // m between a walker and anyone else
 constexpr float kClearance = 0.2f;               // m between a new patch's newcomer and anyone present
 
 // ---------------------------------------------------------------------------
