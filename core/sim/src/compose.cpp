@@ -12,6 +12,7 @@
 #include <tuple>
 
 #include "fray/prep/json_reader.h"
+#include "interaction.h"
 
 namespace fray::sim {
 
@@ -172,21 +173,12 @@ struct Composer {
         constexpr float kShrink = 0.82f;
         for (const auto& w : walk) {
             for (double t = w.start; t <= w.end + 1e-9; t += 1.0 / kSampleRate) {
-                const double tau = w.offset + (t - w.start);
-                const RootXf me = w.placementAt(lib, tau);
-                const Obb* mine = lib.boxesAt(w.action, lib.sampleAt(w.action, tau));
+                const detail::BodyPose me{w.action, w.offset + (t - w.start), w.root};
                 for (int c = 0; c < static_cast<int>(scene.characters.size()); ++c) {
                     if (c == self || !scene.present(c, t)) continue;
                     const auto& inst = scene.characters[static_cast<std::size_t>(c)].track[static_cast<std::size_t>(scene.instanceAt(c, t))];
-                    const double tc = inst.offset + (std::clamp(t, inst.start, inst.end) - inst.start);
-                    if (glm::length(inst.placementAt(lib, tc).pos - me.pos) > 1.2f) continue;
-                    const Obb* theirs = lib.boxesAt(inst.action, lib.sampleAt(inst.action, tc));
-                    for (int i : kCoreSegments) {
-                        const Obb a = mine[i].placed(w.root).shrunk(kShrink);
-                        for (int j : kCoreSegments) {
-                            if (overlaps(a, theirs[j].placed(inst.root).shrunk(kShrink))) return true;
-                        }
-                    }
+                    const detail::BodyPose other{inst.action, inst.offset + (std::clamp(t, inst.start, inst.end) - inst.start), inst.root};
+                    if (detail::coreBodiesOverlap(lib, me, other, kShrink)) return true;
                 }
             }
         }

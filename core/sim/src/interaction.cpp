@@ -49,6 +49,20 @@ HitCandidate findHit(const ActionLibrary& lib, const Playing& att, const Playing
     return hit;
 }
 
+bool coreBodiesOverlap(const ActionLibrary& lib, const BodyPose& a, const BodyPose& b, float shrink, float pelvisReach) {
+    const glm::vec2 d = (a.root * lib.rootAt(a.action, a.tau)).pos - (b.root * lib.rootAt(b.action, b.tau)).pos;
+    if (glm::dot(d, d) > pelvisReach * pelvisReach) return false;
+    const Obb* ba = lib.boxesAt(a.action, lib.sampleAt(a.action, a.tau));
+    const Obb* bb = lib.boxesAt(b.action, lib.sampleAt(b.action, b.tau));
+    for (int x : kCoreSegments) {
+        const Obb ox = ba[x].placed(a.root).shrunk(shrink);
+        for (int y : kCoreSegments) {
+            if (overlaps(ox, bb[y].placed(b.root).shrunk(shrink))) return true;
+        }
+    }
+    return false;
+}
+
 double effectiveMass(int effector) {
     return (effector == kLeftForearm || effector == kRightForearm) ? 2.5 : 5.0;
 }

@@ -21,7 +21,21 @@ struct Playing {
     Obb box(const ActionLibrary& lib, double t, int segment) const {
         return lib.boxesAt(action, lib.sampleAt(action, clipTime(t)))[segment].placed(root);
     }
+
 };
+
+// A body in a clip at clip time tau, the clip's first frame placed at root.
+struct BodyPose {
+    int action = 0;
+    double tau = 0;
+    RootXf root;
+};
+
+// Do the core segments (SPEC 2.4: pelvis, torso, head, thighs) of two bodies
+// overlap, boxes shrunk by `shrink` (grazing contact is not penetration)?
+// Bodies whose pelvises are more than pelvisReach apart never do.
+bool coreBodiesOverlap(const ActionLibrary& lib, const BodyPose& a, const BodyPose& b, float shrink, float pelvisReach = 1.2f);
+inline BodyPose bodyAt(const Playing& p, double t) { return {p.action, p.clipTime(t), p.root}; }
 
 // Earliest hit in [t0, t1] of one attacker on one defender; time < 0 if none.
 struct HitCandidate {

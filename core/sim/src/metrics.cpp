@@ -7,6 +7,8 @@
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
+#include "interaction.h"
+
 namespace fray::sim {
 
 namespace {
@@ -15,7 +17,7 @@ using json = nlohmann::ordered_json;
 
 struct Placed {
     int action = -1;
-    int sample = 0;
+    double tau = 0;
     RootXf root;
     RootXf pelvis;
 };
@@ -27,7 +29,7 @@ Placed placedAt(const Scene& scene, const ActionLibrary& lib, int c, double t) {
     const auto& inst = scene.characters[static_cast<std::size_t>(c)].track[static_cast<std::size_t>(i)];
     const double tau = inst.offset + (t - inst.start);
     p.action = inst.action;
-    p.sample = lib.sampleAt(inst.action, tau);
+    p.tau = tau;
     p.root = inst.root;
     p.pelvis = inst.placementAt(lib, tau);
     return p;
@@ -35,16 +37,7 @@ Placed placedAt(const Scene& scene, const ActionLibrary& lib, int c, double t) {
 
 bool penetrate(const ActionLibrary& lib, const Placed& a, const Placed& b) {
     if (a.action < 0 || b.action < 0) return false;
-    if (glm::length(a.pelvis.pos - b.pelvis.pos) > 1.2f) return false;
-    const Obb* ba = lib.boxesAt(a.action, a.sample);
-    const Obb* bb = lib.boxesAt(b.action, b.sample);
-    for (int x : kCoreSegments) {
-        const Obb ox = ba[x].placed(a.root).shrunk(0.8f);
-        for (int y : kCoreSegments) {
-            if (overlaps(ox, bb[y].placed(b.root).shrunk(0.8f))) return true;
-        }
-    }
-    return false;
+    return detail::coreBodiesOverlap(lib, {a.action, a.tau, a.root}, {b.action, b.tau, b.root}, 0.8f);
 }
 
 double distanceToSegment(glm::vec2 p, glm::vec2 a, glm::vec2 b) {

@@ -178,17 +178,7 @@ struct Engine {
     }
 
     bool corePenetrates(const State& s, double t) const {
-        const auto& p = s.a[0].cur;
-        const auto& q = s.a[1].cur;
-        const glm::vec2 d = p.placement(lib, t).pos - q.placement(lib, t).pos;
-        if (glm::dot(d, d) > 1.2f * 1.2f) return false;  // core segments never reach farther (metrics use the same)
-        for (int i : kCoreSegments) {
-            const Obb bi = p.box(lib, t, i).shrunk(kShrink);
-            for (int j : kCoreSegments) {
-                if (overlaps(bi, q.box(lib, t, j).shrunk(kShrink))) return true;
-            }
-        }
-        return false;
+        return detail::coreBodiesOverlap(lib, detail::bodyAt(s.a[0].cur, t), detail::bodyAt(s.a[1].cur, t), kShrink);
     }
 
     // A reacting character's body segment hitting the other fast enough to push it.

@@ -355,21 +355,9 @@ Value edgeScore(const Context& ctx, const GroupState& before, const GroupState& 
 }
 
 bool bodiesPenetrate(const Context& ctx, const RootXf& place, int action, double tau, const CharState& other, double t) {
-    const auto& lib = *ctx.lib;
-    const RootXf pc = place * lib.rootAt(action, tau);
-    const double to = std::min(t, other.end);
-    const RootXf po = placement(ctx, other, to);
-    const glm::vec2 d = pc.pos - po.pos;
-    if (glm::dot(d, d) > 0.8f * 0.8f) return false;  // two torsos are never wider than this apart
-    const Obb* mine = lib.boxesAt(action, lib.sampleAt(action, tau));
-    const Obb* theirs = lib.boxesAt(other.action, lib.sampleAt(other.action, clipTime(other, to)));
-    for (int a : kCoreSegments) {
-        const Obb ba = mine[a].placed(place).shrunk(kPenetrationShrink);
-        for (int b : kCoreSegments) {
-            if (overlaps(ba, theirs[b].placed(other.root).shrunk(kPenetrationShrink))) return true;
-        }
-    }
-    return false;
+    // Two torsos are never wider than 0.8 m apart.
+    return detail::coreBodiesOverlap(*ctx.lib, {action, tau, place}, detail::bodyAt(playing(other), std::min(t, other.end)),
+                                     kPenetrationShrink, 0.8f);
 }
 
 // Legal choices of `who` at a node (SPEC 2.1) and the pruning criteria
