@@ -132,17 +132,8 @@ struct Composer {
         const auto& inst = tr[static_cast<std::size_t>(scene.instanceAt(c, t))];
         const double tau = inst.offset + (std::clamp(t, inst.start, inst.end) - inst.start);
         const Obb* boxes = lib.boxesAt(inst.action, lib.sampleAt(inst.action, tau));
-        SweptBox out{glm::vec2(std::numeric_limits<float>::max()), glm::vec2(-std::numeric_limits<float>::max())};
-        for (int seg = 0; seg < kSegmentCount; ++seg) {
-            const Obb b = boxes[seg].placed(inst.root);
-            glm::vec2 h(0.0f);
-            for (int k = 0; k < 3; ++k) {
-                h.x += std::fabs(b.axes[k].x) * b.half[k];
-                h.y += std::fabs(b.axes[k].z) * b.half[k];
-            }
-            out.lo = glm::min(out.lo, glm::vec2(b.centre.x, b.centre.z) - h);
-            out.hi = glm::max(out.hi, glm::vec2(b.centre.x, b.centre.z) + h);
-        }
+        SweptBox out = SweptBox::empty();
+        for (int seg = 0; seg < kSegmentCount; ++seg) out.add(floorBox(boxes[seg].placed(inst.root)));
         return out;
     }
     static float rectDistance(const SweptBox& r, const glm::vec2& p) {
@@ -581,18 +572,14 @@ struct Composer {
 
     SweptBox standingBox(const glm::vec2& p) const { return {p - glm::vec2(0.35f), p + glm::vec2(0.35f)}; }
 
-    static SweptBox unite(SweptBox a, const SweptBox& b) {
-        a.lo = glm::min(a.lo, b.lo), a.hi = glm::max(a.hi, b.hi);
-        return a;
-    }
 
     // Floor area a character covers: the box around all of it, and the
     // boxes of its body per quarter second (their union in time).
     struct Print {
-        SweptBox all{glm::vec2(std::numeric_limits<float>::max()), glm::vec2(-std::numeric_limits<float>::max())};
+        SweptBox all = SweptBox::empty();
         std::vector<SweptBox> parts;
         void add(const SweptBox& b) {
-            all = unite(all, b);
+            all.add(b);
             parts.push_back(b);
         }
         bool overlaps(const Print& o, float margin) const {
@@ -610,13 +597,7 @@ struct Composer {
     // Where patch character `role` goes over the whole patch, placed by xf.
     static Print footprint(const Patch& p, int role, const RootXf& xf) {
         Print out;
-        for (const auto& s : p.swept[static_cast<std::size_t>(role)]) {
-            const glm::vec2 c0 = xf.apply((s.lo + s.hi) * 0.5f);
-            const glm::vec2 h = (s.hi - s.lo) * 0.5f;
-            const float cs = std::fabs(std::cos(static_cast<float>(xf.heading))), sn = std::fabs(std::sin(static_cast<float>(xf.heading)));
-            const glm::vec2 e(cs * h.x + sn * h.y, sn * h.x + cs * h.y);
-            out.add(SweptBox{c0 - e, c0 + e});
-        }
+        for (const auto& s : p.swept[static_cast<std::size_t>(role)]) out.add(placedBox(s, xf));
         return out;
     }
 

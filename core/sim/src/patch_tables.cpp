@@ -24,20 +24,11 @@ bool continues(const ActionLibrary& lib, int from, int to) {
     return lib.startNode[static_cast<std::size_t>(to)] == lib.endNode[static_cast<std::size_t>(from)];
 }
 
-// Box of a floor rectangle after a placement (conservative: the box of the rotated rectangle).
-SweptBox transformed(const SweptBox& b, const RootXf& xf) {
-    const glm::vec2 c = xf.apply((b.lo + b.hi) * 0.5f);
-    const glm::vec2 h = (b.hi - b.lo) * 0.5f;
-    const float cs = std::fabs(std::cos(static_cast<float>(xf.heading))), sn = std::fabs(std::sin(static_cast<float>(xf.heading)));
-    const glm::vec2 e(cs * h.x + sn * h.y, sn * h.x + cs * h.y);
-    return {c - e, c + e};
-}
-
 // Does character `who` of b, placed by xf and shifted by offset s, ever meet `box` during [t0, t1] of a's time?
 bool sweptMeets(const Patch& b, int who, const RootXf& xf, double offset, const SweptBox& box) {
     for (const auto& s : b.swept[static_cast<std::size_t>(who)]) {
         (void)offset;
-        if (transformed(s, xf).overlaps(box, kClearance)) return true;
+        if (placedBox(s, xf).overlaps(box, kClearance)) return true;
     }
     return false;
 }
@@ -116,7 +107,7 @@ void spatialTable(const ActionLibrary& lib, PatchLibrary& out) {
                         const double t = offset + static_cast<double>(q) * kSweptSlice;
                         const auto slice = static_cast<std::size_t>(std::max(0.0, std::floor(t / kSweptSlice)));
                         const SweptBox other = slice < sa.size() ? sa[slice] : sa.back();
-                        meet = transformed(sb[q], xf).overlaps(other, kClearance);
+                        meet = placedBox(sb[q], xf).overlaps(other, kClearance);
                     }
                     if (meet) continue;
                     out.spatial[ia].push_back({ibi, static_cast<std::int8_t>(k), static_cast<std::int8_t>(m), static_cast<float>(offset)});

@@ -351,12 +351,8 @@ struct Scores {
 Playing playingOf(const ActionInstance& i) { return {i.action, i.start, i.offset, i.root}; }
 
 const ActionInstance* instanceAt(const std::vector<ActionInstance>& track, double t) {
-    if (track.empty()) return nullptr;
-    const ActionInstance* cur = &track.front();
-    for (const auto& i : track) {
-        if (i.start <= t + 1e-9) cur = &i;
-    }
-    return cur;
+    const int i = instanceIndexAt(track, t + 1e-9);
+    return i < 0 ? nullptr : &track[static_cast<std::size_t>(i)];
 }
 
 RootXf placeAt(const ActionLibrary& lib, const std::vector<ActionInstance>& track, double t) {
@@ -438,16 +434,6 @@ Scores evaluate(const Engine& eng, const State& s) {
     return sc;
 }
 
-SweptBox floorBox(const Obb& b) {
-    glm::vec2 h(0.0f);
-    for (int k = 0; k < 3; ++k) {
-        h.x += std::fabs(b.axes[k].x) * b.half[k];
-        h.y += std::fabs(b.axes[k].z) * b.half[k];
-    }
-    const glm::vec2 c(b.centre.x, b.centre.z);
-    return {c - h, c + h};
-}
-
 void fillSwept(const ActionLibrary& lib, Patch& p) {
     for (int c = 0; c < 2; ++c) {
         auto& out = p.swept[static_cast<std::size_t>(c)];
@@ -455,17 +441,13 @@ void fillSwept(const ActionLibrary& lib, Patch& p) {
         const int slices = std::max(1, static_cast<int>(std::ceil(p.duration / kSweptSlice)));
         out.assign(static_cast<std::size_t>(slices), SweptBox{});
         for (int k = 0; k < slices; ++k) {
-            SweptBox box{glm::vec2(std::numeric_limits<float>::max()), glm::vec2(-std::numeric_limits<float>::max())};
+            SweptBox box = SweptBox::empty();
             for (int j = 0; j <= 3; ++j) {
                 const double t = std::min((k + j / 3.0) * kSweptSlice, p.duration);
                 const auto* inst = instanceAt(track, t);
                 const Playing pl = playingOf(*inst);
                 const double tt = std::min(t, inst->end);
-                for (int seg = 0; seg < kSegmentCount; ++seg) {
-                    const SweptBox b = floorBox(pl.box(lib, tt, seg));
-                    box.lo = glm::min(box.lo, b.lo);
-                    box.hi = glm::max(box.hi, b.hi);
-                }
+                for (int seg = 0; seg < kSegmentCount; ++seg) box.add(floorBox(pl.box(lib, tt, seg)));
             }
             out[static_cast<std::size_t>(k)] = box;
         }

@@ -91,8 +91,9 @@ Result<std::vector<Checkpoint>> parseCheckpoints(const JsonReader& rd, const jso
     return checkpointsFromJson(rd, v, path);
 }
 
-int Scene::instanceAt(int c, double t) const {
-    const auto& track = characters[static_cast<std::size_t>(c)].track;
+int Scene::instanceAt(int c, double t) const { return instanceIndexAt(characters[static_cast<std::size_t>(c)].track, t); }
+
+int instanceIndexAt(std::span<const ActionInstance> track, double t) {
     if (track.empty()) return -1;
     const auto it = std::upper_bound(track.begin(), track.end(), t,
                                      [](double x, const ActionInstance& inst) { return x < inst.start; });

@@ -78,6 +78,16 @@ struct Obb {
     Obb shrunk(float factor) const { return {centre, axes, half * factor}; }
 };
 
+// Half extents (x, z) on the floor of the axis-aligned box around an oriented box.
+inline glm::vec2 floorHalfExtents(const Obb& b) {
+    glm::vec2 h(0.0f);
+    for (int k = 0; k < 3; ++k) {
+        h.x += std::fabs(b.axes[k].x) * b.half[k];
+        h.y += std::fabs(b.axes[k].z) * b.half[k];
+    }
+    return h;
+}
+
 // Separating-axis test of two oriented boxes (15 axes). Touching counts.
 bool overlaps(const Obb& a, const Obb& b);
 

@@ -8,8 +8,11 @@
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <vector>
+
+#include <glm/common.hpp>
 
 #include "fray/core/progress.h"
 #include "fray/core/result.h"
@@ -37,11 +40,29 @@ PatchConfig configOf(const RootXf& a, const RootXf& b);
 // Floor rectangle (x, z) swept by a character during a time slice.
 struct SweptBox {
     glm::vec2 lo{0.0f}, hi{0.0f};
+    // The empty box (grows with add).
+    static SweptBox empty() {
+        return {glm::vec2(std::numeric_limits<float>::max()), glm::vec2(-std::numeric_limits<float>::max())};
+    }
+    void add(const SweptBox& o) { lo = glm::min(lo, o.lo), hi = glm::max(hi, o.hi); }
     bool overlaps(const SweptBox& o, float margin = 0.0f) const {
         return lo.x <= o.hi.x + margin && o.lo.x <= hi.x + margin && lo.y <= o.hi.y + margin && o.lo.y <= hi.y + margin;
     }
 };
 inline constexpr double kSweptSlice = 0.25;  // s per swept box
+// The box around an oriented box's floor footprint.
+inline SweptBox floorBox(const Obb& b) {
+    const glm::vec2 c(b.centre.x, b.centre.z), h = floorHalfExtents(b);
+    return {c - h, c + h};
+}
+// The box around a swept box moved by a placement (around the rotated rectangle).
+inline SweptBox placedBox(const SweptBox& b, const RootXf& xf) {
+    const glm::vec2 c = xf.apply((b.lo + b.hi) * 0.5f);
+    const glm::vec2 h = (b.hi - b.lo) * 0.5f;
+    const float cs = std::fabs(std::cos(static_cast<float>(xf.heading))), sn = std::fabs(std::sin(static_cast<float>(xf.heading)));
+    const glm::vec2 e(cs * h.x + sn * h.y, sn * h.x + cs * h.y);
+    return {c - e, c + e};
+}
 
 struct Patch {
     int pattern = 0;                              // index in the library's patterns

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,10 @@ struct ActionInstance {
     // Placement of the character at clip time tau (s).
     RootXf placementAt(const ActionLibrary& lib, double tau) const { return root * lib.rootAt(action, tau); }
 };
+
+// Index of the instance playing at time t in a time-ordered track (the first
+// before it starts, the last after it ends); -1 when the track is empty.
+int instanceIndexAt(std::span<const ActionInstance> track, double t);
 
 struct Checkpoint {
     glm::vec2 pos{0.0f};
