@@ -60,12 +60,7 @@ void runGenerate(const PatchesArgs& a, SimSession& s) {
     for (const auto* p : chosen) {
         const auto before = out.stats;
         if (auto st = sim::generatePatches(s.library, *p, *set, out, opt, progress); !st) return fail(st.error().message);
-        sim::GenerateStats delta = out.stats;
-        delta.initialConditions -= before.initialConditions, delta.paths -= before.paths, delta.kept -= before.kept;
-        delta.duplicates -= before.duplicates, delta.belowThreshold -= before.belowThreshold, delta.tooClose -= before.tooClose;
-        delta.wrongOrder -= before.wrongOrder, delta.unintendedHit -= before.unintendedHit;
-        delta.missedContact -= before.missedContact, delta.seconds -= before.seconds;
-        printStats(p->name.c_str(), delta);
+        printStats(p->name.c_str(), out.stats.since(before));
     }
     const fs::path file = a.out.empty() ? defaultPatchFile(a.project) : fs::path(a.out);
     if (fs::exists(file)) {

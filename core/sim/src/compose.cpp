@@ -113,25 +113,15 @@ struct Composer {
         return best >= 0 ? best : hold;
     }
 
-    // Where every other character stands at time t.
-    std::vector<glm::vec2> others(int self, double t, int partner = -1) const {
-        std::vector<glm::vec2> out;
-        for (int c = 0; c < static_cast<int>(scene.characters.size()); ++c) {
-            if (c == self || c == partner || scene.characters[static_cast<std::size_t>(c)].track.empty()) continue;
-            const int i = scene.instanceAt(c, t);
-            const auto& inst = scene.characters[static_cast<std::size_t>(c)].track[static_cast<std::size_t>(i)];
-            const double tau = inst.offset + (std::clamp(t, inst.start, inst.end) - inst.start);
-            out.push_back(inst.placementAt(lib, tau).pos);
-        }
-        return out;
+    // The instance character c plays at time t (its track must not be empty).
+    const ActionInstance& playingAt(int c, double t) const {
+        return scene.characters[static_cast<std::size_t>(c)].track[static_cast<std::size_t>(scene.instanceAt(c, t))];
     }
 
     // Floor rectangle around character c's whole body at time t.
     SweptBox bodyBox(int c, double t) const {
-        const auto& tr = scene.characters[static_cast<std::size_t>(c)].track;
-        const auto& inst = tr[static_cast<std::size_t>(scene.instanceAt(c, t))];
-        const double tau = inst.offset + (std::clamp(t, inst.start, inst.end) - inst.start);
-        const Obb* boxes = lib.boxesAt(inst.action, lib.sampleAt(inst.action, tau));
+        const auto& inst = playingAt(c, t);
+        const Obb* boxes = lib.boxesAt(inst.action, lib.sampleAt(inst.action, inst.clipTimeAt(t)));
         SweptBox out = SweptBox::empty();
         for (int seg = 0; seg < kSegmentCount; ++seg) out.add(floorBox(boxes[seg].placed(inst.root)));
         return out;
@@ -140,6 +130,15 @@ struct Composer {
         const glm::vec2 d = glm::max(glm::max(r.lo - p, p - r.hi), glm::vec2(0.0f));
         return glm::length(d);
     }
+    // Someone (other than self and partner) is closer than nearDistance to p at time t.
+    bool occupied(int self, int partner, const glm::vec2& p, double t) const {
+        for (int c = 0; c < static_cast<int>(scene.characters.size()); ++c) {
+            if (c == self || c == partner || scene.characters[static_cast<std::size_t>(c)].track.empty()) continue;
+            if (rectDistance(bodyBox(c, t), p) < nearDistance) return true;
+        }
+        return false;
+    }
+
     // Stepping from `from` to p at time t would come too close to someone
     // (walking away from someone already close is allowed).
     bool blocked(int self, int partner, const glm::vec2& from, const glm::vec2& p, double t) const {
@@ -167,8 +166,8 @@ struct Composer {
                 const detail::BodyPose me{w.action, w.offset + (t - w.start), w.root};
                 for (int c = 0; c < static_cast<int>(scene.characters.size()); ++c) {
                     if (c == self || !scene.present(c, t)) continue;
-                    const auto& inst = scene.characters[static_cast<std::size_t>(c)].track[static_cast<std::size_t>(scene.instanceAt(c, t))];
-                    const detail::BodyPose other{inst.action, inst.offset + (std::clamp(t, inst.start, inst.end) - inst.start), inst.root};
+                    const auto& inst = playingAt(c, t);
+                    const detail::BodyPose other{inst.action, inst.clipTimeAt(t), inst.root};
                     if (detail::coreBodiesOverlap(lib, me, other, kShrink)) return true;
                 }
             }
@@ -285,7 +284,7 @@ struct Composer {
             double when = 0;
             bool settled = false;
             for (int pass = 0; pass < 4 && !settled; ++pass) {
-                if (blocked(c, partner, start.pos + dir * 10.0f, start.pos, timeShift)) break;  // someone stands at the entry
+                if (occupied(c, partner, start.pos, timeShift)) break;  // someone stands at the entry
                 walk.clear();
                 std::tie(end, when) = locomote(c, partner, start, 0.0, -1, goal, timeShift, walk);
                 const double next = arrive - when;
@@ -341,9 +340,14 @@ struct Composer {
         return false;
     }
 
+    // Characters standing within 2.5 m of p at time t (d_p of SPEC 4.4).
     int densityAround(const glm::vec2& p, double t) const {
         int n = 0;
-        for (const glm::vec2 o : others(-1, t)) n += glm::length(o - p) < 2.5f ? 1 : 0;
+        for (int c = 0; c < static_cast<int>(scene.characters.size()); ++c) {
+            if (scene.characters[static_cast<std::size_t>(c)].track.empty()) continue;
+            const auto& inst = playingAt(c, t);
+            n += glm::length(inst.placementAt(lib, inst.clipTimeAt(t)).pos - p) < 2.5f ? 1 : 0;
+        }
         return n;
     }
 

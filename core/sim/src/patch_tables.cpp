@@ -4,6 +4,7 @@
 #include <cstring>
 #include <limits>
 #include <numbers>
+#include <type_traits>
 #include <unordered_map>
 
 #include "fray/core/atomic_file.h"
@@ -24,10 +25,9 @@ bool continues(const ActionLibrary& lib, int from, int to) {
     return lib.startNode[static_cast<std::size_t>(to)] == lib.endNode[static_cast<std::size_t>(from)];
 }
 
-// Does character `who` of b, placed by xf and shifted by offset s, ever meet `box` during [t0, t1] of a's time?
-bool sweptMeets(const Patch& b, int who, const RootXf& xf, double offset, const SweptBox& box) {
+// Does character `who` of b, placed by xf, ever come near `box`?
+bool sweptMeets(const Patch& b, int who, const RootXf& xf, const SweptBox& box) {
     for (const auto& s : b.swept[static_cast<std::size_t>(who)]) {
-        (void)offset;
         if (placedBox(s, xf).overlaps(box, kClearance)) return true;
     }
     return false;
@@ -59,7 +59,7 @@ void temporalTable(const ActionLibrary& lib, PatchLibrary& out) {
                     const RootXf endK = a.endPlacement(lib, k);
                     const RootXf xf = endK * b.tracks[static_cast<std::size_t>(m)].front().root.inverse();
                     const SweptBox leaving = a.swept[static_cast<std::size_t>(1 - k)].back();
-                    if (sweptMeets(b, 1 - m, xf, 0, leaving)) continue;
+                    if (sweptMeets(b, 1 - m, xf, leaving)) continue;
                     out.temporal[ia].push_back({static_cast<int>(ib), static_cast<std::int8_t>(roles), static_cast<std::int8_t>(k)});
                     break;
                 }
@@ -68,8 +68,7 @@ void temporalTable(const ActionLibrary& lib, PatchLibrary& out) {
     }
 }
 
-void spatialTable(const ActionLibrary& lib, PatchLibrary& out) {
-    (void)lib;
+void spatialTable(PatchLibrary& out) {
     const auto n = out.patches.size();
     out.spatial.assign(n, {});
     // Index: first action of each character of every patch.
@@ -243,7 +242,7 @@ struct Reader {
 
 void buildConnections(const ActionLibrary& lib, PatchLibrary& out) {
     temporalTable(lib, out);
-    spatialTable(lib, out);
+    spatialTable(out);
     standardPoses(out);
 }
 
@@ -285,12 +284,7 @@ Status savePatchLibrary(const PatchLibrary& lib, const std::filesystem::path& fi
             for (const auto& b : s) w.put(b.lo.x), w.put(b.lo.y), w.put(b.hi.x), w.put(b.hi.y);
         }
     }
-    const auto& st = lib.stats;
-    for (std::int64_t v : {st.initialConditions, st.paths, st.tooClose, st.wrongOrder, st.unintendedHit, st.missedContact,
-                           st.belowThreshold, st.duplicates, st.kept}) {
-        w.put(v);
-    }
-    w.put(st.seconds);
+    GenerateStats::zip(lib.stats, lib.stats, [&](const auto& v, const auto&) { w.put(v); });
     return writeFileAtomically(file, w.out);
 }
 
@@ -371,12 +365,7 @@ Result<PatchLibrary> readPatchLibrary(std::string_view bytes, std::string_view f
         }
         lib.patches.push_back(std::move(p));
     }
-    auto& st = lib.stats;
-    for (std::int64_t* v : {&st.initialConditions, &st.paths, &st.tooClose, &st.wrongOrder, &st.unintendedHit, &st.missedContact,
-                            &st.belowThreshold, &st.duplicates, &st.kept}) {
-        *v = r.get<std::int64_t>();
-    }
-    st.seconds = r.get<double>();
+    GenerateStats::zip(lib.stats, lib.stats, [&](auto& v, const auto&) { v = r.get<std::remove_reference_t<decltype(v)>>(); });
     if (r.bad) return makeError(name + ": the patch library is truncated or corrupt at byte " + std::to_string(r.at + sizeof(kMagic)));
     if (r.at != r.in.size()) return makeError(name + ": unexpected data after the patch library");
     return lib;

@@ -487,7 +487,6 @@ struct Expansion {
     PatchConfig ic;
     GenerateStats stats;
     std::vector<Patch> kept;
-    std::vector<int> buf;
 
     void finish(const State& s, Verdict v) {
         ++stats.paths;
@@ -512,7 +511,6 @@ struct Expansion {
             ++stats.belowThreshold;
             return;
         }
-        ++stats.kept;
         kept.push_back(makePatch(eng, s, patternIndex, ic, sc, score));
     }
 
@@ -711,7 +709,7 @@ Status generatePatches(const ActionLibrary& lib, const PatternList& pattern, con
     const int patternIndex = static_cast<int>(out.patterns.size());
     std::vector<Expansion> results;
     results.reserve(ics.size());
-    for (const auto& ic : ics) results.push_back(Expansion{eng, patternIndex, ic, {}, {}, {}});
+    for (const auto& ic : ics) results.push_back(Expansion{eng, patternIndex, ic, {}, {}});
     std::atomic<std::size_t> done{0};
     std::atomic<bool> stop{false};
     std::mutex progressMutex;  // the callback is called from one thread at a time
@@ -737,12 +735,7 @@ Status generatePatches(const ActionLibrary& lib, const PatternList& pattern, con
     out.patterns.push_back(pattern);
     std::vector<Patch> candidates;
     for (auto& r : results) {
-        out.stats.paths += r.stats.paths;
-        out.stats.tooClose += r.stats.tooClose;
-        out.stats.wrongOrder += r.stats.wrongOrder;
-        out.stats.unintendedHit += r.stats.unintendedHit;
-        out.stats.missedContact += r.stats.missedContact;
-        out.stats.belowThreshold += r.stats.belowThreshold;
+        out.stats.add(r.stats);
         for (auto& p : r.kept) candidates.push_back(std::move(p));
     }
     keepBestPerPath(lib, candidates, options.keepPerPath >= 0 ? options.keepPerPath : pattern.keepPerPath, out);

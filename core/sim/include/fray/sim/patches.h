@@ -99,6 +99,24 @@ struct GenerateStats {
     std::int64_t tooClose = 0, wrongOrder = 0, unintendedHit = 0, missedContact = 0, belowThreshold = 0, duplicates = 0;
     std::int64_t kept = 0;
     double seconds = 0;
+
+    // Every counter of a and the same counter of b, in declaration order
+    // (the patch cache stores them in this order).
+    template <class A, class B, class F>
+    static void zip(A& a, B& b, F&& f) {
+        f(a.initialConditions, b.initialConditions), f(a.paths, b.paths), f(a.tooClose, b.tooClose);
+        f(a.wrongOrder, b.wrongOrder), f(a.unintendedHit, b.unintendedHit), f(a.missedContact, b.missedContact);
+        f(a.belowThreshold, b.belowThreshold), f(a.duplicates, b.duplicates), f(a.kept, b.kept), f(a.seconds, b.seconds);
+    }
+    void add(const GenerateStats& o) {
+        zip(*this, o, [](auto& x, const auto& y) { x += y; });
+    }
+    // What was counted since `before` (one PatternList's share).
+    GenerateStats since(const GenerateStats& before) const {
+        GenerateStats d = *this;
+        zip(d, before, [](auto& x, const auto& y) { x -= y; });
+        return d;
+    }
 };
 
 // Connection tables (SPEC 4.3). Temporal: b can follow a; `roles` maps a's

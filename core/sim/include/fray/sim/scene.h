@@ -5,6 +5,7 @@
 // Saved as versioned JSON ("fray-scene", version 1) that names actions by
 // motion id and frame range, so it stays valid while the project's actions
 // do, and says clearly when they changed.
+#include <algorithm>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -31,6 +32,8 @@ struct ActionInstance {
     bool fallback = false;  // the planner had no legal action and took an idle/guard one
     // Placement of the character at clip time tau (s).
     RootXf placementAt(const ActionLibrary& lib, double tau) const { return root * lib.rootAt(action, tau); }
+    // Clip time at scene time t, held at the instance's ends outside it.
+    double clipTimeAt(double t) const { return offset + (std::clamp(t, start, end) - start); }
 };
 
 // Index of the instance playing at time t in a time-ordered track (the first
