@@ -10,16 +10,7 @@ cli=$1
 . "$(dirname "$0")/cli_lib.sh"
 
 "$cli" demo-library "$tmp/lib" --minutes 3 > /dev/null 2>&1
-cat > "$tmp/duel.json" <<'JSON'
-{"version": 1, "duration": 5, "seed": 3,
- "characters": [
-  {"name": "red", "side": 0, "preset": "general-boxer", "depth": 2, "motions": ["shadowbox_energetic"],
-   "actions": ["@punch", "@kick", "@block", "@avoid", "@step", "@idle", "@transition", "@turn"],
-   "start": {"x": 0, "z": 0, "heading_deg": 90}},
-  {"name": "blue", "side": 1, "preset": "infighter", "depth": 2, "motions": ["shadowbox_energetic"],
-   "actions": ["@punch", "@kick", "@block", "@avoid", "@step", "@idle", "@transition", "@turn"],
-   "start": {"x": 1.2, "z": 0, "heading_deg": -90}}]}
-JSON
+duel_spec 5 2 2 > "$tmp/duel.json"
 "$cli" simulate "$tmp/lib/demo.frayproj" --spec "$tmp/duel.json" --out "$tmp/duel.frayscene" -q > /dev/null
 s=$tmp/duel.frayscene
 

@@ -10,16 +10,7 @@ cli=$1
 
 "$cli" demo-library "$tmp/lib" --minutes 3 > /dev/null 2>&1
 p=$tmp/lib/demo.frayproj
-cat > "$tmp/duel.json" <<'JSON'
-{"version": 1, "duration": 8, "seed": 3,
- "characters": [
-  {"name": "red", "side": 0, "preset": "general-boxer", "depth": 3, "motions": ["shadowbox_energetic"],
-   "actions": ["@punch", "@kick", "@block", "@avoid", "@step", "@idle", "@transition", "@turn"],
-   "start": {"x": 0, "z": 0, "heading_deg": 90}},
-  {"name": "blue", "side": 1, "preset": "infighter", "depth": 2, "motions": ["shadowbox_energetic"],
-   "actions": ["@punch", "@kick", "@block", "@avoid", "@step", "@idle", "@transition", "@turn"],
-   "start": {"x": 1.2, "z": 0, "heading_deg": -90}}]}
-JSON
+duel_spec 8 3 2 > "$tmp/duel.json"
 "$cli" simulate "$p" --spec "$tmp/duel.json" --out "$tmp/duel.frayscene" 2> "$tmp/progress.txt" > "$tmp/sim.txt"
 check "progress on stderr" "grep -q 'simulate 100%' '$tmp/progress.txt'"
 check "summary" "grep -q 'pruned' '$tmp/sim.txt'"

@@ -36,6 +36,7 @@
 #include "fray/io/assimp_import.h"
 #include "fray/io/bvh.h"
 #include "fray/io/import.h"
+#include "temp_dir.h"
 #include "test_util.h"
 
 namespace fs = std::filesystem;
@@ -215,24 +216,9 @@ double standingHeight(const Motion& m) {
     return heights[heights.size() * 9 / 10];
 }
 
-// A fresh folder under the system temp directory, removed at scope exit.
-class TempDir {
-public:
-    TempDir() {
-        std::random_device rd;
-        path_ = fs::temp_directory_path() / ("fray_assimp_test_" + std::to_string(rd()) + std::to_string(rd()));
-        fs::create_directories(path_);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path_, ec);
-    }
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-    const fs::path& path() const { return path_; }
-
-private:
-    fs::path path_;
+// A fresh folder for a test's files.
+struct TempDir : test::TempDir {
+    TempDir() : test::TempDir("fray_assimp_test_") {}
 };
 
 void writeText(const fs::path& p, std::string_view text) {

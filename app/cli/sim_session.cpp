@@ -48,6 +48,12 @@ Result<LoadedScene> openScene(const fs::path& sceneFile, const ProgressFn& progr
     return LoadedScene{std::move(*ss), std::move(*scene)};
 }
 
+std::string sceneProjectReference(const fs::path& sceneFile, const fs::path& project) {
+    std::error_code ec;
+    const fs::path rel = fs::relative(fs::absolute(project, ec), fs::absolute(sceneFile, ec).parent_path(), ec);
+    return (!ec && !rel.empty()) ? rel.generic_string() : fs::absolute(project).generic_string();
+}
+
 Status checkSceneOutput(const fs::path& out) {
     if (!fs::exists(out)) return {};
     auto old = readWholeFile(out, "the existing output");

@@ -31,5 +31,8 @@ Result<LoadedScene> openScene(const std::filesystem::path& sceneFile, const Prog
 
 // A scene may only replace a previous scene: never the user's other files.
 Status checkSceneOutput(const std::filesystem::path& out);
+// How a scene written to sceneFile names its project: relative to the
+// scene's folder when possible, else absolute.
+std::string sceneProjectReference(const std::filesystem::path& sceneFile, const std::filesystem::path& project);
 
 }  // namespace fray::cli

@@ -186,9 +186,7 @@ void runCompose(const ComposeArgs& a) {
     sim::ComposeStats st;
     auto scene = sim::compose(s.library, *patches, *spec, &st, stderrProgress(a.quiet));
     if (!scene) return fail(a.spec + ": " + scene.error().message);
-    std::error_code ec;
-    const fs::path rel = fs::relative(fs::absolute(a.project, ec), fs::absolute(outFile, ec).parent_path(), ec);
-    scene->project = (!ec && !rel.empty()) ? rel.generic_string() : fs::absolute(a.project).generic_string();
+    scene->project = sceneProjectReference(outFile, a.project);
     if (auto saved = sim::saveScene(*scene, s.library, outFile); !saved) return fail(saved.error().message);
     std::printf("%s: %s, %zu characters, %.1f s, %zu hits; %d patches (%d by temporal connection, %d recycled through "
                 "standard poses, %d chain falls), %d locomotion steps, worst junction %.2f m; %.3f s\n",

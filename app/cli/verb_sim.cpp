@@ -40,10 +40,7 @@ void runSimulate(const SimulateArgs& a) {
     if (!spec) return fail(spec.error().message);
     auto scene = sim::simulate(s.library, s.session.project.combos, *spec, progress);
     if (!scene) return fail(a.spec + ": " + scene.error().message);
-    std::error_code ec;
-    const fs::path outDir = fs::absolute(outFile, ec).parent_path();
-    const fs::path rel = fs::relative(fs::absolute(a.project, ec), outDir, ec);
-    scene->project = (!ec && !rel.empty()) ? rel.generic_string() : fs::absolute(a.project).generic_string();
+    scene->project = sceneProjectReference(outFile, a.project);
     if (auto st = sim::saveScene(*scene, s.library, outFile); !st) return fail(st.error().message);
     const auto& st = scene->stats;
     std::printf("%s: %zu characters, %.1f s, %lld decisions, %zu hits, %zu catches, %lld forced reactions, %lld fallbacks\n",

@@ -21,6 +21,7 @@
 #include "fray/export/export.h"
 #include "fray/sim/scene.h"
 #include "sim/sim_fixture.h"
+#include "temp_dir.h"
 
 namespace fray::test {
 
@@ -38,24 +39,9 @@ inline const sim::Scene& exportDuel() {
 }
 inline const sim::ActionLibrary& exportLibrary() { return demoWorld().library; }
 
-class TempFolder {
-public:
-    TempFolder() {
-        std::random_device rd;
-        path_ = fs::temp_directory_path() / ("fray_export_test_" + std::to_string(rd()) + std::to_string(rd()));
-        fs::create_directories(path_);
-    }
-    ~TempFolder() {
-        std::error_code ec;
-        fs::remove_all(path_, ec);
-    }
-    TempFolder(const TempFolder&) = delete;
-    TempFolder& operator=(const TempFolder&) = delete;
-    const fs::path& path() const { return path_; }
-    fs::path operator/(const std::string& name) const { return path_ / name; }
-
-private:
-    fs::path path_;
+// A fresh folder for a test's exports.
+struct TempFolder : TempDir {
+    TempFolder() : TempDir("fray_export_test_") {}
 };
 
 inline std::string readBytes(const fs::path& p) {

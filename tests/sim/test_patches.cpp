@@ -15,6 +15,7 @@
 #include "fray/sim/patches.h"
 #include "fray/sim/patterns.h"
 #include "sim/demo_world.h"
+#include "temp_dir.h"
 
 namespace fray::sim {
 namespace {
@@ -175,13 +176,11 @@ TEST(PatchGeneration, DeterministicAndParallelIndependent) {
     PatchLibrary a, b;
     ASSERT_TRUE(generatePatches(lib, pattern("attack-attack-fall"), set, a));
     ASSERT_TRUE(generatePatches(lib, pattern("attack-attack-fall"), set, b, serial));
-    const auto dir = std::filesystem::temp_directory_path() / "fray_patch_determinism";
-    std::filesystem::create_directories(dir);
+    const test::TempDir dir("fray_patch_determinism_");
     a.stats.seconds = b.stats.seconds = 0;
     ASSERT_TRUE(savePatchLibrary(a, dir / "a.patches"));
     ASSERT_TRUE(savePatchLibrary(b, dir / "b.patches"));
     EXPECT_EQ(*readWholeFile(dir / "a.patches"), *readWholeFile(dir / "b.patches"));
-    std::filesystem::remove_all(dir);
 }
 
 TEST(PatchGeneration, ProgressAndCancel) {
@@ -282,8 +281,7 @@ TEST(PatchTables, ConnectionsAndStandardPoses) {
 TEST(PatchCache, RoundTripAndBadFiles) {
     const auto& lib = demoWorld().library;
     const auto& gen = fightLibrary();
-    const auto dir = std::filesystem::temp_directory_path() / "fray_patch_cache";
-    std::filesystem::create_directories(dir);
+    const test::TempDir dir("fray_patch_cache_");
     const auto file = dir / "demo.patches";
     ASSERT_TRUE(savePatchLibrary(gen, file));
     auto back = loadPatchLibrary(file, libraryFingerprint(lib), lib.size());
@@ -314,7 +312,6 @@ TEST(PatchCache, RoundTripAndBadFiles) {
     ASSERT_TRUE(r) << r.error().message;
     EXPECT_EQ(r->patches.size(), 1u);
     EXPECT_EQ(r->patches[0].hits.size(), 1u);
-    std::filesystem::remove_all(dir);
 }
 
 int countAttacks(const Scene& scene, int c, std::uint32_t flag) {
@@ -586,13 +583,11 @@ TEST(PatchSmoke, SmallLibraryThroughEveryStage) {
     }
     ASSERT_FALSE(out.patches.empty());
     buildConnections(lib, out);
-    const auto dir = std::filesystem::temp_directory_path() / "fray_patch_smoke";
-    std::filesystem::create_directories(dir);
+    const test::TempDir dir("fray_patch_smoke_");
     ASSERT_TRUE(savePatchLibrary(out, dir / "s.patches"));
     auto back = loadPatchLibrary(dir / "s.patches", libraryFingerprint(lib), lib.size());
     ASSERT_TRUE(back) << back.error().message;
     EXPECT_EQ(back->patches.size(), out.patches.size());
-    std::filesystem::remove_all(dir);
 
     std::vector<ComposeSpec> specs(4);
     specs[0].kind = SceneKind::OneVsMany, specs[0].enemies = 3, specs[0].duration = 60;

@@ -53,24 +53,16 @@ public:
     }
     // A required member read as one type: obj[key] at path/key.
     Result<std::string> stringAt(const json& obj, const std::string& path, const char* key) const {
-        auto f = field(obj, path, key);
-        if (!f) return f.error();
-        return string(**f, path + "/" + key);
+        return member(obj, path, key, &JsonReader::string);
     }
     Result<int> integerAt(const json& obj, const std::string& path, const char* key) const {
-        auto f = field(obj, path, key);
-        if (!f) return f.error();
-        return integer(**f, path + "/" + key);
+        return member(obj, path, key, &JsonReader::integer);
     }
     Result<double> numberAt(const json& obj, const std::string& path, const char* key) const {
-        auto f = field(obj, path, key);
-        if (!f) return f.error();
-        return number(**f, path + "/" + key);
+        return member(obj, path, key, &JsonReader::number);
     }
     Result<bool> booleanAt(const json& obj, const std::string& path, const char* key) const {
-        auto f = field(obj, path, key);
-        if (!f) return f.error();
-        return boolean(**f, path + "/" + key);
+        return member(obj, path, key, &JsonReader::boolean);
     }
     Result<std::vector<std::string>> strings(const json& v, const std::string& path) const {
         if (!v.is_array()) return error(path, "must be an array of strings");
@@ -84,6 +76,14 @@ public:
     }
 
 private:
+    template <class T>
+    Result<T> member(const json& obj, const std::string& path, const char* key,
+                     Result<T> (JsonReader::*read)(const json&, const std::string&) const) const {
+        auto f = field(obj, path, key);
+        if (!f) return f.error();
+        return (this->*read)(**f, path + "/" + key);
+    }
+
     std::string file_;
 };
 
