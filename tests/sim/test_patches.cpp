@@ -235,7 +235,7 @@ TEST(PatchTables, ConnectionsAndStandardPoses) {
     const auto& lib = demoWorld().library;
     const auto& out = fightLibrary();
     ASSERT_EQ(out.temporal.size(), out.patches.size());
-    std::size_t both = 0, one = 0, spatial = 0;
+    std::size_t both = 0, one = 0;
     for (std::size_t a = 0; a < out.patches.size(); ++a) {
         const Patch& pa = out.patches[a];
         for (const auto& l : out.temporal[a]) {
@@ -256,7 +256,6 @@ TEST(PatchTables, ConnectionsAndStandardPoses) {
             }
         }
         for (const auto& l : out.spatial[a]) {
-            ++spatial;
             const auto& ta = pa.tracks[static_cast<std::size_t>(l.sharedA)];
             const auto& tb = out.patches[static_cast<std::size_t>(l.to)].tracks[static_cast<std::size_t>(l.sharedB)];
             const auto it = std::find_if(ta.begin(), ta.end(), [&](const ActionInstance& i) {
@@ -275,7 +274,6 @@ TEST(PatchTables, ConnectionsAndStandardPoses) {
             EXPECT_LE(configDistance(out.patches[i].initial, out.standardPoses[static_cast<std::size_t>(out.initialPose[i])]), 0.35 + 1e-9);
         }
     }
-    (void)spatial;
 }
 
 TEST(PatchCache, RoundTripAndBadFiles) {
