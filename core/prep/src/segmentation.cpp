@@ -69,9 +69,6 @@ SegmentationResult segment(const MotionSignals& signals, const FootContacts& con
     r.support.resize(n);
     for (int f = 0; f < frames; ++f) r.support[static_cast<std::size_t>(f)] = supportAt(contacts, f);
 
-    r.support.resize(n);
-    for (int f = 0; f < frames; ++f) r.support[static_cast<std::size_t>(f)] = supportAt(contacts, f);
-
     // Candidate cuts with a strength; thinning keeps the stronger first.
     // Rest-derived cuts are the most certain, then quiet-phase cuts by the
     // phase length, then flight cuts.
@@ -85,24 +82,108 @@ SegmentationResult segment(const MotionSignals& signals, const FootContacts& con
     const int minRest = std::max(1, framesOf(params.minRestSeconds, fps));
     const int idle = std::max(1, framesOf(params.idleSeconds, fps));
     const int delay = framesOf(params.onsetDelaySeconds, fps);
+    const int recovery = framesOf(params.recoverySeconds, fps);
+    const int riseWindow = framesOf(params.onsetWindowSeconds, fps);
+    const int apex = framesOf(params.attackApexSeconds, fps);
+    const double prominence = params.basinProminence * r.threshold;
     auto acc = [&](int f) { return double(r.smoothed[static_cast<std::size_t>(f)]); };
     auto quiet = [&](int f) { return r.highAccel[static_cast<std::size_t>(f)] == 0; };
+    // Standing pelvis height: the 90th percentile over the take.
+    double standing = 0.0;
+    if (signals.posture.size() == n) {
+        std::vector<float> heights(n);
+        for (std::size_t i = 0; i < n; ++i) heights[i] = signals.posture[i][0];
+        std::nth_element(heights.begin(), heights.begin() + static_cast<std::ptrdiff_t>(n * 9 / 10), heights.end());
+        standing = double(heights[n * 9 / 10]);
+    }
+    auto grounded = [&](int f) {
+        return standing > 0.0 && double(signals.posture[static_cast<std::size_t>(f)][0]) < params.groundedFraction * standing;
+    };
+    // Where the profile rises out of the basin [a, b] toward a peak of height
+    // `peak`: from the basin's lowest frame, forward while the profile stays
+    // within onsetFraction of the climb.
+    auto onset = [&](int a, int b, double peak) {
+        int at = a;
+        for (int f = a; f <= b; ++f) {
+            if (acc(f) < acc(at)) at = f;
+        }
+        const double level = acc(at) + params.onsetFraction * std::max(0.0, peak - acc(at));
+        while (at < b && acc(at + 1) <= level) ++at;
+        return at;
+    };
+    // Peaks inside [first, last] that rise and then fall by `prominence`.
+    auto peaksIn = [&](int first, int last) {
+        std::vector<int> peaks;
+        if (prominence <= 0.0) return peaks;
+        bool climbing = false;
+        double low = acc(first), high = 0.0;
+        int highAt = first;
+        for (int f = first; f <= last; ++f) {
+            if (!climbing) {
+                low = std::min(low, acc(f));
+                if (acc(f) - low >= prominence) climbing = true, high = acc(f), highAt = f;
+            } else {
+                if (acc(f) > high) high = acc(f), highAt = f;
+                if (acc(f) <= high - prominence) peaks.push_back(highAt), climbing = false, low = acc(f);
+            }
+        }
+        return peaks;
+    };
     forEachRun(frames, [&](int f) { return r.support[static_cast<std::size_t>(f)] == Support::Double && quiet(f); },
                [&](int first, int last) {
-                   bool rested = false;
+                   // Rests; a long one is an idle of its own, starting after
+                   // the recovery beat of the action that came to rest.
+                   int restFrames = 0, restEnd = -1;
                    forEachRun(last - first + 1, [&](int i) { return acc(first + i) <= restLevel; },
                               [&](int a, int b) {
                                   if (b - a + 1 < minRest) return;
-                                  rested = true;
+                                  restFrames = std::max(restFrames, b - a + 1);
                                   const int restFirst = first + a, restLast = first + b;
-                                  const double strength = 1e6 + (b - a);
-                                  // Movement starts again after the rest (unless the take ends).
-                                  if (restLast < frames - 1) {
-                                      candidates.push_back({std::min(frames - 1, restLast + delay), strength});
+                                  restEnd = restLast;
+                                  if (b - a + 1 >= idle && restFirst > 0) {
+                                      candidates.push_back({std::min(restLast, restFirst + recovery), 1e6 + (b - a)});
                                   }
-                                  if (b - a + 1 >= idle && restFirst > 0) candidates.push_back({restFirst, strength});
                               });
-                   if (rested) return;
+                   // Several basins (a block between two punches): an action
+                   // starts as each basin rises, but not at the still apex
+                   // just after an attack. Not while on the ground, where a
+                   // fall or a get-up has many basins.
+                   bool low = false;
+                   for (int f = first; f <= last && !low; ++f) low = grounded(f);
+                   const std::vector<int> peaks = low ? std::vector<int>{} : peaksIn(first, last);
+                   const bool afterAttack = first > 0 && !quiet(first - 1);
+                   std::vector<Candidate> split;
+                   if (!peaks.empty()) {
+                       int a = first;
+                       for (std::size_t i = 0; i <= peaks.size(); ++i) {
+                           const int b = i < peaks.size() ? peaks[i] : last;
+                           double peak = 0.0;
+                           if (i < peaks.size()) {
+                               peak = acc(peaks[i]);
+                           } else {
+                               if (last == frames - 1) break;
+                               for (int f = last + 1; f <= std::min(frames - 1, last + riseWindow); ++f) {
+                                   peak = std::max(peak, acc(f));
+                               }
+                           }
+                           const int at = onset(a, b, peak);
+                           const bool atApex = afterAttack && at - first < apex;
+                           if (!atApex) {
+                               split.push_back({at, restFrames > 0 ? 1e6 + restFrames : double(b - a + 1)});
+                           }
+                           a = b;
+                       }
+                   }
+                   if (!split.empty()) {
+                       candidates.insert(candidates.end(), split.begin(), split.end());
+                       return;
+                   }
+                   // One basin: cut where movement starts after a rest, else
+                   // at the quietest frame.
+                   if (restFrames > 0) {
+                       if (restEnd < frames - 1) candidates.push_back({std::min(frames - 1, restEnd + delay), 1e6 + restFrames});
+                       return;
+                   }
                    int at = (first + last) / 2;
                    if (params.placement == SegmentationParams::Placement::Minimum) {
                        for (int f = first; f <= last; ++f) {

@@ -44,6 +44,25 @@ struct SegmentationParams {
     double idleSeconds = 0.75;        // a rest this long becomes an action of its own
     double onsetDelaySeconds = 0.033; // the cut lands this long after the quiet frame (centred differences lead)
     double minActionSeconds = 0.25;   // no action shorter than this
+    // A rest of idleSeconds or more becomes an idle action that starts this
+    // long after the body comes to rest: the action that came to rest keeps
+    // its recovery beat (the demo actor's clips end with 0.03-0.1 s of it).
+    double recoverySeconds = 0.1;
+    // A quiet double-support phase holding several actions (a block or a slip
+    // between two punches) is split at its basins: a peak of the profile that
+    // rises and falls by basinProminence x the threshold separates two basins,
+    // and each basin is cut where the profile rises out of it (onsetFraction of
+    // the way from the basin's floor to the next peak, looked for up to
+    // onsetWindowSeconds past the phase). A split cut lies at least
+    // attackApexSeconds after an attack (the still apex of a punch is no
+    // boundary) and is not taken while the pelvis is below groundedFraction of
+    // its standing height (falls, get-ups).
+    // basinProminence 0 disables the split.
+    double basinProminence = 0.1;
+    double onsetFraction = 0.2;
+    double onsetWindowSeconds = 0.3;
+    double attackApexSeconds = 0.2;
+    double groundedFraction = 0.6;
     bool cutFlightPhases = true;      // running: cut at the centre of flight phases
     double flightWindowSeconds = 0.4; // ... when no double support lies this close
     // Recurrence filter: a cut survives when at least recurrenceShare of the
