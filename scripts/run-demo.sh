@@ -9,7 +9,8 @@
 # demo project (resources/demo/duel.json), its metrics, a few frames rendered
 # offscreen, the duel exported as glTF (docs/EXPORT.md); Interaction Patches
 # generated from the demo PatternLists, a one-vs-many fight and a domino crowd
-# composed from them; and the `fray` window when a display is available.
+# composed from them; and the `fray` window playing the duel when a display is
+# available.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/build.sh
@@ -47,8 +48,8 @@ echo "Duel scene:        $run/duel.frayscene (frames in $run/duel-frames, glTF i
 echo "One vs many:       $run/one_vs_many.frayscene (frames in $run/one_vs_many-frames)"
 echo "Domino:            $run/domino.frayscene (frames in $run/domino-frames)"
 if [[ -n "${DISPLAY:-}${WAYLAND_DISPLAY:-}" && -x build/bin/fray ]]; then
-  echo "Opening the fray window on the demo project."
-  build/bin/fray "$lib/demo.frayproj"
+  echo "Opening the fray window on the duel (build/bin/fray with no argument opens it too)."
+  build/bin/fray "$run/duel.frayscene"
 else
-  echo "No display: open the editor later with build/bin/fray (or xvfb-run -a build/bin/fray --quit-after 30 --screenshot shot.png)."
+  echo "No display: open the duel later with build/bin/fray (or xvfb-run -a build/bin/fray --quit-after 30 --screenshot shot.png)."
 fi

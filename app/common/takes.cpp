@@ -63,6 +63,13 @@ std::optional<fs::path> findDemoProject(const char* argv0) {
     return std::nullopt;
 }
 
+std::optional<fs::path> findDemoScene(const fs::path& demoProject) {
+    const fs::path scene = demoProject.parent_path().parent_path() / "demo-run" / "duel.frayscene";
+    std::error_code ec;
+    if (fs::is_regular_file(scene, ec)) return scene;
+    return std::nullopt;
+}
+
 void stageTakes(const std::vector<LoadedTake>& takes, render::MotionStage& stage) {
     stage.clear();
     const int n = static_cast<int>(takes.size());

@@ -28,6 +28,10 @@ Result<std::vector<LoadedTake>> loadTakes(const std::vector<std::string>& inputs
 // demo-library/demo.frayproj beside the executable's bin/ folder.
 std::optional<std::filesystem::path> findDemoProject(const char* argv0);
 
+// The demo scene README command (1) writes (demo-run/duel.frayscene beside the
+// demo project's folder), when it exists.
+std::optional<std::filesystem::path> findDemoScene(const std::filesystem::path& demoProject);
+
 // One actor per take, placed side by side along X, starting at the origin,
 // one team colour each.
 void stageTakes(const std::vector<LoadedTake>& takes, render::MotionStage& stage);

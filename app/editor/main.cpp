@@ -1,7 +1,9 @@
-// fray: the Qt editor. This first window opens the demo project (or the given
-// project or motion files) and plays its takes in the Vulkan viewport.
+// fray: the Qt editor. This first window plays a scene (planned or composed),
+// or a project's takes, or motion files, in the Vulkan viewport. With no
+// argument it opens the demo scene README command (1) writes, or the demo
+// project's takes when that scene does not exist yet.
 //
-//   fray [PROJECT.frayproj | MOTION...] [--quit-after N] [--screenshot out.png]
+//   fray [SCENE.frayscene | PROJECT.frayproj | MOTION...] [--quit-after N] [--screenshot out.png]
 #include <xcb/xcb.h>
 
 #include <CLI/CLI.hpp>
@@ -14,6 +16,7 @@
 
 #include "fray/render/vulkan_device.h"
 #include "main_window.h"
+#include "scene_stage.h"
 #include "takes.h"
 #include "viewport.h"
 
@@ -56,7 +59,8 @@ int main(int argc, char** argv) {
     bool validate = false;
     {
         CLI::App cli{"fray: the Fray editor"};
-        cli.add_option("inputs", inputs, "A .frayproj or motion files (default: the demo project)");
+        cli.add_option("inputs", inputs,
+                       "A .frayscene, a .frayproj or motion files (default: the demo scene, else the demo project)");
         cli.add_option("--quit-after", quitAfter, "Quit after this many frames were shown (for tests)");
         cli.add_option("--screenshot", screenshot, "Before quitting, write the window to this PNG");
         cli.add_option("--viewport-screenshot", viewportShot, "Before quitting, write the viewport alone to this PNG");
@@ -77,10 +81,25 @@ int main(int argc, char** argv) {
             return fail("no input given and no demo project found (build the project first; it writes "
                         "build/demo-library/demo.frayproj, or set FRAY_DEMO_LIBRARY)",
                         2);
-        inputs.push_back(demo->string());
+        if (auto scene = fray::app::findDemoScene(*demo)) {
+            inputs.push_back(scene->string());
+        } else {
+            std::fprintf(stderr, "fray: no demo scene yet (bash scripts/run-demo.sh writes one); showing the demo takes\n");
+            inputs.push_back(demo->string());
+        }
     }
-    auto takes = fray::app::loadTakes(inputs);
-    if (!takes) return fail(takes.error().message);
+    // A scene, or takes side by side.
+    std::unique_ptr<fray::cli::SceneStage> scene;
+    std::vector<fray::app::LoadedTake> takes;
+    if (inputs.size() == 1 && std::filesystem::path(inputs[0]).extension() == ".frayscene") {
+        auto loaded = fray::cli::openScene(inputs[0], {});
+        if (!loaded) return fail(loaded.error().message);
+        scene = std::make_unique<fray::cli::SceneStage>(std::move(*loaded));
+    } else {
+        auto loadedTakes = fray::app::loadTakes(inputs);
+        if (!loadedTakes) return fail(loadedTakes.error().message);
+        takes = std::move(*loadedTakes);
+    }
     const std::string title = std::filesystem::path(inputs.front()).filename().string() +
                               (inputs.size() > 1 ? " (+" + std::to_string(inputs.size() - 1) + ")" : "");
 
@@ -121,7 +140,7 @@ int main(int argc, char** argv) {
         options.screenshot = QString::fromStdString(screenshot);
         options.viewportScreenshot = QString::fromStdString(viewportShot);
         {
-            fray::editor::MainWindow window(viewport, std::move(*takes), QString::fromStdString(title), options);
+            fray::editor::MainWindow window(viewport, std::move(takes), std::move(scene), QString::fromStdString(title), options);
             window.show();
             code = QApplication::exec();
             if (code == 0) code = window.exitCode();

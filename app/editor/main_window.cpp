@@ -6,6 +6,7 @@
 #include <QImage>
 #include <QLabel>
 #include <QListWidget>
+#include <QPixmap>
 #include <QPainter>
 #include <QSlider>
 #include <QSplitter>
@@ -21,15 +22,29 @@
 
 namespace fray::editor {
 
-MainWindow::MainWindow(Viewport* viewport, std::vector<app::LoadedTake> takes, QString title, EditorOptions options)
-    : viewport_(viewport), takes_(std::move(takes)), options_(std::move(options)) {
+MainWindow::MainWindow(Viewport* viewport, std::vector<app::LoadedTake> takes, std::unique_ptr<cli::SceneStage> scene,
+                       QString title, EditorOptions options)
+    : viewport_(viewport), takes_(std::move(takes)), scene_(std::move(scene)), options_(std::move(options)) {
     setWindowTitle(title + " - Fray");
 
     takeList_ = new QListWidget;
-    takeList_->setSelectionMode(QAbstractItemView::ExtendedSelection);
-    for (const app::LoadedTake& t : takes_) {
-        const double seconds = t.motion->duration();
-        takeList_->addItem(QString("%1  (%2 s)").arg(QString::fromStdString(t.name)).arg(seconds, 0, 'f', 1));
+    if (scene_) {
+        // One row per character, with its team colour.
+        takeList_->setSelectionMode(QAbstractItemView::SingleSelection);
+        takeList_->setToolTip("Select a character to highlight it; F frames it, F with none selected frames everyone");
+        for (int c = 0; c < scene_->characterCount(); ++c) {
+            const glm::vec3 tint = scene_->tint(c);
+            QPixmap swatch(12, 12);
+            swatch.fill(QColor::fromRgbF(tint.x, tint.y, tint.z));
+            takeList_->addItem(new QListWidgetItem(
+                QIcon(swatch), QString::fromStdString(scene_->scene().characters[static_cast<std::size_t>(c)].name)));
+        }
+    } else {
+        takeList_->setSelectionMode(QAbstractItemView::ExtendedSelection);
+        for (const app::LoadedTake& t : takes_) {
+            const double seconds = t.motion->duration();
+            takeList_->addItem(QString("%1  (%2 s)").arg(QString::fromStdString(t.name)).arg(seconds, 0, 'f', 1));
+        }
     }
 
     viewportContainer_ = QWidget::createWindowContainer(viewport_);
@@ -76,13 +91,24 @@ MainWindow::MainWindow(Viewport* viewport, std::vector<app::LoadedTake> takes, Q
     connect(viewport_, &Viewport::frameAllRequested, this, &MainWindow::frameAll);
     connect(&timer_, &QTimer::timeout, this, &MainWindow::tick);
 
-    if (!takes_.empty()) takeList_->setCurrentRow(0);
-    takesChanged();
+    if (scene_) {
+        scrub_->setRange(0, std::max(0, static_cast<int>(std::ceil(scene_->duration() * kSceneSteps))));
+        frameAll();
+    } else {
+        if (!takes_.empty()) takeList_->setCurrentRow(0);
+        takesChanged();
+    }
     last_ = std::chrono::steady_clock::now();
     timer_.start(options_.quitAfter > 0 ? 0 : 15);
 }
 
 void MainWindow::takesChanged() {
+    if (scene_) {
+        // Selecting a character highlights it; the time keeps running.
+        const auto rows = takeList_->selectedItems();
+        selected_ = rows.empty() ? -1 : takeList_->row(rows.front());
+        return;
+    }
     shown_.clear();
     for (int i = 0; i < takeList_->count(); ++i)
         if (takeList_->item(i)->isSelected()) shown_.push_back(takes_[static_cast<std::size_t>(i)]);
@@ -97,7 +123,22 @@ void MainWindow::takesChanged() {
 }
 
 void MainWindow::frameAll() {
-    render::Bounds b = stage_.bounds();
+    render::Bounds b;
+    if (scene_) {
+        // The selected character as it is now, or everyone over the whole scene.
+        const double now = time_;
+        if (selected_ >= 0) {
+            scene_->pose(now, false);
+            if (scene_->present(selected_)) {
+                for (std::size_t k = 0; k < scene_->shown().size(); ++k)
+                    if (scene_->shownCharacter(k) == selected_) b = render::characterBounds(scene_->shown().subspan(k, 1));
+            }
+        }
+        if (b.empty()) b = scene_->bounds(0.0, scene_->duration());
+        scene_->pose(now, true, selected_);
+    } else {
+        b = stage_.bounds();
+    }
     if (b.empty()) return;
     b.add(b.min - glm::vec3(0.4f));
     b.add(b.max + glm::vec3(0.4f));
@@ -110,8 +151,12 @@ void MainWindow::togglePlay() {
 }
 
 void MainWindow::scrubbed(int frame) {
-    if (shown_.empty()) return;
-    time_ = frame / shown_.front().motion->fps();
+    if (scene_) {
+        time_ = static_cast<double>(frame) / kSceneSteps;
+    } else {
+        if (shown_.empty()) return;
+        time_ = frame / shown_.front().motion->fps();
+    }
     if (playing_) togglePlay();
 }
 
@@ -124,24 +169,16 @@ void MainWindow::tick() {
     const double dt = options_.quitAfter > 0 ? 1.0 / 60.0 : ms / 1000.0;
     static constexpr double kSpeeds[] = {0.25, 0.5, 1.0, 2.0, 4.0};
     if (playing_) time_ += dt * kSpeeds[std::clamp(speed_->currentIndex(), 0, 4)];
-    const double duration = stage_.duration();
+    const double duration = scene_ ? scene_->duration() : stage_.duration();
     if (duration > 0.0 && time_ > duration) time_ = std::fmod(time_, duration);
-    stage_.pose(time_, true);
-
-    if (!shown_.empty()) {
-        const int f = stage_.frameOf(0);
-        scrub_->blockSignals(true);
-        scrub_->setValue(f);
-        scrub_->blockSignals(false);
-        const std::string_view action = stage_.actionOf(0);
-        timeLabel_->setText(QString("frame %1 / %2  %3")
-                                .arg(f)
-                                .arg(shown_.front().motion->frameCount() - 1)
-                                .arg(QString::fromUtf8(action.data(), static_cast<int>(action.size()))));
+    if (scene_) {
+        scene_->pose(time_, true, selected_);
+        viewport_->frame().characters = scene_->shown();
     } else {
-        timeLabel_->setText("select a take");
+        stage_.pose(time_, true);
+        viewport_->frame().characters = stage_.instances();
     }
-    viewport_->frame().characters = stage_.instances();
+    showTime();
     auto drawn = viewport_->renderNow();
     if (!drawn) return fail(QString::fromStdString(drawn.error().message));
     if (const render::Renderer* r = viewport_->renderer()) {
@@ -155,6 +192,39 @@ void MainWindow::tick() {
     // Not exposed yet (or minimised): keep ticking; a run with --quit-after
     // that never gets a frame on screen is stopped by its caller's timeout.
     (void)ticks_++;
+}
+
+void MainWindow::showTime() {
+    auto text = [](const std::string& s) { return QString::fromStdString(s); };
+    if (scene_) {
+        scrub_->blockSignals(true);
+        scrub_->setValue(static_cast<int>(std::lround(time_ * kSceneSteps)));
+        scrub_->blockSignals(false);
+        QString line = QString("%1 / %2 s  %3 characters")
+                           .arg(time_, 0, 'f', 2)
+                           .arg(scene_->duration(), 0, 'f', 1)
+                           .arg(scene_->shown().size());
+        if (selected_ >= 0) {
+            const std::string& name = scene_->scene().characters[static_cast<std::size_t>(selected_)].name;
+            line += "  " + text(name) + ": " +
+                    (scene_->present(selected_) ? text(scene_->currentAction(selected_)) : QString("(not in the scene yet)"));
+        }
+        timeLabel_->setText(line);
+        return;
+    }
+    if (!shown_.empty()) {
+        const int f = stage_.frameOf(0);
+        scrub_->blockSignals(true);
+        scrub_->setValue(f);
+        scrub_->blockSignals(false);
+        const std::string_view action = stage_.actionOf(0);
+        timeLabel_->setText(QString("frame %1 / %2  %3")
+                                .arg(f)
+                                .arg(shown_.front().motion->frameCount() - 1)
+                                .arg(QString::fromUtf8(action.data(), static_cast<int>(action.size()))));
+    } else {
+        timeLabel_->setText("select a take");
+    }
 }
 
 void MainWindow::fail(const QString& message) {

@@ -2,7 +2,9 @@
 // The editor's first window: the takes of the open project (or motion files)
 // on the left, the Vulkan viewport with play / pause / scrub / speed controls
 // on the right. Selecting takes shows them side by side, each labelled with
-// its current action.
+// its current action. With a scene (planned or composed) the list holds its
+// characters instead: everyone present plays, labelled with the current
+// action, and the selected character is highlighted and can be framed.
 #include <QMainWindow>
 #include <QString>
 #include <QTimer>
@@ -11,6 +13,7 @@
 #include <vector>
 
 #include "fray/render/motion_stage.h"
+#include "scene_stage.h"
 #include "takes.h"
 
 class QComboBox;
@@ -32,12 +35,14 @@ struct EditorOptions {
 class MainWindow : public QMainWindow {
     Q_OBJECT
 public:
-    MainWindow(Viewport* viewport, std::vector<app::LoadedTake> takes, QString title, EditorOptions options);
+    // Plays `scene` when given, else the takes.
+    MainWindow(Viewport* viewport, std::vector<app::LoadedTake> takes, std::unique_ptr<cli::SceneStage> scene,
+               QString title, EditorOptions options);
 
     // Exit code for main(): 0, or 1 after an error (already reported).
     int exitCode() const { return exitCode_; }
 
-private slots:
+private Q_SLOTS:
     void tick();
     void takesChanged();
     void togglePlay();
@@ -45,6 +50,9 @@ private slots:
 
 private:
     void frameAll();
+    void showTime();
+    // Scrub steps per second of a scene.
+    static constexpr int kSceneSteps = 30;
     void finish();
     void fail(const QString& message);
 
@@ -53,6 +61,8 @@ private:
     std::vector<app::LoadedTake> takes_;
     std::vector<app::LoadedTake> shown_;
     render::MotionStage stage_;
+    std::unique_ptr<cli::SceneStage> scene_;
+    int selected_ = -1;  // scene character, -1: none
     EditorOptions options_;
     QListWidget* takeList_;
     QToolButton* playButton_;

@@ -93,7 +93,7 @@ void Viewport::wheelEvent(QWheelEvent* event) {
 }
 
 void Viewport::keyPressEvent(QKeyEvent* event) {
-    if (event->key() == Qt::Key_F) emit frameAllRequested();
+    if (event->key() == Qt::Key_F) Q_EMIT frameAllRequested();
     else QWindow::keyPressEvent(event);
 }
 

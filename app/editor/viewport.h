@@ -28,7 +28,7 @@ public:
     int framesPresented() const { return presented_; }
     float aspect() const;
 
-signals:
+Q_SIGNALS:
     void frameAllRequested();
 
 protected:

@@ -1,14 +1,15 @@
 #!/usr/bin/env bash
-# fray (the Qt editor) under Xvfb: opens the demo project with no argument,
-# shows N frames with validation on, and writes a screenshot of the window and
-# one of the viewport (the renderer's own readback) that are neither blank nor
-# uniform; clear errors without a display, with an unreachable X server and on
-# a Qt platform without Vulkan windows.
-# Usage: editor_xvfb.sh FRAY IMAGE_CHECK DEMO_LIBRARY_DIR OUT_DIR
+# fray (the Qt editor) under Xvfb: opens the demo scene or project with no
+# argument, shows N frames with validation on, and writes a screenshot of the
+# window and one of the viewport (the renderer's own readback) that are neither
+# blank nor uniform; plays a composed scene the same way; clear errors for a
+# broken scene, without a display, with an unreachable X server and on a Qt
+# platform without Vulkan windows.
+# Usage: editor_xvfb.sh FRAY IMAGE_CHECK DEMO_LIBRARY_DIR OUT_DIR FRAY_CLI
 set -uo pipefail
-fray=$1 check=$2 lib=$3 out=$4
+fray=$1 check=$2 lib=$3 out=$4 cli=$5
 rm -rf "$out" && mkdir -p "$out"
-export XDG_RUNTIME_DIR=$out
+export XDG_RUNTIME_DIR=$out && chmod 700 "$out"
 fails=0
 bad() { echo "FAIL: $*"; fails=$((fails + 1)); }
 source "$(dirname "$0")/xvfb_lib.sh"
@@ -27,6 +28,27 @@ grep -q "validation" "$out/demo.log" && bad "validation messages: $(cat "$out/de
 if ! timeout 120 "$fray" "$lib/walking.bvh" --quit-after 3 >"$out/motion.log" 2>&1; then
   bad "fray walking.bvh failed: $(cat "$out/motion.log")"
 fi
+
+# A composed scene: one-vs-one from the demo project's attack-fall patches.
+cp -r "$lib" "$out/lib"
+"$cli" patches generate "$out/lib/demo.frayproj" --pattern attack-fall --out "$out/lib/demo.frayproj.patches" -q >"$out/gen.log" 2>&1 ||
+  bad "patches: $(cat "$out/gen.log")"
+echo '{"kind": "one-vs-one", "duration": 8, "seed": 2}' > "$out/fight.json"
+"$cli" compose "$out/lib/demo.frayproj" --spec "$out/fight.json" --out "$out/fight.frayscene" -q >"$out/compose.log" 2>&1 ||
+  bad "compose: $(cat "$out/compose.log")"
+if ! timeout 120 "$fray" "$out/fight.frayscene" --quit-after 12 --validate \
+     --screenshot "$out/scene-window.png" --viewport-screenshot "$out/scene.png" >"$out/scene.log" 2>&1; then
+  bad "fray on a scene failed: $(cat "$out/scene.log")"
+fi
+grep -q "drew 12 frames" "$out/scene.log" || bad "scene: expected 12 frames: $(cat "$out/scene.log")"
+grep -q "validation" "$out/scene.log" && bad "scene: validation messages: $(cat "$out/scene.log")"
+"$check" "$out/scene.png" 320 200 || bad "scene viewport screenshot check"
+# A broken scene file: a clear message naming it, exit code 1, no crash.
+echo '{"format": "fray-scene"' > "$out/broken.frayscene"
+rc=0
+timeout 60 "$fray" "$out/broken.frayscene" --quit-after 1 >"$out/broken.log" 2>&1 || rc=$?
+(( rc == 1 )) || bad "broken scene: exit code $rc"
+grep -q "broken.frayscene" "$out/broken.log" || bad "broken scene message: $(cat "$out/broken.log")"
 
 # expect_error PATTERN -- ENV... : exit code 1 and the message, no crash.
 expect_error() {
