@@ -101,6 +101,7 @@ PY
 "$cli" patches generate "$p" --pattern domino --out "$tmp/domino.patches" -q > /dev/null
 "$cli" compose "$p" --spec "$tmp/domino.json" --patches "$tmp/domino.patches" --out "$tmp/domino.frayscene" -q > "$tmp/domino.txt"
 check "domino composed" "grep -q 'domino, .* chain falls' '$tmp/domino.txt'"
+check "domino coverage reported" "grep -q 'the falls cover [0-9]* % of the painted area' '$tmp/domino.txt'"
 "$cli" metrics "$tmp/domino.frayscene" --json -q > "$tmp/domino_metrics.json"
 check "domino: falls, no penetration" "python3 -c 'import json,sys; m=json.load(open(sys.argv[1])); assert m[\"penetration_frames\"] == 0 and m[\"hits\"] >= 3, m' '$tmp/domino_metrics.json'"
 expect_fail "non-binary bitmap" "grey.png: not a two-colour image: pixel (3, 4) is #808080" \

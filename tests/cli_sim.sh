@@ -42,6 +42,9 @@ expect_fail "no usable action" "character 'a' has no usable action" \
 echo '{"duration": -1, "characters": [{"name": "a"}]}' > "$tmp/bad3.json"
 expect_fail "negative duration" "bad3.json: /duration: must be a positive" \
   "$cli" simulate "$p" --spec "$tmp/bad3.json" --out "$tmp/bad3.frayscene" -q
+echo '{"duration": 5, "characters": [{"name": "a", "path": []}]}' > "$tmp/bad4.json"
+expect_fail "empty path" "bad4.json: /characters/0/path: is empty" \
+  "$cli" simulate "$p" --spec "$tmp/bad4.json" --out "$tmp/bad4.frayscene" -q
 echo "my notes" > "$tmp/notes.txt"
 expect_fail "never overwrite other files" "refusing to overwrite" \
   "$cli" simulate "$p" --spec "$tmp/duel.json" --out "$tmp/notes.txt" -q

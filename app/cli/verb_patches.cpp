@@ -192,6 +192,10 @@ void runCompose(const ComposeArgs& a) {
                 "standard poses, %d chain falls), %d locomotion steps, worst junction %.2f m; %.3f s\n",
                 a.out.c_str(), sim::sceneKindName(spec->kind), scene->characters.size(), scene->duration, scene->hits.size(),
                 st.patchesUsed, st.temporalLinks, st.recycled, st.chainFalls, st.locomotionSteps, st.maxJunctionError, st.seconds);
+    if (spec->kind == sim::SceneKind::Domino) {
+        std::printf("%s: the falls cover %.0f %% of the painted area (within %.1f m of someone who fell)\n", a.out.c_str(),
+                    100.0 * st.paintedCoverage, double(sim::ComposeStats::kCoverRadius));
+    }
 }
 
 }  // namespace

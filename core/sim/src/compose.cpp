@@ -621,6 +621,27 @@ struct Composer {
         if (until > t + 1e-9) holdAt(t, until, std::max(0.0, clipTimeAtEnd - (until - t)));
     }
 
+    // Share of the painted floor within ComposeStats::kCoverRadius of a spot.
+    double coverage(const std::vector<glm::vec2>& fallers) const {
+        constexpr float kStep = 0.25f;
+        const glm::vec2 lo = spec.floor.extentMin(), hi = spec.floor.extentMax();
+        long painted = 0, covered = 0;
+        for (float z = lo.y + 0.5f * kStep; z < hi.y; z += kStep) {
+            for (float x = lo.x + 0.5f * kStep; x < hi.x; x += kStep) {
+                const glm::vec2 q(x, z);
+                if (!spec.floor.paintedAt(q)) continue;
+                ++painted;
+                for (const glm::vec2& s : fallers) {
+                    if (glm::length(s - q) <= ComposeStats::kCoverRadius) {
+                        ++covered;
+                        break;
+                    }
+                }
+            }
+        }
+        return painted > 0 ? static_cast<double>(covered) / static_cast<double>(painted) : 0.0;
+    }
+
     Status domino(const ProgressFn& progress) {
         if (spec.floor.empty()) return makeError("domino: no floor bitmap");
         if (spec.starts.empty()) return makeError("domino: no start (where the first person falls)");
@@ -724,6 +745,7 @@ struct Composer {
                 return makeError("cancelled");
             }
         }
+        stats.paintedCoverage = coverage(spots);
         // Bystanders outside the painted area, clear of every fall.
         const glm::vec2 lo = spec.floor.extentMin(), hi = spec.floor.extentMax();
         for (int b = 0, tries = 0; b < spec.background && tries < 200 * spec.background; ++tries) {

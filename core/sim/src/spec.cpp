@@ -458,6 +458,7 @@ Result<SceneSpec> parseSceneSpec(std::string_view text, std::string_view fileNam
         }
         if (auto v = c.find("path"); v != c.end()) {
             FRAY_TRY(path, parseCheckpoints(rd, *v, p + "/path"));
+            if (path.empty()) return rd.error(p + "/path", "is empty: give at least one checkpoint {x, z}, or leave the path out");
             for (std::size_t k = 0; k < path.size(); ++k) {
                 if (!path[k].action.empty()) {
                     FRAY_TRY(sel, selectKey(path[k].action, motions, p + "/path/" + std::to_string(k) + "/action"));

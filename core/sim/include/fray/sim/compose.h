@@ -81,6 +81,10 @@ struct ComposeStats {
     int temporalLinks = 0, recycled = 0;   // how each next patch was found
     int locomotionSteps = 0;
     int chainFalls = 0;                    // domino: people knocked over by a falling body
+    // domino: share of the painted area within kCoverRadius of where someone
+    // stood and fell (sampled every 0.25 m); how much of the area the chains fill.
+    double paintedCoverage = 0;
+    static constexpr float kCoverRadius = 1.0f;
     double maxJunctionError = 0;           // m: worst gap between where locomotion ended and where a patch starts
     double seconds = 0;
 };
