@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 #include "fray/sim/geometry.h"
@@ -373,6 +374,66 @@ TEST(SimDepth, DeeperBoxerWinsMostMatches) {
     RecordProperty("hits_depth2", hitsShallow);
     EXPECT_GE(wins * 10, matches * 6) << wins << " wins of " << matches << "; hits " << hitsDeep << " vs " << hitsShallow;
     EXPECT_GT(hitsDeep, hitsShallow);
+}
+
+}  // namespace
+}  // namespace fray::sim
+
+namespace fray::sim {
+namespace {
+
+// Cooperation (thesis 4.5.2): 10 fighting pairs, each moving along a circle
+// of radius 6 m (10 degrees every 5 s, starting where it stands) with the
+// path-following preset, stay on their paths (mean error < 0.5 m for every
+// character), never touch another pair, and still land blows.
+TEST(SimCooperation, TenPairsFollowCircularPathsWhileFighting) {
+    constexpr double kRadius = 6.0, kDuration = 20.0, kStepDeg = 10.0, kStepSeconds = 5.0;
+    const std::string actions = R"(["@punch", "@kick", "@block", "@avoid", "@step", "@idle", "@transition", "@turn"])";
+    std::string characters;
+    for (int pair = 0; pair < 10; ++pair) {
+        for (int member = 0; member < 2; ++member) {
+            // Partners 1.1 m apart along the circle, facing each other.
+            const double a = 2.0 * std::numbers::pi * pair / 10.0 + (member == 0 ? 0.0 : 0.19);
+            const double sign = member == 0 ? 1.0 : -1.0;
+            const double heading = std::atan2(-std::sin(a) * sign, std::cos(a) * sign) * 180.0 / std::numbers::pi;
+            std::string path;
+            for (int j = 0; j * kStepSeconds <= kDuration + kStepSeconds; ++j) {
+                const double b = a + j * kStepDeg * std::numbers::pi / 180.0;
+                path += (j ? ", " : "") + std::string(R"({"x": )") + std::to_string(kRadius * std::cos(b)) +
+                        R"(, "z": )" + std::to_string(kRadius * std::sin(b)) + R"(, "time": )" +
+                        std::to_string(j * kStepSeconds) + "}";
+            }
+            const std::string name = (member == 0 ? "red" : "blue") + std::to_string(pair);
+            const std::string opponent = (member == 0 ? "blue" : "red") + std::to_string(pair);
+            characters += (characters.empty() ? "" : ",\n") + std::string(R"({"name": ")") + name + R"(", "side": )" +
+                          std::to_string(member) + R"(, "group": )" + std::to_string(pair) +
+                          R"(, "preset": "general-boxer-path", "depth": 2, "motions": ["shadowbox_energetic"], "actions": )" +
+                          actions + R"(, "start": {"x": )" + std::to_string(kRadius * std::cos(a)) + R"(, "z": )" +
+                          std::to_string(kRadius * std::sin(a)) + R"(, "heading_deg": )" + std::to_string(heading) +
+                          R"(}, "path": [)" + path + R"(], "opponent": ")" + opponent + R"("})";
+        }
+    }
+    auto scene = test::runSpec(R"({"version": 1, "duration": )" + std::to_string(kDuration) +
+                               R"(, "seed": 1, "characters": [)" + characters + "]}");
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    const auto m = computeMetrics(*scene, test::demoWorld().library);
+    double sum = 0.0;
+    for (const auto& c : m.characters) {
+        ASSERT_TRUE(c.pathErrorMean.has_value()) << c.name;
+        EXPECT_LT(*c.pathErrorMean, 0.5) << c.name;
+        sum += *c.pathErrorMean;
+    }
+    int pairsFighting = 0;
+    for (int pair = 0; pair < 10; ++pair) {
+        const auto& r = m.characters[static_cast<std::size_t>(2 * pair)];
+        const auto& b = m.characters[static_cast<std::size_t>(2 * pair + 1)];
+        pairsFighting += r.hitsGiven + b.hitsGiven > 0 ? 1 : 0;
+    }
+    std::printf("10 pairs: mean path error %.2f m, %zu hits, %d pairs landed blows, %d cross-group penetrations\n",
+                sum / static_cast<double>(m.characters.size()), scene->hits.size(), pairsFighting,
+                m.crossGroupPenetrations);
+    EXPECT_EQ(m.crossGroupPenetrations, 0);
+    EXPECT_GE(pairsFighting, 8);
 }
 
 }  // namespace
