@@ -30,12 +30,7 @@ if ! timeout 120 "$fray" "$lib/walking.bvh" --quit-after 3 >"$out/motion.log" 2>
 fi
 
 # A composed scene: one-vs-one from the demo project's attack-fall patches.
-cp -r "$lib" "$out/lib"
-"$cli" patches generate "$out/lib/demo.frayproj" --pattern attack-fall --out "$out/lib/demo.frayproj.patches" -q >"$out/gen.log" 2>&1 ||
-  bad "patches: $(cat "$out/gen.log")"
-echo '{"kind": "one-vs-one", "duration": 8, "seed": 2}' > "$out/fight.json"
-"$cli" compose "$out/lib/demo.frayproj" --spec "$out/fight.json" --out "$out/fight.frayscene" -q >"$out/compose.log" 2>&1 ||
-  bad "compose: $(cat "$out/compose.log")"
+compose_fight "$cli" "$lib" "$out"
 if ! timeout 120 "$fray" "$out/fight.frayscene" --quit-after 12 --validate \
      --screenshot "$out/scene-window.png" --viewport-screenshot "$out/scene.png" >"$out/scene.log" 2>&1; then
   bad "fray on a scene failed: $(cat "$out/scene.log")"
@@ -44,11 +39,7 @@ grep -q "drew 12 frames" "$out/scene.log" || bad "scene: expected 12 frames: $(c
 grep -q "validation" "$out/scene.log" && bad "scene: validation messages: $(cat "$out/scene.log")"
 "$check" "$out/scene.png" 320 200 || bad "scene viewport screenshot check"
 # A broken scene file: a clear message naming it, exit code 1, no crash.
-echo '{"format": "fray-scene"' > "$out/broken.frayscene"
-rc=0
-timeout 60 "$fray" "$out/broken.frayscene" --quit-after 1 >"$out/broken.log" 2>&1 || rc=$?
-(( rc == 1 )) || bad "broken scene: exit code $rc"
-grep -q "broken.frayscene" "$out/broken.log" || bad "broken scene message: $(cat "$out/broken.log")"
+expect_broken_scene "$out" "$fray" --quit-after 1
 
 # expect_error PATTERN -- ENV... : exit code 1 and the message, no crash.
 expect_error() {

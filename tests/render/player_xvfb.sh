@@ -34,12 +34,7 @@ grep -q "DISPLAY" "$out/nodisplay.log" && grep -q "xvfb-run" "$out/nodisplay.log
 
 # A composed scene: one-vs-one from the demo project's attack-fall patches,
 # played for 12 frames with validation on; the shot is neither blank nor uniform.
-cp -r "$lib" "$out/lib"
-"$cli" patches generate "$out/lib/demo.frayproj" --pattern attack-fall --out "$out/lib/demo.frayproj.patches" -q >"$out/gen.log" 2>&1 ||
-  bad "patches: $(cat "$out/gen.log")"
-echo '{"kind": "one-vs-one", "duration": 8, "seed": 2}' > "$out/fight.json"
-"$cli" compose "$out/lib/demo.frayproj" --spec "$out/fight.json" --out "$out/fight.frayscene" -q >"$out/compose.log" 2>&1 ||
-  bad "compose: $(cat "$out/compose.log")"
+compose_fight "$cli" "$lib" "$out"
 if ! timeout 120 "$play" "$out/fight.frayscene" --frames 12 --size 640x360 --validate --screenshot "$out/scene.png" \
      >"$out/scene.log" 2>&1; then
   bad "fray-play on a scene failed: $(cat "$out/scene.log")"
@@ -48,11 +43,7 @@ grep -q "drew 12 frames" "$out/scene.log" || bad "scene: expected 12 frames: $(c
 grep -q "validation" "$out/scene.log" && bad "scene: validation messages: $(cat "$out/scene.log")"
 "$check" "$out/scene.png" 640 360 || bad "scene screenshot check"
 # A broken scene file: a clear message, no crash.
-echo '{"format": "fray-scene"' > "$out/broken.frayscene"
-rc=0
-"$play" "$out/broken.frayscene" --frames 1 >"$out/broken.log" 2>&1 || rc=$?
-(( rc == 1 )) || bad "broken scene: exit code $rc"
-grep -q "broken.frayscene" "$out/broken.log" || bad "broken scene message: $(cat "$out/broken.log")"
+expect_broken_scene "$out" "$play" --frames 1
 
 if (( fails > 0 )); then echo "$fails failure(s)"; exit 1; fi
 echo "player_xvfb: all checks passed"

@@ -25,3 +25,27 @@ start_xvfb() {
   echo "Xvfb did not report a display within 20 s: $(cat "$dir/xvfb.log")"
   return 1
 }
+
+# compose_fight CLI LIB OUT: a one-vs-one fight composed from a copy of the
+# demo project LIB (attack-fall patches only, for speed), written to
+# OUT/fight.frayscene; logs in OUT. Calls bad() on failure.
+compose_fight() {
+  local cli=$1 lib=$2 out=$3
+  cp -r "$lib" "$out/lib"
+  "$cli" patches generate "$out/lib/demo.frayproj" --pattern attack-fall --out "$out/lib/demo.frayproj.patches" -q \
+    >"$out/gen.log" 2>&1 || bad "patches: $(cat "$out/gen.log")"
+  echo '{"kind": "one-vs-one", "duration": 8, "seed": 2}' > "$out/fight.json"
+  "$cli" compose "$out/lib/demo.frayproj" --spec "$out/fight.json" --out "$out/fight.frayscene" -q \
+    >"$out/compose.log" 2>&1 || bad "compose: $(cat "$out/compose.log")"
+}
+
+# expect_broken_scene OUT APP ARGS...: APP given a truncated scene file exits
+# with 1 and names the file.
+expect_broken_scene() {
+  local out=$1; shift
+  echo '{"format": "fray-scene"' > "$out/broken.frayscene"
+  local rc=0
+  timeout 60 "$@" "$out/broken.frayscene" >"$out/broken.log" 2>&1 || rc=$?
+  (( rc == 1 )) || bad "broken scene: exit code $rc"
+  grep -q "broken.frayscene" "$out/broken.log" || bad "broken scene message: $(cat "$out/broken.log")"
+}
