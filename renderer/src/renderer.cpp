@@ -14,11 +14,13 @@
 
 // SPIR-V compiled from resources/shaders at build time.
 #include "fray_shaders/body_frag.h"
+#include "fray_shaders/body_skinned_vert.h"
 #include "fray_shaders/body_vert.h"
 #include "fray_shaders/floor_frag.h"
 #include "fray_shaders/floor_vert.h"
 #include "fray_shaders/overlay_frag.h"
 #include "fray_shaders/overlay_vert.h"
+#include "fray_shaders/shadow_skinned_vert.h"
 #include "fray_shaders/shadow_vert.h"
 
 namespace fray::render {
@@ -69,15 +71,31 @@ struct MeshEntry {
     std::array<std::int32_t, 3> vertexOffset{};
 };
 
+// A skeleton's rig (Renderer::setRig): its mesh (CPU copy; the GPU buffers
+// hold every rig's, rebuilt when a rig is set or cleared) and the inverse
+// binds that turn world joint transforms into skinning transforms.
+struct RigEntry {
+    std::uint64_t fingerprint = 0;
+    int jointCount = 0;
+    std::vector<SkinnedVertex> vertices;
+    std::vector<std::uint32_t> indices;
+    std::vector<RigidTransform> inverseBind;
+    float reach = 0.0f;  // how far the body reaches beyond its joints (m)
+    std::uint32_t firstIndex = 0;
+    std::int32_t vertexOffset = 0;
+};
+
 // One instanced draw: instances [firstInstance, firstInstance + count) share a
 // mesh and a level of detail; the first `visible` of them are in the view
-// (the shadow pass draws them all, the main pass only those).
+// (the shadow pass draws them all, the main pass only those). `mesh` indexes
+// the capsule bodies, or the rigs when `rig` is set (level 0 only).
 struct DrawGroup {
     int mesh;
     int lod;
     std::uint32_t firstInstance;
     std::uint32_t count;
     std::uint32_t visible;
+    bool rig;
 };
 
 constexpr std::array<BodyMeshOptions, 2> kCoarseBodies{{{6, 1}, {4, 1}}};
@@ -137,12 +155,16 @@ struct Renderer::Impl {
     // Body and floor pipelines per variant (shadows, bitmap), created on first use.
     std::array<VkPipeline, 2> bodyPipes{};
     std::array<std::array<VkPipeline, 2>, 2> floorPipes{};
-    VkPipeline bodyPipe = VK_NULL_HANDLE, floorPipe = VK_NULL_HANDLE;  // this frame's
+    // Rigs: per shadow variant, and their shadow pass; created when a rig is first drawn.
+    std::array<VkPipeline, 2> rigPipes{};
+    VkPipeline rigShadowPipe = VK_NULL_HANDLE;
+    VkPipeline bodyPipe = VK_NULL_HANDLE, floorPipe = VK_NULL_HANDLE, rigPipe = VK_NULL_HANDLE;  // this frame's
     VkPipeline shadowPipe = VK_NULL_HANDLE, overlayDepthPipe = VK_NULL_HANDLE, overlayTopPipe = VK_NULL_HANDLE;
     VkShaderModule bodyV = VK_NULL_HANDLE, bodyF = VK_NULL_HANDLE, floorV = VK_NULL_HANDLE, floorF = VK_NULL_HANDLE;
+    VkShaderModule rigV = VK_NULL_HANDLE, rigShadowV = VK_NULL_HANDLE;
     bool linearShadowFilter = false;
     bool fast = false;
-    gpu::Buffer uniforms, instanceBuf, paletteBuf, overlayBuf, meshVB, meshIB, readbackBuf;
+    gpu::Buffer uniforms, instanceBuf, paletteBuf, overlayBuf, meshVB, meshIB, rigVB, rigIB, readbackBuf;
     VkCommandPool cmdPool = VK_NULL_HANDLE;
     VkCommandBuffer cmd = VK_NULL_HANDLE;
     VkFence fence = VK_NULL_HANDLE;
@@ -152,11 +174,15 @@ struct Renderer::Impl {
     std::vector<MeshEntry> meshes;
     std::vector<BodyVertex> meshVertices;
     std::vector<std::uint32_t> meshIndices;
+    // Rigs by skeleton fingerprint; uploaded in the next prepare() when dirty.
+    std::vector<RigEntry> rigs;
+    bool rigsDirty = false;
 
     // Per-frame scratch, reused (no steady-state allocation).
     std::vector<std::pair<const Skeleton*, std::uint32_t>> bySkeleton;
     std::vector<std::uint64_t> characterFingerprint;
-    std::vector<int> characterMesh;
+    std::vector<int> characterMesh;  // capsule body, or -1
+    std::vector<int> characterRig;   // rig, or -1
     std::vector<std::uint8_t> characterLod;
     std::vector<std::uint8_t> characterVisible;
     std::vector<DrawGroup> groups;
@@ -184,13 +210,16 @@ struct Renderer::Impl {
     Status createTargets();
     void destroyTargets();
     Status createPipelines();
-    Status variantPipelines(bool shadows, bool withBitmap);
+    Status variantPipelines(bool shadows, bool withBitmap, bool withRigs);
     Status ensureBuffer(gpu::Buffer& b, VkDeviceSize needed, VkBufferUsageFlags usage, VkDeviceSize minimum);
     Status registerMesh(const Skeleton& skeleton, std::uint64_t fingerprint, int& index);
+    Status uploadRigs();
+    int rigOf(std::uint64_t fingerprint, int jointCount) const;
     Status updateBitmap(const FloorBitmap* fb);
     void writeDescriptors();
     Status prepare(const FrameDescription& frame);
     void record(VkCommandBuffer c);
+    void recordBodies(VkCommandBuffer c, VkPipeline capsules, VkPipeline rigged, bool visibleOnly);
     void recordReadback(VkCommandBuffer c);
     void copyReadback(Image& out);
     void destroy();
@@ -602,6 +631,13 @@ const std::array<VkVertexInputAttributeDescription, 3> kBodyAttrs{{
     {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(BodyVertex, normal)},
     {2, 0, VK_FORMAT_R32_UINT, offsetof(BodyVertex, joint)},
 }};
+const VkVertexInputBindingDescription kRigBinding{0, sizeof(SkinnedVertex), VK_VERTEX_INPUT_RATE_VERTEX};
+const std::array<VkVertexInputAttributeDescription, 4> kRigAttrs{{
+    {0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(SkinnedVertex, position)},
+    {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(SkinnedVertex, normal)},
+    {2, 0, VK_FORMAT_R16G16B16A16_UINT, offsetof(SkinnedVertex, joints)},
+    {3, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(SkinnedVertex, weights)},
+}};
 const VkVertexInputBindingDescription kOverlayBinding{0, sizeof(OverlayVertex), VK_VERTEX_INPUT_RATE_VERTEX};
 const std::array<VkVertexInputAttributeDescription, 4> kOverlayAttrs{{
     {0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(OverlayVertex, position)},
@@ -612,17 +648,20 @@ const std::array<VkVertexInputAttributeDescription, 4> kOverlayAttrs{{
 
 }  // namespace
 
-// The shadow and overlay pipelines; body and floor variants come on demand
-// (variantPipelines), since pipeline creation compiles shaders (slow on lavapipe).
+// The shadow and overlay pipelines; body, floor and rig variants come on
+// demand (variantPipelines), since pipeline creation compiles shaders (slow on
+// lavapipe).
 Status Renderer::Impl::createPipelines() {
     bodyV = makeShader(device, kSpirv_body_vert);
     bodyF = makeShader(device, kSpirv_body_frag);
     floorV = makeShader(device, kSpirv_floor_vert);
     floorF = makeShader(device, kSpirv_floor_frag);
+    rigV = makeShader(device, kSpirv_body_skinned_vert);
+    rigShadowV = makeShader(device, kSpirv_shadow_skinned_vert);
     VkShaderModule shadowV = makeShader(device, kSpirv_shadow_vert);
     VkShaderModule overlayV = makeShader(device, kSpirv_overlay_vert);
     VkShaderModule overlayF = makeShader(device, kSpirv_overlay_frag);
-    const std::array<VkShaderModule, 7> modules{bodyV, bodyF, floorV, floorF, shadowV, overlayV, overlayF};
+    const std::array<VkShaderModule, 9> modules{bodyV, bodyF, floorV, floorF, rigV, rigShadowV, shadowV, overlayV, overlayF};
     Status status;
     if (std::any_of(modules.begin(), modules.end(), [](VkShaderModule m) { return m == VK_NULL_HANDLE; })) {
         status = makeError("vkCreateShaderModule failed for an embedded shader");
@@ -651,7 +690,7 @@ Status Renderer::Impl::createPipelines() {
     return status;
 }
 
-Status Renderer::Impl::variantPipelines(bool shadows, bool withBitmap) {
+Status Renderer::Impl::variantPipelines(bool shadows, bool withBitmap, bool withRigs) {
     const std::array<VkSpecializationMapEntry, 2> entries{{{0, offsetof(Variant, shadows), sizeof(VkBool32)},
                                                            {1, offsetof(Variant, bitmap), sizeof(VkBool32)}}};
     const Variant v{shadows ? VK_TRUE : VK_FALSE, withBitmap ? VK_TRUE : VK_FALSE};
@@ -672,6 +711,22 @@ Status Renderer::Impl::variantPipelines(bool shadows, bool withBitmap) {
     }
     bodyPipe = body;
     floorPipe = floor;
+    rigPipe = VK_NULL_HANDLE;
+    if (!withRigs) return {};
+    VkPipeline& rig = rigPipes[shadows ? 1 : 0];
+    if (!rig) {
+        auto p = makePipeline(device, layout, {rigV, bodyF, &kRigBinding, kRigAttrs, VK_CULL_MODE_BACK_BIT, true, true, false,
+                                               false, samples, mainPass, &spec});
+        if (!p) return p.error();
+        rig = *p;
+    }
+    if (shadows && !rigShadowPipe) {
+        auto p = makePipeline(device, layout, {rigShadowV, VK_NULL_HANDLE, &kRigBinding, kRigAttrs, VK_CULL_MODE_FRONT_BIT, true, true,
+                                               false, true, VK_SAMPLE_COUNT_1_BIT, shadowPass, nullptr});
+        if (!p) return p.error();
+        rigShadowPipe = *p;
+    }
+    rigPipe = rig;
     return {};
 }
 
@@ -680,9 +735,9 @@ void Renderer::Impl::destroy() {
     vkDeviceWaitIdle(device);
     destroyTargets();
     for (VkPipeline p : {bodyPipes[0], bodyPipes[1], floorPipes[0][0], floorPipes[0][1], floorPipes[1][0], floorPipes[1][1],
-                         shadowPipe, overlayDepthPipe, overlayTopPipe})
+                         rigPipes[0], rigPipes[1], rigShadowPipe, shadowPipe, overlayDepthPipe, overlayTopPipe})
         if (p) vkDestroyPipeline(device, p, nullptr);
-    for (VkShaderModule m : {bodyV, bodyF, floorV, floorF})
+    for (VkShaderModule m : {bodyV, bodyF, floorV, floorF, rigV, rigShadowV})
         if (m) vkDestroyShaderModule(device, m, nullptr);
     if (layout) vkDestroyPipelineLayout(device, layout, nullptr);
     if (pool) vkDestroyDescriptorPool(device, pool, nullptr);
@@ -693,7 +748,7 @@ void Renderer::Impl::destroy() {
     shadowMap.destroy(device);
     fontAtlas.destroy(device);
     bitmap.destroy(device);
-    for (gpu::Buffer* b : {&uniforms, &instanceBuf, &paletteBuf, &overlayBuf, &meshVB, &meshIB}) b->destroy(device);
+    for (gpu::Buffer* b : {&uniforms, &instanceBuf, &paletteBuf, &overlayBuf, &meshVB, &meshIB, &rigVB, &rigIB}) b->destroy(device);
     if (mainPass) vkDestroyRenderPass(device, mainPass, nullptr);
     if (shadowPass) vkDestroyRenderPass(device, shadowPass, nullptr);
     if (fence) vkDestroyFence(device, fence, nullptr);
@@ -726,7 +781,6 @@ Status Renderer::Impl::registerMesh(const Skeleton& skeleton, std::uint64_t fing
     }
     meshes.push_back(e);
     index = static_cast<int>(meshes.size()) - 1;
-    stats.meshes = static_cast<int>(meshes.size());
     if (meshVertices.empty() || meshIndices.empty()) return {};
     // Rebuild the static buffers with every mesh (rare: once per new skeleton).
     meshVB.destroy(device);
@@ -737,6 +791,35 @@ Status Renderer::Impl::registerMesh(const Skeleton& skeleton, std::uint64_t fing
         return s;
     return gpu::createStaticBuffer(*dev, meshIB, meshIndices.data(), meshIndices.size() * sizeof(std::uint32_t),
                                    VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
+}
+
+// All rigs in one vertex and one index buffer (rebuilt when a rig is set or
+// cleared: rare). Called from prepare(), when no submission uses the old ones.
+Status Renderer::Impl::uploadRigs() {
+    rigVB.destroy(device);
+    rigIB.destroy(device);
+    rigsDirty = false;
+    std::vector<SkinnedVertex> vertices;
+    std::vector<std::uint32_t> indices;
+    for (RigEntry& r : rigs) {
+        r.firstIndex = static_cast<std::uint32_t>(indices.size());
+        r.vertexOffset = static_cast<std::int32_t>(vertices.size());
+        vertices.insert(vertices.end(), r.vertices.begin(), r.vertices.end());
+        indices.insert(indices.end(), r.indices.begin(), r.indices.end());
+    }
+    if (rigs.empty()) return {};
+    if (Status s = gpu::createStaticBuffer(*dev, rigVB, vertices.data(), vertices.size() * sizeof(SkinnedVertex),
+                                           VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+        !s)
+        return s;
+    return gpu::createStaticBuffer(*dev, rigIB, indices.data(), indices.size() * sizeof(std::uint32_t),
+                                   VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
+}
+
+int Renderer::Impl::rigOf(std::uint64_t fingerprint, int jointCount) const {
+    for (std::size_t r = 0; r < rigs.size(); ++r)
+        if (rigs[r].fingerprint == fingerprint && rigs[r].jointCount == jointCount) return static_cast<int>(r);
+    return -1;
 }
 
 Status Renderer::Impl::updateBitmap(const FloorBitmap* fb) {
@@ -826,16 +909,29 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
         const std::uint64_t fp = skeletonFingerprint(*sk);
         for (; i < bySkeleton.size() && bySkeleton[i].first == sk; ++i) characterFingerprint[bySkeleton[i].second] = fp;
     }
+    if (rigsDirty)
+        if (Status s = uploadRigs(); !s) return s;
     characterMesh.resize(n);
+    characterRig.resize(n);
+    float rigReach = 0.0f;  // furthest a drawn rig reaches beyond its joints
+    stats.rigged = 0;
     for (std::size_t i = 0; i < n; ++i) {
+        const int jc = chars[i].skeleton->jointCount();
+        characterRig[i] = rigOf(characterFingerprint[i], jc);
+        characterMesh[i] = -1;
+        if (characterRig[i] >= 0) {
+            rigReach = std::max(rigReach, rigs[static_cast<std::size_t>(characterRig[i])].reach);
+            ++stats.rigged;
+            continue;
+        }
         int mesh = -1;
         for (std::size_t m = 0; m < meshes.size(); ++m)
-            if (meshes[m].fingerprint == characterFingerprint[i] && meshes[m].jointCount == chars[i].skeleton->jointCount())
-                mesh = static_cast<int>(m);
+            if (meshes[m].fingerprint == characterFingerprint[i] && meshes[m].jointCount == jc) mesh = static_cast<int>(m);
         if (mesh < 0)
             if (Status s = registerMesh(*chars[i].skeleton, characterFingerprint[i], mesh); !s) return s;
         characterMesh[i] = mesh;
     }
+    stats.meshes = static_cast<int>(meshes.size() + rigs.size());
 
     // Camera first: visibility and level of detail per character.
     const RenderSettings& st = frame.settings;
@@ -855,14 +951,16 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
             Bounds b;
             for (const glm::vec3& p : chars[i].jointPositions) b.add(p);
             const glm::vec3 c = b.center();
-            const float r = b.radius() + 0.25f;  // joints lie inside the body
+            // Capsules stay within 0.25 m of the joints; a rig reaches as far as it measured.
+            const int rig = characterRig[i];
+            const float r = b.radius() + (rig >= 0 ? std::max(0.25f, rigs[static_cast<std::size_t>(rig)].reach) : 0.25f);
             bool inside = true;
             for (const glm::vec4& pl : planes)
                 if (glm::dot(glm::vec3(pl), c) + pl.w < -r * glm::length(glm::vec3(pl))) inside = false;
             characterVisible[i] = inside ? 1 : 0;
             const float ahead = glm::dot(c - eye, fwd);
             const float pixels = ahead > frame.camera.nearPlane ? 2.0f * r * focalPx / ahead : 1e9f;
-            characterLod[i] = pixels < lodPixels[1] ? 2 : (pixels < lodPixels[0] ? 1 : 0);
+            characterLod[i] = rig >= 0 ? 0 : (pixels < lodPixels[1] ? 2 : (pixels < lodPixels[0] ? 1 : 0));
         }
     }
 
@@ -883,13 +981,22 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
     std::uint32_t written = 0, jointOffset = 0;
     stats.triangles = 0;
     stats.culled = 0;
-    auto write = [&](const CharacterInstance& c) {
+    // A capsule body's palette is the world joint transforms; a rig's is the
+    // skinning transforms world_j * inverseBind_j (still rigid: a position
+    // and a quaternion).
+    auto write = [&](const CharacterInstance& c, const RigEntry* rig) {
         inst[written] = GpuInstance{jointOffset, c.selected ? 1u : 0u, 0u, 0u, glm::vec4(c.tint, 1.0f)};
         for (std::size_t j = 0; j < c.jointPositions.size(); ++j) {
             glm::quat q = c.jointRotations[j];
             const float len = glm::length(glm::vec4(q.x, q.y, q.z, q.w));
             q = len > 1e-8f ? q / len : glm::quat(1.0f, 0.0f, 0.0f, 0.0f);
-            pal[jointOffset + j] = GpuJoint{glm::vec4(c.jointPositions[j], 1.0f), glm::vec4(q.x, q.y, q.z, q.w)};
+            glm::vec3 p = c.jointPositions[j];
+            if (rig) {
+                const RigidTransform& ib = rig->inverseBind[j];
+                p += q * ib.translation;
+                q = glm::normalize(q * ib.rotation);
+            }
+            pal[jointOffset + j] = GpuJoint{glm::vec4(p, 1.0f), glm::vec4(q.x, q.y, q.z, q.w)};
         }
         jointOffset += static_cast<std::uint32_t>(c.jointPositions.size());
         ++written;
@@ -900,17 +1007,31 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
             for (int pass = 0; pass < (shadowsThisFrame ? 2 : 1); ++pass)
                 for (std::size_t i = 0; i < n; ++i)
                     if (characterMesh[i] == static_cast<int>(m) && characterLod[i] == lod && characterVisible[i] == (pass == 0 ? 1 : 0))
-                        write(chars[i]);
+                        write(chars[i], nullptr);
             std::uint32_t visible = 0;
             for (std::size_t i = 0; i < n; ++i)
                 visible += characterMesh[i] == static_cast<int>(m) && characterLod[i] == lod && characterVisible[i];
             const std::uint32_t indexCount = meshes[m].indexCount[static_cast<std::size_t>(lod)];
             if (written > first && indexCount > 0) {
-                groups.push_back({static_cast<int>(m), lod, first, written - first, visible});
+                groups.push_back({static_cast<int>(m), lod, first, written - first, visible, false});
                 stats.triangles += static_cast<std::uint64_t>(indexCount / 3) * visible;
             }
         }
     }
+    // Rigs: full detail only, one group each.
+    for (std::size_t r = 0; r < rigs.size(); ++r) {
+        const std::uint32_t first = written;
+        for (int pass = 0; pass < (shadowsThisFrame ? 2 : 1); ++pass)
+            for (std::size_t i = 0; i < n; ++i)
+                if (characterRig[i] == static_cast<int>(r) && characterVisible[i] == (pass == 0 ? 1 : 0)) write(chars[i], &rigs[r]);
+        std::uint32_t visible = 0;
+        for (std::size_t i = 0; i < n; ++i) visible += characterRig[i] == static_cast<int>(r) && characterVisible[i];
+        if (written > first) {
+            groups.push_back({static_cast<int>(r), 0, first, written - first, visible, true});
+            stats.triangles += static_cast<std::uint64_t>(rigs[r].indices.size() / 3) * visible;
+        }
+    }
+    const bool rigsThisFrame = std::any_of(groups.begin(), groups.end(), [](const DrawGroup& g) { return g.rig; });
     for (std::size_t i = 0; i < n; ++i) stats.culled += characterVisible[i] ? 0 : 1;
 
     // The sun and the shadow volume around the characters.
@@ -924,7 +1045,7 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
     float texelWorld = 0.0f, depthRange = 1.0f;
     if (shadowsThisFrame) {
         const glm::vec3 c = bounds.center();
-        const float r = bounds.radius() + 0.35f;
+        const float r = bounds.radius() + std::max(0.35f, rigReach + 0.1f);
         const glm::vec3 up = std::abs(lightDir.y) > 0.99f ? glm::vec3(0.0f, 0.0f, 1.0f) : glm::vec3(0.0f, 1.0f, 0.0f);
         const glm::mat4 lightView = glm::lookAt(c - lightDir * (r + 2.0f), c, up);
         depthRange = 2.0f * r + 4.0f;
@@ -954,7 +1075,7 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
     std::memcpy(uniforms.mapped, &u, sizeof u);
 
     if (Status s = updateBitmap(haveBitmap ? fb : nullptr); !s) return s;
-    if (Status s = variantPipelines(shadowsThisFrame, haveBitmap && u.floorParams.x > 0.0f); !s) return s;
+    if (Status s = variantPipelines(shadowsThisFrame, haveBitmap && u.floorParams.x > 0.0f, rigsThisFrame); !s) return s;
 
     // Overlays.
     buildOverlays(frame, viewProj, glm::vec2(static_cast<float>(width), static_cast<float>(height)), st.shadows && fast,
@@ -999,15 +1120,8 @@ void Renderer::Impl::record(VkCommandBuffer c) {
         const VkRect2D sc{{0, 0}, {shadowSize, shadowSize}};
         vkCmdSetViewport(c, 0, 1, &vp);
         vkCmdSetScissor(c, 0, 1, &sc);
-        vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, shadowPipe);
         vkCmdBindDescriptorSets(c, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 1, &set, 0, nullptr);
-        vkCmdBindVertexBuffers(c, 0, 1, &meshVB.buffer, &zero);
-        vkCmdBindIndexBuffer(c, meshIB.buffer, 0, VK_INDEX_TYPE_UINT32);
-        for (const DrawGroup& g : groups) {
-            const MeshEntry& m = meshes[static_cast<std::size_t>(g.mesh)];
-            const auto l = static_cast<std::size_t>(g.lod);
-            vkCmdDrawIndexed(c, m.indexCount[l], g.count, m.firstIndex[l], m.vertexOffset[l], g.firstInstance);
-        }
+        recordBodies(c, shadowPipe, rigShadowPipe, false);
         vkCmdEndRenderPass(c);
     }
 
@@ -1028,17 +1142,7 @@ void Renderer::Impl::record(VkCommandBuffer c) {
     vkCmdSetScissor(c, 0, 1, &sc);
     vkCmdBindDescriptorSets(c, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 1, &set, 0, nullptr);
     // Bodies first so the floor's fragments behind them fail the depth test early.
-    if (!groups.empty()) {
-        vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, bodyPipe);
-        vkCmdBindVertexBuffers(c, 0, 1, &meshVB.buffer, &zero);
-        vkCmdBindIndexBuffer(c, meshIB.buffer, 0, VK_INDEX_TYPE_UINT32);
-        for (const DrawGroup& g : groups) {
-            if (g.visible == 0) continue;
-            const MeshEntry& m = meshes[static_cast<std::size_t>(g.mesh)];
-            const auto l = static_cast<std::size_t>(g.lod);
-            vkCmdDrawIndexed(c, m.indexCount[l], g.visible, m.firstIndex[l], m.vertexOffset[l], g.firstInstance);
-        }
-    }
+    recordBodies(c, bodyPipe, rigPipe, true);
     vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, floorPipe);
     vkCmdDraw(c, 6, 1, 0, 0);
     if (overlayCount[0] + overlayCount[1] + overlayCount[2] > 0) {
@@ -1060,6 +1164,37 @@ void Renderer::Impl::record(VkCommandBuffer c) {
     }
     vkCmdEndRenderPass(c);
     rendered = true;
+}
+
+// The body groups: capsule bodies with `capsules`, then rigs with `rigged`
+// (groups are in that order); only the characters in view when `visibleOnly`.
+void Renderer::Impl::recordBodies(VkCommandBuffer c, VkPipeline capsules, VkPipeline rigged, bool visibleOnly) {
+    const VkDeviceSize zero = 0;
+    bool rigBound = false, capsulesBound = false;
+    for (const DrawGroup& g : groups) {
+        const std::uint32_t count = visibleOnly ? g.visible : g.count;
+        if (count == 0) continue;
+        if (g.rig) {
+            if (!rigBound) {
+                vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, rigged);
+                vkCmdBindVertexBuffers(c, 0, 1, &rigVB.buffer, &zero);
+                vkCmdBindIndexBuffer(c, rigIB.buffer, 0, VK_INDEX_TYPE_UINT32);
+                rigBound = true;
+            }
+            const RigEntry& r = rigs[static_cast<std::size_t>(g.mesh)];
+            vkCmdDrawIndexed(c, static_cast<std::uint32_t>(r.indices.size()), count, r.firstIndex, r.vertexOffset, g.firstInstance);
+            continue;
+        }
+        if (!capsulesBound) {
+            vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, capsules);
+            vkCmdBindVertexBuffers(c, 0, 1, &meshVB.buffer, &zero);
+            vkCmdBindIndexBuffer(c, meshIB.buffer, 0, VK_INDEX_TYPE_UINT32);
+            capsulesBound = true;
+        }
+        const MeshEntry& m = meshes[static_cast<std::size_t>(g.mesh)];
+        const auto l = static_cast<std::size_t>(g.lod);
+        vkCmdDrawIndexed(c, m.indexCount[l], count, m.firstIndex[l], m.vertexOffset[l], g.firstInstance);
+    }
 }
 
 void Renderer::Impl::recordReadback(VkCommandBuffer c) {
@@ -1144,6 +1279,31 @@ Status Renderer::render(const FrameDescription& frame, Image* out) {
     if ((r = vkWaitForFences(m.device, 1, &m.fence, VK_TRUE, UINT64_MAX)) != VK_SUCCESS) return vkError("vkWaitForFences", r);
     if (out) m.copyReadback(*out);
     return {};
+}
+
+Status Renderer::setRig(const Skeleton& skeleton, const SkinnedMesh& rig) {
+    if (Status s = checkSkinnedMesh(rig, skeleton); !s) return s;
+    Impl& m = *impl_;
+    RigEntry e;
+    e.fingerprint = rig.skeletonFingerprint;
+    e.jointCount = rig.jointCount;
+    e.vertices = rig.vertices;
+    e.indices = rig.indices;
+    e.inverseBind = rig.inverseBind;
+    e.reach = rig.reach;
+    const int old = m.rigOf(e.fingerprint, e.jointCount);
+    if (old >= 0) m.rigs[static_cast<std::size_t>(old)] = std::move(e);
+    else m.rigs.push_back(std::move(e));
+    m.rigsDirty = true;
+    return {};
+}
+
+void Renderer::clearRig(const Skeleton& skeleton) {
+    Impl& m = *impl_;
+    const int r = m.rigOf(skeletonFingerprint(skeleton), skeleton.jointCount());
+    if (r < 0) return;
+    m.rigs.erase(m.rigs.begin() + r);
+    m.rigsDirty = true;
 }
 
 Status Renderer::readback(Image& out) {

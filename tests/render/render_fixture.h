@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <initializer_list>
@@ -154,6 +155,49 @@ inline CharacterInstance instanceOf(const Character& c, glm::vec3 tint) {
     i.jointRotations = c.rotations;
     i.tint = tint;
     return i;
+}
+
+// Pixels that differ between two renderings of one character, inside and
+// outside the screen box of its right arm (shoulder to fingertip, both poses,
+// grown by `radius` metres and 2 pixels).
+struct ArmChange {
+    int inside = 0, outside = 0;
+    std::string box;  // for messages
+};
+inline ArmChange armChange(const FrameDescription& f, const Character& a, const Character& b, const Image& imgA, const Image& imgB,
+                           float radius = 0.07f) {
+    const glm::mat4 vp = f.camera.viewProjection(static_cast<float>(imgA.width) / static_cast<float>(imgA.height));
+    const glm::vec2 size(imgA.width, imgA.height);
+    auto pixel = [&](glm::vec3 p) { return projectToPixel(vp, p, size).value_or(glm::vec3(0.0f)); };
+    float minX = 1e9f, minY = 1e9f, maxX = -1e9f, maxY = -1e9f;
+    for (const Character* c : {&a, &b})
+        for (const char* name : {"RightArm", "RightForeArm", "RightHand", "RightHandIndex1"}) {
+            const auto j = static_cast<std::size_t>(demoSkeleton().find(name));
+            for (glm::vec3 p : {c->positions[j], c->positions[j] + c->rotations[j] * glm::vec3(-0.03f, 0.0f, 0.0f)}) {
+                const glm::vec3 px = pixel(p);
+                minX = std::min(minX, px.x);
+                minY = std::min(minY, px.y);
+                maxX = std::max(maxX, px.x);
+                maxY = std::max(maxY, px.y);
+            }
+        }
+    const float metre = std::abs(pixel({1.0f, 1.0f, 0.0f}).x - pixel({0.0f, 1.0f, 0.0f}).x);
+    const float margin = radius * metre + 2.0f;
+    ArmChange out;
+    for (int y = 0; y < imgA.height; ++y)
+        for (int x = 0; x < imgA.width; ++x) {
+            const std::uint8_t* p = imgA.pixel(x, y);
+            const std::uint8_t* q = imgB.pixel(x, y);
+            bool differs = false;
+            for (int k = 0; k < 3; ++k) differs = differs || std::abs(int(p[k]) - int(q[k])) > 8;
+            if (!differs) continue;
+            const bool in = static_cast<float>(x) >= minX - margin && static_cast<float>(x) <= maxX + margin &&
+                            static_cast<float>(y) >= minY - margin && static_cast<float>(y) <= maxY + margin;
+            (in ? out.inside : out.outside)++;
+        }
+    out.box = std::to_string(minX) + "," + std::to_string(minY) + " - " + std::to_string(maxX) + "," + std::to_string(maxY) +
+              " +- " + std::to_string(margin);
+    return out;
 }
 
 // A fixed three-quarter view of the area around the origin.

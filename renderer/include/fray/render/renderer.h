@@ -4,8 +4,9 @@
 // tests); on-screen callers let a Presenter blit it into a swapchain image.
 //
 // Per frame: a shadow pass from the sun (depth only, skinned), then one main
-// pass: bodies (instanced GPU skinning, one draw per distinct skeleton),
-// floor (grid, painted bitmap, shadows), then overlays. See docs/RENDERER.md.
+// pass: bodies (instanced GPU skinning, one draw per distinct skeleton: its
+// capsules, or the rig set for it), floor (grid, painted bitmap, shadows),
+// then overlays. See docs/RENDERER.md.
 //
 // Not thread-safe: one thread records and submits.
 #include <cstdint>
@@ -14,6 +15,7 @@
 #include <vulkan/vulkan.h>
 
 #include "fray/core/result.h"
+#include "fray/core/skinned_mesh.h"
 #include "fray/render/body_mesh.h"
 #include "fray/render/frame.h"
 #include "fray/render/image.h"
@@ -50,7 +52,8 @@ struct RenderStats {
     std::uint64_t triangles = 0;   // body triangles of the main pass (after culling and level of detail)
     int overlayVertices = 0;
     int bufferGrowths = 0;         // GPU buffer reallocations since creation (geometric growth)
-    int meshes = 0;                // distinct body meshes on the GPU
+    int meshes = 0;                // distinct body meshes on the GPU (capsule bodies and rigs)
+    int rigged = 0;                // characters drawn with a rig instead of capsules (in view or not)
 };
 
 class Renderer {
@@ -86,6 +89,17 @@ public:
     Status readback(Image& out);
 
     const RenderStats& stats() const;
+
+    // From the next frame on, characters with this skeleton (by content
+    // fingerprint, so copies count) are drawn as `rig` (e.g. from
+    // fray::loadRig) instead of capsules: linear blend skinning on the GPU,
+    // full detail at every size. Replaces an earlier rig of the skeleton. The
+    // rig is copied and uploaded by the next prepare(); call these between
+    // frames, not between prepare() and record(). An error (a rig bound to
+    // another skeleton, bad indices or weights) leaves the renderer as it was.
+    Status setRig(const Skeleton& skeleton, const SkinnedMesh& rig);
+    // Back to capsules for this skeleton (no-op when it has no rig).
+    void clearRig(const Skeleton& skeleton);
 
 private:
     struct Impl;

@@ -1,0 +1,33 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Instanced linear blend skinning of a rig (fray::SkinnedMesh): each vertex is
+// in bind space with up to four joints; the palette holds, per joint, the
+// skinning transform world * inverseBind (computed on the CPU), so a vertex
+// is the weighted sum of its joints' rigid transforms applied to it.
+#include "common.glsl"
+
+layout(location = 0) in vec3 inPosition;
+layout(location = 1) in vec3 inNormal;
+layout(location = 2) in uvec4 inJoints;
+layout(location = 3) in vec4 inWeights;
+
+layout(location = 0) out vec3 vWorldPos;
+layout(location = 1) out vec3 vNormal;
+layout(location = 2) flat out uint vInstance;
+
+void main() {
+    Instance inst = instances[gl_InstanceIndex];
+    vec3 world = vec3(0.0);
+    vec3 normal = vec3(0.0);
+    // All four slots every time: unused ones have weight 0, and a loop
+    // without a branch keeps lavapipe's vertex lanes together.
+    for (int k = 0; k < 4; ++k) {
+        JointTransform j = joints[inst.paletteOffset + inJoints[k]];
+        world += inWeights[k] * (j.position.xyz + rotateByQuat(j.rotation, inPosition));
+        normal += inWeights[k] * rotateByQuat(j.rotation, inNormal);
+    }
+    vWorldPos = world;
+    vNormal = normal;
+    vInstance = uint(gl_InstanceIndex);
+    gl_Position = frame.viewProj * vec4(world, 1.0);
+}
