@@ -17,6 +17,12 @@ SceneStage::SceneStage(LoadedScene scene) : loaded_(std::move(scene)) {
     shownIndex_.reserve(n);
 }
 
+std::vector<const Skeleton*> SceneStage::skeletons() const {
+    std::vector<const Skeleton*> out;
+    for (int c = 0; c < characterCount(); ++c) out.push_back(&skeleton(c));
+    return out;
+}
+
 glm::vec3 SceneStage::tint(int c) const {
     return render::teamColor(loaded_.scene.characters[static_cast<std::size_t>(c)].side * 3 + c % 3);
 }

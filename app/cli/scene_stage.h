@@ -22,6 +22,9 @@ public:
     const sim::ActionLibrary& library() const { return loaded_.session->library; }
     int characterCount() const { return static_cast<int>(loaded_.scene.characters.size()); }
     double duration() const { return loaded_.scene.duration; }
+    const Skeleton& skeleton(int c) const { return poser_->skeleton(c); }
+    // Every character's skeleton, in character order (for --rig).
+    std::vector<const Skeleton*> skeletons() const;
 
     // Poses everyone at t (s). Labels read "name: action" when `labels`; the
     // selected character (-1: none) is highlighted.

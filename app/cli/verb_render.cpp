@@ -9,6 +9,9 @@
 //       a planned scene (frames at 30 per second of scene time): every
 //       character posed with transitions, paths and checkpoints, hit flashes
 //
+//   --rig FILE draws the characters as a skinned rig (glTF/GLB, FBX, ...)
+//   instead of capsules; its bones are matched to the joints by name.
+//
 // Frames come from a motion stage (takes) or from the scene poser (scenes).
 #include <algorithm>
 #include <charconv>
@@ -28,6 +31,7 @@
 #include "fray/core/kinematics.h"
 #include "fray/sim/scene.h"
 #include "prep_session.h"
+#include "rig_setup.h"
 #include "scene_stage.h"
 #include "sim_session.h"
 #include "verbs.h"
@@ -58,6 +62,7 @@ struct RenderArgs {
     bool fast = false;
     bool validate = false;
     bool quiet = false;
+    std::string rig;
     ImportFlags flags;
 };
 
@@ -271,6 +276,16 @@ Status ensureDir(const std::string& dir) {
     return {};
 }
 
+// The --rig file bound to the skeletons (none without --rig); warnings on
+// stderr unless quiet.
+Result<SkeletonRigs> loadRigOption(const RenderArgs& a, const std::vector<const Skeleton*>& skeletons) {
+    if (a.rig.empty()) return SkeletonRigs{};
+    auto rigs = loadRigs(a.rig, skeletons);
+    if (rigs && !a.quiet)
+        for (const std::string& w : rigs->warnings) std::fprintf(stderr, "fray-cli: warning: %s\n", w.c_str());
+    return rigs;
+}
+
 std::string frameFile(const std::string& dir, const char* prefix, int number) {
     char name[64];
     std::snprintf(name, sizeof name, "%s_%06d.png", prefix, number);
@@ -291,9 +306,11 @@ void runScene(const RenderArgs& a, const FrameRange& range, std::pair<int, int> 
                         std::to_string(frames - 1) + ")",
                     2);
     const int first = range.first, last = range.last.value_or(frames - 1);
+    SceneStage stage(std::move(*loaded));
+    const auto rigs = loadRigOption(a, stage.skeletons());
+    if (!rigs) return fail(rigs.error().message);
     if (Status s = ensureDir(a.out); !s) return fail(s.error().message);
 
-    SceneStage stage(std::move(*loaded));
     const sim::Scene& scene = stage.scene();
     const std::size_t n = scene.characters.size();
     // Fixed framing of the whole range.
@@ -333,6 +350,7 @@ void runScene(const RenderArgs& a, const FrameRange& range, std::pair<int, int> 
     ropt.quality = a.fast ? render::Quality::Fast : render::Quality::High;
     auto renderer = render::Renderer::create(*device, ropt);
     if (!renderer) return fail(renderer.error().message);
+    if (Status s = applyRigs(*rigs, **renderer); !s) return fail(s.error().message);
 
     FrameDescription frame;
     frame.settings.shadows = !a.noShadows;
@@ -406,6 +424,10 @@ void run(const RenderArgs& a) {
     }
     const int first = range->first;
     const int last = range->last.value_or(longest - 1);
+    std::vector<const Skeleton*> skeletons;
+    for (const Clip& c : *clips) skeletons.push_back(&c.motion->skeleton());
+    const auto rigs = loadRigOption(a, skeletons);
+    if (!rigs) return fail(rigs.error().message);
     if (Status s = ensureDir(a.out); !s) return fail(s.error().message);
 
     render::DeviceOptions dopt;
@@ -426,6 +448,7 @@ void run(const RenderArgs& a) {
     ropt.quality = a.fast ? render::Quality::Fast : render::Quality::High;
     auto renderer = render::Renderer::create(*device, ropt);
     if (!renderer) return fail(renderer.error().message);
+    if (Status s = applyRigs(*rigs, **renderer); !s) return fail(s.error().message);
     const float aspect = static_cast<float>(size->first) / static_cast<float>(size->second);
 
     FrameDescription frame;
@@ -543,7 +566,10 @@ void registerRender(CLI::App& app) {
     cmd->add_option("--msaa", a->msaa, "Multisampling (1, 2, 4, 8; clamped to the device; default 4, or 1 with --fast)");
     cmd->add_flag("--fast", a->fast, "Viewport quality: no MSAA, blob shadows instead of the shadow map, lower-poly bodies");
     cmd->add_flag("--validate", a->validate, "Vulkan validation layers on; any message fails the run (exit 3)");
-    cmd->add_flag("--quiet", a->quiet, "No progress on stderr");
+    cmd->add_flag("--quiet", a->quiet, "No progress (or rig warnings) on stderr");
+    cmd->add_option("--rig", a->rig,
+                    "Draw the characters as this skinned rig (glTF/GLB, FBX, ...) instead of capsules; its bones are matched "
+                    "to the motion's joints by name (e.g. a GLB from 'fray-cli export')");
     addImportFlags(cmd, a->flags);
     cmd->callback([a] { run(*a); });
 }
