@@ -3,7 +3,10 @@
 // composed scene (*.frayscene); with no argument, the demo project the build
 // writes.
 //
-//   fray-play [MOTION... | PROJECT.frayproj | SCENE.frayscene] [--frames N] [--screenshot out.png]
+//   fray-play [MOTION... | PROJECT.frayproj | SCENE.frayscene] [--frames N] [--screenshot out.png] [--rig FILE]
+//
+// --rig FILE draws the characters as a skinned rig (glTF/GLB, FBX, ...) instead
+// of capsules.
 //
 // --frames N draws N frames and exits 0 (CI runs it under xvfb-run).
 #define GLFW_INCLUDE_VULKAN
@@ -25,6 +28,7 @@
 #include "fray/render/presenter.h"
 #include "fray/render/renderer.h"
 #include "prep_session.h"
+#include "rig_setup.h"
 #include "scene_stage.h"
 #include "takes.h"
 
@@ -49,6 +53,7 @@ struct Args {
     std::string quality = "auto";
     bool validate = false;
     bool noVsync = false;
+    std::string rig;
 };
 
 // Mouse: left drag orbits, right or middle drag pans, the wheel zooms.
@@ -91,6 +96,9 @@ int main(int argc, char** argv) {
     cli.add_option("--quality", args.quality, "auto, fast or high (auto: fast on a CPU Vulkan device)")->capture_default_str();
     cli.add_flag("--validate", args.validate, "Vulkan validation layers on; any message makes the exit code 3");
     cli.add_flag("--no-vsync", args.noVsync, "Present as fast as possible");
+    cli.add_option("--rig", args.rig,
+                   "Draw the characters as this skinned rig (glTF/GLB, FBX, ...) instead of capsules; bones are matched to "
+                   "joints by name");
     CLI11_PARSE(cli, argc, argv);
     if (args.frames < 0) return fail("--frames must be >= 0", 2);
     int width = 1280, height = 720;
@@ -121,6 +129,16 @@ int main(int argc, char** argv) {
         auto takes = app::loadTakes(args.inputs);
         if (!takes) return fail(takes.error().message);
         takeList = std::move(*takes);
+    }
+    // The rig, bound to every skeleton on show, before any window opens.
+    cli::SkeletonRigs rigs;
+    if (!args.rig.empty()) {
+        std::vector<const Skeleton*> skeletons = scene ? scene->skeletons() : std::vector<const Skeleton*>{};
+        for (const app::LoadedTake& take : takeList) skeletons.push_back(&take.motion->skeleton());
+        auto loaded = cli::loadRigs(args.rig, skeletons);
+        if (!loaded) return fail(loaded.error().message);
+        for (const std::string& w : loaded->warnings) std::fprintf(stderr, "fray-play: warning: %s\n", w.c_str());
+        rigs = std::move(*loaded);
     }
 
     // Window.
@@ -165,6 +183,7 @@ int main(int argc, char** argv) {
     ropt.quality = quality;
     auto renderer = render::Renderer::create(*device, ropt);
     if (!renderer) return fail(renderer.error().message);
+    if (Status s = cli::applyRigs(rigs, **renderer); !s) return fail(s.error().message);
     render::PresenterOptions popt;
     popt.vsync = !args.noVsync && args.frames == 0;
     auto presenter = render::Presenter::create(*device, fbw, fbh, popt);
