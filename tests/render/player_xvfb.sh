@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # fray-play under Xvfb: a fixed number of frames with validation on, a
 # screenshot of the window as shown that is neither blank nor uniform, for
-# takes and for a composed scene, and clear errors without a display or for a
-# broken scene file.
+# takes, for a composed scene and for the scene with a skinned rig, and clear
+# errors without a display or for a broken scene or rig file.
 # Usage: player_xvfb.sh FRAY_PLAY IMAGE_CHECK DEMO_LIBRARY_DIR OUT_DIR FRAY_CLI
 set -uo pipefail
 play=$1 check=$2 lib=$3 out=$4 cli=$5
@@ -42,6 +42,23 @@ fi
 grep -q "drew 12 frames" "$out/scene.log" || bad "scene: expected 12 frames: $(cat "$out/scene.log")"
 grep -q "validation" "$out/scene.log" && bad "scene: validation messages: $(cat "$out/scene.log")"
 "$check" "$out/scene.png" 640 360 || bad "scene screenshot check"
+# The same scene with a skinned rig (the scene exported as GLB) instead of
+# capsules; a broken rig file is one clear line and exit code 1, before any window.
+"$cli" export "$out/fight.frayscene" --format glb --out "$out/rig" -q >"$out/export.log" 2>&1 || bad "export: $(cat "$out/export.log")"
+if ! timeout 120 "$play" "$out/fight.frayscene" --rig "$out/rig/fight.glb" --frames 6 --size 640x360 --validate \
+     --screenshot "$out/rig.png" >"$out/rig.log" 2>&1; then
+  bad "fray-play with a rig failed: $(cat "$out/rig.log")"
+fi
+grep -q "drew 6 frames" "$out/rig.log" || bad "rig: expected 6 frames: $(cat "$out/rig.log")"
+grep -q "validation" "$out/rig.log" && bad "rig: validation messages: $(cat "$out/rig.log")"
+"$check" "$out/rig.png" 640 360 || bad "rig screenshot check"
+head -c 1000 "$out/rig/fight.glb" > "$out/cut.glb"
+rc=0
+"$play" "$lib/walking.bvh" --rig "$out/cut.glb" --frames 1 >"$out/badrig.log" 2>&1 || rc=$?
+(( rc == 1 )) || bad "broken rig: exit code $rc"
+grep -q "^fray-play: $out/cut.glb: Assimp cannot read the file" "$out/badrig.log" || bad "broken rig message: $(cat "$out/badrig.log")"
+(( $(grep -c "" "$out/badrig.log") == 1 )) || bad "broken rig: expected one line: $(cat "$out/badrig.log")"
+
 # A broken scene file: a clear message, no crash.
 expect_broken_scene "$out" "$play" --frames 1
 
