@@ -7,6 +7,7 @@
 #include <cctype>
 #include <cmath>
 #include <iterator>
+#include <stdexcept>
 #include <string>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -15,6 +16,7 @@
 #include "fray/core/kinematics.h"
 #include "fray/demo/demo_actor.h"
 #include "fray/io/bvh.h"
+#include "assimp_errors.h"  // core/io
 #include "fray/io/rig_import.h"
 #include "rig_fixture.h"
 #include "rig.h"  // core/export/src: the exporter's bind pose
@@ -173,6 +175,13 @@ TEST(RigImport, BonesThatMatchNoJointAreNamed) {
     renamed.names[static_cast<std::size_t>(sk.find("Head"))] = "Antenna";
     writeExportedRig(renamed, dir / "odd.glb", false);
     expectError(loadRig(dir / "odd.glb", sk), dir / "odd.glb", {"2 bones match no joint", "'Tail'", "'Antenna'", "'Hips'"});
+}
+
+TEST(RigImport, AssimpsInternalChecksThrowInsteadOfAborting) {
+    // Debian's Assimp has its assertions on; fray_io replaces the handler
+    // (core/io/assimp_errors.cpp) so a failed one throws, which Assimp's
+    // importer reports as a read error, instead of calling abort().
+    EXPECT_THROW(Assimp::aiAssertViolation("out_idx != nullptr", "FBXConverter.cpp", 1523), std::runtime_error);
 }
 
 TEST(RigImport, UnreadableFilesGiveAssimpsReason) {

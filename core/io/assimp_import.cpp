@@ -23,6 +23,8 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/vec3.hpp>
 
+#include "assimp_errors.h"
+
 namespace fray {
 namespace {
 
@@ -53,13 +55,6 @@ glm::dquat toGlm(const aiQuaternion& q) {
     out.y = static_cast<double>(q.y);
     out.z = static_cast<double>(q.z);
     return glm::normalize(out);
-}
-
-std::string oneLine(std::string s) {
-    for (char& c : s)
-        if (c == '\n' || c == '\r' || c == '\t') c = ' ';
-    while (!s.empty() && s.back() == ' ') s.pop_back();
-    return s;
 }
 
 std::string inQuotes(std::string_view s) { return "'" + std::string(s) + "'"; }
@@ -126,10 +121,7 @@ public:
             // The BVH loader would otherwise build a mesh of the skeleton we never use.
             importer.SetPropertyBool(AI_CONFIG_IMPORT_NO_SKELETON_MESHES, true);
             scene = importer.ReadFile(file, 0);
-            if (!scene) {
-                const std::string why = oneLine(importer.GetErrorString());
-                return makeError(file + ": Assimp cannot read the file: " + (why.empty() ? "unknown error" : why));
-            }
+            if (!scene) return makeError(file + ": Assimp cannot read the file: " + assimpErrorText(importer));
             if (preservePivots || !needsPivotNodes(scene)) break;
             // Some channels animate pivot helpers that Assimp baked away; import
             // again with the helpers kept so those tracks have nodes to drive.

@@ -26,19 +26,13 @@
 #include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
 
+#include "assimp_errors.h"
 #include "fray/core/body_mesh.h"
 
 namespace fray {
 namespace {
 
 constexpr std::size_t kNamesShown = 5;
-
-std::string oneLine(std::string s) {
-    for (char& c : s)
-        if (c == '\n' || c == '\r' || c == '\t') c = ' ';
-    while (!s.empty() && s.back() == ' ') s.pop_back();
-    return s;
-}
 
 std::string lower(std::string_view s) {
     std::string out(s);
@@ -153,6 +147,14 @@ Frame rigidPart(const glm::dmat4& m) {
     return f;
 }
 
+// A matrix that cannot be inverted: a zero or non-finite axis, or axes in one
+// plane (relative to their lengths, so tiny units are not mistaken for it).
+bool singular(const glm::dmat4& m) {
+    const double a = glm::length(glm::dvec3(m[0])), b = glm::length(glm::dvec3(m[1])), c = glm::length(glm::dvec3(m[2]));
+    const double det = glm::determinant(glm::dmat3(m));
+    return !std::isfinite(det) || !(a > 0.0 && b > 0.0 && c > 0.0) || std::abs(det) < 1e-9 * a * b * c;
+}
+
 // Global transform of the node holding mesh `index`, if any.
 bool meshNodeTransform(const aiNode* node, unsigned index, const glm::dmat4& parent, glm::dmat4& out) {
     const glm::dmat4 global = parent * toGlm(node->mTransformation);
@@ -192,14 +194,14 @@ public:
         // A motion file is not a rig: no stick-figure mesh for skeletons without one (BVH).
         importer.SetPropertyBool(AI_CONFIG_IMPORT_NO_SKELETON_MESHES, true);
         const aiScene* scene = importer.ReadFile(file_, 0);
-        if (!scene) return fail("Assimp cannot read the file: " + assimpError(importer));
+        if (!scene) return fail("Assimp cannot read the file: " + assimpErrorText(importer));
         // Said before validation, which would call a scene without meshes invalid.
         if (scene->mNumMeshes == 0 || !scene->mMeshes) return fail("no mesh in the file (a rig needs a skinned mesh)");
         // Validation turns inconsistent files (indices past the vertices, bad
         // weights) into errors before we read them.
         scene = importer.ApplyPostProcessing(aiProcess_ValidateDataStructure | aiProcess_Triangulate | aiProcess_GenSmoothNormals |
                                              aiProcess_PopulateArmatureData);
-        if (!scene) return fail("Assimp cannot read the file: " + assimpError(importer));
+        if (!scene) return fail("Assimp cannot read the file: " + assimpErrorText(importer));
         if (Status s = pickMeshes(*scene); !s) return s.error();
         if (Status s = mapBones(); !s) return s.error();
         if (Status s = placeMeshes(*scene); !s) return s.error();
@@ -210,11 +212,6 @@ public:
 
 private:
     Error fail(const std::string& what) const { return makeError(file_ + ": " + what); }
-
-    static std::string assimpError(const Assimp::Importer& importer) {
-        const std::string why = oneLine(importer.GetErrorString());
-        return why.empty() ? std::string("unknown error") : why;
-    }
 
     // The skinned meshes of the first armature (bone->mArmature, from
     // aiProcess_PopulateArmatureData; meshes without it form one group).
@@ -302,7 +299,7 @@ private:
                 const int j = boneJoint_[m][b];
                 if (j < 0 || known[static_cast<std::size_t>(j)]) continue;
                 const glm::dmat4 offset = toGlm(mesh->mBones[b]->mOffsetMatrix);
-                if (std::abs(glm::determinant(offset)) < 1e-12)
+                if (singular(offset))
                     return fail("bone '" + std::string(mesh->mBones[b]->mName.C_Str()) + "' has a singular offset matrix");
                 bindFrame_[static_cast<std::size_t>(j)] = toModel * glm::inverse(offset);
                 known[static_cast<std::size_t>(j)] = 1;

@@ -1,0 +1,17 @@
+#pragma once
+// What fray_io's importers (motions, rigs) say when Assimp fails, and how a
+// failed internal check of Assimp becomes such a failure instead of an abort.
+#include <string>
+
+namespace Assimp {
+class Importer;
+// Assimp's assertion handler, replaced for the whole program in assimp_errors.cpp.
+void aiAssertViolation(const char* failedExpression, const char* file, int line);
+}  // namespace Assimp
+
+namespace fray {
+
+// The importer's error text on one line ("unknown error" when it gave none).
+std::string assimpErrorText(const Assimp::Importer& importer);
+
+}  // namespace fray
