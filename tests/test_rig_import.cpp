@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <iterator>
 #include <stdexcept>
 #include <string>
@@ -182,6 +183,29 @@ TEST(RigImport, AssimpsInternalChecksThrowInsteadOfAborting) {
     // (core/io/assimp_errors.cpp) so a failed one throws, which Assimp's
     // importer reports as a read error, instead of calling abort().
     EXPECT_THROW(Assimp::aiAssertViolation("out_idx != nullptr", "FBXConverter.cpp", 1523), std::runtime_error);
+}
+
+TEST(RigImport, DamagedFbxIsAnErrorNotACrash) {
+    // One byte changed in Fray's FBX of the demo skeleton: with the exporter
+    // of this writing, each of these makes Assimp's FBX converter fail an
+    // internal check (FBXConverter.cpp:1523), which used to abort the process.
+    TempDir dir("fray_rig_test_");
+    const Skeleton& sk = demoSkeleton();
+    writeExportedRig(sk, dir / "whole.fbx", true);
+    std::ifstream in(dir / "whole.fbx", std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    for (const auto& [at, value] : {std::pair<std::size_t, int>{191563, 130}, {208556, 40}, {200351, 201}}) {
+        if (at >= bytes.size()) continue;
+        std::string damaged = bytes;
+        damaged[at] = static_cast<char>(value);
+        const fs::path file = dir / ("damaged" + std::to_string(at) + ".fbx");
+        writeBytes(file, damaged);
+        const auto rig = loadRig(file, sk);  // returns, whatever the file holds
+        if (!rig.ok()) {
+            std::printf("%s\n", rig.error().message.c_str());
+            expectError(rig, file, {"Assimp cannot read the file: "});
+        }
+    }
 }
 
 TEST(RigImport, UnreadableFilesGiveAssimpsReason) {
