@@ -19,7 +19,7 @@ Status checkVertex(const SkinnedVertex& v, std::size_t index, int jointCount) {
     for (std::size_t k = 0; k < 4; ++k) {
         const float w = v.weights[static_cast<glm::length_t>(k)];
         if (!std::isfinite(w) || w < 0.0f) return makeError(vertexError(index, "weight " + std::to_string(k) + " is not a finite non-negative number"));
-        if (w > 0.0f && v.joints[k] >= jointCount)
+        if (v.joints[k] >= jointCount)
             return makeError(vertexError(index, "joint " + std::to_string(v.joints[k]) + " is out of range (the skeleton has " +
                                                     std::to_string(jointCount) + " joints)"));
         sum += w;

@@ -19,9 +19,12 @@ void main() {
     Instance inst = instances[gl_InstanceIndex];
     vec3 world = vec3(0.0);
     vec3 normal = vec3(0.0);
-    // All four slots every time: unused ones have weight 0, and a loop
-    // without a branch keeps lavapipe's vertex lanes together.
+    // Unused slots (weight 0) are skipped: lavapipe runs a block only when
+    // some vertex of its batch needs it, which made a body bound rigidly (one
+    // joint per vertex) as cheap as the capsules instead of 45 % dearer
+    // (docs/RENDERER.md, Skinning).
     for (int k = 0; k < 4; ++k) {
+        if (inWeights[k] <= 0.0) continue;
         JointTransform j = joints[inst.paletteOffset + inJoints[k]];
         world += inWeights[k] * (j.position.xyz + rotateByQuat(j.rotation, inPosition));
         normal += inWeights[k] * rotateByQuat(j.rotation, inNormal);

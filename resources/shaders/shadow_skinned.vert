@@ -12,6 +12,7 @@ void main() {
     Instance inst = instances[gl_InstanceIndex];
     vec3 world = vec3(0.0);
     for (int k = 0; k < 4; ++k) {
+        if (inWeights[k] <= 0.0) continue;  // unused slot (see body_skinned.vert)
         JointTransform j = joints[inst.paletteOffset + inJoints[k]];
         world += inWeights[k] * (j.position.xyz + rotateByQuat(j.rotation, inPosition));
     }

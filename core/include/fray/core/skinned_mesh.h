@@ -37,7 +37,7 @@ RigidTransform invert(const RigidTransform& t);
 struct SkinnedVertex {
     glm::vec3 position;                  // bind space, skeleton units (metres)
     glm::vec3 normal;                    // bind space, unit length
-    std::array<std::uint16_t, 4> joints; // skeleton joint indices; unused slots 0 with weight 0
+    std::array<std::uint16_t, 4> joints; // skeleton joint indices (all in range); unused slots 0 with weight 0
     glm::vec4 weights;                   // descending, sum 1
 };
 static_assert(sizeof(SkinnedVertex) == 48);
