@@ -3,7 +3,10 @@
 // argument it opens the demo scene README command (1) writes, or the demo
 // project's takes when that scene does not exist yet.
 //
-//   fray [SCENE.frayscene | PROJECT.frayproj | MOTION...] [--quit-after N] [--screenshot out.png]
+//   fray [SCENE.frayscene | PROJECT.frayproj | MOTION...] [--rig FILE] [--quit-after N] [--screenshot out.png]
+//
+// --rig FILE draws the characters as a skinned rig (glTF/GLB, FBX, ...)
+// instead of capsules (app/cli/rig_setup.h, shared with fray-play).
 #include <xcb/xcb.h>
 
 #include <CLI/CLI.hpp>
@@ -16,6 +19,7 @@
 
 #include "fray/render/vulkan_device.h"
 #include "main_window.h"
+#include "rig_setup.h"
 #include "scene_stage.h"
 #include "takes.h"
 #include "viewport.h"
@@ -55,7 +59,7 @@ std::string displayProblem() {
 int main(int argc, char** argv) {
     std::vector<std::string> inputs;
     int quitAfter = 0;
-    std::string screenshot, viewportShot, quality = "auto";
+    std::string screenshot, viewportShot, quality = "auto", rig;
     bool validate = false;
     {
         CLI::App cli{"fray: the Fray editor"};
@@ -64,6 +68,9 @@ int main(int argc, char** argv) {
         cli.add_option("--quit-after", quitAfter, "Quit after this many frames were shown (for tests)");
         cli.add_option("--screenshot", screenshot, "Before quitting, write the window to this PNG");
         cli.add_option("--viewport-screenshot", viewportShot, "Before quitting, write the viewport alone to this PNG");
+        cli.add_option("--rig", rig,
+                       "Draw the characters as this skinned rig (glTF/GLB, FBX, ...) instead of capsules; bones are "
+                       "matched to the motion's joints by name");
         cli.add_option("--quality", quality, "auto, fast or high (auto: fast on a CPU Vulkan device)")->capture_default_str();
         cli.add_flag("--validate", validate, "Vulkan validation layers on; any message makes the exit code 3");
         CLI11_PARSE(cli, argc, argv);
@@ -100,6 +107,16 @@ int main(int argc, char** argv) {
         if (!loadedTakes) return fail(loadedTakes.error().message);
         takes = std::move(*loadedTakes);
     }
+    // The rig, bound to every skeleton on show, before any window opens.
+    fray::cli::SkeletonRigs rigs;
+    if (!rig.empty()) {
+        std::vector<const fray::Skeleton*> skeletons = scene ? scene->skeletons() : std::vector<const fray::Skeleton*>{};
+        for (const fray::app::LoadedTake& take : takes) skeletons.push_back(&take.motion->skeleton());
+        auto loaded = fray::cli::loadRigs(rig, skeletons);
+        if (!loaded) return fail(loaded.error().message);
+        for (const std::string& w : loaded->warnings) std::fprintf(stderr, "fray: warning: %s\n", w.c_str());
+        rigs = std::move(*loaded);
+    }
     const std::string title = std::filesystem::path(inputs.front()).filename().string() +
                               (inputs.size() > 1 ? " (+" + std::to_string(inputs.size() - 1) + ")" : "");
 
@@ -132,6 +149,10 @@ int main(int argc, char** argv) {
         if (!qvi.create()) return fail("Qt could not adopt the Vulkan instance");
         auto* viewport = new fray::editor::Viewport(*device, &qvi);  // owned by its window container
         if (fray::Status s = viewport->init(q); !s) {
+            delete viewport;
+            return fail(s.error().message);
+        }
+        if (fray::Status s = fray::cli::applyRigs(rigs, *viewport->renderer()); !s) {
             delete viewport;
             return fail(s.error().message);
         }

@@ -2,9 +2,9 @@
 # fray (the Qt editor) under Xvfb: opens the demo scene or project with no
 # argument, shows N frames with validation on, and writes a screenshot of the
 # window and one of the viewport (the renderer's own readback) that are neither
-# blank nor uniform; plays a composed scene the same way; clear errors for a
-# broken scene, without a display, with an unreachable X server and on a Qt
-# platform without Vulkan windows.
+# blank nor uniform; plays a composed scene the same way, and with a skinned
+# rig; clear errors for a broken scene or rig, without a display, with an
+# unreachable X server and on a Qt platform without Vulkan windows.
 # Usage: editor_xvfb.sh FRAY IMAGE_CHECK DEMO_LIBRARY_DIR OUT_DIR FRAY_CLI
 set -uo pipefail
 fray=$1 check=$2 lib=$3 out=$4 cli=$5
@@ -38,6 +38,20 @@ fi
 grep -q "drew 12 frames" "$out/scene.log" || bad "scene: expected 12 frames: $(cat "$out/scene.log")"
 grep -q "validation" "$out/scene.log" && bad "scene: validation messages: $(cat "$out/scene.log")"
 "$check" "$out/scene.png" 320 200 || bad "scene viewport screenshot check"
+# The same scene drawn with a skinned rig (the scene exported as GLB); a
+# truncated rig is one clear line and exit code 1, before any window.
+"$cli" export "$out/fight.frayscene" --format glb --out "$out/rig" -q >"$out/export.log" 2>&1 || bad "export: $(cat "$out/export.log")"
+if ! timeout 120 "$fray" "$out/fight.frayscene" --rig "$out/rig/fight.glb" --quit-after 6 --validate \
+     --viewport-screenshot "$out/rig.png" >"$out/rig.log" 2>&1; then
+  bad "fray with a rig failed: $(cat "$out/rig.log")"
+fi
+grep -q "validation" "$out/rig.log" && bad "rig: validation messages: $(cat "$out/rig.log")"
+"$check" "$out/rig.png" 320 200 || bad "rig viewport screenshot check"
+head -c 1000 "$out/rig/fight.glb" > "$out/cut.glb"
+rc=0
+"$fray" "$lib/walking.bvh" --rig "$out/cut.glb" --quit-after 1 >"$out/badrig.log" 2>&1 || rc=$?
+(( rc == 1 )) || bad "broken rig: exit code $rc"
+grep -q "^fray: $out/cut.glb: Assimp cannot read the file" "$out/badrig.log" || bad "broken rig message: $(cat "$out/badrig.log")"
 # A broken scene file: a clear message naming it, exit code 1, no crash.
 expect_broken_scene "$out" "$fray" --quit-after 1
 
