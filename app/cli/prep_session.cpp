@@ -160,7 +160,7 @@ Result<ProjectGraph> projectGraph(Session& s, const std::string& presetOverride,
     out.cached = s.cache.graph && s.cache.graph->key == key && s.cache.graph->startNode.size() == actions.size();
     if (out.cached) {
         out.graph.nodeCount = s.cache.graph->nodeCount;
-        prep::connectNodes(out.graph, s.cache.graph->startNode, s.cache.graph->endNode);
+        prep::connectNodes(out.graph, s.cache.graph->startNode, s.cache.graph->endNode, prep::naturalSuccessors(actions));
         return out;
     }
     auto graph = prep::buildMotionGraph(motions, joints, actions, out.options, progress);

@@ -194,15 +194,17 @@ void runGraph(const GraphArgs& a) {
         j["largest_scc_actions"] = st.largestSccActions;
         j["scc_share"] = st.sccShare;
         j["dead_ends"] = st.deadEnds;
+        j["capture_continuations_added"] = graph.naturalEdges;
         j["from_cache"] = cached;
         j["start_node"] = graph.startNode;
         j["end_node"] = graph.endNode;
         std::printf("%s\n", j.dump(2).c_str());
     } else {
         std::printf("motion graph (%s, threshold %g): %d nodes, %d edges (actions), out-degree mean %.2f max %d,\n"
-                    "largest strongly connected component: %d actions (%.1f %%), dead ends %d%s\n",
+                    "largest strongly connected component: %d actions (%.1f %%), dead ends %d,\n"
+                    "capture continuations added to Next(): %d%s\n",
                     presetName.c_str(), options.threshold, st.nodes, st.edges, st.meanOutDegree, st.maxOutDegree,
-                    st.largestSccActions, 100.0 * st.sccShare, st.deadEnds, cached ? " (cached)" : "");
+                    st.largestSccActions, 100.0 * st.sccShare, st.deadEnds, graph.naturalEdges, cached ? " (cached)" : "");
     }
     if (cached) return;
     if (auto w = prep::writeCache(s->file, s->cache); !w) {

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <numeric>
 #include <queue>
+#include <set>
 
 #include "fray/core/kinematics.h"
 #include "fray/io/import.h"
@@ -199,44 +200,79 @@ TEST(MotionGraph, NodesNextAndComponentsAgreeWithBruteForce) {
         EXPECT_LT(poseDistance(poseFeature(m, j, r.lastFrame), g.centres[static_cast<std::size_t>(g.endNode[a])],
                                GraphWeights::fighting()),
                   threshold + 1e-4);
+        // Next: the actions starting at its end node, and its continuation in the capture.
         std::vector<int> expected;
-        for (std::size_t b = 0; b < n; ++b)
-            if (g.startNode[b] == g.endNode[a]) expected.push_back(static_cast<int>(b));
+        for (std::size_t b = 0; b < n; ++b) {
+            const ActionRef& rb = in.actions[b];
+            if (g.startNode[b] == g.endNode[a] || (rb.motion == r.motion && rb.firstFrame == r.lastFrame + 1))
+                expected.push_back(static_cast<int>(b));
+        }
         EXPECT_EQ(g.next[a], expected) << "action " << a;
         EXPECT_EQ(g.next[a].empty(), expected.empty());
     }
     EXPECT_EQ(g.stats.deadEnds,
               std::count_if(g.next.begin(), g.next.end(), [](const auto& next) { return next.empty(); }));
 
-    // Components by mutual reachability (BFS from every node).
-    const auto nodes = static_cast<std::size_t>(g.nodeCount);
-    std::vector<std::vector<int>> adj(nodes);
-    for (std::size_t a = 0; a < n; ++a) adj[static_cast<std::size_t>(g.startNode[a])].push_back(g.endNode[a]);
-    std::vector<std::vector<std::uint8_t>> reach(nodes, std::vector<std::uint8_t>(nodes, 0));
-    for (std::size_t s = 0; s < nodes; ++s) {
+    // Components by mutual reachability over the action graph (BFS from
+    // every action; an action reaches itself only along a cycle).
+    std::vector<std::vector<std::uint8_t>> reach(n, std::vector<std::uint8_t>(n, 0));
+    for (std::size_t s = 0; s < n; ++s) {
         std::queue<int> q;
-        q.push(static_cast<int>(s));
-        reach[s][s] = 1;
+        for (int b : g.next[s])
+            if (!reach[s][static_cast<std::size_t>(b)]) reach[s][static_cast<std::size_t>(b)] = 1, q.push(b);
         while (!q.empty()) {
             const int u = q.front();
             q.pop();
-            for (int v : adj[static_cast<std::size_t>(u)])
+            for (int v : g.next[static_cast<std::size_t>(u)])
                 if (!reach[s][static_cast<std::size_t>(v)]) reach[s][static_cast<std::size_t>(v)] = 1, q.push(v);
         }
     }
     int best = 0;
     std::vector<std::uint8_t> bestMembers;
-    for (std::size_t rep = 0; rep < nodes; ++rep) {
+    for (std::size_t rep = 0; rep < n; ++rep) {
+        if (!reach[rep][rep]) continue;
         std::vector<std::uint8_t> inside(n, 0);
         int count = 0;
-        for (std::size_t a = 0; a < n; ++a) {
-            const auto u = static_cast<std::size_t>(g.startNode[a]), v = static_cast<std::size_t>(g.endNode[a]);
-            if (reach[rep][u] && reach[u][rep] && reach[rep][v] && reach[v][rep]) inside[a] = 1, ++count;
-        }
+        for (std::size_t a = 0; a < n; ++a)
+            if (reach[rep][a] && reach[a][rep]) inside[a] = 1, ++count;
         if (count > best) best = count, bestMembers = inside;
     }
     EXPECT_EQ(g.stats.largestSccActions, best);
     EXPECT_EQ(g.inLargestScc, bestMembers);
+}
+
+// The capture's own continuation is always a transition: without it,
+// clustering put the two sides of some cuts (a frame apart) in different
+// nodes, and every running turn of the demo was a dead end.
+TEST(MotionGraph, CaptureContinuationsAreAlwaysEdges) {
+    const auto& in = demoGraphInput();
+    const MotionGraph& g = demoGraph();
+    const std::vector<int> succ = naturalSuccessors(in.actions);
+    int continued = 0;
+    for (std::size_t a = 0; a < succ.size(); ++a) {
+        if (succ[a] < 0) continue;
+        ++continued;
+        EXPECT_TRUE(std::binary_search(g.next[a].begin(), g.next[a].end(), succ[a])) << "action " << a;
+        EXPECT_EQ(in.actions[static_cast<std::size_t>(succ[a])].firstFrame, in.actions[a].lastFrame + 1);
+    }
+    // Every action but the last of each take continues.
+    std::set<int> takes;
+    for (const ActionRef& r : in.actions) takes.insert(r.motion);
+    EXPECT_EQ(continued, static_cast<int>(in.actions.size() - takes.size()));
+    // Clustering alone left some out (the check can fail), and adding them
+    // grows the largest strongly connected set.
+    MotionGraph nodesOnly;
+    nodesOnly.nodeCount = g.nodeCount;
+    connectNodes(nodesOnly, g.startNode, g.endNode);
+    EXPECT_GT(g.naturalEdges, 0);
+    EXPECT_GT(g.stats.largestSccActions, nodesOnly.stats.largestSccActions);
+    EXPECT_LE(g.stats.deadEnds, nodesOnly.stats.deadEnds);
+    RecordProperty("natural_edges", g.naturalEdges);
+    RecordProperty("scc_nodes_only", nodesOnly.stats.largestSccActions);
+    RecordProperty("scc", g.stats.largestSccActions);
+    std::printf("capture continuations added: %d; largest SCC %d -> %d of %zu actions, dead ends %d -> %d\n",
+                g.naturalEdges, nodesOnly.stats.largestSccActions, g.stats.largestSccActions, in.actions.size(),
+                nodesOnly.stats.deadEnds, g.stats.deadEnds);
 }
 
 // The project cache stores only the node of each action's ends; reconnecting
@@ -245,7 +281,7 @@ TEST(MotionGraph, ReconnectingCachedNodesGivesTheSameGraph) {
     const prep::MotionGraph& g = demoGraph();
     prep::MotionGraph r;
     r.nodeCount = g.nodeCount;
-    prep::connectNodes(r, g.startNode, g.endNode);
+    prep::connectNodes(r, g.startNode, g.endNode, prep::naturalSuccessors(demoGraphInput().actions));
     EXPECT_EQ(r.next, g.next);
     EXPECT_EQ(r.inLargestScc, g.inLargestScc);
     EXPECT_EQ(r.stats.largestSccActions, g.stats.largestSccActions);

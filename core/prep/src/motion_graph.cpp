@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <map>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -379,8 +380,8 @@ private:
     std::vector<float> upper_, lower_, dist_;
 };
 
-// Strongly connected components of the node graph (Tarjan, iterative so deep
-// chains cannot overflow the stack). Returns the component of every node.
+// Strongly connected components of a graph (Tarjan, iterative so deep chains
+// cannot overflow the stack). Returns the component of every vertex.
 std::vector<int> stronglyConnected(int nodes, const std::vector<std::vector<int>>& adjacency) {
     std::vector<int> index(static_cast<std::size_t>(nodes), -1), low(index.size(), 0), comp(index.size(), -1);
     std::vector<std::uint8_t> onStack(index.size(), 0);
@@ -506,41 +507,62 @@ double poseDistance(const PoseFeature& a, const PoseFeature& b, const GraphWeigh
     return static_cast<double>(packedDistance(pa.data(), pb.data(), l, Weights(weights)));
 }
 
-void connectNodes(MotionGraph& g, std::vector<int> startNode, std::vector<int> endNode) {
+std::vector<int> naturalSuccessors(std::span<const ActionRef> actions) {
+    std::vector<int> out(actions.size(), -1);
+    std::map<std::pair<int, int>, int> byStart;  // (motion, first frame) -> action
+    for (std::size_t a = 0; a < actions.size(); ++a) byStart.emplace(std::pair{actions[a].motion, actions[a].firstFrame}, static_cast<int>(a));
+    for (std::size_t a = 0; a < actions.size(); ++a) {
+        const auto it = byStart.find({actions[a].motion, actions[a].lastFrame + 1});
+        if (it != byStart.end()) out[a] = it->second;
+    }
+    return out;
+}
+
+void connectNodes(MotionGraph& g, std::vector<int> startNode, std::vector<int> endNode, std::span<const int> successors) {
     g.startNode = std::move(startNode);
     g.endNode = std::move(endNode);
     g.next.clear();
     g.inLargestScc.clear();
     g.stats = {};
+    g.naturalEdges = 0;
     const std::size_t actionCount = g.startNode.size();
     if (actionCount == 0 || g.nodeCount <= 0) return;
     std::vector<std::vector<int>> startsAt(static_cast<std::size_t>(g.nodeCount));
-    std::vector<std::vector<int>> adjacency(static_cast<std::size_t>(g.nodeCount));
-    for (std::size_t a = 0; a < actionCount; ++a) {
-        startsAt[static_cast<std::size_t>(g.startNode[a])].push_back(static_cast<int>(a));
-        adjacency[static_cast<std::size_t>(g.startNode[a])].push_back(g.endNode[a]);
-    }
+    for (std::size_t a = 0; a < actionCount; ++a) startsAt[static_cast<std::size_t>(g.startNode[a])].push_back(static_cast<int>(a));
     g.next.resize(actionCount);
-    for (std::size_t a = 0; a < actionCount; ++a) g.next[a] = startsAt[static_cast<std::size_t>(g.endNode[a])];
+    for (std::size_t a = 0; a < actionCount; ++a) {
+        g.next[a] = startsAt[static_cast<std::size_t>(g.endNode[a])];
+        // The capture's own continuation, when clustering put the two sides of
+        // the cut in different nodes.
+        const int s = a < successors.size() ? successors[a] : -1;
+        if (s >= 0 && static_cast<std::size_t>(s) < actionCount && !std::binary_search(g.next[a].begin(), g.next[a].end(), s)) {
+            g.next[a].insert(std::upper_bound(g.next[a].begin(), g.next[a].end(), s), s);
+            ++g.naturalEdges;
+        }
+    }
 
-    const std::vector<int> comp = stronglyConnected(g.nodeCount, adjacency);
-    const int comps = comp.empty() ? 0 : *std::max_element(comp.begin(), comp.end()) + 1;
+    // Strongly connected components of the action graph (a -> every b in
+    // Next(a)). An action alone in its component counts only if it can
+    // follow itself.
+    const std::vector<int> comp = stronglyConnected(static_cast<int>(actionCount), g.next);
+    const int comps = *std::max_element(comp.begin(), comp.end()) + 1;
+    std::vector<int> members(static_cast<std::size_t>(comps), 0);
+    for (std::size_t a = 0; a < actionCount; ++a) ++members[static_cast<std::size_t>(comp[a])];
     std::vector<int> inside(static_cast<std::size_t>(comps), 0);
     for (std::size_t a = 0; a < actionCount; ++a) {
-        const int c = comp[static_cast<std::size_t>(g.startNode[a])];
-        if (c == comp[static_cast<std::size_t>(g.endNode[a])]) ++inside[static_cast<std::size_t>(c)];
+        const auto c = static_cast<std::size_t>(comp[a]);
+        if (members[c] > 1 || std::binary_search(g.next[a].begin(), g.next[a].end(), static_cast<int>(a))) ++inside[c];
     }
     const int largest = static_cast<int>(std::max_element(inside.begin(), inside.end()) - inside.begin());
     g.inLargestScc.resize(actionCount);
     for (std::size_t a = 0; a < actionCount; ++a)
-        g.inLargestScc[a] = comp[static_cast<std::size_t>(g.startNode[a])] == largest &&
-                            comp[static_cast<std::size_t>(g.endNode[a])] == largest;
+        g.inLargestScc[a] = comp[a] == largest && inside[static_cast<std::size_t>(largest)] > 0;
 
     GraphStats& st = g.stats;
     st.nodes = g.nodeCount;
     st.edges = static_cast<int>(actionCount);
     st.meanOutDegree = static_cast<double>(st.edges) / st.nodes;
-    for (const auto& s : startsAt) st.maxOutDegree = std::max(st.maxOutDegree, static_cast<int>(s.size()));
+    for (const auto& v : startsAt) st.maxOutDegree = std::max(st.maxOutDegree, static_cast<int>(v.size()));
     st.largestSccActions = inside[static_cast<std::size_t>(largest)];
     st.sccShare = static_cast<double>(st.largestSccActions) / st.edges;
     st.deadEnds =
@@ -668,7 +690,7 @@ Result<MotionGraph> buildMotionGraph(std::span<const Motion* const> motions, std
         startNode[a] = relabel[static_cast<std::size_t>(km.assignment()[2 * a])];
         endNode[a] = relabel[static_cast<std::size_t>(km.assignment()[2 * a + 1])];
     }
-    connectNodes(g, std::move(startNode), std::move(endNode));
+    connectNodes(g, std::move(startNode), std::move(endNode), naturalSuccessors(actions));
     g.maxClusterDistance = static_cast<double>(km.maxDistance());
     g.kmeansRounds = rounds;
     if (!reportProgress(progress, 1.0, "graph")) return cancelled();

@@ -103,7 +103,7 @@ struct GraphStats {
     int nodes = 0, edges = 0;
     double meanOutDegree = 0;  // edges per node
     int maxOutDegree = 0;
-    int largestSccActions = 0;  // actions whose start and end nodes both lie in the largest SCC
+    int largestSccActions = 0;  // actions in the largest strongly connected set of the action graph (a -> Next(a))
     double sccShare = 0;        // largestSccActions / edges
     int deadEnds = 0;           // actions with an empty Next()
 };
@@ -111,18 +111,30 @@ struct GraphStats {
 struct MotionGraph {
     int nodeCount = 0;
     std::vector<int> startNode, endNode;   // per action (edge)
-    std::vector<std::vector<int>> next;    // per action: actions whose start node is its end node, ascending
-    std::vector<std::uint8_t> inLargestScc;  // per action: both ends in the largest SCC
+    // Per action, ascending: the actions whose start node is its end node,
+    // plus the action that continues it in its capture (see connectNodes).
+    std::vector<std::vector<int>> next;
+    std::vector<std::uint8_t> inLargestScc;  // per action: in the largest strongly connected set of actions
+    int naturalEdges = 0;                  // capture continuations that clustering alone had not connected
     std::vector<PoseFeature> centres;      // per node: the cluster centre
     GraphStats stats;
     double maxClusterDistance = 0;  // achieved largest pose-to-centre distance
     int kmeansRounds = 0;           // K growth rounds it took
 };
 
+// Per action, the action that starts on the frame after its last in the same
+// motion (its continuation in the capture), or -1.
+std::vector<int> naturalSuccessors(std::span<const ActionRef> actions);
+
 // Fills next, inLargestScc and stats of g from its node count and the
 // start/end node of every action (indices in [0, g.nodeCount)). Used by
 // buildMotionGraph, and to restore a graph from the project cache.
-void connectNodes(MotionGraph& g, std::vector<int> startNode, std::vector<int> endNode);
+// `successors` (naturalSuccessors of the actions; may be empty) adds each
+// action's continuation to its Next(): the capture's own transition needs no
+// blend, yet its two sides, a frame apart, can fall in different clusters
+// (on the demo running take every turn was a dead end without it).
+void connectNodes(MotionGraph& g, std::vector<int> startNode, std::vector<int> endNode,
+                  std::span<const int> successors = {});
 
 // Builds the graph. motions and joints are parallel; every motion must have
 // the same skeleton (names and hierarchy). Deterministic for a seed. Fails
