@@ -111,6 +111,45 @@ TEST(SimSpec, BadInputNamesTheField) {
     expectError(R"({"duration": 5, "characters": [{"name": "a", "depth": 0}]})", "/characters/0/depth");
     expectError("{not json", "not valid JSON");
     expectError(R"({"duration": 5, "characters": [{"name": "a", "path": [{"x": 1}]}]})", "/characters/0/path/0/z: missing");
+    expectError(R"({"duration": 5, "arena": {"radius": 0.5}, "characters": [{"name": "a"}]})", "/arena/radius: must be at least 1 m");
+    expectError(R"({"duration": 5, "arena": {"radius": 5, "r": 2}, "characters": [{"name": "a"}]})", "/arena/r: unknown field");
+    expectError(R"({"duration": 5, "arena": {"x": 0}, "characters": [{"name": "a"}]})", "/arena/radius: missing");
+    expectError(R"({"duration": 5, "arena": 4, "characters": [{"name": "a"}]})", "/arena: must be {x, z, radius}");
+    expectError(R"({"duration": 5, "arena": {"x": 10, "radius": 3}, "characters": [{"name": "a"}]})",
+                "/characters/0/start: 'a' starts 10.00 m from the arena's centre, outside its radius of 3.00 m");
+}
+
+// The stage: with an arena, a chase on the running take turns back at its
+// edge (a running turn overshoots it by up to about 2.5 m), where the same
+// chase without one runs far beyond it.
+TEST(SimPlanner, ArenaKeepsAChaseOnStage) {
+    auto chase = [](const std::string& arena) {
+        return R"({"version": 1, "duration": 20, "seed": 3, )" + arena + R"("characters": [
+          {"name": "runaway", "side": 1, "preset": "runaway", "depth": 2, "motions": ["running_around"],
+           "start": {"x": 2, "z": 0, "heading_deg": 90}},
+          {"name": "chaser", "side": 0, "preset": "chaser", "depth": 2, "motions": ["running_around"],
+           "start": {"x": 0, "z": 0, "heading_deg": 90}}]})";
+    };
+    auto farthest = [](const Scene& scene) {
+        const auto& lib = demoWorld().library;
+        double out = 0;
+        for (const auto& c : scene.characters)
+            for (const auto& a : c.track) {
+                if (a.forced) continue;
+                const RootXf end = a.root * lib.actions[static_cast<std::size_t>(a.action)].end;
+                out = std::max(out, static_cast<double>(glm::length(end.pos - glm::vec2(1.0f, 0.0f))));
+            }
+        return out;
+    };
+    auto open = runSpec(chase(""));
+    ASSERT_TRUE(open.ok()) << open.error().message;
+    auto staged = runSpec(chase(R"("arena": {"x": 1, "z": 0, "radius": 6}, )"));
+    ASSERT_TRUE(staged.ok()) << staged.error().message;
+    RecordProperty("open_farthest_m", std::to_string(farthest(*open)));
+    RecordProperty("arena_farthest_m", std::to_string(farthest(*staged)));
+    EXPECT_GT(farthest(*open), 10.0);
+    EXPECT_LE(farthest(*staged), 9.0);
+    for (const auto& c : staged->characters) EXPECT_EQ(c.fallbacks, 0) << c.name;
 }
 
 TEST(SimPlanner, DeterministicAndParallelIndependent) {
@@ -434,6 +473,59 @@ TEST(SimCooperation, TenPairsFollowCircularPathsWhileFighting) {
                 m.crossGroupPenetrations);
     EXPECT_EQ(m.crossGroupPenetrations, 0);
     EXPECT_GE(pairsFighting, 8);
+}
+
+}  // namespace
+}  // namespace fray::sim
+
+namespace fray::sim {
+namespace {
+
+// Chase (thesis 4.5.2) on the running take inside a 6 m stage: a depth-4
+// chaser catches a depth-2 runaway sooner than a chaser at equal depth (2 vs
+// 2, 4 vs 4), and two cooperating depth-2 chasers sooner than one. Mean time
+// to the first catch over seeded chases of 30 s, a chase without a catch
+// counting as 30 s. (20 seeds with scripts/chase_series.py: 14.1 / 22.5 /
+// 20.7 s and 10.4 s; docs/TREE_EXPANSION.md.)
+TEST(SimChase, DeeperAndTwoChasersCatchSooner) {
+    constexpr double kSeconds = 30.0;
+    constexpr int kSeeds = 12;
+    auto meanCatch = [&](int chaserDepth, int runawayDepth, int chasers) {
+        double total = 0;
+        int caught = 0;
+        for (int seed = 1; seed <= kSeeds; ++seed) {
+            std::string chars = R"({"name": "runaway", "side": 1, "preset": "runaway", "depth": )" + std::to_string(runawayDepth) +
+                                R"(, "motions": ["running_around"], "start": {"x": 2, "z": 0, "heading_deg": 90}})";
+            for (int k = 0; k < chasers; ++k) {
+                const double z = 1.2 * k - 0.6 * (chasers - 1);
+                chars += R"(, {"name": "chaser)" + std::to_string(k) + R"(", "side": 0, "preset": "chaser", "depth": )" +
+                         std::to_string(chaserDepth) + R"(, "motions": ["running_around"], "start": {"x": 0, "z": )" +
+                         std::to_string(z) + R"(, "heading_deg": 90}})";
+            }
+            const std::string spec = R"({"version": 1, "duration": )" + std::to_string(kSeconds) + R"(, "seed": )" +
+                                     std::to_string(seed) + R"(, "stop_on_catch": true, "start_jitter": {"distance": 0.3, "angle_deg": 20},
+                "arena": {"x": 1, "z": 0, "radius": 6}, "characters": [)" + chars + "]}";
+            auto scene = test::runSpec(spec);
+            EXPECT_TRUE(scene.ok()) << (scene.ok() ? "" : scene.error().message);
+            if (!scene.ok()) return kSeconds;
+            double first = kSeconds;
+            for (const auto& c : scene->catches) first = std::min(first, c.time);
+            caught += first < kSeconds;
+            total += first;
+        }
+        RecordProperty("caught_" + std::to_string(chasers) + "x" + std::to_string(chaserDepth) + "v" + std::to_string(runawayDepth),
+                       caught);
+        return total / kSeeds;
+    };
+    const double equal2 = meanCatch(2, 2, 1), deeper = meanCatch(4, 2, 1), equal4 = meanCatch(4, 4, 1), two = meanCatch(2, 2, 2);
+    RecordProperty("mean_catch_2v2", std::to_string(equal2));
+    RecordProperty("mean_catch_4v2", std::to_string(deeper));
+    RecordProperty("mean_catch_4v4", std::to_string(equal4));
+    RecordProperty("mean_catch_two_chasers_2v2", std::to_string(two));
+    std::printf("mean time to catch (s): 2 vs 2 %.2f, 4 vs 2 %.2f, 4 vs 4 %.2f, two chasers 2 vs 2 %.2f\n", equal2, deeper, equal4, two);
+    EXPECT_LT(deeper, equal2);
+    EXPECT_LT(deeper, equal4);
+    EXPECT_LT(two, equal2);
 }
 
 }  // namespace

@@ -18,6 +18,11 @@ namespace {
 
 constexpr int kRecent = 6;
 constexpr double kPenetrationStep = 1.0 / 15.0;  // s between body tests when pruning
+constexpr double kArenaMargin = 0.3;             // m: a pelvis this close to the arena's edge is outside
+constexpr double kArenaWeight = 1000;            // per m^2 beyond the arena's inner edge (F_comp)
+constexpr int kArenaLookAhead = 3;               // clips after a candidate searched for a way back in
+constexpr std::size_t kArenaBeam = 3;            // clips followed per look-ahead step
+constexpr double kMovementSeconds = 0.5;         // s: the action length whose movement terms weigh 1 (per-second scoring)
 constexpr double kCatchStep = 1.0 / 15.0;
 constexpr float kPenetrationShrink = 0.8f;       // grazing contact is not penetration
 constexpr double kReachMargin = 0.35;             // m beyond an attack's reach: the target's body depth and a lean
@@ -298,6 +303,9 @@ Value edgeScore(const Context& ctx, const GroupState& before, const GroupState& 
     const auto& me = after.c[static_cast<std::size_t>(who)];
     const double t = me.end;
     const RootXf pm = placement(ctx, me, t);
+    // Movement and path terms per half second of the launched action
+    // (StyleWeights::perSecond), else per edge as in the thesis.
+    const double moveScale = w.perSecond ? act(ctx, action).duration / kMovementSeconds : 1.0;
     Value v;
     const int opp = opponentOf(ctx, after, who, after.time);
     if (opp >= 0) {
@@ -306,7 +314,7 @@ Value edgeScore(const Context& ctx, const GroupState& before, const GroupState& 
         const glm::vec2 d = po.pos - pm.pos;
         const double r = glm::length(d);
         const double theta = r > 1e-6 ? wrapAngle(angleOf(d) - pm.heading) : 0.0;
-        v.comp -= w.wTheta * theta * theta + w.wR * (r - w.rD) * (r - w.rD);
+        v.comp -= moveScale * (w.wTheta * theta * theta + w.wR * (r - w.rD) * (r - w.rD));
         const int oppBefore = opponentOf(ctx, before, who, before.time);
         if (oppBefore >= 0 && ctx.combo) {
             const int theirs = before.c[static_cast<std::size_t>(oppBefore)].action;
@@ -325,16 +333,23 @@ Value edgeScore(const Context& ctx, const GroupState& before, const GroupState& 
         }
     }
     v.comp -= w.wRecency * recency(ctx, before.c[static_cast<std::size_t>(who)], action);
+    // The stage: ending near or beyond its edge costs like a lost blow per
+    // metre squared, so the search turns a runner before the edge, where one
+    // clip of look-ahead (the choice filter) is too late for a running turn.
+    if (ctx.opt->arenaRadius > 0) {
+        const double out = static_cast<double>(glm::length(pm.pos - ctx.opt->arenaCentre)) - (ctx.opt->arenaRadius - kArenaMargin);
+        if (out > 0) v.comp -= kArenaWeight * out * out;
+    }
     // Cooperative: checkpoints and required actions.
     if (!spec.path.empty() && (w.wPath > 0 || w.wPsi > 0)) {
         const int k = me.checkpoint;
         if (spec.loopPath || k < static_cast<int>(spec.path.size())) {
             const auto& cp = spec.path[static_cast<std::size_t>(k) % spec.path.size()];
             const glm::vec2 d = cp.pos - pm.pos;
-            v.coop -= w.wPath * static_cast<double>(glm::dot(d, d));
+            v.coop -= moveScale * w.wPath * static_cast<double>(glm::dot(d, d));
             if (w.wPsi > 0 && glm::dot(d, d) > 1e-6f) {
                 const double psi = wrapAngle(pm.heading - angleOf(d));
-                v.coop -= w.wPsi * psi * psi;
+                v.coop -= moveScale * w.wPsi * psi * psi;
             }
         }
     }
@@ -383,6 +398,7 @@ public:
             }
             if (base_.empty()) base_ = spec.allowed;
         }
+        if (ctx.opt->arenaRadius > 0) keepInsideArena(s);
         if (!root && ctx.opt->variants && base_.size() > 1) {
             // One representative (the first) per variant class.
             std::vector<int> seen;
@@ -465,6 +481,72 @@ public:
     }
 
 private:
+    // The stage (SimOptions::arenaRadius). A candidate is judged by how far
+    // out it would get before it could come back: its end's distance from
+    // the centre, plus, when it ends heading away, part of a turning circle
+    // at its speed (v^2 / 4 m/s^2 lateral acceleration: about 2 m for a run,
+    // 0.5 m for a walk), and near the edge the best such value up to three
+    // clips later (running turns take several clips; judging one clip alone
+    // let runners leave the stage clip by clip). Candidates within the inner
+    // edge stay; when none is, those within 0.25 m of the best.
+    double arenaReach(const RootXf& at, int action) const {
+        const auto& a = act(ctx_, action);
+        const RootXf e = at * a.end;
+        const glm::vec2 out = e.pos - ctx_.opt->arenaCentre;
+        const double d = static_cast<double>(glm::length(out));
+        const double v = static_cast<double>(glm::length(a.end.pos)) / std::max(a.duration, 1e-3);
+        const double turn = std::clamp(v * v / 4.0, 0.3, 3.0);
+        const double c = d > 1e-6 ? static_cast<double>(glm::dot(headingVector(e.heading), out)) / d : 0.0;
+        return d + turn * 0.5 * (1.0 + c);
+    }
+    // Best arenaReach over up to kArenaLookAhead further clips after
+    // `action` (ending at `at`): a beam search through Next() keeping the
+    // kArenaBeam most promising clips per step, so a fighting node's hundreds
+    // of successors cost hundreds of evaluations, not millions.
+    double lookAhead(const RootXf& at, int action, const std::vector<int>& allowed) const {
+        struct Step {
+            RootXf end;
+            int action;
+            double reach;
+        };
+        std::vector<Step> frontier{{at, action, 0.0}}, next;
+        double best = 1e300;
+        for (int depth = 0; depth < kArenaLookAhead && !frontier.empty(); ++depth) {
+            next.clear();
+            for (const Step& f : frontier) {
+                for (int b : ctx_.lib->next[static_cast<std::size_t>(f.action)]) {
+                    if (act(ctx_, b).is(kReactive) || !std::binary_search(allowed.begin(), allowed.end(), b)) continue;
+                    const double r = arenaReach(f.end, b);
+                    best = std::min(best, r);
+                    next.push_back({f.end * act(ctx_, b).end, b, r});
+                }
+            }
+            const std::size_t keep = std::min<std::size_t>(next.size(), kArenaBeam);
+            std::partial_sort(next.begin(), next.begin() + static_cast<std::ptrdiff_t>(keep), next.end(),
+                              [](const Step& x, const Step& y) { return x.reach < y.reach || (x.reach == y.reach && x.action < y.action); });
+            next.resize(keep);
+            frontier.swap(next);
+        }
+        return best;
+    }
+    void keepInsideArena(const CharState& s) {
+        const RootXf from = s.root * act(ctx_, s.action).end;
+        const double inner = std::max(ctx_.opt->arenaRadius - kArenaMargin, 0.0);
+        const auto& allowed = specOf(ctx_, who_).allowed;
+        std::vector<double> reach(base_.size());
+        for (std::size_t i = 0; i < base_.size(); ++i) {
+            reach[i] = arenaReach(from, base_[i]);
+            if (reach[i] <= inner) continue;
+            reach[i] = std::min(reach[i], lookAhead(from * act(ctx_, base_[i]).end, base_[i], allowed));
+        }
+        const double best = *std::min_element(reach.begin(), reach.end());
+        const double limit = best <= inner ? inner : best + 0.25;
+        std::vector<int> kept;
+        for (std::size_t i = 0; i < base_.size(); ++i)
+            if (reach[i] <= limit) kept.push_back(base_[i]);
+        base_.swap(kept);
+    }
+
     const Context& ctx_;
     const GroupState& g_;
     int who_;

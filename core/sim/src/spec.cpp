@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
+#include <cstdio>
 #include <map>
 #include <numbers>
 
@@ -44,6 +46,7 @@ const WeightField kWeightFields[] = {
     {"attack_range", &StyleWeights::attackRange, nullptr},
     {"defence_range", &StyleWeights::defenceRange, nullptr},
     {"face_opponent", nullptr, &StyleWeights::faceOpponent},
+    {"per_second", nullptr, &StyleWeights::perSecond},
 };
 
 const WeightField* findField(std::string_view key) {
@@ -115,11 +118,11 @@ const std::vector<Preset>& builtinPresets() {
         out.push_back(make("outboxer", "keeps away and kicks", outb));
         StyleWeights chaser;
         chaser.rD = 0.1, chaser.wHitShort = 1000, chaser.wHitLong = 0, chaser.wDamage = 0, chaser.wCombo = 0;
-        chaser.catches = true;
+        chaser.catches = true, chaser.perSecond = true;
         out.push_back(make("chaser", "runs the opponent down", chaser));
         StyleWeights runaway;
         runaway.rD = 3.0, runaway.wHitShort = 0, runaway.wHitLong = 0, runaway.wDamage = 1000, runaway.wCombo = 0;
-        runaway.catches = true, runaway.faceOpponent = false, runaway.wTheta = 0;
+        runaway.catches = true, runaway.faceOpponent = false, runaway.wTheta = 0, runaway.perSecond = true;
         out.push_back(make("runaway", "keeps its distance from the chaser", runaway));
         const std::size_t n = out.size();
         for (std::size_t i = 0; i < n; ++i) {
@@ -147,7 +150,10 @@ Result<std::vector<Preset>> projectPresets(const prep::Project& project, std::st
     for (auto p = j.begin(); p != j.end(); ++p) {
         const std::string path = base + "/" + p.key();
         if (!p.value().is_object()) return rd.error(path, "must be an object");
-        StyleWeights w;
+        // Fields a stored preset lacks (written by an older Fray) keep the
+        // built-in preset's value, else the defaults.
+        auto found = std::find_if(out.begin(), out.end(), [&](const Preset& x) { return x.name == p.key(); });
+        StyleWeights w = found != out.end() ? found->weights : StyleWeights{};
         std::string description;
         json weights = json::object();
         for (auto f = p.value().begin(); f != p.value().end(); ++f) {
@@ -159,7 +165,6 @@ Result<std::vector<Preset>> projectPresets(const prep::Project& project, std::st
             }
         }
         FRAY_TRY(parsed, weightsFrom(w, rd, weights, path));
-        auto found = std::find_if(out.begin(), out.end(), [&](const Preset& x) { return x.name == p.key(); });
         if (found != out.end()) {
             found->weights = parsed;
             if (!description.empty()) found->description = description;
@@ -247,7 +252,7 @@ Result<SceneSpec> parseSceneSpec(std::string_view text, std::string_view fileNam
     if (!j.is_object()) return rd.error("", "must be a JSON object");
     static const char* const kTopKeys[] = {"version",   "duration",     "seed",         "pruning",      "alpha_beta",
                                            "parallel",  "catch_radius", "stop_on_catch", "fall_impulse", "start_jitter",
-                                           "checkpoint_radius", "characters", "description"};
+                                           "checkpoint_radius", "arena", "characters", "description"};
     for (auto it = j.begin(); it != j.end(); ++it) {
         if (std::find_if(std::begin(kTopKeys), std::end(kTopKeys), [&](const char* k) { return it.key() == k; }) ==
             std::end(kTopKeys)) {
@@ -303,6 +308,26 @@ Result<SceneSpec> parseSceneSpec(std::string_view text, std::string_view fileNam
             if (x < 0) return rd.error("/start_jitter/angle_deg", "must not be negative");
             o.startJitterDegrees = x;
         }
+    }
+
+    if (auto v = j.find("arena"); v != j.end()) {
+        if (!v->is_object()) return rd.error("/arena", "must be {x, z, radius} (a disc on the floor, metres)");
+        for (auto it = v->begin(); it != v->end(); ++it) {
+            if (it.key() != "x" && it.key() != "z" && it.key() != "radius") return rd.error("/arena/" + it.key(), "unknown field");
+        }
+        double xz[2] = {0.0, 0.0};
+        for (int k = 0; k < 2; ++k) {
+            const char* key = k == 0 ? "x" : "z";
+            if (auto f = v->find(key); f != v->end()) {
+                FRAY_TRY(num, rd.number(*f, std::string("/arena/") + key));
+                if (!std::isfinite(num)) return rd.error(std::string("/arena/") + key, "must be finite");
+                xz[k] = num;
+            }
+        }
+        FRAY_TRY(radius, rd.numberAt(*v, "/arena", "radius"));
+        if (!std::isfinite(radius) || radius < 1.0) return rd.error("/arena/radius", "must be at least 1 m");
+        o.arenaCentre = {static_cast<float>(xz[0]), static_cast<float>(xz[1])};
+        o.arenaRadius = radius;
     }
 
     // "@annotation" or an action name -> library actions (optionally within motions).
@@ -502,6 +527,18 @@ Result<SceneSpec> parseSceneSpec(std::string_view text, std::string_view fileNam
         }
         if (other.side == cs.side) return rd.error(p, "'" + other.name + "' is on the same side");
         cs.opponent = found;
+    }
+    if (o.arenaRadius > 0) {
+        for (std::size_t i = 0; i < spec.characters.size(); ++i) {
+            const auto& c = spec.characters[i];
+            const double d = glm::length(c.start.pos - o.arenaCentre);
+            if (d > o.arenaRadius) {
+                char buf[96];
+                std::snprintf(buf, sizeof buf, "starts %.2f m from the arena's centre, outside its radius of %.2f m", d,
+                              o.arenaRadius);
+                return rd.error("/characters/" + std::to_string(i) + "/start", "'" + c.name + "' " + buf);
+            }
+        }
     }
     std::map<int, int> groupSizes;
     for (const auto& c : spec.characters) {

@@ -35,6 +35,16 @@ struct StyleWeights {
     // Pruning thresholds (SPEC 2.4).
     double attackRange = 1.3, defenceRange = 3.0;  // pelvis to pelvis: about 1 m between the bodies
     bool faceOpponent = true;                  // criterion 2 (off for a runaway)
+    // Movement and path terms (f_mov1, f_mov2) weighted by the launched
+    // action's duration (per 0.5 s), so a path's sum measures time spent away
+    // from the wish rather than decisions taken. With the thesis' per-edge
+    // sums one long action costs one penalty where short ones cost several,
+    // and a min edge's movement term rewards the maximiser whenever the
+    // opponent is off its own preferred distance, near or far: a depth-4
+    // chaser idled 9 m from a runaway for 15 s. On for the chaser and runaway
+    // presets; the boxers keep per-edge sums (their duel tests were tuned on
+    // them). Scoring, combination and recency terms stay per event.
+    bool perSecond = false;
     friend bool operator==(const StyleWeights&, const StyleWeights&) = default;
 };
 
@@ -76,6 +86,15 @@ struct SimOptions {
     double checkpointRadius = 0.6; // m: a checkpoint is reached within this
     double startJitter = 0;        // m: seeded random offset of every start placement (for match series)
     double startJitterDegrees = 0; // degrees: same for the start heading
+    // The stage, a disc on the floor (radius 0: unbounded; its inner edge is
+    // 0.3 m inside). A choice is legal when the character could still turn
+    // back within the inner edge (judged up to three clips ahead); when none
+    // is, the ones that get least far out. Ending beyond the inner edge also
+    // costs 1000 per m^2 in F_comp, so deeper searches turn earlier. A
+    // running turn can overshoot the edge by about 2.5 m, and reactions
+    // (pushed, knocked down) can carry a character out.
+    glm::vec2 arenaCentre{0.0f};
+    double arenaRadius = 0;
 };
 
 struct SceneSpec {
