@@ -168,6 +168,38 @@ void label(OverlayBuilder& out, float x, float y, std::string_view s, int scale,
 
 }  // namespace
 
+// Labels of characters standing close together used to print over each
+// other. The selected character's label keeps its place, then the others
+// from the bottom of the screen up (usually nearest first); each moves up
+// above any placed box it would cover. Past kMaxStackedLabels labels (a far crowd,
+// unreadable either way) they stay where they are.
+void stackLabels(std::vector<PendingLabel>& labels) {
+    // std::sort, not stable_sort: the latter allocates a buffer every frame.
+    std::sort(labels.begin(), labels.end(), [](const PendingLabel& a, const PendingLabel& b) {
+        if (a.selected != b.selected) return a.selected;
+        if (a.y != b.y) return a.y > b.y;
+        return a.index < b.index;
+    });
+    if (labels.size() > kMaxStackedLabels) return;
+    for (std::size_t i = 1; i < labels.size(); ++i) {
+        PendingLabel& l = labels[i];
+        // Each pass moves l above one box it covers; boxes are only ever
+        // passed upwards, so i passes suffice.
+        for (std::size_t pass = 0; pass < i; ++pass) {
+            bool moved = false;
+            for (std::size_t k = 0; k < i; ++k) {
+                const PendingLabel& o = labels[k];
+                const bool apartX = std::abs(l.x - o.x) >= l.halfWidth + o.halfWidth;
+                const bool apartY = l.y <= o.y - o.height || o.y <= l.y - l.height;
+                if (apartX || apartY) continue;
+                l.y = o.y - o.height - 1.0f;
+                moved = true;
+            }
+            if (!moved) break;
+        }
+    }
+}
+
 void buildOverlays(const FrameDescription& frame, const glm::mat4& viewProj, glm::vec2 viewport, bool blobShadows,
                    OverlayBuilder& out) {
     out.clear();
@@ -220,6 +252,8 @@ void buildOverlays(const FrameDescription& frame, const glm::mat4& viewProj, glm
         }
     }
 
+    std::vector<PendingLabel>& pending = out.scratchLabels();
+    pending.clear();
     for (const CharacterInstance& c : frame.characters) {
         if (c.jointPositions.empty()) continue;
         if (c.selected) {
@@ -235,14 +269,23 @@ void buildOverlays(const FrameDescription& frame, const glm::mat4& viewProj, glm
                 if (p.y > top.y) top = p;
             if (auto px = projectToPixel(viewProj, top + glm::vec3(0.0f, 0.22f, 0.0f), viewport)) {
                 if (px->z > 0.0f && px->z < 1.0f) {
-                    if (c.selected)
-                        label(out, px->x, px->y, c.label, scale, glm::vec4(st.highlightColor, 0.9f),
-                              glm::vec4(0.05f, 0.05f, 0.05f, 1.0f));
-                    else
-                        label(out, px->x, px->y, c.label, scale, glm::vec4(0.08f, 0.08f, 0.1f, 0.62f), glm::vec4(1.0f));
+                    const float pad = 2.0f * static_cast<float>(scale);
+                    pending.push_back({px->x, px->y, px->y, 0.5f * static_cast<float>(font::textWidth(c.label, scale)) + pad,
+                                       static_cast<float>(font::textHeight(scale)) + 2.0f * pad, c.label, c.selected,
+                                       static_cast<int>(pending.size())});
                 }
             }
         }
+    }
+    stackLabels(pending);
+    for (const PendingLabel& l : pending) {
+        // A moved label hangs on a thin leader down to its character.
+        if (l.y < l.anchorY - 0.5f)
+            out.rect(std::floor(l.x) - 0.5f, l.y, std::floor(l.x) + 0.5f, l.anchorY, glm::vec4(0.9f, 0.9f, 0.9f, 0.7f));
+        if (l.selected)
+            label(out, l.x, l.y, l.text, scale, glm::vec4(st.highlightColor, 0.9f), glm::vec4(0.05f, 0.05f, 0.05f, 1.0f));
+        else
+            label(out, l.x, l.y, l.text, scale, glm::vec4(0.08f, 0.08f, 0.1f, 0.62f), glm::vec4(1.0f));
     }
 
     for (const Flash& f : frame.flashes)

@@ -33,9 +33,28 @@ enum class OverlayGroup : int { Depth = 0, OnTop = 1, Screen = 2 };
 
 std::uint32_t packColor(glm::vec4 c);
 
+// A character's label waiting for its place (buildOverlays stacks labels
+// that would cover each other): anchored above the head at (x, anchorY); y
+// is where the box's bottom edge goes.
+struct PendingLabel {
+    float x = 0, y = 0, anchorY = 0;
+    float halfWidth = 0, height = 0;  // of the box, padding included
+    std::string_view text;
+    bool selected = false;
+    int index = 0;  // order of arrival (character order), for a deterministic sort
+};
+
+// Moves labels up until none covers another: the selected one keeps its
+// place, then the others from the bottom of the screen up, each above any
+// placed box it would cover. Past kMaxStackedLabels they are only sorted.
+inline constexpr std::size_t kMaxStackedLabels = 256;
+void stackLabels(std::vector<PendingLabel>& labels);
+
 class OverlayBuilder {
 public:
     void clear();
+    // Reused storage for buildOverlays' labels (no allocation in steady state).
+    std::vector<PendingLabel>& scratchLabels() { return labels_; }
     const std::vector<OverlayVertex>& group(OverlayGroup g) const { return groups_[static_cast<std::size_t>(g)]; }
     std::size_t vertexCount() const;
 
@@ -51,6 +70,7 @@ public:
 private:
     std::vector<OverlayVertex>& out(OverlayGroup g) { return groups_[static_cast<std::size_t>(g)]; }
     std::array<std::vector<OverlayVertex>, 3> groups_;
+    std::vector<PendingLabel> labels_;
 };
 
 // Text scale used for a viewport height when the settings leave it to the renderer.

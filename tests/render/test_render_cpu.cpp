@@ -13,6 +13,7 @@
 #include "fray/render/body_mesh.h"
 #include "fray/render/font.h"
 #include "fray/render/image.h"
+#include "overlay_builder.h"
 
 namespace fray::render {
 namespace {
@@ -160,3 +161,40 @@ TEST(Image, CompareCountsPixelsBeyondTheThresholdAndBoxesThem) {
 
 }  // namespace
 }  // namespace fray::render
+
+// Labels of characters standing close together are stacked instead of
+// printed over each other: the selected one keeps its place, a label that
+// covers none stays, the others move up above what they would cover.
+TEST(Overlay, CloseLabelsAreStackedNotOverlapped) {
+    using fray::render::PendingLabel;
+    auto make = [](float x, float y, bool selected, int index) {
+        PendingLabel l;
+        l.x = x, l.y = l.anchorY = y, l.halfWidth = 60, l.height = 20, l.selected = selected, l.index = index;
+        return l;
+    };
+    std::vector<PendingLabel> labels{make(100, 200, false, 0), make(110, 205, false, 1), make(130, 195, true, 2),
+                                     make(500, 200, false, 3)};
+    fray::render::stackLabels(labels);
+    auto find = [&](int index) {
+        return *std::find_if(labels.begin(), labels.end(), [&](const PendingLabel& l) { return l.index == index; });
+    };
+    EXPECT_EQ(find(2).y, 195.0f);  // selected: unmoved
+    EXPECT_EQ(find(3).y, 200.0f);  // far from the others: unmoved
+    EXPECT_LT(find(0).y, 195.0f - 20.0f);
+    EXPECT_LT(find(1).y, 195.0f - 20.0f);
+    for (std::size_t i = 0; i < labels.size(); ++i)
+        for (std::size_t k = i + 1; k < labels.size(); ++k) {
+            const PendingLabel& a = labels[i];
+            const PendingLabel& b = labels[k];
+            const bool apart = std::abs(a.x - b.x) >= a.halfWidth + b.halfWidth || a.y <= b.y - b.height || b.y <= a.y - a.height;
+            EXPECT_TRUE(apart) << a.index << " covers " << b.index;
+        }
+    // The same input in another order gives the same places.
+    std::vector<PendingLabel> again{make(500, 200, false, 3), make(130, 195, true, 2), make(110, 205, false, 1),
+                                    make(100, 200, false, 0)};
+    fray::render::stackLabels(again);
+    for (const PendingLabel& l : labels) {
+        const auto it = std::find_if(again.begin(), again.end(), [&](const PendingLabel& o) { return o.index == l.index; });
+        EXPECT_EQ(it->y, l.y) << l.index;
+    }
+}
