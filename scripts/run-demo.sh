@@ -32,6 +32,11 @@ echo "A duel planned by tree expansion (resources/demo/duel.json):"
 "$cli" render "$run/duel.frayscene" --frames 0:600:60 --size 960x540 --labels --quiet --out "$run/duel-frames"
 "$cli" export "$run/duel.frayscene" --out "$run/duel-export" --quiet
 echo
+echo "A chase on a 6 m stage: two chasers corner a runaway (resources/demo/chase.json):"
+"$cli" simulate "$lib/demo.frayproj" --spec resources/demo/chase.json --out "$run/chase.frayscene" --quiet
+"$cli" metrics "$run/chase.frayscene" --quiet
+"$cli" render "$run/chase.frayscene" --frames 0:end:90 --size 960x540 --labels --quiet --out "$run/chase-frames"
+echo
 echo "Interaction Patches from the demo PatternLists, and a one-vs-many fight composed from them:"
 "$cli" patches generate "$lib/demo.frayproj" --out "$run/demo.patches" --quiet
 "$cli" compose "$lib/demo.frayproj" --patches "$run/demo.patches" --spec resources/demo/one_vs_many.json --out "$run/one_vs_many.frayscene" --quiet
@@ -45,6 +50,7 @@ echo
 echo "Automatic project: $run/auto.frayproj (list its actions: $cli actions $run/auto.frayproj)"
 echo "Demo project:      $lib/demo.frayproj"
 echo "Duel scene:        $run/duel.frayscene (frames in $run/duel-frames, glTF in $run/duel-export)"
+echo "Chase:             $run/chase.frayscene (frames in $run/chase-frames)"
 echo "One vs many:       $run/one_vs_many.frayscene (frames in $run/one_vs_many-frames)"
 echo "Domino:            $run/domino.frayscene (frames in $run/domino-frames)"
 if [[ -n "${DISPLAY:-}${WAYLAND_DISPLAY:-}" && -x build/bin/fray ]]; then
