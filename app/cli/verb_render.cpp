@@ -20,6 +20,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <numbers>
 #include <optional>
 
 #include "fray/io/import.h"
@@ -317,6 +318,18 @@ void runScene(const RenderArgs& a, const FrameRange& range, std::pair<int, int> 
     render::Bounds bounds = stage.bounds(first / kSceneFps, last / kSceneFps);
     bounds.add(bounds.min - glm::vec3(0.25f));
     bounds.add(bounds.max + glm::vec3(0.25f));
+    // The stage of a scene planned on one: a circle on the floor, in view.
+    std::vector<glm::vec3> stageCircle;
+    if (scene.arenaRadius > 0) {
+        constexpr int kSegments = 96;
+        const auto r = static_cast<float>(scene.arenaRadius);
+        for (int k = 0; k <= kSegments; ++k) {
+            const float t = 2.0f * std::numbers::pi_v<float> * static_cast<float>(k) / kSegments;
+            stageCircle.emplace_back(scene.arenaCentre.x + r * std::cos(t), 0.0f, scene.arenaCentre.y + r * std::sin(t));
+        }
+        bounds.add(glm::vec3(scene.arenaCentre.x - r, 0.0f, scene.arenaCentre.y - r));
+        bounds.add(glm::vec3(scene.arenaCentre.x + r, 0.0f, scene.arenaCentre.y + r));
+    }
     const float aspect = static_cast<float>(size.first) / static_cast<float>(size.second);
     render::OrbitCamera camera = baseCamera(a);
     camera.frame(bounds, aspect);
@@ -336,6 +349,7 @@ void runScene(const RenderArgs& a, const FrameRange& range, std::pair<int, int> 
         for (const auto& cp : sc.path) marks.push_back({glm::vec3(cp.pos.x, 0.0f, cp.pos.y), glm::vec4(col, 1.0f), 0.25f, {}});
     }
     for (std::size_t i = 0; i < paths.size(); ++i) lines.push_back({paths[i], glm::vec4(1.0f, 0.8f, 0.2f, 0.8f), 0.04f});
+    if (!stageCircle.empty()) lines.push_back({stageCircle, glm::vec4(0.95f, 0.95f, 0.95f, 0.85f), 0.08f});
 
     render::DeviceOptions dopt;
     dopt.applicationName = "fray-cli render";

@@ -741,6 +741,8 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
     Scene scene;
     scene.duration = opt.duration;
     scene.seed = opt.seed;
+    scene.arenaCentre = opt.arenaCentre;
+    scene.arenaRadius = opt.arenaRadius;
     scene.spec = spec.text;
     for (const auto& c : spec.characters) {
         if (c.allowed.empty()) return makeError("character '" + c.name + "' has no usable action");

@@ -1,6 +1,7 @@
 #include "fray/sim/scene.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <tuple>
 
@@ -108,6 +109,8 @@ std::string sceneToJson(const Scene& scene, const ActionLibrary& lib) {
     j["project"] = scene.project;
     j["duration"] = scene.duration;
     j["seed"] = scene.seed;
+    if (scene.arenaRadius > 0)
+        j["arena"] = json{{"x", scene.arenaCentre.x}, {"z", scene.arenaCentre.y}, {"radius", scene.arenaRadius}};
     json chars = json::array();
     for (const auto& c : scene.characters) {
         json cj;
@@ -199,6 +202,16 @@ Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, co
     FRAY_TRY(sf, rd.field(j, "", "seed"));
     if (!sf->is_number_unsigned() && !sf->is_number_integer()) return rd.error("/seed", "must be an integer");
     scene.seed = sf->get<std::uint64_t>();
+    if (const auto ar = j.find("arena"); ar != j.end()) {
+        if (!ar->is_object()) return rd.error("/arena", "must be {x, z, radius}");
+        FRAY_TRY(x, rd.numberAt(*ar, "/arena", "x"));
+        FRAY_TRY(z, rd.numberAt(*ar, "/arena", "z"));
+        FRAY_TRY(radius, rd.numberAt(*ar, "/arena", "radius"));
+        if (!std::isfinite(x) || !std::isfinite(z) || !(radius > 0) || !std::isfinite(radius))
+            return rd.error("/arena", "needs a finite centre and a positive radius");
+        scene.arenaCentre = {static_cast<float>(x), static_cast<float>(z)};
+        scene.arenaRadius = radius;
+    }
     FRAY_TRY(cf, rd.field(j, "", "characters"));
     if (!cf->is_array()) return rd.error("/characters", "must be an array");
     const int n = static_cast<int>(cf->size());

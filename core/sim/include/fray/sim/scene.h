@@ -98,6 +98,10 @@ struct Scene {
     std::vector<CatchEvent> catches;
     PlannerStats stats;
     std::string spec;        // the scene spec it was made from (JSON text), for the record
+    // The stage it was planned on (SimOptions::arena), for viewers: centre
+    // (x, z) and radius; radius 0 when unbounded.
+    glm::vec2 arenaCentre{0.0f};
+    double arenaRadius = 0;
 
     // The instance of character c playing at time t (the last one for t past the end); -1 when the track is empty.
     int instanceAt(int c, double t) const;
