@@ -10,11 +10,9 @@ catch, counting a chase without a catch as S (a lower bound on the mean).
   python3 scripts/chase_series.py PROJECT --depth-chaser 4 --depth-runaway 2 --chasers 1 --matches 8
 """
 import argparse
-import json
-import os
-import subprocess
-import sys
 import tempfile
+
+from series_lib import simulate
 
 
 def main():
@@ -32,8 +30,6 @@ def main():
     caught = 0
     total = 0.0
     with tempfile.TemporaryDirectory() as tmp:
-        spec_file = os.path.join(tmp, "chase.json")
-        scene_file = os.path.join(tmp, "chase.frayscene")
         for seed in range(1, args.matches + 1):
             chars = [{"name": "runaway", "side": 1, "preset": "runaway", "depth": args.depth_runaway,
                       "motions": [args.motion], "start": {"x": 2, "z": 0, "heading_deg": 90}}]
@@ -46,14 +42,7 @@ def main():
                     "start_jitter": {"distance": 0.3, "angle_deg": 20}, "characters": chars}
             if args.arena > 0:
                 spec["arena"] = {"x": 1, "z": 0, "radius": args.arena}
-            with open(spec_file, "w") as f:
-                json.dump(spec, f)
-            run = subprocess.run([args.cli, "simulate", args.project, "--spec", spec_file, "--out", scene_file, "-q"],
-                                 capture_output=True, text=True)
-            if run.returncode != 0:
-                sys.exit(run.stderr.strip())
-            with open(scene_file) as f:
-                scene = json.load(f)
+            scene, planning = simulate(args.cli, args.project, spec, tmp)
             times = [c["time"] for c in scene["catches"]]
             t = min(times) if times else None
             caught += t is not None

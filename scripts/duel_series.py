@@ -8,11 +8,9 @@ the matches A wins (more successful hits than B).
   python3 scripts/duel_series.py PROJECT --depth-a 4 --depth-b 2 --matches 20 --seconds 20
 """
 import argparse
-import json
-import os
-import subprocess
-import sys
 import tempfile
+
+from series_lib import simulate
 
 ACTIONS = ["@punch", "@kick", "@block", "@avoid", "@step", "@idle", "@transition", "@turn"]
 
@@ -31,8 +29,6 @@ def main():
     wins = 0
     total = [0, 0]
     with tempfile.TemporaryDirectory() as tmp:
-        spec_file = os.path.join(tmp, "duel.json")
-        scene_file = os.path.join(tmp, "duel.frayscene")
         for seed in range(1, args.matches + 1):
             spec = {"version": 1, "duration": args.seconds, "seed": seed,
                     "start_jitter": {"distance": 0.3, "angle_deg": 20},
@@ -41,14 +37,7 @@ def main():
                          "start": {"x": 0, "z": 0, "heading_deg": 90}},
                         {"name": "b", "side": 1, "depth": args.depth_b, "motions": [args.motion_b], "actions": ACTIONS,
                          "start": {"x": 1.1, "z": 0, "heading_deg": -90}}]}
-            with open(spec_file, "w") as f:
-                json.dump(spec, f)
-            run = subprocess.run([args.cli, "simulate", args.project, "--spec", spec_file, "--out", scene_file, "-q"],
-                                 capture_output=True, text=True)
-            if run.returncode != 0:
-                sys.exit(run.stderr.strip())
-            with open(scene_file) as f:
-                scene = json.load(f)
+            scene, planning = simulate(args.cli, args.project, spec, tmp)
             hits = [0, 0]
             for h in scene["hits"]:
                 if not h["blocked"]:
@@ -56,7 +45,7 @@ def main():
             total[0] += hits[0]
             total[1] += hits[1]
             wins += hits[0] > hits[1]
-            print(f"seed {seed}: hits A {hits[0]} B {hits[1]}  ({run.stdout.splitlines()[1].split(',')[0]})", flush=True)
+            print(f"seed {seed}: hits A {hits[0]} B {hits[1]}  ({planning.split(',')[0]})", flush=True)
     print(f"A (depth {args.depth_a}, {args.motion_a}) won {wins} of {args.matches} matches; "
           f"hits {total[0]} vs {total[1]}")
 
