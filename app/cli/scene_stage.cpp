@@ -1,5 +1,8 @@
 #include "scene_stage.h"
 
+#include <cmath>
+#include <numbers>
+
 #include "fray/core/kinematics.h"
 #include "fray/render/motion_stage.h"
 
@@ -15,6 +18,44 @@ SceneStage::SceneStage(LoadedScene scene) : loaded_(std::move(scene)) {
     present_.assign(n, 0);
     shown_.reserve(n);
     shownIndex_.reserve(n);
+
+    const sim::Scene& sc = loaded_.scene;
+    for (std::size_t c = 0; c < n; ++c) {
+        const auto& ch = sc.characters[c];
+        if (ch.path.empty()) continue;
+        std::vector<glm::vec3> pts;
+        for (const auto& cp : ch.path) pts.emplace_back(cp.pos.x, 0.0f, cp.pos.y);
+        if (ch.loopPath) pts.push_back(pts.front());
+        linePoints_.push_back(std::move(pts));
+        const glm::vec3 col = tint(static_cast<int>(c));
+        for (const auto& cp : ch.path) marks_.push_back({glm::vec3(cp.pos.x, 0.0f, cp.pos.y), glm::vec4(col, 1.0f), 0.25f, {}});
+    }
+    const std::size_t paths = linePoints_.size();
+    if (sc.arenaRadius > 0) {
+        constexpr int kSegments = 96;
+        const auto r = static_cast<float>(sc.arenaRadius);
+        std::vector<glm::vec3> circle;
+        for (int k = 0; k <= kSegments; ++k) {
+            const float a = 2.0f * std::numbers::pi_v<float> * static_cast<float>(k) / kSegments;
+            circle.emplace_back(sc.arenaCentre.x + r * std::cos(a), 0.0f, sc.arenaCentre.y + r * std::sin(a));
+        }
+        linePoints_.push_back(std::move(circle));
+    }
+    // Spans into linePoints_, which no longer changes.
+    for (std::size_t i = 0; i < linePoints_.size(); ++i)
+        lines_.push_back(i < paths ? render::Polyline{linePoints_[i], glm::vec4(1.0f, 0.8f, 0.2f, 0.8f), 0.04f}
+                                   : render::Polyline{linePoints_[i], glm::vec4(0.95f, 0.95f, 0.95f, 0.85f), 0.08f});
+}
+
+render::Bounds SceneStage::stageBounds() const {
+    render::Bounds b;
+    const sim::Scene& sc = loaded_.scene;
+    if (sc.arenaRadius > 0) {
+        const auto r = static_cast<float>(sc.arenaRadius);
+        b.add(glm::vec3(sc.arenaCentre.x - r, 0.0f, sc.arenaCentre.y - r));
+        b.add(glm::vec3(sc.arenaCentre.x + r, 0.0f, sc.arenaCentre.y + r));
+    }
+    return b;
 }
 
 std::vector<const Skeleton*> SceneStage::skeletons() const {

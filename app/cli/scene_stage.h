@@ -4,6 +4,7 @@
 // the scene then), with its current action as the label. Shared by
 // `fray-cli render` and `fray-play`.
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,15 @@ public:
     // Box around everyone present at a few times over [t0, t1].
     render::Bounds bounds(double t0, double t1, int samples = 24);
 
+    // The scene's marks on the floor, fixed for the scene, for a
+    // FrameDescription: each path-following character's path (a ribbon) and
+    // checkpoints (in its tint), and the stage it was planned on (a white
+    // circle; see sim::Scene::arenaRadius).
+    std::span<const render::Polyline> trajectories() const { return lines_; }
+    std::span<const render::Checkpoint> checkpoints() const { return marks_; }
+    // Box around the stage; empty when the scene has none.
+    render::Bounds stageBounds() const;
+
 private:
     LoadedScene loaded_;
     std::unique_ptr<sim::ScenePoser> poser_;
@@ -55,6 +65,9 @@ private:
     std::vector<std::uint8_t> present_;
     std::vector<render::CharacterInstance> shown_;
     std::vector<int> shownIndex_;
+    std::vector<std::vector<glm::vec3>> linePoints_;  // lines_ point into these
+    std::vector<render::Polyline> lines_;
+    std::vector<render::Checkpoint> marks_;
 };
 
 }  // namespace fray::cli

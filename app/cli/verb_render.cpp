@@ -20,7 +20,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
-#include <numbers>
 #include <optional>
 
 #include "fray/io/import.h"
@@ -313,43 +312,18 @@ void runScene(const RenderArgs& a, const FrameRange& range, std::pair<int, int> 
     if (Status s = ensureDir(a.out); !s) return fail(s.error().message);
 
     const sim::Scene& scene = stage.scene();
-    const std::size_t n = scene.characters.size();
     // Fixed framing of the whole range.
     render::Bounds bounds = stage.bounds(first / kSceneFps, last / kSceneFps);
     bounds.add(bounds.min - glm::vec3(0.25f));
     bounds.add(bounds.max + glm::vec3(0.25f));
-    // The stage of a scene planned on one: a circle on the floor, in view.
-    std::vector<glm::vec3> stageCircle;
-    if (scene.arenaRadius > 0) {
-        constexpr int kSegments = 96;
-        const auto r = static_cast<float>(scene.arenaRadius);
-        for (int k = 0; k <= kSegments; ++k) {
-            const float t = 2.0f * std::numbers::pi_v<float> * static_cast<float>(k) / kSegments;
-            stageCircle.emplace_back(scene.arenaCentre.x + r * std::cos(t), 0.0f, scene.arenaCentre.y + r * std::sin(t));
-        }
-        bounds.add(glm::vec3(scene.arenaCentre.x - r, 0.0f, scene.arenaCentre.y - r));
-        bounds.add(glm::vec3(scene.arenaCentre.x + r, 0.0f, scene.arenaCentre.y + r));
+    // The stage of a scene planned on one stays in view.
+    if (const render::Bounds sb = stage.stageBounds(); !sb.empty()) {
+        bounds.add(sb.min);
+        bounds.add(sb.max);
     }
     const float aspect = static_cast<float>(size.first) / static_cast<float>(size.second);
     render::OrbitCamera camera = baseCamera(a);
     camera.frame(bounds, aspect);
-
-    // Paths and checkpoints of the characters that follow one.
-    std::vector<std::vector<glm::vec3>> paths;
-    std::vector<render::Polyline> lines;
-    std::vector<render::Checkpoint> marks;
-    for (std::size_t c = 0; c < n; ++c) {
-        const auto& sc = scene.characters[c];
-        if (sc.path.empty()) continue;
-        std::vector<glm::vec3> pts;
-        for (const auto& cp : sc.path) pts.emplace_back(cp.pos.x, 0.0f, cp.pos.y);
-        if (sc.loopPath) pts.push_back(pts.front());
-        paths.push_back(std::move(pts));
-        const glm::vec3 col = render::teamColor(sc.side * 3 + static_cast<int>(c) % 3);
-        for (const auto& cp : sc.path) marks.push_back({glm::vec3(cp.pos.x, 0.0f, cp.pos.y), glm::vec4(col, 1.0f), 0.25f, {}});
-    }
-    for (std::size_t i = 0; i < paths.size(); ++i) lines.push_back({paths[i], glm::vec4(1.0f, 0.8f, 0.2f, 0.8f), 0.04f});
-    if (!stageCircle.empty()) lines.push_back({stageCircle, glm::vec4(0.95f, 0.95f, 0.95f, 0.85f), 0.08f});
 
     render::DeviceOptions dopt;
     dopt.applicationName = "fray-cli render";
@@ -371,8 +345,8 @@ void runScene(const RenderArgs& a, const FrameRange& range, std::pair<int, int> 
     frame.settings.grid = !a.noGrid;
     frame.settings.labels = a.labels;
     frame.camera = camera;
-    frame.trajectories = lines;
-    frame.checkpoints = marks;
+    frame.trajectories = stage.trajectories();
+    frame.checkpoints = stage.checkpoints();
     std::vector<render::Flash> flashes;
     render::Image image;
     int written = 0;

@@ -174,6 +174,8 @@ void MainWindow::tick() {
     if (scene_) {
         scene_->pose(time_, true, selected_);
         viewport_->frame().characters = scene_->shown();
+        viewport_->frame().trajectories = scene_->trajectories();
+        viewport_->frame().checkpoints = scene_->checkpoints();
     } else {
         stage_.pose(time_, true);
         viewport_->frame().characters = stage_.instances();

@@ -375,6 +375,10 @@ int main(int argc, char** argv) {
         ImGui::Render();
 
         frame.characters = scene ? scene->shown() : stage.instances();
+        if (scene) {
+            frame.trajectories = scene->trajectories();
+            frame.checkpoints = scene->checkpoints();
+        }
         const bool lastFrame = args.frames > 0 && drawn + 1 >= args.frames;
         render::Image shown;
         const bool capturing = lastFrame && !args.screenshot.empty() && (*presenter)->captureNextFrame(&shown);
