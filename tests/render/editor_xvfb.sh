@@ -17,7 +17,7 @@ start_xvfb 1400x900x24 || exit 1
 
 if ! timeout 120 "$fray" --quit-after 10 --validate \
      --screenshot "$out/window.png" --viewport-screenshot "$out/viewport.png" >"$out/demo.log" 2>&1; then
-  bad "fray on the demo project failed: $(cat "$out/demo.log")"
+  bad "fray on the demo project failed: $(cat "$out/demo.log") $(xvfb_log)"
 fi
 grep -q "drew 10 frames" "$out/demo.log" || bad "expected 10 frames: $(cat "$out/demo.log")"
 grep -q "validation" "$out/demo.log" && bad "validation messages: $(cat "$out/demo.log")"
@@ -26,14 +26,14 @@ grep -q "validation" "$out/demo.log" && bad "validation messages: $(cat "$out/de
 
 # A motion file given on the command line.
 if ! timeout 120 "$fray" "$lib/walking.bvh" --quit-after 3 >"$out/motion.log" 2>&1; then
-  bad "fray walking.bvh failed: $(cat "$out/motion.log")"
+  bad "fray walking.bvh failed: $(cat "$out/motion.log") $(xvfb_log)"
 fi
 
 # A composed scene: one-vs-one from the demo project's attack-fall patches.
 compose_fight "$cli" "$lib" "$out"
 if ! timeout 120 "$fray" "$out/fight.frayscene" --quit-after 12 --validate \
      --screenshot "$out/scene-window.png" --viewport-screenshot "$out/scene.png" >"$out/scene.log" 2>&1; then
-  bad "fray on a scene failed: $(cat "$out/scene.log")"
+  bad "fray on a scene failed: $(cat "$out/scene.log") $(xvfb_log)"
 fi
 grep -q "drew 12 frames" "$out/scene.log" || bad "scene: expected 12 frames: $(cat "$out/scene.log")"
 grep -q "validation" "$out/scene.log" && bad "scene: validation messages: $(cat "$out/scene.log")"
@@ -43,7 +43,7 @@ grep -q "validation" "$out/scene.log" && bad "scene: validation messages: $(cat 
 "$cli" export "$out/fight.frayscene" --format glb --out "$out/rig" -q >"$out/export.log" 2>&1 || bad "export: $(cat "$out/export.log")"
 if ! timeout 120 "$fray" "$out/fight.frayscene" --rig "$out/rig/fight.glb" --quit-after 6 --validate \
      --viewport-screenshot "$out/rig.png" >"$out/rig.log" 2>&1; then
-  bad "fray with a rig failed: $(cat "$out/rig.log")"
+  bad "fray with a rig failed: $(cat "$out/rig.log") $(xvfb_log)"
 fi
 grep -q "validation" "$out/rig.log" && bad "rig: validation messages: $(cat "$out/rig.log")"
 "$check" "$out/rig.png" 320 200 || bad "rig viewport screenshot check"

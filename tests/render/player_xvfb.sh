@@ -15,7 +15,7 @@ start_xvfb 1024x768x24 || exit 1
 # Two takes side by side, 12 frames, the window captured at the end.
 if ! timeout 120 "$play" "$lib/walking.bvh" "$lib/shadowbox_energetic.bvh" --frames 12 \
      --size 640x360 --validate --screenshot "$out/play.png" >"$out/play.log" 2>&1; then
-  bad "fray-play failed: $(cat "$out/play.log")"
+  bad "fray-play failed: $(cat "$out/play.log") $(xvfb_log)"
 fi
 grep -q "drew 12 frames" "$out/play.log" || bad "expected 12 frames: $(cat "$out/play.log")"
 grep -q "validation" "$out/play.log" && bad "validation messages: $(cat "$out/play.log")"
@@ -23,7 +23,7 @@ grep -q "validation" "$out/play.log" && bad "validation messages: $(cat "$out/pl
 
 # The demo project when started with no argument.
 if ! timeout 120 "$play" --frames 2 --size 320x200 >"$out/demo.log" 2>&1; then
-  bad "fray-play with no argument failed: $(cat "$out/demo.log")"
+  bad "fray-play with no argument failed: $(cat "$out/demo.log") $(xvfb_log)"
 fi
 
 # No display: a clear message naming DISPLAY and Xvfb, exit code 1, no crash.
@@ -37,7 +37,7 @@ grep -q "DISPLAY" "$out/nodisplay.log" && grep -q "xvfb-run" "$out/nodisplay.log
 compose_fight "$cli" "$lib" "$out"
 if ! timeout 120 "$play" "$out/fight.frayscene" --frames 12 --size 640x360 --validate --screenshot "$out/scene.png" \
      >"$out/scene.log" 2>&1; then
-  bad "fray-play on a scene failed: $(cat "$out/scene.log")"
+  bad "fray-play on a scene failed: $(cat "$out/scene.log") $(xvfb_log)"
 fi
 grep -q "drew 12 frames" "$out/scene.log" || bad "scene: expected 12 frames: $(cat "$out/scene.log")"
 grep -q "validation" "$out/scene.log" && bad "scene: validation messages: $(cat "$out/scene.log")"
@@ -47,7 +47,7 @@ grep -q "validation" "$out/scene.log" && bad "scene: validation messages: $(cat 
 "$cli" export "$out/fight.frayscene" --format glb --out "$out/rig" -q >"$out/export.log" 2>&1 || bad "export: $(cat "$out/export.log")"
 if ! timeout 120 "$play" "$out/fight.frayscene" --rig "$out/rig/fight.glb" --frames 6 --size 640x360 --validate \
      --screenshot "$out/rig.png" >"$out/rig.log" 2>&1; then
-  bad "fray-play with a rig failed: $(cat "$out/rig.log")"
+  bad "fray-play with a rig failed: $(cat "$out/rig.log") $(xvfb_log)"
 fi
 grep -q "drew 6 frames" "$out/rig.log" || bad "rig: expected 6 frames: $(cat "$out/rig.log")"
 grep -q "validation" "$out/rig.log" && bad "rig: validation messages: $(cat "$out/rig.log")"

@@ -2,10 +2,14 @@
 # display number the server picks itself (-displayfd), so tests that run in
 # parallel never race for the same display the way `xvfb-run -a` can; it
 # exports DISPLAY and stops the server when the calling script exits.
+# -noreset: by default the server resets whenever its last client leaves, and
+# a window started during that reset could not connect (seen once in CI
+# between two runs of fray). xvfb_log prints the server's log for messages.
 start_xvfb() {
   local screen=${1:-1280x1024x24}
   local dir; dir=$(mktemp -d)
-  Xvfb -displayfd 3 -screen 0 "$screen" -nolisten tcp 3>"$dir/display" 2>"$dir/xvfb.log" &
+  xvfb_dir=$dir
+  Xvfb -displayfd 3 -screen 0 "$screen" -nolisten tcp -noreset 3>"$dir/display" 2>"$dir/xvfb.log" &
   xvfb_pid=$!
   trap 'kill "$xvfb_pid" 2>/dev/null; wait "$xvfb_pid" 2>/dev/null; rm -rf "'"$dir"'"' EXIT
   local i
@@ -24,6 +28,11 @@ start_xvfb() {
   done
   echo "Xvfb did not report a display within 20 s: $(cat "$dir/xvfb.log")"
   return 1
+}
+
+xvfb_log() {
+  if kill -0 "$xvfb_pid" 2>/dev/null; then echo "(Xvfb on $DISPLAY is running)"; else echo "(Xvfb on $DISPLAY has exited)"; fi
+  cat "$xvfb_dir/xvfb.log" 2>/dev/null
 }
 
 # compose_fight CLI LIB OUT: a one-vs-one fight composed from a copy of the
