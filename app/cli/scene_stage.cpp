@@ -31,13 +31,14 @@ SceneStage::SceneStage(LoadedScene scene) : loaded_(std::move(scene)) {
         for (const auto& cp : ch.path) marks_.push_back({glm::vec3(cp.pos.x, 0.0f, cp.pos.y), glm::vec4(col, 1.0f), 0.25f, {}});
     }
     const std::size_t paths = linePoints_.size();
-    if (sc.arenaRadius > 0) {
+    if (sc.arena.bounded()) {
         constexpr int kSegments = 96;
-        const auto r = static_cast<float>(sc.arenaRadius);
+        const glm::vec2 c = sc.arena.centre;
+        const auto r = static_cast<float>(sc.arena.radius);
         std::vector<glm::vec3> circle;
         for (int k = 0; k <= kSegments; ++k) {
             const float a = 2.0f * std::numbers::pi_v<float> * static_cast<float>(k) / kSegments;
-            circle.emplace_back(sc.arenaCentre.x + r * std::cos(a), 0.0f, sc.arenaCentre.y + r * std::sin(a));
+            circle.emplace_back(c.x + r * std::cos(a), 0.0f, c.y + r * std::sin(a));
         }
         linePoints_.push_back(std::move(circle));
     }
@@ -49,11 +50,11 @@ SceneStage::SceneStage(LoadedScene scene) : loaded_(std::move(scene)) {
 
 render::Bounds SceneStage::stageBounds() const {
     render::Bounds b;
-    const sim::Scene& sc = loaded_.scene;
-    if (sc.arenaRadius > 0) {
-        const auto r = static_cast<float>(sc.arenaRadius);
-        b.add(glm::vec3(sc.arenaCentre.x - r, 0.0f, sc.arenaCentre.y - r));
-        b.add(glm::vec3(sc.arenaCentre.x + r, 0.0f, sc.arenaCentre.y + r));
+    const sim::Arena& a = loaded_.scene.arena;
+    if (a.bounded()) {
+        const auto r = static_cast<float>(a.radius);
+        b.add(glm::vec3(a.centre.x - r, 0.0f, a.centre.y - r));
+        b.add(glm::vec3(a.centre.x + r, 0.0f, a.centre.y + r));
     }
     return b;
 }

@@ -155,15 +155,15 @@ TEST(SimPlanner, ArenaKeepsAChaseOnStage) {
     const std::string text = sceneToJson(*staged, lib);
     auto back = sceneFromJson(text, "s.frayscene", lib);
     ASSERT_TRUE(back.ok()) << back.error().message;
-    EXPECT_EQ(back->arenaRadius, 6.0);
-    EXPECT_EQ(back->arenaCentre, glm::vec2(1.0f, 0.0f));
+    EXPECT_EQ(back->arena.radius, 6.0);
+    EXPECT_EQ(back->arena.centre, glm::vec2(1.0f, 0.0f));
     EXPECT_EQ(sceneToJson(*back, lib), text);
     std::string broken = text;
     broken.replace(broken.find("\"radius\": 6.0"), 13, "\"radius\": -1");
     auto bad = sceneFromJson(broken, "s.frayscene", lib);
     ASSERT_FALSE(bad.ok());
     EXPECT_NE(bad.error().message.find("s.frayscene: /arena"), std::string::npos) << bad.error().message;
-    EXPECT_EQ(open->arenaRadius, 0.0);
+    EXPECT_FALSE(open->arena.bounded());
     EXPECT_EQ(sceneToJson(*open, lib).find("\"arena\""), std::string::npos);
 }
 

@@ -336,8 +336,8 @@ Value edgeScore(const Context& ctx, const GroupState& before, const GroupState& 
     // The stage: ending near or beyond its edge costs like a lost blow per
     // metre squared, so the search turns a runner before the edge, where one
     // clip of look-ahead (the choice filter) is too late for a running turn.
-    if (ctx.opt->arenaRadius > 0) {
-        const double out = static_cast<double>(glm::length(pm.pos - ctx.opt->arenaCentre)) - (ctx.opt->arenaRadius - kArenaMargin);
+    if (ctx.opt->arena.bounded()) {
+        const double out = ctx.opt->arena.distanceFrom(pm.pos) - (ctx.opt->arena.radius - kArenaMargin);
         if (out > 0) v.comp -= kArenaWeight * out * out;
     }
     // Cooperative: checkpoints and required actions.
@@ -398,7 +398,7 @@ public:
             }
             if (base_.empty()) base_ = spec.allowed;
         }
-        if (ctx.opt->arenaRadius > 0) keepInsideArena(s);
+        if (ctx.opt->arena.bounded()) keepInsideArena(s);
         if (!root && ctx.opt->variants && base_.size() > 1) {
             // One representative (the first) per variant class.
             std::vector<int> seen;
@@ -481,7 +481,7 @@ public:
     }
 
 private:
-    // The stage (SimOptions::arenaRadius). A candidate is judged by how far
+    // The stage (SimOptions::arena). A candidate is judged by how far
     // out it would get before it could come back: its end's distance from
     // the centre, plus, when it ends heading away, part of a turning circle
     // at its speed (v^2 / 4 m/s^2 lateral acceleration: about 2 m for a run,
@@ -492,7 +492,7 @@ private:
     double arenaReach(const RootXf& at, int action) const {
         const auto& a = act(ctx_, action);
         const RootXf e = at * a.end;
-        const glm::vec2 out = e.pos - ctx_.opt->arenaCentre;
+        const glm::vec2 out = e.pos - ctx_.opt->arena.centre;
         const double d = static_cast<double>(glm::length(out));
         const double v = static_cast<double>(glm::length(a.end.pos)) / std::max(a.duration, 1e-3);
         const double turn = std::clamp(v * v / 4.0, 0.3, 3.0);
@@ -531,7 +531,7 @@ private:
     }
     void keepInsideArena(const CharState& s) {
         const RootXf from = s.root * act(ctx_, s.action).end;
-        const double inner = std::max(ctx_.opt->arenaRadius - kArenaMargin, 0.0);
+        const double inner = std::max(ctx_.opt->arena.radius - kArenaMargin, 0.0);
         const auto& allowed = specOf(ctx_, who_).allowed;
         std::vector<double> reach(base_.size());
         for (std::size_t i = 0; i < base_.size(); ++i) {
@@ -741,8 +741,7 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
     Scene scene;
     scene.duration = opt.duration;
     scene.seed = opt.seed;
-    scene.arenaCentre = opt.arenaCentre;
-    scene.arenaRadius = opt.arenaRadius;
+    scene.arena = opt.arena;
     scene.spec = spec.text;
     for (const auto& c : spec.characters) {
         if (c.allowed.empty()) return makeError("character '" + c.name + "' has no usable action");

@@ -92,6 +92,27 @@ Result<std::vector<Checkpoint>> parseCheckpoints(const JsonReader& rd, const jso
     return checkpointsFromJson(rd, v, path);
 }
 
+// {x, z, radius} of a scene spec or a scene file: the centre defaults to the
+// origin, the radius is at least 1 m.
+Result<Arena> parseArena(const JsonReader& rd, const json& v, const std::string& path) {
+    if (!v.is_object()) return rd.error(path, "must be {x, z, radius} (a disc on the floor, metres)");
+    for (auto it = v.begin(); it != v.end(); ++it) {
+        if (it.key() != "x" && it.key() != "z" && it.key() != "radius") return rd.error(path + "/" + it.key(), "unknown field");
+    }
+    Arena a;
+    for (const char* key : {"x", "z"}) {
+        if (auto f = v.find(key); f != v.end()) {
+            FRAY_TRY(num, rd.number(*f, path + "/" + key));
+            if (!std::isfinite(num)) return rd.error(path + "/" + key, "must be finite");
+            (key[0] == 'x' ? a.centre.x : a.centre.y) = static_cast<float>(num);
+        }
+    }
+    FRAY_TRY(radius, rd.numberAt(v, path, "radius"));
+    if (!std::isfinite(radius) || radius < 1.0) return rd.error(path + "/radius", "must be at least 1 m");
+    a.radius = radius;
+    return a;
+}
+
 int Scene::instanceAt(int c, double t) const { return instanceIndexAt(characters[static_cast<std::size_t>(c)].track, t); }
 
 int instanceIndexAt(std::span<const ActionInstance> track, double t) {
@@ -109,8 +130,8 @@ std::string sceneToJson(const Scene& scene, const ActionLibrary& lib) {
     j["project"] = scene.project;
     j["duration"] = scene.duration;
     j["seed"] = scene.seed;
-    if (scene.arenaRadius > 0)
-        j["arena"] = json{{"x", scene.arenaCentre.x}, {"z", scene.arenaCentre.y}, {"radius", scene.arenaRadius}};
+    if (scene.arena.bounded())
+        j["arena"] = json{{"x", scene.arena.centre.x}, {"z", scene.arena.centre.y}, {"radius", scene.arena.radius}};
     json chars = json::array();
     for (const auto& c : scene.characters) {
         json cj;
@@ -203,14 +224,8 @@ Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, co
     if (!sf->is_number_unsigned() && !sf->is_number_integer()) return rd.error("/seed", "must be an integer");
     scene.seed = sf->get<std::uint64_t>();
     if (const auto ar = j.find("arena"); ar != j.end()) {
-        if (!ar->is_object()) return rd.error("/arena", "must be {x, z, radius}");
-        FRAY_TRY(x, rd.numberAt(*ar, "/arena", "x"));
-        FRAY_TRY(z, rd.numberAt(*ar, "/arena", "z"));
-        FRAY_TRY(radius, rd.numberAt(*ar, "/arena", "radius"));
-        if (!std::isfinite(x) || !std::isfinite(z) || !(radius > 0) || !std::isfinite(radius))
-            return rd.error("/arena", "needs a finite centre and a positive radius");
-        scene.arenaCentre = {static_cast<float>(x), static_cast<float>(z)};
-        scene.arenaRadius = radius;
+        FRAY_TRY(arena, parseArena(rd, *ar, "/arena"));
+        scene.arena = arena;
     }
     FRAY_TRY(cf, rd.field(j, "", "characters"));
     if (!cf->is_array()) return rd.error("/characters", "must be an array");

@@ -16,6 +16,7 @@ namespace fray::sim {
 // Defined in scene.cpp.
 Result<std::vector<Checkpoint>> parseCheckpoints(const prep::JsonReader& rd, const nlohmann::ordered_json& v,
                                                  const std::string& path);
+Result<Arena> parseArena(const prep::JsonReader& rd, const nlohmann::ordered_json& v, const std::string& path);
 
 namespace {
 
@@ -311,23 +312,8 @@ Result<SceneSpec> parseSceneSpec(std::string_view text, std::string_view fileNam
     }
 
     if (auto v = j.find("arena"); v != j.end()) {
-        if (!v->is_object()) return rd.error("/arena", "must be {x, z, radius} (a disc on the floor, metres)");
-        for (auto it = v->begin(); it != v->end(); ++it) {
-            if (it.key() != "x" && it.key() != "z" && it.key() != "radius") return rd.error("/arena/" + it.key(), "unknown field");
-        }
-        double xz[2] = {0.0, 0.0};
-        for (int k = 0; k < 2; ++k) {
-            const char* key = k == 0 ? "x" : "z";
-            if (auto f = v->find(key); f != v->end()) {
-                FRAY_TRY(num, rd.number(*f, std::string("/arena/") + key));
-                if (!std::isfinite(num)) return rd.error(std::string("/arena/") + key, "must be finite");
-                xz[k] = num;
-            }
-        }
-        FRAY_TRY(radius, rd.numberAt(*v, "/arena", "radius"));
-        if (!std::isfinite(radius) || radius < 1.0) return rd.error("/arena/radius", "must be at least 1 m");
-        o.arenaCentre = {static_cast<float>(xz[0]), static_cast<float>(xz[1])};
-        o.arenaRadius = radius;
+        FRAY_TRY(arena, parseArena(rd, *v, "/arena"));
+        o.arena = arena;
     }
 
     // "@annotation" or an action name -> library actions (optionally within motions).
@@ -528,14 +514,14 @@ Result<SceneSpec> parseSceneSpec(std::string_view text, std::string_view fileNam
         if (other.side == cs.side) return rd.error(p, "'" + other.name + "' is on the same side");
         cs.opponent = found;
     }
-    if (o.arenaRadius > 0) {
+    if (o.arena.bounded()) {
         for (std::size_t i = 0; i < spec.characters.size(); ++i) {
             const auto& c = spec.characters[i];
-            const double d = glm::length(c.start.pos - o.arenaCentre);
-            if (d > o.arenaRadius) {
+            const double d = o.arena.distanceFrom(c.start.pos);
+            if (d > o.arena.radius) {
                 char buf[96];
                 std::snprintf(buf, sizeof buf, "starts %.2f m from the arena's centre, outside its radius of %.2f m", d,
-                              o.arenaRadius);
+                              o.arena.radius);
                 return rd.error("/characters/" + std::to_string(i) + "/start", "'" + c.name + "' " + buf);
             }
         }

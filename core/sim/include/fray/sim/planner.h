@@ -93,8 +93,7 @@ struct SimOptions {
     // costs 1000 per m^2 in F_comp, so deeper searches turn earlier. A
     // running turn can overshoot the edge by about 2.5 m, and reactions
     // (pushed, knocked down) can carry a character out.
-    glm::vec2 arenaCentre{0.0f};
-    double arenaRadius = 0;
+    Arena arena;
 };
 
 struct SceneSpec {

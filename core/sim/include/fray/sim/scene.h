@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include <glm/geometric.hpp>
+
 #include "fray/core/motion.h"
 #include "fray/core/result.h"
 #include "fray/sim/action_library.h"
@@ -45,6 +47,17 @@ struct Checkpoint {
     std::optional<double> time;  // not to be passed before this time (s)
     std::string action;          // "" or a required action ("@annotation" or a name) at this checkpoint
     friend bool operator==(const Checkpoint&, const Checkpoint&) = default;
+};
+
+// A stage: a disc on the floor that characters are kept on (SimOptions::
+// arena); radius 0 is unbounded.
+struct Arena {
+    glm::vec2 centre{0.0f};  // (x, z)
+    double radius = 0;       // m
+    bool bounded() const { return radius > 0; }
+    // Distance of a floor point from the centre (m).
+    double distanceFrom(glm::vec2 p) const { return static_cast<double>(glm::length(p - centre)); }
+    friend bool operator==(const Arena&, const Arena&) = default;
 };
 
 struct HitEvent {
@@ -98,10 +111,7 @@ struct Scene {
     std::vector<CatchEvent> catches;
     PlannerStats stats;
     std::string spec;        // the scene spec it was made from (JSON text), for the record
-    // The stage it was planned on (SimOptions::arena), for viewers: centre
-    // (x, z) and radius; radius 0 when unbounded.
-    glm::vec2 arenaCentre{0.0f};
-    double arenaRadius = 0;
+    Arena arena;             // the stage it was planned on (SimOptions::arena), for viewers
 
     // The instance of character c playing at time t (the last one for t past the end); -1 when the track is empty.
     int instanceAt(int c, double t) const;
