@@ -168,11 +168,18 @@ void label(OverlayBuilder& out, float x, float y, std::string_view s, int scale,
 
 }  // namespace
 
-// Labels of characters standing close together used to print over each
-// other. The selected character's label keeps its place, then the others
-// from the bottom of the screen up (usually nearest first); each moves up
-// above any placed box it would cover. Past kMaxStackedLabels labels (a far crowd,
-// unreadable either way) they stay where they are.
+namespace {
+
+bool covers(const PendingLabel& a, const PendingLabel& b) {
+    const bool apartX = std::abs(a.x - b.x) >= a.halfWidth + b.halfWidth;
+    const bool apartY = a.y <= b.y - b.height || b.y <= a.y - a.height;
+    return !apartX && !apartY;
+}
+
+}  // namespace
+
+// Labels of characters standing close together used to print over each other
+// (see overlay_builder.h for the order).
 void stackLabels(std::vector<PendingLabel>& labels) {
     // std::sort, not stable_sort: the latter allocates a buffer every frame.
     std::sort(labels.begin(), labels.end(), [](const PendingLabel& a, const PendingLabel& b) {
@@ -183,19 +190,15 @@ void stackLabels(std::vector<PendingLabel>& labels) {
     if (labels.size() > kMaxStackedLabels) return;
     for (std::size_t i = 1; i < labels.size(); ++i) {
         PendingLabel& l = labels[i];
-        // Each pass moves l above one box it covers; boxes are only ever
-        // passed upwards, so i passes suffice.
-        for (std::size_t pass = 0; pass < i; ++pass) {
-            bool moved = false;
+        // l only moves up, and once above a box it never covers it again, so
+        // this ends after at most i moves.
+        for (bool moved = true; moved;) {
+            moved = false;
             for (std::size_t k = 0; k < i; ++k) {
-                const PendingLabel& o = labels[k];
-                const bool apartX = std::abs(l.x - o.x) >= l.halfWidth + o.halfWidth;
-                const bool apartY = l.y <= o.y - o.height || o.y <= l.y - l.height;
-                if (apartX || apartY) continue;
-                l.y = o.y - o.height - 1.0f;
+                if (!covers(l, labels[k])) continue;
+                l.y = labels[k].y - labels[k].height - 1.0f;
                 moved = true;
             }
-            if (!moved) break;
         }
     }
 }
