@@ -1,4 +1,4 @@
-// fray-cli demo-library OUTDIR [--seed N] [--minutes M] [--report]: writes the
+// fray-cli demo-library OUTDIR [--seed N] [--minutes M] [--set S] [--report]: writes the
 // procedural demo actor's takes (BVH), their ground truth (JSON) and the demo
 // project (demo.frayproj) that references them.
 #include <algorithm>
@@ -8,6 +8,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "fray/core/atomic_file.h"
 #include "fray/demo/demo_actor.h"
@@ -23,6 +24,7 @@ struct DemoArgs {
     std::string outDir;
     std::uint64_t seed = 1;
     double minutes = 0.0;
+    std::string set = "default";
     bool report = false;
 };
 
@@ -43,6 +45,8 @@ public:
                 auto [it, fresh] = speed_.try_emplace(a.name, a.peakEffectorSpeed, a.peakEffectorSpeed);
                 if (!fresh) it->second = {std::min(it->second.first, a.peakEffectorSpeed), std::max(it->second.second, a.peakEffectorSpeed)};
             }
+            double& fastest = angular_[a.name];
+            fastest = std::max(fastest, a.maxAngularSpeed);
             if (a.style == "energetic" || a.style == "tired") {
                 auto& d = dur_[a.style == "tired" ? 1 : 0][a.name];
                 d.first += a.seconds;
@@ -56,6 +60,11 @@ public:
                     "fastest", takes_.c_str());
         std::printf("\n%-18s %8s %8s\n", "attack", "min m/s", "max m/s");
         for (const auto& [k, v] : speed_) std::printf("%-18s %8.2f %8.2f\n", k.c_str(), v.first, v.second);
+        std::vector<std::pair<double, std::string>> fast;
+        for (const auto& [k, v] : angular_) fast.emplace_back(v, k);
+        std::sort(fast.rbegin(), fast.rend());
+        std::printf("\n%-18s %10s\n", "fastest actions", "max_deg/s");
+        for (std::size_t i = 0; i < fast.size() && i < 5; ++i) std::printf("%-18s %10.0f\n", fast[i].second.c_str(), fast[i].first);
         std::printf("\n%-18s %8s %8s %6s\n", "fighting action", "energ s", "tired s", "ratio");
         for (const auto& [k, e] : dur_[0]) {
             const auto t = dur_[1].find(k);
@@ -69,6 +78,7 @@ private:
     std::string takes_;
     std::map<std::string, std::pair<double, double>> speed_;  // kind -> min, max peak speed
     std::map<std::string, std::pair<double, int>> dur_[2];    // kind -> sum seconds, count (energetic, tired)
+    std::map<std::string, double> angular_;                   // kind -> fastest joint rotation (deg/s)
 };
 
 void run(const DemoArgs& a) {
@@ -76,6 +86,7 @@ void run(const DemoArgs& a) {
     demo::LibraryOptions options;
     options.seed = a.seed;
     options.minutes = a.minutes;
+    options.set = a.set;
     const auto t0 = Clock::now();
     auto last = t0;
     Report report;
@@ -126,6 +137,9 @@ void registerDemoLibrary(CLI::App& app) {
     cmd->add_option("--minutes", args->minutes,
                     "Total length of the library in minutes (default: shadow-boxing takes of 2 min, others ~1 min)")
         ->check(CLI::Range(0.0, 600.0));
+    cmd->add_option("--set", args->set,
+                    "Which takes: default (fighting, running, falls, carrying, walking) or football (runs, cuts, tackles)")
+        ->check(CLI::IsMember(demo::librarySets()));
     cmd->add_flag("--report", args->report, "Also print quality figures (foot skate, speeds, style durations)");
     cmd->callback([args] { run(*args); });
 }

@@ -1,5 +1,6 @@
 // Quality of the demo library against its own ground truth. A small library
-// (about 2.5 minutes, every action kind at least once) is generated once and
+// (about 2.5 minutes, every action kind at least once, and a minute of the
+// football set) is generated once and
 // every threshold is checked on every action kind.
 #include <gtest/gtest.h>
 
@@ -38,7 +39,13 @@ const Library& library() {
         LibraryOptions o;
         o.seed = 11;
         o.minutes = 2.5;
-        for (const TakeSpec& spec : planLibrary(o)) {
+        std::vector<TakeSpec> plan = planLibrary(o);
+        // The football set's cuts and tackles are held to the same thresholds.
+        LibraryOptions football = o;
+        football.set = "football";
+        football.minutes = 1.0;
+        for (const TakeSpec& spec : planLibrary(football)) plan.push_back(spec);
+        for (const TakeSpec& spec : plan) {
             l.takes.push_back(generateTake(spec, takeSeed(o.seed, spec.name)));
             const Take& t = l.takes.back();
             l.metrics.push_back(measureTake(t.motion, t.truth));
@@ -70,6 +77,14 @@ TEST(DemoLibrary, PlansTheDefaultTakesAndScalesWithMinutes) {
     double total = 0;
     for (const auto& s : planLibrary({1, 10.0})) total += s.seconds;
     EXPECT_NEAR(total, 600.0, 1e-6);
+    // The football set: its own takes, scaled the same way; unknown sets plan nothing.
+    total = 0;
+    for (const auto& s : planLibrary({1, 2.0, "football"})) {
+        EXPECT_EQ(s.kind, TakeKind::Football);
+        total += s.seconds;
+    }
+    EXPECT_NEAR(total, 120.0, 1e-6);
+    EXPECT_TRUE(planLibrary({1, 0.0, "ballet"}).empty());
 }
 
 TEST(DemoLibrary, EveryActionKindIsPerformed) {

@@ -45,6 +45,10 @@ enum class Gait : std::uint8_t { Walk, Jog, Run, Backpedal, Carry };
 // One step. speed (m/s, along the heading; negative = backwards) and yawRate
 // (rad/s) are the targets at the end of the step; `name` is the action kind.
 void locoStep(Builder& b, Gait gait, double speed, double yawRate, const char* name);
+// The keys of one step without recording an action (locoStep and the
+// football cuts build on it): `lateral` m to the left within the step, the
+// body leaning `lean` rad into it. Returns the step's end time.
+double locoStepKeys(Builder& b, Gait gait, double speed, double yawRate, double lateral, double lean);
 // Last step: the swing foot lands beside the other one and the body stops.
 void locoStop(Builder& b, Gait gait, const char* name);
 void idleStand(Builder& b, double seconds);
@@ -56,5 +60,9 @@ void pickUpBox(Builder& b);
 void putDown(Builder& b);
 void handOver(Builder& b);
 void receiveBox(Builder& b);
+
+// Football (actions_football.cpp), from and back to a run.
+void juke(Builder& b, int side);  // a two-step cut 0.6-0.7 m to this side (0 left, 1 right), still running
+void tackle(Builder& b);          // one run step, a dive with the arms forward, landing face down (Prone)
 
 }  // namespace fray::demo::detail

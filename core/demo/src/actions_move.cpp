@@ -43,14 +43,14 @@ dvec3 dirOf(double heading) { return {std::sin(heading), 0.0, std::cos(heading)}
 // Arms and torso at a step boundary: the arm on the side of the foot that just
 // swung forward goes back.
 void stepPosture(Builder& b, const GaitParams& gp, Gait gait, int swung, double t0, double t1, double speed,
-                 double yawRate) {
+                 double yawRate, double lean) {
     const double sgB = sideSign(swung);
     Pose p;
     p.set(PelvisYaw, -sgB * (gait == Gait::Run || gait == Gait::Jog ? 0.12 : 0.07));
     p.set(SpineYaw, sgB * (gait == Gait::Run || gait == Gait::Jog ? 0.18 : 0.09));
-    p.set(PelvisRoll, std::clamp(-0.05 * yawRate * std::abs(speed), -0.25, 0.25));
+    p.set(PelvisRoll, std::clamp(-0.05 * yawRate * std::abs(speed) - lean, -0.25, 0.25));
     p.set(SpinePitch, gp.spinePitch).set(PelvisPitch, 0.5 * gp.spinePitch).set(HeadPitch, 0).set(Gaze, 0.8);
-    p.set(ShiftX, 0).set(ShiftZ, 0).set(SpineRoll, 0).set(HeadYaw, 0).set(HeadRoll, 0);
+    p.set(ShiftX, 0).set(ShiftZ, 0).set(SpineRoll, -0.5 * lean).set(HeadYaw, 0).set(HeadRoll, 0);
     if (gait == Gait::Carry) {
         const Pose c = b.modePose(Mode::Carry);
         for (int s = 0; s < 2; ++s) p.setHand(s, c.hand[static_cast<std::size_t>(s)]);
@@ -71,7 +71,7 @@ void stepPosture(Builder& b, const GaitParams& gp, Gait gait, int swung, double 
 
 }  // namespace
 
-void locoStep(Builder& b, Gait gait, double speed, double yawRate, const char* name) {
+double locoStepKeys(Builder& b, Gait gait, double speed, double yawRate, double lateral, double lean) {
     const GaitParams gp = paramsOf(gait);
     const double t0 = b.now();
     const double t1 = b.endOf(t0 + gp.stepTime * b.rng.jitter(0.03));
@@ -84,7 +84,8 @@ void locoStep(Builder& b, Gait gait, double speed, double yawRate, const char* n
     const double r1 = yawRate;
     const double h0 = b.heading(t0), h1 = h0 + 0.5 * (r0 + r1) * Ts;
     const dvec3 p0 = b.base(t0);
-    const dvec3 p1 = p0 + 0.5 * Ts * (v0 * dirOf(h0) + v1 * dirOf(h1));
+    // A sidestep (lateral, m to the left) moves the base across within the step.
+    const dvec3 p1 = p0 + 0.5 * Ts * (v0 * dirOf(h0) + v1 * dirOf(h1)) + lateral * dvec3(std::cos(h1), 0.0, -std::sin(h1));
     const dvec3 vel1 = v1 * dirOf(h1);
     for (Ch c : {BaseX, BaseZ, Heading}) b.hold(c, t0);
     b.key(BaseX, t1, p1.x, vel1.x);
@@ -120,9 +121,13 @@ void locoStep(Builder& b, Gait gait, double speed, double yawRate, const char* n
     } else {
         b.ease(Height, t0, t1, gp.height);
     }
-    stepPosture(b, gp, gait, B, t0, t1, v1, r1);
+    stepPosture(b, gp, gait, B, t0, t1, v1, r1, lean);
     b.mode = gait == Gait::Carry ? Mode::Carry : Mode::Stand;
-    b.finish(name, t1);
+    return t1;
+}
+
+void locoStep(Builder& b, Gait gait, double speed, double yawRate, const char* name) {
+    b.finish(name, locoStepKeys(b, gait, speed, yawRate, 0.0, 0.0));
 }
 
 void locoStop(Builder& b, Gait gait, const char* name) {

@@ -83,6 +83,10 @@ const std::vector<ActionInfo>& actionTable() {
         {"receive", false, {"receive"}, {"LeftHand", "RightHand"}, nullptr, nullptr, nullptr},
         {"turn_carry", false, {"carry", "turn"}, {"LeftFoot", "RightFoot"}, nullptr, nullptr, nullptr},
         {"put_down", false, {"carry"}, {"LeftHand", "RightHand"}, nullptr, nullptr, nullptr},
+        // football (the football library set only)
+        {"juke_left", false, {"avoid"}, {"LeftFoot", "RightFoot"}, nullptr, nullptr, "torso"},
+        {"juke_right", false, {"avoid"}, {"RightFoot", "LeftFoot"}, nullptr, nullptr, "torso"},
+        {"tackle", false, {"tackle"}, {"LeftHand", "RightHand"}, "straight", "torso", nullptr},
     };
     return table;
 }

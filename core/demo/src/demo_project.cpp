@@ -8,7 +8,9 @@ prep::Project makeDemoProject(const std::vector<ProjectTake>& takes) {
     prep::Project p = prep::makeProject("demo");
     // Five seconds labelled in four takes of different kinds: 20 s in all.
     const std::pair<const char*, double> labelled[] = {
-        {"shadowbox_energetic", 20.0}, {"walking", 10.0}, {"running_around", 15.0}, {"falls", 5.0}};
+        {"shadowbox_energetic", 20.0}, {"walking", 10.0}, {"running_around", 15.0}, {"falls", 5.0},
+        // The football set: runs, cuts and a dive.
+        {"football_1", 30.0}, {"football_2", 50.0}};
     for (const auto& t : takes) {
         prep::ProjectMotion m;
         m.id = t.truth.take;

@@ -14,12 +14,14 @@ Result<std::vector<WrittenTake>> writeDemoLibrary(const std::filesystem::path& o
     std::filesystem::create_directories(outDir, ec);
     if (ec) return makeError(outDir.string() + ": cannot create directory: " + ec.message());
     const std::vector<TakeSpec> plan = planLibrary(options);
+    if (plan.empty()) return makeError("demo library: unknown set '" + options.set + "' (known: default, football)");
     std::vector<WrittenTake> written;
     nlohmann::ordered_json index;
     index["format"] = "fray-demo-library";
     index["version"] = 1;
     index["seed"] = options.seed;
     index["minutes"] = options.minutes;
+    index["set"] = options.set;
     index["fps"] = kDemoFps;
     index["takes"] = nlohmann::ordered_json::array();
     for (std::size_t i = 0; i < plan.size(); ++i) {

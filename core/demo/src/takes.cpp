@@ -33,6 +33,7 @@ std::string_view toString(TakeKind kind) {
         case TakeKind::RunningAround: return "running_around";
         case TakeKind::Falls: return "falls";
         case TakeKind::Carrying: return "carrying";
+        case TakeKind::Football: return "football";
         case TakeKind::Walking: break;
     }
     return "walking";
@@ -62,6 +63,12 @@ constexpr DefaultTake kDefaultTakes[] = {
     {"falls", TakeKind::Falls, Style::Energetic, 75.0},
     {"carrying", TakeKind::Carrying, Style::Neutral, 60.0},
     {"walking", TakeKind::Walking, Style::Neutral, 60.0},
+};
+// The football set: a runner cutting past imagined tacklers and diving into
+// tackles, two takes so the cuts and dives come in several variants.
+constexpr DefaultTake kFootballTakes[] = {
+    {"football_1", TakeKind::Football, Style::Neutral, 90.0},
+    {"football_2", TakeKind::Football, Style::Neutral, 90.0},
 };
 
 // ---- helpers -----------------------------------------------------------------
@@ -271,6 +278,50 @@ void falls(Builder& b, double seconds) {
     detail::idleStand(b, 1.0);
 }
 
+// ---- football ------------------------------------------------------------------
+
+void runSteps(Builder& b, int n, bool forceTurn) {
+    for (int i = 0; i < n; ++i) {
+        double r = steer(b, 6.0, 1.3);
+        if (forceTurn && i < 2) r = 1.3;
+        detail::locoStep(b, Gait::Run, 3.2 * b.rng.jitter(0.05), r, r != 0.0 ? "turn_run" : "run");
+    }
+}
+
+void football(Builder& b, double seconds) {
+    detail::idleStand(b, b.rng.uniform(1.0, 1.6));
+    bool first = true;
+    while (b.now() < seconds - 10.0 || first) {
+        for (int i = 0; i < 3; ++i) detail::locoStep(b, Gait::Jog, 2.3, steer(b, 6.0, 0.9), "jog");
+        runSteps(b, b.rng.between(3, 5), first);
+        const int cuts = first ? 2 : b.rng.between(2, 3);
+        for (int c = 0; c < cuts; ++c) {
+            // Cut toward the middle of the capture area when far from it.
+            int side = b.rng.below(2);
+            if (first) side = c % 2;
+            else if (distanceFromOrigin(b) > 4.0) side = bearingToOrigin(b) > 0 ? 0 : 1;
+            detail::juke(b, side);
+            runSteps(b, b.rng.between(2, 4), false);
+        }
+        if (first || b.rng.chance(0.7)) {
+            for (int i = 0; i < 2; ++i) detail::locoStep(b, Gait::Run, 3.3 * b.rng.jitter(0.03), 0.0, "run");
+            detail::tackle(b);
+            detail::getUp(b);
+            detail::idleStand(b, b.rng.uniform(0.8, 1.4));
+            double bearing = bearingToOrigin(b);
+            if (first && std::abs(bearing) < 0.5) bearing = bearing >= 0 ? 0.8 : -0.8;
+            if (std::abs(bearing) > 0.5) detail::turnInPlace(b, bearing, "turn_walk");
+        } else {
+            for (int i = 0; i < 3; ++i) detail::locoStep(b, Gait::Jog, 2.2, steer(b, 6.0, 0.9), "jog");
+            walkSteps(b, 3, 1.3, Gait::Walk, "walk", "turn_walk", 6.0);
+            detail::locoStop(b, Gait::Walk, "walk");
+            detail::idleStand(b, b.rng.uniform(0.8, 1.4));
+        }
+        first = false;
+    }
+    detail::idleStand(b, 1.0);
+}
+
 // ---- carrying ------------------------------------------------------------------
 
 void carrying(Builder& b, double seconds) {
@@ -311,9 +362,22 @@ double defaultLibraryMinutes() {
     return s / 60.0;
 }
 
+const std::vector<std::string>& librarySets() {
+    static const std::vector<std::string> sets = {"default", "football"};
+    return sets;
+}
+
 std::vector<TakeSpec> planLibrary(const LibraryOptions& options) {
-    const double scale = options.minutes > 0 ? options.minutes / defaultLibraryMinutes() : 1.0;
     std::vector<TakeSpec> out;
+    if (options.set == "football") {
+        double total = 0;
+        for (const auto& t : kFootballTakes) total += t.seconds;
+        const double scale = options.minutes > 0 ? options.minutes * 60.0 / total : 1.0;
+        for (const auto& t : kFootballTakes) out.push_back({t.name, t.kind, t.style, t.seconds * scale});
+        return out;
+    }
+    if (options.set != "default") return out;
+    const double scale = options.minutes > 0 ? options.minutes / defaultLibraryMinutes() : 1.0;
     for (const auto& t : kDefaultTakes) out.push_back({t.name, t.kind, t.style, t.seconds * scale});
     return out;
 }
@@ -344,6 +408,8 @@ std::vector<std::string> actionKindsOf(TakeKind kind) {
                     "to_guard", "guard_idle", "knocked_down", "to_stand"};
         case TakeKind::Carrying:
             return {"idle_stand", "pick_up_box", "walk_carry", "turn_carry", "hand_over", "receive", "put_down", "walk"};
+        case TakeKind::Football:
+            return {"idle_stand", "jog", "run", "turn_run", "juke_left", "juke_right", "tackle", "get_up", "turn_walk"};
         case TakeKind::Walking: break;
     }
     return {"idle_stand", "walk", "turn_walk", "backpedal"};
@@ -367,6 +433,7 @@ Take generateTake(const TakeSpec& spec, std::uint64_t seed) {
         case TakeKind::Falls: falls(b, spec.seconds); break;
         case TakeKind::Carrying: carrying(b, spec.seconds); break;
         case TakeKind::Walking: walking(b, spec.seconds); break;
+        case TakeKind::Football: football(b, spec.seconds); break;
     }
     Take take;
     take.spec = spec;

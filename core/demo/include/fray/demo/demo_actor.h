@@ -27,7 +27,7 @@ Skeleton makeDemoSkeleton();
 enum class Style : std::uint8_t { Neutral, Energetic, Tired };
 std::string_view toString(Style style);
 
-enum class TakeKind : std::uint8_t { ShadowBoxing, RunningAround, Falls, Carrying, Walking };
+enum class TakeKind : std::uint8_t { ShadowBoxing, RunningAround, Falls, Carrying, Walking, Football };
 std::string_view toString(TakeKind kind);
 
 struct TakeSpec {
@@ -48,14 +48,19 @@ struct LibraryOptions {
     // Total length of the library in minutes; 0 keeps the default plan
     // (shadow-boxing takes of 2 minutes, the others about 1 minute).
     double minutes = 0.0;
+    // Which takes: "default" (fighting, running, falls, carrying, walking) or
+    // "football" (running with cuts and tackles, for the football scene).
+    std::string set = "default";
 };
 
 inline constexpr double kDemoFps = 60.0;
 
 // Default library length in minutes (sum of the default take lengths).
 double defaultLibraryMinutes();
-// The takes of a library, lengths scaled to options.minutes.
+// The takes of a library, lengths scaled to options.minutes. An unknown set
+// gives no takes (librarySets() lists the known ones).
 std::vector<TakeSpec> planLibrary(const LibraryOptions& options);
+const std::vector<std::string>& librarySets();
 // Seed of one take: derived from the library seed and the take's name, so a
 // take does not change when another one is added.
 std::uint64_t takeSeed(std::uint64_t librarySeed, std::string_view takeName);
@@ -64,8 +69,8 @@ std::uint64_t takeSeed(std::uint64_t librarySeed, std::string_view takeName);
 // once, whatever the length.
 Take generateTake(const TakeSpec& spec, std::uint64_t seed);
 
-// Every action name the demo actor can perform (48 kinds), and the action kinds
-// of one take kind.
+// Every action name the demo actor can perform (51 kinds, three of them only
+// in the football set), and the action kinds of one take kind.
 const std::vector<std::string>& actionKinds();
 std::vector<std::string> actionKindsOf(TakeKind kind);
 
