@@ -9,8 +9,9 @@
 # demo project (resources/demo/duel.json), its metrics, a few frames rendered
 # offscreen, the duel exported as glTF (docs/EXPORT.md); Interaction Patches
 # generated from the demo PatternLists, a one-vs-many fight and a domino crowd
-# composed from them; and the `fray` window playing the duel when a display is
-# available.
+# composed from them; the football set of the demo actor and an American
+# football run composed from its tackle patches; and the `fray` window playing
+# the duel when a display is available.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/build.sh
@@ -47,12 +48,21 @@ echo "A crowd falling like dominoes into the painted areas of resources/demo/dom
 "$cli" metrics "$run/domino.frayscene" --quiet | grep "^scene:"
 "$cli" render "$run/domino.frayscene" --frames 0:end:60 --size 960x540 --pitch 40 --quiet --out "$run/domino-frames"
 echo
+echo "American football: the demo actor's football takes (runs, cuts, dives), patches of {run, TACKLE, avoid},"
+echo "and a carrier running for the goal line past six tacklers the way resources/demo/football.json points:"
+"$cli" demo-library "$run/football-library" --set football > /dev/null 2>&1
+"$cli" patches generate "$run/football-library/demo.frayproj" --quiet
+"$cli" compose "$run/football-library/demo.frayproj" --spec resources/demo/football.json --out "$run/football.frayscene" --quiet
+"$cli" metrics "$run/football.frayscene" --quiet | grep "^scene:"
+"$cli" render "$run/football.frayscene" --frames 0:end:30 --size 960x540 --labels --yaw 120 --quiet --out "$run/football-frames"
+echo
 echo "Automatic project: $run/auto.frayproj (list its actions: $cli actions $run/auto.frayproj)"
 echo "Demo project:      $lib/demo.frayproj"
 echo "Duel scene:        $run/duel.frayscene (frames in $run/duel-frames, glTF in $run/duel-export)"
 echo "Chase:             $run/chase.frayscene (frames in $run/chase-frames)"
 echo "One vs many:       $run/one_vs_many.frayscene (frames in $run/one_vs_many-frames)"
 echo "Domino:            $run/domino.frayscene (frames in $run/domino-frames)"
+echo "Football:          $run/football.frayscene (frames in $run/football-frames)"
 if [[ -n "${DISPLAY:-}${WAYLAND_DISPLAY:-}" && -x build/bin/fray ]]; then
   echo "Opening the fray window on the duel (build/bin/fray with no argument opens it too)."
   build/bin/fray "$run/duel.frayscene"

@@ -113,4 +113,25 @@ expect_fail "missing bitmap" "nothere.png" \
 expect_fail "start off the painted area" "start 0 at (7.5" \
   "$cli" compose "$p" --spec "$tmp/outside.json" --patches "$tmp/domino.patches" --out "$tmp/x.frayscene" -q
 check "no scene from a bad bitmap" "[ ! -e '$tmp/x.frayscene' ]"
+
+# American football from the demo actor's football set: the default
+# PatternLists the project cannot play (no punches) are skipped, the tackle
+# one is generated, and the carrier gets past the tacklers to the goal line.
+"$cli" demo-library "$tmp/fb" --set football --minutes 2 > /dev/null 2>&1
+"$cli" patches generate "$tmp/fb/demo.frayproj" 2> "$tmp/fb_gen_err.txt" > "$tmp/fb_gen.txt"
+check "defaults it cannot play are skipped" "grep -q \"skipping the default pattern 'attack-fall'\" '$tmp/fb_gen_err.txt'"
+check "tackle patches generated" "grep -q '^run-tackle-avoid: .* kept' '$tmp/fb_gen.txt'"
+cat > "$tmp/football.json" <<'JSON'
+{"kind": "football", "seed": 1, "tacklers": 4, "goal": 35, "directions": [{"time": 0, "heading_deg": 0}, {"time": 5, "heading_deg": 20}]}
+JSON
+"$cli" compose "$tmp/fb/demo.frayproj" --spec "$tmp/football.json" --out "$tmp/football.frayscene" -q > "$tmp/football.txt"
+check "football composed" "grep -q 'football, 5 characters' '$tmp/football.txt'"
+check "carrier past the tacklers to the goal line" "grep -q 'got past 4 tacklers and crossed the goal line' '$tmp/football.txt'"
+"$cli" metrics "$tmp/football.frayscene" --json -q > "$tmp/football_metrics.json"
+check "football: nobody tackled, no penetration" "python3 -c 'import json,sys; m=json.load(open(sys.argv[1])); assert m[\"penetration_frames\"] == 0 and m[\"hits\"] == 0 and m[\"attacks\"] == 4, m' '$tmp/football_metrics.json'"
+echo '{"kind": "football", "directions": [{"time": 0, "heading_deg": 120}]}' > "$tmp/backwards.json"
+expect_fail "running away from the goal" "backwards.json: /directions/0/heading_deg: must be within 80 degrees" \
+  "$cli" compose "$tmp/fb/demo.frayproj" --spec "$tmp/backwards.json" --out "$tmp/x.frayscene" -q
+expect_fail "a football spec on a fighting library" "no tackle patch" \
+  "$cli" compose "$p" --spec "$tmp/football.json" --out "$tmp/x.frayscene" -q
 echo "PASS"

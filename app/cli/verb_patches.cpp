@@ -42,7 +42,17 @@ void runGenerate(const PatchesArgs& a, SimSession& s) {
     if (!set) return fail(set.error().message);
     if (set->patterns.empty()) {
         if (!a.quiet) std::fprintf(stderr, "%s has no PatternLists: using the default ones\n", a.project.c_str());
-        set->patterns = sim::defaultPatterns();
+        // Only those the project's actions can play (a fighting project has no
+        // tackles, a football one no punches); a PatternList the user wrote
+        // that no action can satisfy is still an error.
+        for (auto& p : sim::defaultPatterns()) {
+            if (auto st = sim::checkPattern(p, *set, s.library); !st) {
+                if (!a.quiet) std::fprintf(stderr, "skipping the default %s\n", st.error().message.c_str());
+                continue;
+            }
+            set->patterns.push_back(std::move(p));
+        }
+        if (set->patterns.empty()) return fail(a.project + ": the project's actions can play none of the default PatternLists");
     }
     std::vector<const sim::PatternList*> chosen;
     for (const auto& name : a.patterns) {
@@ -192,6 +202,12 @@ void runCompose(const ComposeArgs& a) {
                 "standard poses, %d chain falls), %d locomotion steps, worst junction %.2f m; %.3f s\n",
                 a.out.c_str(), sim::sceneKindName(spec->kind), scene->characters.size(), scene->duration, scene->hits.size(),
                 st.patchesUsed, st.temporalLinks, st.recycled, st.chainFalls, st.locomotionSteps, st.maxJunctionError, st.seconds);
+    if (spec->kind == sim::SceneKind::Football) {
+        char goal[64] = "did not reach the goal line";
+        if (st.goalReached >= 0) std::snprintf(goal, sizeof goal, "crossed the goal line at %.1f s", st.goalReached);
+        std::printf("%s: %d patches joined through the carrier's motion graph; the carrier got past %d tacklers and %s\n",
+                    a.out.c_str(), st.graphJoined, st.tacklersPassed, goal);
+    }
     if (spec->kind == sim::SceneKind::Domino) {
         std::printf("%s: the falls cover %.0f %% of the painted area (within %.1f m of someone who fell)\n", a.out.c_str(),
                     100.0 * st.paintedCoverage, double(sim::ComposeStats::kCoverRadius));

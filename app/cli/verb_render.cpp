@@ -324,6 +324,10 @@ void runScene(const RenderArgs& a, const FrameRange& range, std::pair<int, int> 
     const float aspect = static_cast<float>(size.first) / static_cast<float>(size.second);
     render::OrbitCamera camera = baseCamera(a);
     camera.frame(bounds, aspect);
+    // A long scene (a football run) is followed: a box around the first
+    // character (the main character, the carrier).
+    const glm::vec3 extent = bounds.max - bounds.min;
+    const bool follow = a.camera == "follow" || (a.camera == "auto" && std::max(extent.x, extent.z) > 30.0f);
 
     render::DeviceOptions dopt;
     dopt.applicationName = "fray-cli render";
@@ -355,6 +359,14 @@ void runScene(const RenderArgs& a, const FrameRange& range, std::pair<int, int> 
         const double t = f / kSceneFps;
         stage.pose(t, a.labels);
         frame.characters = stage.shown();
+        if (const auto followed = stage.jointPositions(0); follow && !followed.empty()) {
+            const glm::vec3 centre(followed[0].x, 1.0f, followed[0].z);
+            render::Bounds near;
+            near.add(centre - glm::vec3(4.0f, 1.0f, 4.0f));
+            near.add(centre + glm::vec3(4.0f, 1.0f, 4.0f));
+            frame.camera = baseCamera(a);
+            frame.camera.frame(near, aspect);
+        }
         flashes.clear();
         for (const auto& h : scene.hits) {
             const double age = t - h.time;
@@ -545,7 +557,7 @@ void registerRender(CLI::App& app) {
     cmd->add_option("--action", a->action, "Contact sheet of a project: only actions with this name or annotation");
     cmd->add_option("--yaw", a->yawDeg, "Camera heading in degrees (0: looking along -Z)")->capture_default_str();
     cmd->add_option("--pitch", a->pitchDeg, "Camera elevation in degrees")->capture_default_str();
-    cmd->add_option("--camera", a->camera, "fixed (frame the whole range), follow, or auto (follow when the path exceeds 6 m)")
+    cmd->add_option("--camera", a->camera, "fixed (frame the whole range), follow, or auto (follow when the path exceeds 6 m; a scene: the first character, when the scene spans over 30 m)")
         ->capture_default_str();
     cmd->add_flag("--trail", a->trail, "Draw each character's floor path over the range, with start and end markers");
     cmd->add_flag("--labels", a->labels, "Label characters with their take (or the current action of a project)");

@@ -22,6 +22,8 @@ namespace fray::sim {
 namespace {
 
 using test::demoWorld;
+using test::footballWorld;
+constexpr double kDeg = 3.14159265358979323846 / 180.0;
 
 PatternList pattern(const std::string& name) {
     for (const auto& p : defaultPatterns()) {
@@ -617,6 +619,61 @@ TEST(PatchSmoke, SmallLibraryThroughEveryStage) {
     EXPECT_GE(composed, 2) << sceneKindName(specs[0].kind);
 }
 
+// American football (SPEC 4.5): the carrier runs for the goal line the way
+// the user points, and gets past every tackler that dives at it.
+TEST(PatchCompose, FootballCarrierReachesTheGoalPastTheTacklers) {
+    const auto& lib = footballWorld().library;
+    PatchLibrary patches;
+    ASSERT_TRUE(generatePatches(lib, pattern("run-tackle-avoid"), PatternSet{}, patches));
+    buildConnections(lib, patches);
+    ASSERT_GE(patches.patches.size(), 10u);
+    for (const auto& p : patches.patches) {
+        EXPECT_TRUE(p.hits.empty()) << "a kept tackle patch where the tackle lands";
+        EXPECT_TRUE(lib.actions[static_cast<std::size_t>(p.tracks[1].front().action)].is(kTackle));
+        EXPECT_TRUE(lib.actions[static_cast<std::size_t>(p.tracks[0].back().action)].is(kAvoid));
+    }
+    for (std::uint64_t seed : {1u, 2u, 3u}) {
+        ComposeSpec spec;
+        spec.kind = SceneKind::Football;
+        spec.seed = seed;
+        spec.tacklers = 5;
+        spec.goal = 40;
+        spec.duration = 60;
+        spec.directions = {{0.0, 0.0}, {5.0, 25 * kDeg}, {10.0, -20 * kDeg}};
+        ComposeStats stats;
+        auto scene = compose(lib, patches, spec, &stats);
+        ASSERT_TRUE(scene) << scene.error().message;
+        // The carrier crosses the goal line past at least three tacklers and is never hit.
+        EXPECT_GE(stats.goalReached, 0.0) << "seed " << seed;
+        EXPECT_GE(stats.tacklersPassed, 3) << "seed " << seed;
+        int dives = 0;
+        for (const auto& c : scene->characters) {
+            for (const auto& i : c.track) dives += lib.actions[static_cast<std::size_t>(i.action)].is(kTackle) ? 1 : 0;
+        }
+        EXPECT_EQ(dives, stats.tacklersPassed);
+        for (const auto& h : scene->hits) EXPECT_NE(h.defender, 0) << "the carrier was tackled at " << h.time << " s";
+        const auto m = computeMetrics(*scene, lib);
+        EXPECT_EQ(m.penetrationFrames, 0) << "seed " << seed;
+        // It runs the way the user points: its mean direction of travel over
+        // the second half of each direction's time is within 15 degrees of it.
+        const auto& carrier = scene->characters[0].track;
+        auto where = [&](double t) {
+            const auto& i = carrier[static_cast<std::size_t>(instanceIndexAt(carrier, t))];
+            return i.placementAt(lib, i.clipTimeAt(t)).pos;
+        };
+        const double windows[][3] = {{2.5, 5.0, 0.0}, {7.5, 10.0, 25 * kDeg}, {12.5, 15.0, -20 * kDeg}};
+        for (const auto& [t0, t1, want] : windows) {
+            if (t1 > stats.goalReached) break;
+            const double got = angleOf(where(t1) - where(t0));
+            EXPECT_LT(std::fabs(wrapAngle(got - want)), 15 * kDeg) << "seed " << seed << ", " << t0 << "-" << t1 << " s";
+        }
+        // Same seed, same scene.
+        auto again = compose(lib, patches, spec);
+        ASSERT_TRUE(again);
+        EXPECT_EQ(sceneToJson(*again, lib), sceneToJson(*scene, lib));
+    }
+}
+
 TEST(PatchCompose, SpecErrorsNameTheField) {
     const auto& lib = fightLibrary();
     const std::pair<std::string, std::string> bad[] = {
@@ -632,6 +689,10 @@ TEST(PatchCompose, SpecErrorsNameTheField) {
         {R"({"kind": "domino", "floor": {"bitmap": "a.png", "metres_per_pixel": 0}, "starts": []})", "c.json: /floor/metres_per_pixel: must be in"},
         {R"({"kind": "domino", "floor": {"bitmap": "a.png"}, "starts": [{"time": 0, "x": 0}]})", "c.json: /starts/0/z: missing"},
         {R"({"kind": "luggage", "porters": 1})", "c.json: /porters: must be between 2 and 100"},
+        {R"({"kind": "football", "directions": [{"time": 0, "heading_deg": 95}]})", "c.json: /directions/0/heading_deg: must be within 80 degrees"},
+        {R"({"kind": "football", "directions": [{"time": 3, "heading_deg": 0}, {"time": 1, "heading_deg": 0}]})", "c.json: /directions/1/time: directions must be in time order"},
+        {R"({"kind": "football", "directions": [{"time": 0, "angle": 0}]})", "c.json: /directions/0/angle: unknown field"},
+        {R"({"kind": "football", "tacklers": 0})", "c.json: /tacklers: must be between 1 and 1000"},
     };
     for (const auto& [text, message] : bad) {
         const auto r = parseComposeSpec(text, "c.json", lib);

@@ -1,5 +1,7 @@
 #include "fray/demo/demo_project.h"
 
+#include <algorithm>
+
 #include "fray/prep/contacts.h"
 
 namespace fray::demo {
@@ -37,6 +39,12 @@ prep::Project makeDemoProject(const std::vector<ProjectTake>& takes) {
         }
         p.motions.push_back(std::move(m));
     }
+    // The football set is runs, cuts and dives: at the default 0.2 clustering
+    // splits the run cycle so finely that half the steps join only their own
+    // continuation; 0.3 keeps the foot phases apart and joins the rest.
+    const bool football = !takes.empty() && std::all_of(takes.begin(), takes.end(),
+                                                         [](const ProjectTake& t) { return t.truth.kind == "football"; });
+    if (football) p.settings.graphThreshold = 0.3;
     // A starter table (SPEC 1.6): avoid what is coming, do not attack into a fall.
     p.combos.set({"sway_back", "@punch", 1.0});
     p.combos.set({"sway_back", "uppercut_left", 2.0});

@@ -42,6 +42,7 @@ std::uint32_t flagsOf(const std::vector<std::string>& annotations) {
         else if (a == "run") f |= kRun;
         else if (a == "turn") f |= kTurn;
         else if (a == "transition") f |= kTransition;
+        else if (a == "tackle") f |= kTackle;
     }
     return f;
 }
@@ -130,6 +131,16 @@ int ActionLibrary::frameAt(int action, double t) const {
     const double fps = motions[static_cast<std::size_t>(a.motion)].motion.fps();
     const int f = a.firstFrame + static_cast<int>(std::lround(t * fps));
     return std::clamp(f, a.firstFrame, a.lastFrame);
+}
+
+bool ActionLibrary::continuesInto(int from, int to) const {
+    const auto f = static_cast<std::size_t>(from), t = static_cast<std::size_t>(to);
+    if (startNode[t] == endNode[f]) return true;
+    for (int n : next[f]) {
+        const auto k = static_cast<std::size_t>(n);
+        if (n == to || (variantClass[k] == variantClass[t] && startNode[k] == startNode[t])) return true;
+    }
+    return false;
 }
 
 std::vector<int> ActionLibrary::select(const std::string& key) const {

@@ -21,9 +21,7 @@ constexpr float kClearance = 0.15f;   // m between the bounding boxes of charact
 
 PatchConfig swapped(const PatchConfig& c) { return {c.r, c.theta2, c.theta1, c.delay}; }
 
-bool continues(const ActionLibrary& lib, int from, int to) {
-    return lib.startNode[static_cast<std::size_t>(to)] == lib.endNode[static_cast<std::size_t>(from)];
-}
+bool continues(const ActionLibrary& lib, int from, int to) { return lib.continuesInto(from, to); }
 
 // Does character `who` of b, placed by xf, ever come near `box`?
 bool sweptMeets(const Patch& b, int who, const RootXf& xf, const SweptBox& box) {

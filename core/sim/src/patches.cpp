@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <tuple>
 #include <mutex>
 #include <numbers>
 
@@ -74,7 +75,10 @@ struct Engine {
         for (std::size_t e = 0; e < p.entries.size(); ++e) {
             const auto& pe = p.entries[e];
             entriesOf[static_cast<std::size_t>(pe.character)].push_back(static_cast<int>(e));
-            std::map<std::pair<int, int>, int> reps;  // (variant class, start node) -> first action
+            // (variant class, start node, end node) -> first action. The end node
+            // only counts for run steps: it is the foot the step ends on, and
+            // which cut can follow depends on it.
+            std::map<std::tuple<int, int, int>, int> reps;
             for (int i = 0; i < lib.size(); ++i) {
                 const auto& act = lib.actions[static_cast<std::size_t>(i)];
                 if (!matchesAnnotation(act, pe.annotation)) continue;
@@ -88,7 +92,9 @@ struct Engine {
                     choices[e].push_back(i);
                     continue;
                 }
-                reps.emplace(std::make_pair(lib.variantClass[static_cast<std::size_t>(i)], lib.startNode[static_cast<std::size_t>(i)]), i);
+                reps.emplace(std::make_tuple(lib.variantClass[static_cast<std::size_t>(i)], lib.startNode[static_cast<std::size_t>(i)],
+                                             act.is(kRun) ? lib.endNode[static_cast<std::size_t>(i)] : -1),
+                             i);
             }
             for (const auto& [key, i] : reps) choices[e].push_back(i);
             std::sort(choices[e].begin(), choices[e].end());
@@ -114,7 +120,7 @@ struct Engine {
                 const auto& idle = lib.actions[static_cast<std::size_t>(i)];
                 if (!idle.is(kIdle)) continue;
                 int count = 0;
-                for (int a : choices[e]) count += lib.startNode[static_cast<std::size_t>(a)] == lib.endNode[static_cast<std::size_t>(i)] ? 1 : 0;
+                for (int a : choices[e]) count += lib.continuesInto(i, a) ? 1 : 0;
                 if (count > bestCount || (count == bestCount && count > 0 && idle.duration > bestLength)) {
                     bestCount = count, bestLength = idle.duration, holdBefore[e] = i;
                 }
@@ -170,7 +176,7 @@ struct Engine {
         const double r = glm::length(d);
         const double bearing = r > 1e-6 ? std::fabs(wrapAngle(angleOf(d) - here.heading)) : 0.0;
         for (int a : choices[static_cast<std::size_t>(e)]) {
-            if (x.last >= 0 && lib.startNode[static_cast<std::size_t>(a)] != lib.endNode[static_cast<std::size_t>(x.last)]) continue;
+            if (x.last >= 0 && !lib.continuesInto(x.last, a)) continue;
             const auto& A = act(a);
             if (A.is(kAttack) && (r > A.reach + kReachMargin || bearing > 60 * kDegree)) continue;
             out.push_back(a);

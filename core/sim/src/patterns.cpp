@@ -146,6 +146,9 @@ InitialRange defaultRange(const std::string& a) {
     if (a == "any" || a == "idle" || a == "walk" || a == "run" || a == "step" || a == "turn" || a == "transition") {
         r.minDistance = 0.6, r.maxDistance = 2.0, r.minAngle = -60, r.maxAngle = 60;
     }
+    // A runner meets a tackler coming at it from a few strides away.
+    if (a == "run") r.maxDistance = 6.0;
+    if (a == "tackle") r.minDistance = 3.0, r.maxDistance = 6.0, r.minAngle = -40, r.maxAngle = 40, r.maxDelay = 0.3;
     return r;
 }
 
@@ -160,6 +163,12 @@ std::vector<PatternList> defaultPatterns() {
     PatternList domino = make("fall-fall", {{0, "fall"}, {1, "fall"}});
     domino.weights = {1.0, 0.0, 0.0};
     domino.keepPerPath = 0;
+    // American football (SPEC 4.5): the carrier runs, a tackler dives at it,
+    // the carrier cuts away. Judged by how close the tackle came and timing:
+    // the two are metres apart for most of it, so distance does not count.
+    PatternList football = make("run-tackle-avoid", {{0, "run"}, {1, "tackle"}, {0, "avoid"}});
+    football.weights = {1.0, 0.0, 1.0};
+    football.keepPerPath = 12;
     return {
         make("attack-defence-attack-fall", {{0, "attack"}, {1, "defence"}, {0, "attack"}, {1, "fall"}}),
         make("attack-fall", {{0, "attack"}, {1, "fall"}}),
@@ -170,6 +179,7 @@ std::vector<PatternList> defaultPatterns() {
         // Luggage passing (SPEC 4.5): the thesis' list, and a shorter one.
         make("carry-walk-hand-receive-turn-carry", {{0, "carry"}, {0, "walk"}, {0, "hand"}, {1, "receive"}, {1, "turn"}, {1, "carry"}}),
         make("carry-hand-receive-carry", {{0, "carry"}, {0, "hand"}, {1, "receive"}, {1, "carry"}}),
+        football,
     };
 }
 
@@ -180,7 +190,7 @@ bool matchesAnnotation(const LibraryAction& action, const std::string& a) {
         if (action.has(partnered) && a != partnered) return false;
     }
     if (a == "any") return !action.is(kReactive);
-    if (a == "attack") return action.is(kAttack) && action.effector >= 0;
+    if (a == "attack") return action.is(kPunch | kKick) && action.effector >= 0;  // SPEC 4.5: punch or kick
     if (a == "defence") return action.has("avoid") || action.has("dodge");
     if (a == "fall") return action.is(kFalling);
     if (a == "punch" || a == "kick") return action.has(a) && action.effector >= 0;

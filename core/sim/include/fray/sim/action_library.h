@@ -43,8 +43,9 @@ inline constexpr std::array<int, 3> kTargetSegments = {kHead, kTorso, kPelvis};
 enum ActionFlag : std::uint32_t {
     kPunch = 1u << 0, kKick = 1u << 1, kBlock = 1u << 2, kAvoid = 1u << 3,  // avoid or dodge
     kPushed = 1u << 4, kFalling = 1u << 5, kStep = 1u << 6, kIdle = 1u << 7,
-    kWalk = 1u << 8, kRun = 1u << 9, kTurn = 1u << 10, kTransition = 1u << 11,
-    kAttack = kPunch | kKick, kDefence = kBlock | kAvoid, kReactive = kPushed | kFalling,
+    kWalk = 1u << 8, kRun = 1u << 9, kTurn = 1u << 10, kTransition = 1u << 11, kTackle = 1u << 12,
+    // Anything that lands on the other with an effector (a tackle's hands too).
+    kAttack = kPunch | kKick | kTackle, kDefence = kBlock | kAvoid, kReactive = kPushed | kFalling,
 };
 
 struct LibraryAction {
@@ -106,6 +107,10 @@ public:
     RootXf rootAt(int action, double t) const;
     // Source frame at time t into the action.
     int frameAt(int action, double t) const;
+    // Can action `to` (or its variant starting where it starts) follow `from`?
+    // The same motion-graph node, or Next(from) holds such a variant (the
+    // capture's own continuation, which clustering may have put elsewhere).
+    bool continuesInto(int from, int to) const;
     // Finds actions by "@annotation" or name; empty when nothing matches.
     std::vector<int> select(const std::string& key) const;
 };

@@ -22,7 +22,7 @@ struct UserCommand {
     std::string annotation;  // punch, kick, avoid, ... or a group (attack, defence)
 };
 
-enum class SceneKind { OneVsMany, OneVsOne, Domino, Luggage };
+enum class SceneKind { OneVsMany, OneVsOne, Domino, Luggage, Football };
 
 // A painted floor area (domino, SPEC 4.5): pixel (x, y) covers the floor
 // square [origin.x + x m, + m) x [origin.y + y m, + m), m = metresPerPixel;
@@ -44,6 +44,12 @@ struct FloorBitmap {
 struct DominoStart {
     double time = 0;
     glm::vec2 pos{0.0f};
+};
+// Football: from `time` on the carrier runs toward this floor heading
+// (rad, 0 = +Z, straight at the goal line; the arrow on the floor).
+struct RunDirection {
+    double time = 0;
+    double heading = 0;
 };
 const char* sceneKindName(SceneKind kind);
 
@@ -68,6 +74,11 @@ struct ComposeSpec {
     // Luggage: porters passing one item along, each recycled after handing it on.
     int porters = 4;
     int handoffs = 8;
+    // Football: tacklers coming in turn, the goal line this far along +Z (m)
+    // from the carrier's start, and the running direction over time.
+    int tacklers = 5;
+    double goal = 40;
+    std::vector<RunDirection> directions;
     // Scores (SPEC 4.4).
     double wDensity = 10, wUsage = 1000, wUser = 10000, densityScale = 1.0;
     std::string text;              // the spec as written, kept in the scene
@@ -79,6 +90,9 @@ Result<ComposeSpec> parseComposeSpec(std::string_view text, std::string_view fil
 struct ComposeStats {
     int patchesUsed = 0;
     int temporalLinks = 0, recycled = 0;   // how each next patch was found
+    int graphJoined = 0;                   // football: joined where the carrier's run continues in the motion graph
+    int tacklersPassed = 0;                // football: tackles the carrier got away from
+    double goalReached = -1;               // football: when the carrier crossed the goal line (s), -1 never
     int locomotionSteps = 0;
     int chainFalls = 0;                    // domino: people knocked over by a falling body
     // domino: share of the painted area within kCoverRadius of where someone
