@@ -590,6 +590,12 @@ struct Composer {
             int last = track(carrier).back().action;
             for (int n = 1; n <= kMaxLead; ++n) {
                 runStep(lead, at, t, last);
+                // The carrier runs round nobody: a step into someone (a tackler
+                // still getting up) ends the run here.
+                if (penetrates({lead.back()}, carrier)) {
+                    lead.pop_back();
+                    break;
+                }
                 if (n < kMinLead || forward(at) >= spec.goal) continue;
                 const double want = wantedHeading(t);
                 const auto boxes = obstacles(t, carrier);
@@ -635,6 +641,12 @@ struct Composer {
                 // Nobody can come in here: run on and try again further up the field.
                 scene.characters.pop_back();
                 track(carrier).resize(base);
+                if (lead.empty()) {  // boxed in: the step is taken anyway (the metrics will show it)
+                    RootXf a0 = leaves(carrier);
+                    double t0 = freeAt(carrier);
+                    int l0 = track(carrier).back().action;
+                    runStep(lead, a0, t0, l0);
+                }
                 for (const auto& w : lead) track(carrier).push_back(w);
                 stats.locomotionSteps += static_cast<int>(lead.size());
                 --k;
