@@ -42,10 +42,24 @@ SceneStage::SceneStage(LoadedScene scene) : loaded_(std::move(scene)) {
         }
         linePoints_.push_back(std::move(circle));
     }
+    const std::size_t staged = linePoints_.size();
+    // Composed scenes' floor marks: a goal line in white, arrows in amber.
+    std::vector<render::Polyline> markStyles;
+    for (const auto& m : sc.marks) {
+        std::vector<glm::vec3> pts;
+        for (const auto& p : m.points) pts.emplace_back(p.x, 0.0f, p.y);
+        linePoints_.push_back(std::move(pts));
+        markStyles.push_back(m.kind == "arrow" ? render::Polyline{{}, glm::vec4(1.0f, 0.62f, 0.1f, 0.9f), 0.10f}
+                                               : render::Polyline{{}, glm::vec4(0.97f, 0.97f, 0.97f, 0.9f), 0.12f});
+    }
     // Spans into linePoints_, which no longer changes.
-    for (std::size_t i = 0; i < linePoints_.size(); ++i)
-        lines_.push_back(i < paths ? render::Polyline{linePoints_[i], glm::vec4(1.0f, 0.8f, 0.2f, 0.8f), 0.04f}
-                                   : render::Polyline{linePoints_[i], glm::vec4(0.95f, 0.95f, 0.95f, 0.85f), 0.08f});
+    for (std::size_t i = 0; i < linePoints_.size(); ++i) {
+        render::Polyline line = i < paths    ? render::Polyline{{}, glm::vec4(1.0f, 0.8f, 0.2f, 0.8f), 0.04f}
+                                : i < staged ? render::Polyline{{}, glm::vec4(0.95f, 0.95f, 0.95f, 0.85f), 0.08f}
+                                             : markStyles[i - staged];
+        line.points = linePoints_[i];
+        lines_.push_back(line);
+    }
 }
 
 render::Bounds SceneStage::stageBounds() const {

@@ -47,8 +47,9 @@ public:
 
     // The scene's marks on the floor, fixed for the scene, for a
     // FrameDescription: each path-following character's path (a ribbon) and
-    // checkpoints (in its tint), and the stage it was planned on (a white
-    // circle; see sim::Scene::arena).
+    // checkpoints (in its tint), the stage it was planned on (a white
+    // circle; see sim::Scene::arena) and a composed scene's floor marks (a
+    // football goal line in white, the running arrows in amber).
     std::span<const render::Polyline> trajectories() const { return lines_; }
     std::span<const render::Checkpoint> checkpoints() const { return marks_; }
     // Box around the stage; empty when the scene has none.

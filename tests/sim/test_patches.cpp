@@ -670,7 +670,21 @@ TEST(PatchCompose, FootballCarrierReachesTheGoalPastTheTacklers) {
         // Same seed, same scene.
         auto again = compose(lib, patches, spec);
         ASSERT_TRUE(again);
-        EXPECT_EQ(sceneToJson(*again, lib), sceneToJson(*scene, lib));
+        const std::string text = sceneToJson(*scene, lib);
+        EXPECT_EQ(sceneToJson(*again, lib), text);
+        // The scene file keeps the goal line and the arrows for the viewers.
+        ASSERT_EQ(scene->marks.size(), 4u);
+        EXPECT_EQ(scene->marks[0].kind, "goal");
+        EXPECT_FLOAT_EQ(scene->marks[0].points[0].y, 40.0f);
+        EXPECT_EQ(scene->marks[3].kind, "arrow");
+        auto back = sceneFromJson(text, "f.frayscene", lib);
+        ASSERT_TRUE(back) << back.error().message;
+        EXPECT_EQ(back->marks, scene->marks);
+        std::string broken = text;
+        broken.replace(broken.find("\"points\": ["), 12, "\"points\": 7, \"x\": [");
+        auto bad = sceneFromJson(broken, "f.frayscene", lib);
+        ASSERT_FALSE(bad);
+        EXPECT_NE(bad.error().message.find("f.frayscene: /marks/0/"), std::string::npos) << bad.error().message;
     }
 }
 

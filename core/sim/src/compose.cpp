@@ -673,6 +673,22 @@ struct Composer {
             track(carrier).push_back(one.front());
             ++stats.locomotionSteps;
         }
+        // The floor marks: the goal line across the run, and the user's arrows
+        // where the carrier was when each one was set.
+        float lo = 0.0f, hi = 0.0f;
+        for (const auto& inst : track(carrier)) {
+            const float x = inst.root.pos.x;
+            lo = std::min(lo, x), hi = std::max(hi, x);
+        }
+        const auto goal = static_cast<float>(spec.goal);
+        scene.marks.push_back({"goal", {glm::vec2(lo - 8.0f, goal), glm::vec2(hi + 8.0f, goal)}});
+        for (const auto& d : spec.directions) {
+            const auto& i = track(carrier)[static_cast<std::size_t>(scene.instanceAt(carrier, d.time))];
+            const glm::vec2 at = i.placementAt(lib, i.clipTimeAt(d.time)).pos;
+            const glm::vec2 dir = headingVector(d.heading);
+            const glm::vec2 tail = at + dir * 1.0f, tip = at + dir * 4.0f;
+            scene.marks.push_back({"arrow", {tail, tip, tip - rotateFloor(dir, 0.5) * 0.8f, tip, tip - rotateFloor(dir, -0.5) * 0.8f}});
+        }
         for (const auto& inst : track(carrier)) {
             const double into = inst.clipTimeAt(inst.end);
             for (double tau = inst.offset; tau <= into + 1e-9; tau += 1.0 / kSampleRate) {

@@ -132,6 +132,15 @@ std::string sceneToJson(const Scene& scene, const ActionLibrary& lib) {
     j["seed"] = scene.seed;
     if (scene.arena.bounded())
         j["arena"] = json{{"x", scene.arena.centre.x}, {"z", scene.arena.centre.y}, {"radius", scene.arena.radius}};
+    if (!scene.marks.empty()) {
+        json marks = json::array();
+        for (const auto& m : scene.marks) {
+            json pts = json::array();
+            for (const auto& p : m.points) pts.push_back(json::array({p.x, p.y}));
+            marks.push_back(json{{"kind", m.kind}, {"points", std::move(pts)}});
+        }
+        j["marks"] = std::move(marks);
+    }
     json chars = json::array();
     for (const auto& c : scene.characters) {
         json cj;
@@ -226,6 +235,35 @@ Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, co
     if (const auto ar = j.find("arena"); ar != j.end()) {
         FRAY_TRY(arena, parseArena(rd, *ar, "/arena"));
         scene.arena = arena;
+    }
+    if (const auto mk = j.find("marks"); mk != j.end()) {
+        if (!mk->is_array() || mk->size() > 10000) return rd.error("/marks", "must be an array of {kind, points}");
+        for (std::size_t i = 0; i < mk->size(); ++i) {
+            const std::string p = "/marks/" + std::to_string(i);
+            const json& m = (*mk)[i];
+            if (!m.is_object()) return rd.error(p, "must be an object {kind, points}");
+            for (auto it = m.begin(); it != m.end(); ++it) {
+                if (it.key() != "kind" && it.key() != "points") return rd.error(p + "/" + it.key(), "unknown field");
+            }
+            FloorMark mark;
+            FRAY_TRY(kind, rd.stringAt(m, p, "kind"));
+            if (kind.empty()) return rd.error(p + "/kind", "must not be empty");
+            mark.kind = kind;
+            FRAY_TRY(pf, rd.field(m, p, "points"));
+            if (!pf->is_array() || pf->size() < 2 || pf->size() > 10000) {
+                return rd.error(p + "/points", "must be an array of 2 to 10000 [x, z] points");
+            }
+            for (std::size_t k = 0; k < pf->size(); ++k) {
+                const std::string pp = p + "/points/" + std::to_string(k);
+                const json& q = (*pf)[k];
+                if (!q.is_array() || q.size() != 2) return rd.error(pp, "must be [x, z]");
+                FRAY_TRY(x, rd.number(q[0], pp + "/0"));
+                FRAY_TRY(z, rd.number(q[1], pp + "/1"));
+                if (!(std::fabs(x) <= 1e5) || !(std::fabs(z) <= 1e5)) return rd.error(pp, "is too far out");
+                mark.points.emplace_back(static_cast<float>(x), static_cast<float>(z));
+            }
+            scene.marks.push_back(std::move(mark));
+        }
     }
     FRAY_TRY(cf, rd.field(j, "", "characters"));
     if (!cf->is_array()) return rd.error("/characters", "must be an array");

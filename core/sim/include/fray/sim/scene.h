@@ -60,6 +60,14 @@ struct Arena {
     friend bool operator==(const Arena&, const Arena&) = default;
 };
 
+// A line on the floor for viewers, kept in the scene file: a football goal
+// line, the user's running arrows.
+struct FloorMark {
+    std::string kind;               // what it marks ("goal", "arrow")
+    std::vector<glm::vec2> points;  // (x, z) polyline, two points or more
+    friend bool operator==(const FloorMark&, const FloorMark&) = default;
+};
+
 struct HitEvent {
     double time = 0;
     int attacker = 0, defender = 0;  // character indices
@@ -112,6 +120,7 @@ struct Scene {
     PlannerStats stats;
     std::string spec;        // the scene spec it was made from (JSON text), for the record
     Arena arena;             // the stage it was planned on (SimOptions::arena), for viewers
+    std::vector<FloorMark> marks;  // lines on the floor for viewers (composed scenes)
 
     // The instance of character c playing at time t (the last one for t past the end); -1 when the track is empty.
     int instanceAt(int c, double t) const;
