@@ -56,13 +56,14 @@ prep::Project projectWithPatterns(const std::string& section) {
 TEST(PatchPatterns, ProjectSectionRoundTripAndErrors) {
     const auto ok = projectPatterns(projectWithPatterns(R"({"patterns": [{"name": "p", "entries": [
         {"character": 1, "annotation": "attack"}, {"character": 2, "annotation": "fall"}],
-        "weights": {"contact": 2, "distance": 1, "timing": 0.5}, "threshold": 0.6}],
+        "weights": {"contact": 2, "distance": 1, "timing": 0.5}, "threshold": 0.6, "spread": true}],
         "initial_conditions": {"punch": {"distance": [0.5, 1.0]}}})"),
                                     "demo.frayproj");
     ASSERT_TRUE(ok) << ok.error().message;
     ASSERT_EQ(ok->patterns.size(), 1u);
     EXPECT_EQ(ok->patterns[0].entries[1], (PatternEntry{1, "fall"}));
     EXPECT_DOUBLE_EQ(ok->patterns[0].weights.contact, 2.0);
+    EXPECT_TRUE(ok->patterns[0].spread);
     EXPECT_DOUBLE_EQ(ok->rangeFor("punch").maxDistance, 1.0);
     EXPECT_DOUBLE_EQ(ok->rangeFor("punch").maxAngle, defaultRange("punch").maxAngle);  // unset fields keep the default
     prep::Project written = demoWorld().project;
@@ -82,6 +83,8 @@ TEST(PatchPatterns, ProjectSectionRoundTripAndErrors) {
          "needs entries for both characters"},
         {R"({"initial_conditions": {"punch": {"distance": [1.5, 0.5]}}})", "/pattern_lists/initial_conditions/punch/distance: low is above high"},
         {R"({"patterns": [], "extra": 1})", "/pattern_lists/extra: unknown field"},
+        {R"({"patterns": [{"name": "p", "spread": "yes", "entries": [{"character": 1, "annotation": "attack"}, {"character": 2, "annotation": "fall"}]}]})",
+         "/pattern_lists/patterns/0/spread: must be true or false"},
     };
     for (const auto& [section, message] : bad) {
         const auto r = projectPatterns(projectWithPatterns(section), "demo.frayproj");
@@ -627,6 +630,10 @@ TEST(PatchCompose, FootballCarrierReachesTheGoalPastTheTacklers) {
     ASSERT_TRUE(generatePatches(lib, pattern("run-tackle-avoid"), PatternSet{}, patches));
     buildConnections(lib, patches);
     ASSERT_GE(patches.patches.size(), 10u);
+    // Spread over the grid: tacklers from near and far, not the first row only.
+    double nearest = 1e9, farthest = 0;
+    for (const auto& p : patches.patches) nearest = std::min(nearest, p.initial.r), farthest = std::max(farthest, p.initial.r);
+    EXPECT_GE(farthest - nearest, 1.0);
     for (const auto& p : patches.patches) {
         EXPECT_TRUE(p.hits.empty()) << "a kept tackle patch where the tackle lands";
         EXPECT_TRUE(lib.actions[static_cast<std::size_t>(p.tracks[1].front().action)].is(kTackle));
@@ -684,6 +691,18 @@ TEST(PatchCompose, FootballCarrierReachesTheGoalPastTheTacklers) {
         auto back = sceneFromJson(text, "f.frayscene", lib);
         ASSERT_TRUE(back) << back.error().message;
         EXPECT_EQ(back->marks, scene->marks);
+        // Two tacklers at once where the spatial table joins two patches (the
+        // carrier's very same run and cut, the tacklers never meeting).
+        ComposeSpec doubles = spec;
+        doubles.doubles = true;
+        ComposeStats ds;
+        auto two = compose(lib, patches, doubles, &ds);
+        ASSERT_TRUE(two) << two.error().message;
+        EXPECT_GE(ds.spatialJoined, 1) << "seed " << seed;
+        EXPECT_GE(ds.tacklersPassed, 3);
+        EXPECT_GE(ds.goalReached, 0.0);
+        EXPECT_TRUE(two->hits.empty());
+        EXPECT_EQ(computeMetrics(*two, lib).penetrationFrames, 0) << "seed " << seed;
         std::string broken = text;
         broken.replace(broken.find("\"points\": ["), 12, "\"points\": 7, \"x\": [");
         auto bad = sceneFromJson(broken, "f.frayscene", lib);
@@ -711,6 +730,7 @@ TEST(PatchCompose, SpecErrorsNameTheField) {
         {R"({"kind": "football", "directions": [{"time": 3, "heading_deg": 0}, {"time": 1, "heading_deg": 0}]})", "c.json: /directions/1/time: directions must be in time order"},
         {R"({"kind": "football", "directions": [{"time": 0, "angle": 0}]})", "c.json: /directions/0/angle: unknown field"},
         {R"({"kind": "football", "tacklers": 0})", "c.json: /tacklers: must be between 1 and 1000"},
+        {R"({"kind": "football", "doubles": "yes"})", "c.json: /doubles: must be true or false"},
     };
     for (const auto& [text, message] : bad) {
         const auto r = parseComposeSpec(text, "c.json", lib);

@@ -546,6 +546,70 @@ struct Composer {
         return out;
     }
 
+    // A second tackler at once (SPEC 4.3 spatial concatenation, the thesis'
+    // own example): a patch whose carrier plays the very same run and cut as
+    // patch `a` (placed by xf at scene time t) from its start, its tackler
+    // never meeting a's. Returns whether one came in.
+    bool secondTackler(std::size_t a, double t, const RootXf& xf, int number) {
+        const Patch& pa = patches.patches[a];
+        const int carrier = 0;
+        for (const auto& l : patches.spatial[a]) {
+            const Patch& pb = patches.patches[static_cast<std::size_t>(l.to)];
+            if (l.sharedA != 0 || l.sharedB != 0 || !allowed[static_cast<std::size_t>(l.to)] || pb.tracks[1].empty() ||
+                !act(pb.tracks[1].front().action).is(kTackle)) {
+                continue;
+            }
+            // The shared run must cover all of b's carrier (the carrier plays a's).
+            const auto offset = static_cast<double>(l.offset);
+            std::size_t j = 0;
+            while (j < pa.tracks[0].size() && std::fabs(pa.tracks[0][j].start - offset - pb.tracks[0].front().start) > 1e-4) ++j;
+            if (j == pa.tracks[0].size() || pa.tracks[0].size() - j < pb.tracks[0].size()) continue;
+            const RootXf xb = xf * pa.tracks[0][j].root * pb.tracks[0].front().root.inverse();
+            const double tb = t + offset;
+            const auto& dive = pb.tracks[1].front();
+            const int tackler = addCharacter("tackler-" + std::to_string(number), 1);
+            auto walk = runUp(dive.action, xb * dive.root, tb + dive.start);
+            bool ok = !(walk.empty() && tb + dive.start > 1e-9) && !penetrates(walk, tackler);
+            if (ok) {
+                std::vector<ActionInstance> part;
+                for (const auto& inst : pb.tracks[1]) {
+                    ActionInstance w = inst;
+                    w.start += tb, w.end += tb;
+                    w.root = xb * inst.root;
+                    part.push_back(w);
+                }
+                ok = !penetrates(part, tackler);
+                if (ok) {
+                    for (auto& w : walk) track(tackler).push_back(w);
+                    for (auto& w : part) track(tackler).push_back(w);
+                }
+            }
+            if (!ok) {
+                scene.characters.pop_back();
+                continue;
+            }
+            placeHits(pb, {carrier, tackler}, tb);
+            stats.locomotionSteps += static_cast<int>(walk.size());
+            ++stats.spatialJoined;
+            stats.tacklersPassed += pb.hits.empty() ? 1 : 0;
+            used(static_cast<std::size_t>(l.to));
+            getUpAndStand(tackler);
+            return true;
+        }
+        return false;
+    }
+
+    // A tackler gets up where it landed (the capture's own continuation) and stays.
+    void getUpAndStand(int tackler) {
+        const int down = track(tackler).back().action;
+        for (int n : lib.next[static_cast<std::size_t>(down)]) {
+            if (!act(n).is(kTransition)) continue;
+            append(tackler, n, freeAt(tackler), leaves(tackler));
+            break;
+        }
+        append(tackler, idleAfter(track(tackler).back().action), freeAt(tackler), leaves(tackler));
+    }
+
     Status football(const ProgressFn& progress) {
         bool any = false;
         for (std::size_t i = 0; i < patches.patches.size() && !any; ++i) {
@@ -616,6 +680,11 @@ struct Composer {
             const int tackler = addCharacter("tackler-" + std::to_string(k + 1), 1);
             const std::size_t base = track(carrier).size();
             bool placed = false;
+            struct Placed {
+                std::size_t patch = 0;
+                double time = 0;
+                RootXf xf;
+            } chosen;
             for (std::size_t o = 0; o < options.size() && o < 60 && !placed; ++o) {
                 const Option& op = options[o];
                 track(carrier).resize(base);
@@ -636,6 +705,7 @@ struct Composer {
                 stats.tacklersPassed += p.hits.empty() ? 1 : 0;
                 used(op.patch);
                 placed = true;
+                chosen = {op.patch, tp, xf};
             }
             if (!placed) {
                 // Nobody can come in here: run on and try again further up the field.
@@ -653,14 +723,8 @@ struct Composer {
                 if (track(carrier).size() > 2000) return makeError("football: no tackle fits along the carrier's run");
                 continue;
             }
-            // The tackler gets up where it landed (the capture's own continuation) and stays.
-            const int down = track(tackler).back().action;
-            for (int n : lib.next[static_cast<std::size_t>(down)]) {
-                if (!act(n).is(kTransition)) continue;
-                append(tackler, n, freeAt(tackler), leaves(tackler));
-                break;
-            }
-            append(tackler, idleAfter(track(tackler).back().action), freeAt(tackler), leaves(tackler));
+            getUpAndStand(tackler);
+            if (spec.doubles && k + 1 < spec.tacklers && secondTackler(chosen.patch, chosen.time, chosen.xf, k + 2)) ++k;
             if (!reportProgress(progress, static_cast<double>(k + 1) / spec.tacklers, "compose")) return makeError("cancelled");
         }
         // Then on to the goal line.
@@ -1283,7 +1347,7 @@ Result<ComposeSpec> parseComposeSpec(std::string_view text, std::string_view fil
     s.text = std::string(text);
     static const char* const known[] = {"version", "kind",  "duration", "seed",       "enemies",       "entry_radius",
                                         "patterns", "commands", "floor", "starts", "background", "max_characters",
-                                        "porters", "handoffs", "tacklers", "goal", "directions"};
+                                        "porters", "handoffs", "tacklers", "goal", "directions", "doubles"};
     for (auto it = j.begin(); it != j.end(); ++it) {
         if (std::find_if(std::begin(known), std::end(known), [&](const char* k) { return it.key() == k; }) == std::end(known)) {
             return rd.error("/" + it.key(), "unknown field");
@@ -1376,6 +1440,11 @@ Result<ComposeSpec> parseComposeSpec(std::string_view text, std::string_view fil
     if (auto st = optionalInt(rd, j, "handoffs", 1, 10000, s.handoffs); !st) return st.error();
     if (auto st = optionalInt(rd, j, "tacklers", 1, 1000, s.tacklers); !st) return st.error();
     if (auto st = optionalNumber(rd, j, "goal", 0, 1000, "m", s.goal); !st) return st.error();
+    if (auto f = rd.field(j, "", "doubles", false); !f) return f.error();
+    else if (*f) {
+        if (!(*f)->is_boolean()) return rd.error("/doubles", "must be true or false");
+        s.doubles = (*f)->get<bool>();
+    }
     if (auto f = rd.field(j, "", "directions", false); !f) return f.error();
     else if (*f) {
         if (!(*f)->is_array()) return rd.error("/directions", "must be an array of {time, heading_deg}");

@@ -256,6 +256,7 @@ Status savePatchLibrary(const PatchLibrary& lib, const std::filesystem::path& fi
         for (const auto& e : p.entries) w.put(static_cast<std::int32_t>(e.character)), w.str(e.annotation);
         w.put(p.weights.contact), w.put(p.weights.distance), w.put(p.weights.timing), w.put(p.threshold);
         w.put(static_cast<std::int32_t>(p.keepPerPath));
+        w.put(static_cast<std::uint8_t>(p.spread ? 1 : 0));
     }
     w.put(static_cast<std::uint32_t>(lib.patches.size()));
     for (const auto& p : lib.patches) {
@@ -317,6 +318,7 @@ Result<PatchLibrary> readPatchLibrary(std::string_view bytes, std::string_view f
         p.weights.contact = r.get<double>(), p.weights.distance = r.get<double>(), p.weights.timing = r.get<double>();
         p.threshold = r.get<double>();
         p.keepPerPath = r.get<std::int32_t>();
+        p.spread = r.get<std::uint8_t>() != 0;
         lib.patterns.push_back(std::move(p));
     }
     const std::size_t nq = r.count(64);

@@ -596,7 +596,7 @@ struct Expansion {
 
 // Keeps the best keepPerPath patches of every distinct action sequence (by
 // label), in generation order otherwise.
-void keepBestPerPath(const ActionLibrary& lib, std::vector<Patch>& patches, int keepPerPath, PatchLibrary& out) {
+void keepBestPerPath(const ActionLibrary& lib, std::vector<Patch>& patches, int keepPerPath, bool spread, PatchLibrary& out) {
     std::map<std::string, std::vector<std::size_t>> groups;
     for (std::size_t i = 0; i < patches.size(); ++i) {
         std::string key;
@@ -611,7 +611,42 @@ void keepBestPerPath(const ActionLibrary& lib, std::vector<Patch>& patches, int 
         for (auto& [key, members] : groups) {
             std::stable_sort(members.begin(), members.end(),
                              [&](std::size_t a, std::size_t b) { return patches[a].score > patches[b].score; });
-            for (std::size_t k = 0; k < members.size() && k < static_cast<std::size_t>(keepPerPath); ++k) keep[members[k]] = 1;
+            const auto want = static_cast<std::size_t>(keepPerPath);
+            if (!spread || members.size() <= want) {
+                for (std::size_t k = 0; k < members.size() && k < want; ++k) keep[members[k]] = 1;
+                continue;
+            }
+            // Farthest first among the near-best, from the best one on.
+            std::vector<std::size_t> pool;
+            for (std::size_t m : members) {
+                if (patches[m].score >= patches[members.front()].score - 0.02) pool.push_back(m);
+            }
+            auto apart = [&](std::size_t a, std::size_t b) {
+                const PatchConfig& x = patches[a].initial;
+                const PatchConfig& y = patches[b].initial;
+                const double dd = (x.delay - y.delay) / 0.3;
+                return configDistance(x, y) + dd * dd;
+            };
+            std::vector<double> nearest(pool.size(), std::numeric_limits<double>::max());
+            std::size_t pick = 0, kept = 0;
+            while (kept < want && kept < pool.size()) {
+                keep[pool[pick]] = 1;
+                ++kept;
+                nearest[pick] = -1;
+                std::size_t next = pool.size();
+                for (std::size_t q = 0; q < pool.size(); ++q) {
+                    if (nearest[q] < 0) continue;
+                    nearest[q] = std::min(nearest[q], apart(pool[q], pool[pick]));
+                    if (next == pool.size() || nearest[q] > nearest[next]) next = q;
+                }
+                if (next == pool.size()) break;
+                pick = next;
+            }
+            // Fewer near-best than asked for: the best of the rest.
+            for (std::size_t m : members) {
+                if (kept >= want) break;
+                if (!keep[m]) keep[m] = 1, ++kept;
+            }
         }
     }
     for (std::size_t i = 0; i < patches.size(); ++i) {
@@ -744,7 +779,7 @@ Status generatePatches(const ActionLibrary& lib, const PatternList& pattern, con
         out.stats.add(r.stats);
         for (auto& p : r.kept) candidates.push_back(std::move(p));
     }
-    keepBestPerPath(lib, candidates, options.keepPerPath >= 0 ? options.keepPerPath : pattern.keepPerPath, out);
+    keepBestPerPath(lib, candidates, options.keepPerPath >= 0 ? options.keepPerPath : pattern.keepPerPath, pattern.spread, out);
     out.stats.initialConditions += static_cast<std::int64_t>(ics.size());
     out.stats.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
     out.libraryKey = libraryFingerprint(lib);

@@ -59,9 +59,9 @@ Result<PatternList> patternFromJson(const JsonReader& rd, const json& v, const s
                                     const std::vector<std::string>& vocabulary) {
     if (!v.is_object()) return rd.error(path, "must be an object");
     for (auto it = v.begin(); it != v.end(); ++it) {
-        static const char* const known[] = {"name", "entries", "weights", "threshold", "keep_per_path"};
+        static const char* const known[] = {"name", "entries", "weights", "threshold", "keep_per_path", "spread"};
         if (std::find_if(std::begin(known), std::end(known), [&](const char* k) { return it.key() == k; }) == std::end(known)) {
-            return rd.error(path + "/" + it.key(), "unknown field (expected name, entries, weights, threshold, keep_per_path)");
+            return rd.error(path + "/" + it.key(), "unknown field (expected name, entries, weights, threshold, keep_per_path, spread)");
         }
     }
     PatternList p;
@@ -107,6 +107,11 @@ Result<PatternList> patternFromJson(const JsonReader& rd, const json& v, const s
         FRAY_TRY(x, rd.integer(*keep, path + "/keep_per_path"));
         if (x < 0 || x > 1000) return rd.error(path + "/keep_per_path", "must be between 0 (all) and 1000");
         p.keepPerPath = x;
+    }
+    FRAY_TRY(spread, rd.field(v, path, "spread", false));
+    if (spread) {
+        if (!spread->is_boolean()) return rd.error(path + "/spread", "must be true or false");
+        p.spread = spread->get<bool>();
     }
     FRAY_TRY(th, rd.field(v, path, "threshold", false));
     if (th) {
@@ -169,6 +174,7 @@ std::vector<PatternList> defaultPatterns() {
     PatternList football = make("run-tackle-avoid", {{0, "run"}, {1, "tackle"}, {0, "avoid"}});
     football.weights = {1.0, 0.0, 1.0};
     football.keepPerPath = 12;
+    football.spread = true;  // tacklers from every distance and side, not the first grid row
     return {
         make("attack-defence-attack-fall", {{0, "attack"}, {1, "defence"}, {0, "attack"}, {1, "fall"}}),
         make("attack-fall", {{0, "attack"}, {1, "fall"}}),
@@ -252,7 +258,8 @@ void setProjectPatterns(prep::Project& project, const PatternSet& set) {
                                 {"entries", entries},
                                 {"weights", {{"contact", p.weights.contact}, {"distance", p.weights.distance}, {"timing", p.weights.timing}}},
                                 {"threshold", p.threshold},
-                                {"keep_per_path", p.keepPerPath}});
+                                {"keep_per_path", p.keepPerPath},
+                                {"spread", p.spread}});
     }
     json ranges = json::object();
     for (const auto& [key, r] : set.ranges) ranges[key] = rangeToJson(r);

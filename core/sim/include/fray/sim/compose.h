@@ -79,6 +79,10 @@ struct ComposeSpec {
     int tacklers = 5;
     double goal = 40;
     std::vector<RunDirection> directions;
+    // Two tacklers at once where a second tackle patch connects spatially to
+    // the chosen one (the carrier's very same run and cut, the two tacklers
+    // never meeting).
+    bool doubles = false;
     // Scores (SPEC 4.4).
     double wDensity = 10, wUsage = 1000, wUser = 10000, densityScale = 1.0;
     std::string text;              // the spec as written, kept in the scene
@@ -91,6 +95,7 @@ struct ComposeStats {
     int patchesUsed = 0;
     int temporalLinks = 0, recycled = 0;   // how each next patch was found
     int graphJoined = 0;                   // football: joined where the carrier's run continues in the motion graph
+    int spatialJoined = 0;                 // football: second tacklers joined by a spatial connection
     int tacklersPassed = 0;                // football: tackles the carrier got away from
     double goalReached = -1;               // football: when the carrier crossed the goal line (s), -1 never
     int locomotionSteps = 0;

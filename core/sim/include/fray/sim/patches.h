@@ -166,7 +166,7 @@ std::uint64_t libraryFingerprint(const ActionLibrary& lib);
 
 // Versioned binary cache. Loading refuses a foreign, truncated or stale file
 // (made from other actions) with a message naming the file.
-inline constexpr std::uint32_t kPatchCacheVersion = 2;
+inline constexpr std::uint32_t kPatchCacheVersion = 3;  // 3: PatternList::spread
 Status savePatchLibrary(const PatchLibrary& lib, const std::filesystem::path& file);
 // The connection tables and standard poses are not stored: buildConnections
 // after loading (they follow from the patches).

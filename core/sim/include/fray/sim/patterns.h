@@ -40,6 +40,11 @@ struct PatternList {
     // Best patches kept per distinct action sequence (neighbouring initial
     // conditions give near duplicates); 0 keeps all (a domino needs the whole grid).
     int keepPerPath = 3;
+    // Keep them spread over the initial-condition grid: among the patches of
+    // a sequence scoring within 0.02 of its best, each next one kept is the
+    // farthest (distance F of SPEC 4.4, and the delay) from those already
+    // kept. Without it, ties go to grid order (the first distances and angles).
+    bool spread = false;
     friend bool operator==(const PatternList&, const PatternList&) = default;
 };
 
