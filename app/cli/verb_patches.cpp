@@ -205,9 +205,9 @@ void runCompose(const ComposeArgs& a) {
     if (spec->kind == sim::SceneKind::Football) {
         char goal[64] = "did not reach the goal line";
         if (st.goalReached >= 0) std::snprintf(goal, sizeof goal, "crossed the goal line at %.1f s", st.goalReached);
-        std::printf("%s: %d patches joined through the carrier's motion graph, %d more tacklers beside them by spatial "
+        std::printf("%s: %d patches joined through the carrier's motion graph, %d second tackler%s beside them by spatial "
                     "connection; the carrier got past %d tacklers and %s\n",
-                    a.out.c_str(), st.graphJoined, st.spatialJoined, st.tacklersPassed, goal);
+                    a.out.c_str(), st.graphJoined, st.spatialJoined, st.spatialJoined == 1 ? "" : "s", st.tacklersPassed, goal);
     }
     if (spec->kind == sim::SceneKind::Domino) {
         std::printf("%s: the falls cover %.0f %% of the painted area (within %.1f m of someone who fell)\n", a.out.c_str(),
