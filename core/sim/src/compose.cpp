@@ -215,13 +215,18 @@ struct Composer {
 
     // Places patch p's character `role` as scene character c, the patch starting at t
     // in the frame xf; appends its actions and the hits of that character as attacker.
-    void placeTrack(const Patch& p, int role, int c, double t, const RootXf& xf) {
+    static std::vector<ActionInstance> placed(const Patch& p, int role, double t, const RootXf& xf) {
+        std::vector<ActionInstance> out;
         for (const auto& inst : p.tracks[static_cast<std::size_t>(role)]) {
             ActionInstance w = inst;
             w.start += t, w.end += t;
             w.root = xf * inst.root;
-            track(c).push_back(w);
+            out.push_back(w);
         }
+        return out;
+    }
+    void placeTrack(const Patch& p, int role, int c, double t, const RootXf& xf) {
+        for (const auto& w : placed(p, role, t, xf)) track(c).push_back(w);
     }
     void placeHits(const Patch& p, const std::array<int, 2>& who, double t) {
         for (auto h : p.hits) {
@@ -571,17 +576,11 @@ struct Composer {
             auto walk = runUp(dive.action, xb * dive.root, tb + dive.start);
             bool ok = !(walk.empty() && tb + dive.start > 1e-9) && !penetrates(walk, tackler);
             if (ok) {
-                std::vector<ActionInstance> part;
-                for (const auto& inst : pb.tracks[1]) {
-                    ActionInstance w = inst;
-                    w.start += tb, w.end += tb;
-                    w.root = xb * inst.root;
-                    part.push_back(w);
-                }
+                const auto part = placed(pb, 1, tb, xb);
                 ok = !penetrates(part, tackler);
                 if (ok) {
                     for (auto& w : walk) track(tackler).push_back(w);
-                    for (auto& w : part) track(tackler).push_back(w);
+                    for (const auto& w : part) track(tackler).push_back(w);
                 }
             }
             if (!ok) {
