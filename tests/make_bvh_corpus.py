@@ -122,6 +122,10 @@ def cases():
     yield ("offset_twice.bvh", base.replace(rot3, rot3.replace("\t\tEnd", "\t\tOFFSET 1 2 3\n\t\tEnd"), 1),
            "unexpected 'OFFSET'")
     yield "joint_no_name.bvh", base.replace("JOINT Spine", "JOINT ", 1), "joint has no name"
+    # Found by fuzz_bvh: "Spine{{" was read as joint "Spine{", which the writer
+    # could not write back in a form that reads the same.
+    yield "joint_name_brace.bvh", base.replace("JOINT Spine", "JOINT Spine{{", 1), "joint name 'Spine{' contains a brace"
+    yield "joint_name_close_brace.bvh", base.replace("JOINT Spine", "JOINT Sp}ine", 1), "joint name 'Sp}ine' contains a brace"
 
 
 def main():

@@ -287,7 +287,12 @@ private:
             name.pop_back();
             while (!name.empty() && isBlank(name.back())) name.pop_back();
         }
-        if (!validName(name)) return fail(name.empty() ? "joint has no name" : "joint name contains control characters");
+        if (name.empty()) return fail("joint has no name");
+        if (!validName(name)) return fail("joint name contains control characters");
+        // A brace in a name cannot be written back unambiguously ("JOINT A{" reads
+        // as joint "A" followed by its opening brace), so it is refused here.
+        if (name.find_first_of("{}") != std::string::npos)
+            return fail("joint name '" + excerpt(name) + "' contains a brace; put '{' on its own line or after the name and a space");
         if (!names_.insert(name).second) return fail("duplicate joint name '" + excerpt(name) + "'");
         if (static_cast<std::size_t>(sk_.jointCount()) >= opt_.maxJoints)
             return fail("more than " + std::to_string(opt_.maxJoints) + " joints; refusing the file");
