@@ -10,7 +10,8 @@
 # offscreen, the duel exported as glTF (docs/EXPORT.md); Interaction Patches
 # generated from the demo PatternLists, a one-vs-many fight and a domino crowd
 # composed from them; the football set of the demo actor and an American
-# football run composed from its tackle patches; and the `fray` window playing
+# football run composed from its tackle patches; a rat running through a
+# crowd; and the `fray` window playing
 # the duel when a display is available.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -56,6 +57,12 @@ echo "and a carrier running for the goal line past six tacklers the way resource
 "$cli" metrics "$run/football.frayscene" --quiet | grep "^scene:"
 "$cli" render "$run/football.frayscene" --frames 0:end:30 --size 960x540 --labels --yaw 120 --quiet --out "$run/football-frames"
 echo
+echo "A rat running along resources/demo/rat.json's trajectory through a crowd: people step out of its way"
+echo "and bump into their neighbours (the rat is a one-joint character):"
+"$cli" compose "$lib/demo.frayproj" --spec resources/demo/rat.json --out "$run/rat.frayscene" --quiet
+"$cli" metrics "$run/rat.frayscene" --quiet | grep "^scene:"
+"$cli" render "$run/rat.frayscene" --frames 0:end:30 --size 960x540 --camera follow --pitch 35 --quiet --out "$run/rat-frames"
+echo
 echo "Automatic project: $run/auto.frayproj (list its actions: $cli actions $run/auto.frayproj)"
 echo "Demo project:      $lib/demo.frayproj"
 echo "Duel scene:        $run/duel.frayscene (frames in $run/duel-frames, glTF in $run/duel-export)"
@@ -63,6 +70,7 @@ echo "Chase:             $run/chase.frayscene (frames in $run/chase-frames)"
 echo "One vs many:       $run/one_vs_many.frayscene (frames in $run/one_vs_many-frames)"
 echo "Domino:            $run/domino.frayscene (frames in $run/domino-frames)"
 echo "Football:          $run/football.frayscene (frames in $run/football-frames)"
+echo "Rat:               $run/rat.frayscene (frames in $run/rat-frames)"
 if [[ -n "${DISPLAY:-}${WAYLAND_DISPLAY:-}" && -x build/bin/fray ]]; then
   echo "Opening the fray window on the duel (build/bin/fray with no argument opens it too)."
   build/bin/fray "$run/duel.frayscene"

@@ -134,4 +134,21 @@ expect_fail "running away from the goal" "backwards.json: /directions/0/heading_
   "$cli" compose "$tmp/fb/demo.frayproj" --spec "$tmp/backwards.json" --out "$tmp/x.frayscene" -q
 expect_fail "a football spec on a fighting library" "no tackle patch" \
   "$cli" compose "$p" --spec "$tmp/football.json" --out "$tmp/x.frayscene" -q
+
+# The rat: a one-joint creature through a crowd; no patch library needed
+# (the patch file is moved away); everyone near its trajectory gets out of the
+# way; the rat is exported with the people.
+mv "$p.patches" "$tmp/aside.patches"
+sed 's/"crowd": [0-9]*/"crowd": 40/' "$(dirname "$0")/../resources/demo/rat.json" > "$tmp/rat.json"
+"$cli" compose "$p" --spec "$tmp/rat.json" --out "$tmp/rat.frayscene" -q > "$tmp/rat.txt"
+check "rat composed without a patch library" "grep -q 'rat, 41 characters' '$tmp/rat.txt'"
+check "rat: nobody run over" "grep -q 'could not even do that' '$tmp/rat.txt' && grep -q ', 0 could not even do that' '$tmp/rat.txt'"
+"$cli" metrics "$tmp/rat.frayscene" --json -q > "$tmp/rat_metrics.json"
+check "rat: no penetration" "python3 -c 'import json,sys; m=json.load(open(sys.argv[1])); assert m[\"penetration_frames\"] == 0, m' '$tmp/rat_metrics.json'"
+"$cli" export "$tmp/rat.frayscene" --format bvh --out "$tmp/rat_bvh" -q > /dev/null
+check "rat: a one-joint BVH beside the people" "grep -q '^ROOT rat' '$tmp/rat_bvh/rat_rat.bvh' && [ \$(grep -c JOINT '$tmp/rat_bvh/rat_rat.bvh') -eq 0 ]"
+echo '{"kind": "rat", "rat": {"path": [[1, 1]]}}' > "$tmp/no_path.json"
+expect_fail "an empty rat trajectory" "no_path.json: /rat/path: the rat's trajectory is empty" \
+  "$cli" compose "$p" --spec "$tmp/no_path.json" --out "$tmp/x.frayscene" -q
+mv "$tmp/aside.patches" "$p.patches"
 echo "PASS"

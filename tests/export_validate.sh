@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The Khronos glTF-Validator (scripts/validate-gltf.mjs) on the demo duel
 # (resources/demo/duel.json on the build's demo library) exported as .gltf and
-# .glb: no error and no warning. Without node or the validator the test is
+# .glb, and the demo rat scene (a one-joint creature among people) as .glb:
+# no error and no warning. Without node or the validator the test is
 # skipped (exit 77), unless REQUIRED is ON (the ci preset): then it fails.
 # Usage: export_validate.sh FRAY_CLI DEMO_PROJECT SOURCE_DIR REQUIRED
 set -eu
@@ -18,8 +19,11 @@ fi
 "$cli" simulate "$project" --spec "$repo/resources/demo/duel.json" --out "$tmp/duel.frayscene" -q > /dev/null
 "$cli" export "$tmp/duel.frayscene" --format gltf --out "$tmp/out" -q > /dev/null
 "$cli" export "$tmp/duel.frayscene" --format glb --out "$tmp/out" -q > /dev/null
-GLTF_VALIDATOR_DIR=$validator node "$repo/scripts/validate-gltf.mjs" "$tmp/out/duel.gltf" "$tmp/out/duel.glb" | tee "$tmp/report.txt"
-check "both files validated" "[ \$(grep -c ': 0 errors, 0 warnings' '$tmp/report.txt') -eq 2 ]"
+sed 's/"crowd": [0-9]*/"crowd": 20/' "$repo/resources/demo/rat.json" > "$tmp/rat.json"
+"$cli" compose "$project" --spec "$tmp/rat.json" --out "$tmp/rat.frayscene" -q > /dev/null
+"$cli" export "$tmp/rat.frayscene" --format glb --out "$tmp/out" -q > /dev/null
+GLTF_VALIDATOR_DIR=$validator node "$repo/scripts/validate-gltf.mjs" "$tmp/out/duel.gltf" "$tmp/out/duel.glb" "$tmp/out/rat.glb" | tee "$tmp/report.txt"
+check "all three files validated" "[ \$(grep -c ': 0 errors, 0 warnings' '$tmp/report.txt') -eq 3 ]"
 # The validator must be able to fail here: a cubic-spline sampler with one
 # output per key (it needs three) is an error.
 sed '0,/"LINEAR"/s//"CUBICSPLINE"/' "$tmp/out/duel.gltf" > "$tmp/broken.gltf"

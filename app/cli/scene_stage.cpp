@@ -43,14 +43,15 @@ SceneStage::SceneStage(LoadedScene scene) : loaded_(std::move(scene)) {
         linePoints_.push_back(std::move(circle));
     }
     const std::size_t staged = linePoints_.size();
-    // Composed scenes' floor marks: a goal line in white, arrows in amber.
+    // Composed scenes' floor marks: a goal line in white, arrows in amber, a rat's trail in red.
     std::vector<render::Polyline> markStyles;
     for (const auto& m : sc.marks) {
         std::vector<glm::vec3> pts;
         for (const auto& p : m.points) pts.emplace_back(p.x, 0.0f, p.y);
         linePoints_.push_back(std::move(pts));
-        markStyles.push_back(m.kind == "arrow" ? render::Polyline{{}, glm::vec4(1.0f, 0.62f, 0.1f, 0.9f), 0.10f}
-                                               : render::Polyline{{}, glm::vec4(0.97f, 0.97f, 0.97f, 0.9f), 0.12f});
+        markStyles.push_back(m.kind == "arrow"   ? render::Polyline{{}, glm::vec4(1.0f, 0.62f, 0.1f, 0.9f), 0.10f}
+                             : m.kind == "trail" ? render::Polyline{{}, glm::vec4(0.85f, 0.25f, 0.2f, 0.7f), 0.05f}
+                                                 : render::Polyline{{}, glm::vec4(0.97f, 0.97f, 0.97f, 0.9f), 0.12f});
     }
     // Spans into linePoints_, which no longer changes.
     for (std::size_t i = 0; i < linePoints_.size(); ++i) {
@@ -80,10 +81,12 @@ std::vector<const Skeleton*> SceneStage::skeletons() const {
 }
 
 glm::vec3 SceneStage::tint(int c) const {
+    if (loaded_.scene.isCreature(c)) return glm::vec3(0.35f, 0.27f, 0.22f);  // a brown rat among the teams' colours
     return render::teamColor(loaded_.scene.characters[static_cast<std::size_t>(c)].side * 3 + c % 3);
 }
 
 std::string SceneStage::currentAction(int c) const {
+    if (loaded_.scene.isCreature(c)) return "running";
     const int i = loaded_.scene.instanceAt(c, time_);
     if (i < 0) return {};
     const auto& inst = loaded_.scene.characters[static_cast<std::size_t>(c)].track[static_cast<std::size_t>(i)];
@@ -96,7 +99,7 @@ void SceneStage::pose(double t, bool labels, int selected) {
     shownIndex_.clear();
     for (int c = 0; c < characterCount(); ++c) {
         const auto k = static_cast<std::size_t>(c);
-        present_[k] = loaded_.scene.present(c, t) ? 1 : 0;
+        present_[k] = loaded_.scene.present(c, t) || loaded_.scene.isCreature(c) ? 1 : 0;
         if (!present_[k]) continue;
         poser_->pose(c, t, poses_[k]);
         const Skeleton& sk = poser_->skeleton(c);

@@ -182,7 +182,9 @@ void runCompose(const ComposeArgs& a) {
     auto ss = openSimSession(a.project, stderrProgress(a.quiet));
     if (!ss) return fail(ss.error().message);
     auto& s = **ss;
-    auto patches = openPatches(a.project, a.patches, s.library);
+    // The rat scene plans its interactions itself; the others draw on the patch library.
+    auto patches = sim::composeNeedsPatches(*specText) ? openPatches(a.project, a.patches, s.library)
+                                                        : Result<sim::PatchLibrary>(sim::PatchLibrary{});
     if (!patches) return fail(patches.error().message);
     auto spec = sim::parseComposeSpec(*specText, a.spec, *patches);
     if (!spec) return fail(spec.error().message);
@@ -209,6 +211,17 @@ void runCompose(const ComposeArgs& a) {
                     "connection; the carrier got past %d tacklers and %s\n",
                     a.out.c_str(), st.graphJoined, st.spatialJoined, st.spatialJoined == 1 ? "" : "s", st.tacklersPassed, goal);
     }
+    if (spec->kind == sim::SceneKind::Rat && static_cast<int>(scene->characters.size()) - 1 < spec->crowd) {
+        std::printf("%s: %zu of the %d people asked for fit within %.1f m of the trajectory at %.2f m spacing\n", a.out.c_str(),
+                    scene->characters.size() - 1, spec->crowd, spec->band, spec->spacing);
+    }
+    if (spec->kind == sim::SceneKind::Rat) {
+        std::printf("%s: %d people within %.1f m of the rat's trajectory: %d stepped out of its way (closest it came to "
+                    "their feet %.2f m), %d were pushed aside by a neighbour first, %d had no way out and reeled back, %d could not "
+                    "even do that; %d bumps in all\n",
+                    a.out.c_str(), st.ratNear, spec->reach, st.ratAvoided, st.ratClearance, st.ratPushed, st.ratStartled, st.ratRunOver,
+                    st.bumps);
+    }
     if (spec->kind == sim::SceneKind::Domino) {
         std::printf("%s: the falls cover %.0f %% of the painted area (within %.1f m of someone who fell)\n", a.out.c_str(),
                     100.0 * st.paintedCoverage, double(sim::ComposeStats::kCoverRadius));
@@ -232,7 +245,7 @@ void registerPatches(CLI::App& app) {
     }
     {
         auto args = std::make_shared<ComposeArgs>();
-        auto* cmd = app.add_subcommand("compose", "Compose a scene from Interaction Patches (one-vs-many, one-vs-one)");
+        auto* cmd = app.add_subcommand("compose", "Compose a scene from Interaction Patches (one-vs-many, one-vs-one, domino, luggage, football, rat)");
         cmd->add_option("project", args->project, "Project file (*.frayproj)")->required();
         cmd->add_option("--spec", args->spec, "Compose spec (JSON: kind, duration, seed, enemies, patterns, commands)")->required();
         cmd->add_option("-o,--out", args->out, "Scene file to write (*.frayscene)")->required();

@@ -150,6 +150,12 @@ private:
 BodyMesh buildBodyMesh(const Skeleton& sk, const BodyMeshOptions& options) {
     BodyMesh mesh;
     if (sk.jointCount() == 0) return mesh;
+    if (sk.jointCount() == 1 && sk.endSites[0] && glm::length(*sk.endSites[0]) >= 1e-3f) {
+        // A one-joint creature (a rat): one plump capsule from the joint to its end site.
+        const glm::vec3 e = *sk.endSites[0];
+        CapsuleWriter(mesh, options).add(glm::vec3(0.0f), e, 0.22f * glm::length(e), 0);
+        return mesh;
+    }
     const Roles roles = findRoles(sk);
     const float scale = std::clamp(restExtent(sk) / 1.7f, 0.3f, 3.0f);
     CapsuleWriter writer(mesh, options);

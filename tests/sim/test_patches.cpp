@@ -711,6 +711,121 @@ TEST(PatchCompose, FootballCarrierReachesTheGoalPastTheTacklers) {
     }
 }
 
+// Rat avoiding (SPEC 4.5): everyone standing within reach of the rat's
+// trajectory gets out of its way, or is pushed out of it by a neighbour, or
+// (with no way out) reels back; the rat never runs over feet that stay put.
+TEST(PatchCompose, RatCrowdGetsOutOfTheWay) {
+    const auto& lib = demoWorld().library;
+    ComposeSpec spec;
+    spec.kind = SceneKind::Rat;
+    spec.ratPath = {{-7, -2}, {-3, 1}, {0, -1}, {3, 1.5f}, {7, 0}};
+    spec.crowd = 70;
+    spec.spacing = 0.8;
+    const PatchLibrary none;  // the rat scene plans its own interactions
+    EXPECT_FALSE(composeNeedsPatches(R"({"kind": "rat"})"));
+    EXPECT_TRUE(composeNeedsPatches(R"({"kind": "domino"})"));
+    EXPECT_TRUE(composeNeedsPatches("[1, 2"));
+    int bumps = 0, near = 0;
+    for (std::uint64_t seed : {1u, 2u, 3u}) {
+        spec.seed = seed;
+        ComposeStats st;
+        auto scene = compose(lib, none, spec, &st);
+        ASSERT_TRUE(scene) << scene.error().message;
+        ASSERT_FALSE(scene->characters.empty());
+        const auto& rat = scene->characters[0];
+        ASSERT_EQ(rat.body, "rat");
+        EXPECT_TRUE(rat.track.empty());
+        EXPECT_FALSE(scene->present(0, 3.0)) << "a creature is not a body for planners and metrics";
+        ASSERT_GE(rat.keys.size(), 2u);
+        EXPECT_NEAR(rat.keys.front().time, 0.0, 1e-9);
+        // It runs the whole trajectory at its speed from its start.
+        double length = 0;
+        for (std::size_t i = 0; i + 1 < spec.ratPath.size(); ++i) length += static_cast<double>(glm::length(spec.ratPath[i + 1] - spec.ratPath[i]));
+        EXPECT_NEAR(rat.keys.back().time, spec.ratStart + length / spec.ratSpeed, 0.11);
+        EXPECT_LT(glm::length(rat.keys.back().at.pos - spec.ratPath.back()), 1e-3f);
+        EXPECT_EQ(static_cast<int>(scene->characters.size()), spec.crowd + 1);
+        EXPECT_GE(st.ratNear, 8) << "seed " << seed;
+        EXPECT_EQ(st.ratAvoided + st.ratPushed + st.ratStartled + st.ratRunOver, st.ratNear) << "seed " << seed;
+        EXPECT_EQ(st.ratRunOver, 0) << "seed " << seed;
+        EXPECT_GE(st.ratAvoided, 0.7 * st.ratNear) << "seed " << seed;
+        EXPECT_GE(st.ratClearance, 0.08);
+        std::printf("seed %llu: %d near the rat: %d avoided, %d pushed, %d reeled back; %d bumps\n",
+                    static_cast<unsigned long long>(seed), st.ratNear, st.ratAvoided, st.ratPushed, st.ratStartled, st.bumps);
+        // Checked here on the played-back poses, independently of the composer:
+        const ScenePoser poser(*scene, lib);
+        std::vector<glm::vec3> world;
+        int nearHere = 0;
+        for (int c = 1; c < static_cast<int>(scene->characters.size()); ++c) {
+            const auto& track = scene->characters[static_cast<std::size_t>(c)].track;
+            ASSERT_FALSE(track.empty());
+            const glm::vec2 spot = track.front().placementAt(lib, track.front().offset).pos;
+            double pass = -1, closest = 1e9;
+            for (double t = spec.ratStart; t <= rat.keys.back().time; t += 0.02) {
+                const double d = static_cast<double>(glm::length(creatureAt(rat, t).pos - spot));
+                if (d < closest) closest = d, pass = t;
+            }
+            bool moved = false, forced = false;
+            for (const auto& inst : track) {
+                forced = forced || inst.forced;
+                if (!lib.actions[static_cast<std::size_t>(inst.action)].is(kIdle) && inst.start < pass + 0.6) moved = true;
+            }
+            // (a) Everyone within reach moves (steps aside, or is pushed) before the rat is past.
+            if (closest < spec.reach) {
+                ++nearHere;
+                EXPECT_TRUE(moved) << "seed " << seed << ": person " << c << " stood still as the rat passed " << closest << " m away";
+            }
+            if (forced) continue;
+            // (b) The rat's body never touches the feet of someone who was not knocked off them.
+            const auto& joints = lib.motions[static_cast<std::size_t>(lib.actions[static_cast<std::size_t>(track.front().action)].motion)].joints;
+            for (double t = pass - 0.5; t <= pass + 0.5; t += 1.0 / 30) {
+                poser.worldPositions(c, t, world);
+                const RootXf r = creatureAt(rat, t);
+                for (int j : {joints.leftFoot, joints.rightFoot, joints.leftToe, joints.rightToe}) {
+                    if (j < 0) continue;
+                    const glm::vec2 foot(world[static_cast<std::size_t>(j)].x, world[static_cast<std::size_t>(j)].z);
+                    for (float along : {0.0f, 0.5f, 1.0f}) {
+                        const float d = glm::length(foot - (r.pos + headingVector(r.heading) * (along * kRatLength)));
+                        EXPECT_GT(d, 0.08f) << "seed " << seed << ": the rat ran over person " << c << "'s foot at " << t << " s";
+                    }
+                }
+            }
+        }
+        EXPECT_EQ(nearHere, st.ratNear) << "seed " << seed;
+        // Bumps are contacts: the pushed one starts its reaction then.
+        EXPECT_EQ(static_cast<int>(scene->hits.size()), st.bumps);
+        for (const auto& h : scene->hits) {
+            const auto& pushed = scene->characters[static_cast<std::size_t>(h.defender)].track;
+            const auto& inst = pushed[static_cast<std::size_t>(instanceIndexAt(pushed, h.time + 1e-6))];
+            EXPECT_TRUE(inst.forced);
+            EXPECT_NEAR(inst.start, h.time, 1e-9);
+            EXPECT_GT(h.attacker, 0) << "the rat pushes no one on record";
+        }
+        bumps += st.bumps;
+        near += st.ratNear;
+        EXPECT_EQ(computeMetrics(*scene, lib).penetrationFrames, 0) << "seed " << seed;
+        // Same seed, same scene; the file keeps the rat's body and keys and the trail.
+        const std::string text = sceneToJson(*scene, lib);
+        auto again = compose(lib, none, spec);
+        ASSERT_TRUE(again);
+        EXPECT_EQ(sceneToJson(*again, lib), text);
+        auto back = sceneFromJson(text, "r.frayscene", lib);
+        ASSERT_TRUE(back) << back.error().message;
+        EXPECT_EQ(back->characters[0].body, "rat");
+        ASSERT_EQ(back->characters[0].keys.size(), rat.keys.size());
+        EXPECT_LT(glm::length(back->characters[0].keys[5].at.pos - rat.keys[5].at.pos), 1e-5f);
+        ASSERT_EQ(back->marks.size(), 1u);
+        EXPECT_EQ(back->marks[0].kind, "trail");
+        EXPECT_EQ(&ScenePoser(*back, lib).skeleton(0), &creatureSkeleton());
+        std::string dog = text;
+        dog.replace(dog.find("\"body\": \"rat\""), 13, "\"body\": \"dog\"");
+        auto bad = sceneFromJson(dog, "r.frayscene", lib);
+        ASSERT_FALSE(bad);
+        EXPECT_EQ(bad.error().message.rfind("r.frayscene: /characters/0/body: unknown body 'dog'", 0), 0u) << bad.error().message;
+    }
+    EXPECT_GE(bumps, 2) << "nobody bumped into anyone in three crowds of " << spec.crowd;
+    EXPECT_GE(near, 30);
+}
+
 TEST(PatchCompose, SpecErrorsNameTheField) {
     const auto& lib = fightLibrary();
     const std::pair<std::string, std::string> bad[] = {
@@ -731,6 +846,14 @@ TEST(PatchCompose, SpecErrorsNameTheField) {
         {R"({"kind": "football", "directions": [{"time": 0, "angle": 0}]})", "c.json: /directions/0/angle: unknown field"},
         {R"({"kind": "football", "tacklers": 0})", "c.json: /tacklers: must be between 1 and 1000"},
         {R"({"kind": "football", "doubles": "yes"})", "c.json: /doubles: must be true or false"},
+        {R"({"kind": "rat"})", "c.json: /rat: a rat scene needs the rat's trajectory"},
+        {R"({"kind": "rat", "rat": {"path": []}})", "c.json: /rat/path: the rat's trajectory is empty"},
+        {R"({"kind": "rat", "rat": {"path": [[0, 0], [0, 0.1]]}})", "c.json: /rat/path: the rat's trajectory is empty"},
+        {R"({"kind": "rat", "rat": {"path": [[0, 0], [0]]}})", "c.json: /rat/path/1: must be [x, z]"},
+        {R"({"kind": "rat", "rat": {"path": [[0, 0], [0, 5]], "speed": 0}})", "c.json: /rat/speed: must be in [0.3, 10] m/s"},
+        {R"({"kind": "rat", "rat": {"path": [[0, 0], [0, 5]], "size": 1}})", "c.json: /rat/size: unknown field"},
+        {R"({"kind": "rat", "rat": {"path": [[0, 0], [0, 5]]}, "bumps": 2})", "c.json: /bumps: must be in [0, 1]"},
+        {R"({"kind": "rat", "rat": {"path": [[0, 0], [0, 5]]}, "crowd": 0})", "c.json: /crowd: must be between 1 and 2000"},
     };
     for (const auto& [text, message] : bad) {
         const auto r = parseComposeSpec(text, "c.json", lib);

@@ -70,7 +70,7 @@ Result<SampledScene> sampleScene(const sim::Scene& scene, const sim::ActionLibra
                                  const ProgressFn& progress) {
     if (scene.characters.empty()) return makeError("the scene has no characters: nothing to export");
     for (const auto& c : scene.characters) {
-        if (c.track.empty()) return makeError("character '" + c.name + "' has no action: nothing to export");
+        if (c.track.empty() && c.body.empty()) return makeError("character '" + c.name + "' has no action: nothing to export");
     }
     SampledScene out;
     out.fps = fps;

@@ -43,7 +43,7 @@ json characterJson(const sim::SceneCharacter& c, const CharacterTake& take, cons
     const Skeleton& sk = take.motion.skeleton();
     json actions = json::array();
     for (const auto& inst : c.track) actions.push_back(actionJson(inst, lib));
-    return {{"name", c.name},
+    json out = {{"name", c.name},
             {"file_name", take.fileName},
             {"side", c.side},
             {"group", c.group},
@@ -53,6 +53,9 @@ json characterJson(const sim::SceneCharacter& c, const CharacterTake& take, cons
             // files hold the character in its first pose where it enters.
             {"enter", c.track.empty() ? 0.0 : c.track.front().start},
             {"actions", std::move(actions)}};
+    // A creature (the rat) plays no action: its root follows its keys.
+    if (!c.body.empty()) out["body"] = c.body;
+    return out;
 }
 
 // Where a hit landed: the centre of the attacker's effector box at that time.

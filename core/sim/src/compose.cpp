@@ -849,6 +849,416 @@ struct Composer {
         }
         return {};
     }
+
+    // ---- rat: people step out of the way of a rat running along the user's
+    // trajectory (SPEC 4.5), and bump into their neighbours doing so. The rat
+    // is a one-joint creature, so its interactions are not in the patch
+    // library: each one is planned here, the same way a patch is evaluated
+    // (every avoiding action and start time tried against the rat's
+    // passage, the best kept), and a bump pushes the neighbour into the
+    // forced reaction that best matches its posture and the push.
+    struct Bystander {
+        glm::vec2 spot{0.0f};
+        RootXf at;                           // standing placement
+        double passTime = 0, passDistance = 1e9;  // the rat's closest approach
+        bool near = false;
+        std::vector<ActionInstance> plan;    // empty: stands all along
+    };
+
+    static double distanceToPolyline(glm::vec2 p, const std::vector<glm::vec2>& line) {
+        double best = std::numeric_limits<double>::max();
+        for (std::size_t i = 0; i + 1 < line.size(); ++i) {
+            const glm::vec2 ab = line[i + 1] - line[i];
+            const float len2 = glm::dot(ab, ab);
+            const float u = len2 > 0 ? std::clamp(glm::dot(p - line[i], ab) / len2, 0.0f, 1.0f) : 0.0f;
+            best = std::min(best, static_cast<double>(glm::length(p - (line[i] + u * ab))));
+        }
+        return best;
+    }
+
+    // The rat's keys: it waits at the first point until ratStart, then runs
+    // the polyline at ratSpeed, facing along it (corners rounded over 0.3 m).
+    std::vector<RootKey> ratKeys() const {
+        const auto& P = spec.ratPath;
+        std::vector<double> cum{0.0};
+        for (std::size_t i = 0; i + 1 < P.size(); ++i) cum.push_back(cum.back() + static_cast<double>(glm::length(P[i + 1] - P[i])));
+        const double length = cum.back();
+        auto at = [&](double s) {
+            s = std::clamp(s, 0.0, length);
+            std::size_t i = static_cast<std::size_t>(std::upper_bound(cum.begin(), cum.end(), s) - cum.begin());
+            i = std::clamp<std::size_t>(i, 1, P.size() - 1);
+            const double seg = cum[i] - cum[i - 1];
+            const float u = seg > 0 ? static_cast<float>((s - cum[i - 1]) / seg) : 0.0f;
+            return P[i - 1] + u * (P[i] - P[i - 1]);
+        };
+        std::vector<RootKey> keys;
+        double heading = 0;
+        auto key = [&](double t, double s) {
+            const glm::vec2 d = at(s + 0.15) - at(s - 0.15);
+            if (glm::length(d) > 1e-4f) heading = angleOf(d);
+            keys.push_back({t, {at(s), heading}});
+        };
+        if (spec.ratStart > 0) key(0.0, 0.0);
+        constexpr double kKeyStep = 0.1;  // s
+        const int steps = static_cast<int>(std::ceil(length / spec.ratSpeed / kKeyStep));
+        for (int k = 0; k <= steps; ++k) {
+            const double s = std::min(length, k * kKeyStep * spec.ratSpeed);
+            key(spec.ratStart + s / spec.ratSpeed, s);
+        }
+        return keys;
+    }
+
+    // The body of someone following `plan` (or standing at `at` when it is empty) at time t.
+    detail::BodyPose bodyIn(const std::vector<ActionInstance>& plan, const RootXf& at, double t) const {
+        if (plan.empty()) {
+            const double tau = std::fmod(std::max(t, 0.0), act(hold).duration);
+            return {hold, tau, at * lib.rootAt(hold, 0).inverse()};
+        }
+        const auto& inst = plan[static_cast<std::size_t>(instanceIndexAt(plan, t))];
+        return {inst.action, inst.clipTimeAt(t), inst.root};
+    }
+
+    // Closest the rat's body comes to the feet and shins of someone following
+    // `plan` while it passes them (m; negative: it runs into them).
+    double ratClearance(const Bystander& b, const std::vector<ActionInstance>& plan) const {
+        double best = std::numeric_limits<double>::max();
+        for (double t = b.passTime - 0.6; t <= b.passTime + 0.6; t += 1.0 / kSampleRate) {
+            const RootXf r = creatureAt(ratBody, t);
+            const glm::vec2 fwd = headingVector(r.heading);
+            const detail::BodyPose body = bodyIn(plan, b.at, t);
+            const Obb* boxes = lib.boxesAt(body.action, lib.sampleAt(body.action, body.tau));
+            for (int seg : {kLeftFoot, kRightFoot, kLeftShin, kRightShin}) {
+                const SweptBox box = floorBox(boxes[seg].placed(body.root));
+                for (float along : {0.0f, 0.5f, 1.0f}) {
+                    const double d = static_cast<double>(rectDistance(box, r.pos + fwd * (along * kRatLength))) - 0.04;  // the rat's girth
+                    best = std::min(best, d);
+                }
+            }
+        }
+        return best;
+    }
+
+    // When a plan moves the body: from its first action that is not an idle
+    // to the end of its last one; {+inf, -inf} for someone who only stands.
+    std::pair<double, double> movingWindow(const std::vector<ActionInstance>& plan) const {
+        std::pair<double, double> w{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+        for (const auto& inst : plan) {
+            if (act(inst.action).is(kIdle)) continue;
+            w.first = std::min(w.first, inst.start);
+            w.second = std::max(w.second, inst.end);
+        }
+        return w;
+    }
+
+    // First time someone following `plan` from `from` to `until` touches
+    // another bystander's body: {who, when}; {-1, 0} when nobody. Two people
+    // standing still do not start touching, so once this plan has settled only
+    // the others' moving windows are sampled.
+    std::pair<int, double> firstTouch(const std::vector<Bystander>& crowd, std::size_t self, const std::vector<ActionInstance>& plan,
+                                      double from, double until, std::size_t ignore = SIZE_MAX) const {
+        constexpr float kShrink = 0.82f;  // as the composer's penetration test
+        constexpr double dt = 1.0 / kSampleRate;
+        std::vector<std::size_t> close;
+        for (std::size_t o = 0; o < crowd.size(); ++o) {
+            if (o != self && o != ignore && glm::length(crowd[o].spot - crowd[self].spot) < 3.0f) close.push_back(o);
+        }
+        auto touches = [&](std::size_t o, double t) {
+            return detail::coreBodiesOverlap(lib, bodyIn(plan, crowd[self].at, t), bodyIn(crowd[o].plan, crowd[o].at, t), kShrink);
+        };
+        const double settle = std::min(until, std::max(from, movingWindow(plan).second) + dt);
+        for (double t = from; t <= settle + 1e-9; t += dt) {
+            for (std::size_t o : close) {
+                if (touches(o, t)) return {static_cast<int>(o), t};
+            }
+        }
+        std::pair<int, double> first{-1, std::numeric_limits<double>::infinity()};
+        for (std::size_t o : close) {
+            const auto [w0, w1] = movingWindow(crowd[o].plan);
+            for (double t = std::max(settle, w0 - dt); t <= std::min({until, w1 + dt, first.second}) + 1e-9; t += dt) {
+                if (touches(o, t)) {
+                    first = {static_cast<int>(o), t};
+                    break;
+                }
+            }
+        }
+        return first.first >= 0 ? first : std::pair<int, double>{-1, 0.0};
+    }
+
+    // Stands in the guard at `at` from 0 until `until` (the clip from its start each time round).
+    std::vector<ActionInstance> standing(const RootXf& at, double until) const {
+        std::vector<ActionInstance> plan;
+        const RootXf root = at * lib.rootAt(hold, 0).inverse();
+        for (double t = 0; t < until - 1e-6;) {
+            const double end = std::min(until, t + act(hold).duration);
+            plan.push_back({hold, t, 0.0, end, root, false, false});
+            t = end;
+        }
+        return plan;
+    }
+
+    // Stands until `from`, plays `actions` one after another (the first from
+    // clip time `offset`, placed at `root`), then stands where they leave off until `until`.
+    std::vector<ActionInstance> planMove(const RootXf& at, double from, const std::vector<int>& actions, double offset,
+                                         const RootXf& root, bool forced, double until) const {
+        std::vector<ActionInstance> plan = standing(at, from);
+        double t = from;
+        RootXf place = root;
+        for (std::size_t k = 0; k < actions.size(); ++k) {
+            const double off = k == 0 ? offset : 0.0;
+            const double end = t + act(actions[k]).duration - off;
+            plan.push_back({actions[k], t, off, end, place, forced && k == 0, false});
+            place = place * act(actions[k]).end;
+            t = end;
+        }
+        const int idle = idleAfter(actions.back());
+        while (t < until - 1e-6) {
+            const double e = std::min(until, t + act(idle).duration);
+            plan.push_back({idle, t, 0.0, e, place * lib.rootAt(idle, 0).inverse(), false, false});
+            t = e;
+        }
+        return plan;
+    }
+
+    // Someone pushed into a reaction: by a bystander (index) or the rat (SIZE_MAX), when, and their new plan.
+    struct Push {
+        std::size_t who = 0, by = SIZE_MAX;
+        double time = 0;
+        std::vector<ActionInstance> plan;
+    };
+
+    // Pushes bystander q at time t away from `pusher` (bystander `by`, or the
+    // rat when SIZE_MAX): the forced reaction matching its posture and the
+    // push. Its neighbours may be pushed on in turn (depth levels). Returns the
+    // changed plans, or nothing when the push would put anyone in the rat's
+    // way or into someone who is already moving.
+    std::optional<std::vector<Push>> push(const std::vector<Bystander>& crowd, std::size_t q, std::size_t by, const RootXf& pusher,
+                                          double t, double until, int depth) const {
+        const Bystander& b = crowd[q];
+        if (!b.plan.empty()) return std::nullopt;  // it has moved, or will: its plan stands
+        // Near the trajectory and not yet out of the way: it must get out of
+        // the way itself before the rat has passed (pushed later, it would
+        // have stood in the rat's way).
+        if (by != SIZE_MAX && b.near && t >= b.passTime + 0.6) return std::nullopt;
+        const detail::BodyPose body = bodyIn(b.plan, b.at, t);
+        const detail::Playing victim{body.action, t, body.tau, body.root};
+        const RootXf placement = body.root * lib.rootAt(body.action, body.tau);
+        const auto [reaction, sample] =
+            detail::chooseReaction(lib, reactionDir, victim, t, detail::pushDirection(placement, pusher), false, pushedPool);
+        if (reaction < 0) return std::nullopt;
+        const double offset = sample / kSampleRate;
+        const RootXf root = placement * lib.rootAt(reaction, offset).inverse();
+        auto plan = planMove(b.at, t, {reaction}, offset, root, true, until);
+        // Pushed by someone else, it must not reel into the rat's way (pushed by the rat, it is in it).
+        if (by != SIZE_MAX && b.near && t < b.passTime + 0.6 && ratClearance(b, plan) < kRatClear) return std::nullopt;
+        std::vector<Push> changes;
+        auto trial = crowd;
+        trial[q].plan = plan;
+        const double settled = until;  // both stand still afterwards: touching later counts too
+        const auto [other, when] = firstTouch(trial, q, plan, t, settled, by);
+        if (other >= 0) {
+            if (depth <= 0) return std::nullopt;
+            const detail::BodyPose mine = bodyIn(plan, b.at, when);
+            auto more = push(trial, static_cast<std::size_t>(other), q, mine.root * lib.rootAt(mine.action, mine.tau), when,
+                             until, depth - 1);
+            if (!more) return std::nullopt;
+            for (const auto& m : *more) trial[m.who].plan = m.plan;
+            if (firstTouch(trial, q, plan, when, settled, static_cast<std::size_t>(other)).first >= 0) return std::nullopt;
+            if (firstTouch(trial, q, plan, when + kContactWindow, settled, by).first >= 0) return std::nullopt;
+            changes = std::move(*more);
+        }
+        changes.push_back({q, by, t, std::move(plan)});
+        return changes;
+    }
+
+    // Takes a push into the crowd's plans (and the log of contacts).
+    void commit(std::vector<Bystander>& crowd, Push&& m, std::vector<Push>& log) {
+        Bystander& o = crowd[m.who];
+        o.plan = m.plan;
+        if (m.by != SIZE_MAX) ++stats.bumps;
+        log.push_back(std::move(m));
+    }
+
+    static constexpr double kRatClear = 0.08;
+    static constexpr double kContactWindow = 0.2;  // s a bump may keep two bodies touching (MetricsOptions::hitWindow)  // m between the rat and an avoider's feet and shins
+    std::vector<glm::vec2> reactionDir;
+    std::vector<int> pushedPool;
+    SceneCharacter ratBody;  // the rat's keys
+
+    Status rat(const ProgressFn& progress) {
+        ratBody.body = "rat";
+        ratBody.keys = ratKeys();
+        const auto& keys = ratBody.keys;
+        const double ratEnd = keys.back().time;
+        const double until = ratEnd + 2.0;  // reactions and steps settle
+        reactionDir = detail::reactionDirections(lib);
+        for (int a = 0; a < lib.size(); ++a) {
+            if (act(a).is(kPushed) && !act(a).is(kFalling)) pushedPool.push_back(a);
+        }
+        if (pushedPool.empty()) {
+            for (int a = 0; a < lib.size(); ++a) {
+                if (act(a).is(kPushed)) pushedPool.push_back(a);
+            }
+        }
+        // Ways out of the rat's path: an avoid or a step that can start from
+        // standing, alone or followed by a second one that continues it in the
+        // motion graph (a guard step moves 0.3 m; two get the feet clear of a
+        // rat running right under someone). One representative per variant
+        // class and start node.
+        std::map<std::pair<int, int>, int> reps;
+        for (int a = 0; a < lib.size(); ++a) {
+            const auto& A = act(a);
+            if (!A.is(kAvoid | kStep) || A.is(kReactive | kAttack | kRun | kWalk) || A.has("carry")) continue;
+            reps.emplace(std::make_pair(lib.variantClass[static_cast<std::size_t>(a)], lib.startNode[static_cast<std::size_t>(a)]), a);
+        }
+        std::vector<std::vector<int>> ways;
+        for (int pass = 0; pass < 2 && ways.empty(); ++pass) {
+            for (const auto& [key, a] : reps) {
+                if (pass == 0 && !lib.continuesInto(hold, a)) continue;
+                ways.push_back({a});
+                for (const auto& [key2, b] : reps) {
+                    if (lib.continuesInto(a, b) && glm::length(act(b).end.pos) > 0.1f) ways.push_back({a, b});
+                }
+            }
+        }
+        if (ways.empty()) return makeError("rat: the project has no avoid or step action (people need one to get out of the rat's way)");
+
+        // The crowd: people standing within `band` of the trajectory, `spacing` apart.
+        std::vector<Bystander> crowd;
+        glm::vec2 lo = spec.ratPath.front(), hi = lo;
+        for (const auto& p : spec.ratPath) lo = glm::min(lo, p), hi = glm::max(hi, p);
+        const auto band = static_cast<float>(spec.band);
+        lo -= glm::vec2(band), hi += glm::vec2(band);
+        std::uniform_real_distribution<double> unit(0.0, 1.0);
+        for (int tries = 0; static_cast<int>(crowd.size()) < spec.crowd && tries < 400 * spec.crowd; ++tries) {
+            const glm::vec2 q(lo.x + static_cast<float>(unit(rng)) * (hi.x - lo.x), lo.y + static_cast<float>(unit(rng)) * (hi.y - lo.y));
+            const double heading = wrapAngle(unit(rng) * 2 * std::numbers::pi);
+            if (distanceToPolyline(q, spec.ratPath) > spec.band) continue;
+            if (glm::length(q - spec.ratPath.front()) < 1.5f) continue;  // not on the rat's hole
+            if (std::any_of(crowd.begin(), crowd.end(), [&](const Bystander& b) { return static_cast<double>(glm::length(b.spot - q)) < spec.spacing; })) continue;
+            Bystander b;
+            b.spot = q;
+            b.at = {q, heading};
+            crowd.push_back(b);
+        }
+        if (crowd.empty()) return makeError("rat: nobody could stand near the trajectory (widen band or lower spacing)");
+        for (auto& b : crowd) {
+            for (double t = spec.ratStart; t <= ratEnd + 1e-9; t += 0.02) {
+                const double d = glm::length(creatureAt(ratBody, t).pos - b.spot);
+                if (d < b.passDistance) b.passDistance = d, b.passTime = t;
+            }
+            b.near = b.passDistance < spec.reach;
+            stats.ratNear += b.near ? 1 : 0;
+        }
+        std::vector<std::size_t> order;
+        for (std::size_t i = 0; i < crowd.size(); ++i) order.push_back(i);
+        std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return crowd[a].passTime < crowd[b].passTime; });
+
+        std::vector<Push> log;  // every push, for the scene's contacts
+        int done = 0;
+        for (std::size_t i : order) {
+            Bystander& b = crowd[i];
+            if (!reportProgress(progress, static_cast<double>(done++) / static_cast<double>(crowd.size()), "compose")) {
+                return makeError("cancelled");
+            }
+            if (!b.near || !b.plan.empty()) continue;  // far off, or already pushed out of the way
+            // Every way out at every start time (0.05 s apart) before the rat arrives.
+            struct Option {
+                double score = -std::numeric_limits<double>::max();
+                std::vector<ActionInstance> plan;
+                double start = 0, clearance = 0;
+                std::vector<Push> pushes;
+            } best;
+            for (const auto& way : ways) {
+                const RootXf root = b.at * lib.rootAt(way.front(), 0).inverse();
+                double duration = 0;
+                for (int a : way) duration += act(a).duration;
+                for (double ts = b.passTime - duration - 0.6; ts <= b.passTime - 0.05; ts += 0.05) {
+                    if (ts < 0.2) continue;
+                    auto plan = planMove(b.at, ts, way, 0.0, root, false, until);
+                    const double clear = ratClearance(b, plan);
+                    if (clear < kRatClear) continue;
+                    // Clear of the rat by a safe margin; bumping a neighbour as
+                    // the spec likes it (0: avoid it, 1: seek it); the latest
+                    // start (people react at the last moment).
+                    const double bumpBonus = 0.2 * spec.bumps - 0.05;
+                    const double base = std::min(clear, 0.25) + 0.01 * (ts - b.passTime) + 1e-4 * unit(rng);
+                    if (base + std::max(0.0, bumpBonus) <= best.score) continue;  // cannot win: skip the body tests
+                    const double settled = until;  // everyone stands still afterwards: touching later counts too
+                    const auto [other, when] = firstTouch(crowd, i, plan, ts, settled);
+                    std::vector<Push> pushes;
+                    if (other >= 0) {
+                        auto trial = crowd;
+                        trial[i].plan = plan;
+                        const detail::BodyPose mine = bodyIn(plan, b.at, when);
+                        auto chain = push(trial, static_cast<std::size_t>(other), i, mine.root * lib.rootAt(mine.action, mine.tau),
+                                          when, until, 1);
+                        if (!chain) continue;
+                        // With the pushed ones moving, the rest of the way out
+                        // touches nobody, the pushed one included once the
+                        // contact is over.
+                        for (const auto& m : *chain) trial[m.who].plan = m.plan;
+                        if (firstTouch(trial, i, plan, when, settled, static_cast<std::size_t>(other)).first >= 0) continue;
+                        if (firstTouch(trial, i, plan, when + kContactWindow, settled).first >= 0) continue;
+                        pushes = std::move(*chain);
+                    }
+                    const double score = base + (pushes.empty() ? 0.0 : bumpBonus);
+                    if (score > best.score) best = {score, std::move(plan), ts, clear, std::move(pushes)};
+                }
+            }
+            if (!best.plan.empty()) {
+                b.plan = std::move(best.plan);
+                ++stats.ratAvoided;
+                stats.ratClearance = stats.ratClearance < 0 ? best.clearance : std::min(stats.ratClearance, best.clearance);
+                for (auto& m : best.pushes) {
+                    if (crowd[m.who].near) ++stats.ratPushed;
+                    commit(crowd, std::move(m), log);
+                }
+                continue;
+            }
+            // No way out: it reels back as the rat runs into its feet (a push
+            // from the rat, a little before it arrives).
+            bool reeled = false;
+            for (double lead : {0.1, 0.3, 0.5}) {
+                const double t = std::max(0.2, b.passTime - lead);
+                auto chain = push(crowd, i, SIZE_MAX, creatureAt(ratBody, t), t, until, 1);
+                if (!chain) continue;
+                for (auto& m : *chain) commit(crowd, std::move(m), log);
+                reeled = true;
+                break;
+            }
+            ++(reeled ? stats.ratStartled : stats.ratRunOver);
+        }
+
+        // The timeline: the rat first, then everyone, standing where they have no plan.
+        auto& rat = scene.characters[static_cast<std::size_t>(addCharacter("rat", 1))];
+        rat.body = "rat";
+        rat.keys = keys;
+        rat.preset = "creature";
+        std::vector<int> index(crowd.size());
+        for (std::size_t k = 0; k < crowd.size(); ++k) {
+            auto& b = crowd[k];
+            const int c = addCharacter("person-" + std::to_string(k + 1), 0);
+            index[k] = c;
+            track(c) = b.plan.empty() ? standing(b.at, until) : b.plan;
+        }
+        // The bumps as contacts (who pushed whom, when), for metrics and viewers.
+        for (const auto& m : log) {
+            if (m.by == SIZE_MAX) continue;  // reeled back from the rat: no one pushed it
+            const detail::BodyPose pusher = bodyIn(crowd[m.by].plan, crowd[m.by].at, m.time);
+            HitEvent h;
+            h.time = m.time;
+            h.attacker = index[m.by];
+            h.defender = index[m.who];
+            h.attackAction = pusher.action;
+            h.effector = kTorso, h.target = kTorso;  // body against body
+            h.speed = 1.0;                           // a walking-pace shove (m/s)
+            h.impulse = h.speed * detail::effectiveMass(kTorso);
+            scene.hits.push_back(h);
+        }
+        scene.marks.push_back({"trail", spec.ratPath});
+        return {};
+    }
+
     // ---- domino: falling bodies knock the next people over, inside the painted area.
     struct Faller {
         int c = 0;
@@ -1333,6 +1743,7 @@ const char* sceneKindName(SceneKind kind) {
         case SceneKind::Domino: return "domino";
         case SceneKind::Luggage: return "luggage";
         case SceneKind::Football: return "football";
+        case SceneKind::Rat: return "rat";
     }
     return "?";
 }
@@ -1346,7 +1757,8 @@ Result<ComposeSpec> parseComposeSpec(std::string_view text, std::string_view fil
     s.text = std::string(text);
     static const char* const known[] = {"version", "kind",  "duration", "seed",       "enemies",       "entry_radius",
                                         "patterns", "commands", "floor", "starts", "background", "max_characters",
-                                        "porters", "handoffs", "tacklers", "goal", "directions", "doubles"};
+                                        "porters", "handoffs", "tacklers", "goal", "directions", "doubles",
+                                        "rat", "crowd", "band", "spacing", "reach", "bumps"};
     for (auto it = j.begin(); it != j.end(); ++it) {
         if (std::find_if(std::begin(known), std::end(known), [&](const char* k) { return it.key() == k; }) == std::end(known)) {
             return rd.error("/" + it.key(), "unknown field");
@@ -1358,7 +1770,8 @@ Result<ComposeSpec> parseComposeSpec(std::string_view text, std::string_view fil
     else if (kind == "domino") s.kind = SceneKind::Domino;
     else if (kind == "luggage") s.kind = SceneKind::Luggage;
     else if (kind == "football") s.kind = SceneKind::Football;
-    else return rd.error("/kind", "unknown scene kind '" + kind + "' (this build composes one-vs-many, one-vs-one, domino, luggage and football)");
+    else if (kind == "rat") s.kind = SceneKind::Rat;
+    else return rd.error("/kind", "unknown scene kind '" + kind + "' (this build composes one-vs-many, one-vs-one, domino, luggage, football and rat)");
     if (auto st = optionalNumber(rd, j, "duration", 0, 3600, "seconds", s.duration); !st) return st.error();
     if (auto f = rd.field(j, "", "seed", false); !f) return f.error();
     else if (*f) {
@@ -1464,6 +1877,59 @@ Result<ComposeSpec> parseComposeSpec(std::string_view text, std::string_view fil
             s.directions.push_back({t, h * std::numbers::pi / 180});
         }
     }
+    if (auto f = rd.field(j, "", "rat", false); !f) return f.error();
+    else if (*f) {
+        const json& r = **f;
+        if (!r.is_object()) return rd.error("/rat", "must be an object {path, speed, start}");
+        for (auto it = r.begin(); it != r.end(); ++it) {
+            if (it.key() != "path" && it.key() != "speed" && it.key() != "start") return rd.error("/rat/" + it.key(), "unknown field");
+        }
+        FRAY_TRY(pf, rd.field(r, "/rat", "path"));
+        if (!pf->is_array()) return rd.error("/rat/path", "must be an array of [x, z] points (the rat's trajectory)");
+        if (pf->size() > 10000) return rd.error("/rat/path", "has more than 10000 points");
+        double length = 0;
+        for (std::size_t i = 0; i < pf->size(); ++i) {
+            const std::string p = "/rat/path/" + std::to_string(i);
+            const json& q = (*pf)[i];
+            if (!q.is_array() || q.size() != 2) return rd.error(p, "must be [x, z]");
+            FRAY_TRY(x, rd.number(q[0], p + "/0"));
+            FRAY_TRY(z, rd.number(q[1], p + "/1"));
+            if (!(std::fabs(x) <= 1e4) || !(std::fabs(z) <= 1e4)) return rd.error(p, "is too far out");
+            const glm::vec2 v(static_cast<float>(x), static_cast<float>(z));
+            if (!s.ratPath.empty()) length += static_cast<double>(glm::length(v - s.ratPath.back()));
+            s.ratPath.push_back(v);
+        }
+        if (s.ratPath.size() < 2 || length < 0.5) {
+            return rd.error("/rat/path", "the rat's trajectory is empty: draw at least two points, 0.5 m apart or more");
+        }
+        auto number = [&](const char* key, double lo, double hi, const char* unit, double& out) -> Status {
+            FRAY_TRY(v, rd.field(r, "/rat", key, false));
+            if (!v) return {};
+            FRAY_TRY(x, rd.number(*v, std::string("/rat/") + key));
+            if (!(x >= lo) || x > hi) {
+                char range[64];
+                std::snprintf(range, sizeof range, "must be in [%g, %g] %s", lo, hi, unit);
+                return rd.error(std::string("/rat/") + key, range);
+            }
+            out = x;
+            return {};
+        };
+        if (auto st = number("speed", 0.3, 10, "m/s", s.ratSpeed); !st) return st.error();
+        if (auto st = number("start", 0, 600, "s", s.ratStart); !st) return st.error();
+    }
+    if (auto st = optionalInt(rd, j, "crowd", 1, 2000, s.crowd); !st) return st.error();
+    if (auto st = optionalNumber(rd, j, "band", 0, 100, "m", s.band); !st) return st.error();
+    if (auto st = optionalNumber(rd, j, "spacing", 0.5, 20, "m", s.spacing); !st) return st.error();
+    if (auto st = optionalNumber(rd, j, "reach", 0, 10, "m", s.reach); !st) return st.error();
+    if (auto f = rd.field(j, "", "bumps", false); !f) return f.error();
+    else if (*f) {
+        FRAY_TRY(x, rd.number(**f, "/bumps"));
+        if (!(x >= 0 && x <= 1)) return rd.error("/bumps", "must be in [0, 1] (0: people avoid bumping into each other, 1: they seek it)");
+        s.bumps = x;
+    }
+    if (s.kind == SceneKind::Rat && s.ratPath.empty()) {
+        return rd.error("/rat", "a rat scene needs the rat's trajectory: \"rat\": {\"path\": [[x, z], ...]}");
+    }
     if (s.kind == SceneKind::Domino) {
         if (s.floorFile.empty()) return rd.error("/floor", "a domino scene needs a floor bitmap (the painted area where people fall)");
         if (s.starts.empty()) return rd.error("/starts", "a domino scene needs at least one start (where the first person falls)");
@@ -1471,10 +1937,19 @@ Result<ComposeSpec> parseComposeSpec(std::string_view text, std::string_view fil
     return s;
 }
 
+bool composeNeedsPatches(std::string_view specText) {
+    const json j = json::parse(specText, nullptr, false);
+    if (!j.is_object()) return true;
+    const auto k = j.find("kind");
+    return k == j.end() || !k->is_string() || *k != "rat";
+}
+
 Result<Scene> compose(const ActionLibrary& lib, const PatchLibrary& patches, const ComposeSpec& spec, ComposeStats* stats,
                       const ProgressFn& progress) {
-    if (patches.patches.empty()) return makeError("the patch library is empty (run patches generate first)");
-    if (patches.temporal.size() != patches.patches.size()) return makeError("the patch library has no connection tables");
+    if (spec.kind != SceneKind::Rat) {
+        if (patches.patches.empty()) return makeError("the patch library is empty (run patches generate first)");
+        if (patches.temporal.size() != patches.patches.size()) return makeError("the patch library has no connection tables");
+    }
     const auto wallStart = std::chrono::steady_clock::now();
     ComposeStats local;
     ComposeStats& st = stats ? *stats : local;
@@ -1486,13 +1961,17 @@ Result<Scene> compose(const ActionLibrary& lib, const PatchLibrary& patches, con
                         : spec.kind == SceneKind::OneVsOne ? c.oneVsOne(progress)
                         : spec.kind == SceneKind::Domino   ? c.domino(progress)
                         : spec.kind == SceneKind::Football ? c.football(progress)
+                        : spec.kind == SceneKind::Rat      ? c.rat(progress)
                                                            : c.luggage(progress);
     if (!done) return done.error();
     Scene scene = std::move(c.scene);
     scene.seed = spec.seed;
     scene.spec = spec.text;
     double end = 0;
-    for (const auto& ch : scene.characters) end = std::max(end, ch.track.empty() ? 0.0 : ch.track.back().end);
+    for (const auto& ch : scene.characters) {
+        end = std::max(end, ch.track.empty() ? 0.0 : ch.track.back().end);
+        if (!ch.keys.empty()) end = std::max(end, ch.keys.back().time);
+    }
     scene.duration = end;
     std::sort(scene.hits.begin(), scene.hits.end(), [](const HitEvent& a, const HitEvent& b) {
         return a.time != b.time ? a.time < b.time : a.attacker < b.attacker;

@@ -113,6 +113,31 @@ Result<Arena> parseArena(const JsonReader& rd, const json& v, const std::string&
     return a;
 }
 
+const Skeleton& creatureSkeleton() {
+    static const Skeleton sk = [] {
+        Skeleton k;
+        k.addJoint("rat", -1, glm::vec3(0.0f),
+                   {Channel::Xposition, Channel::Yposition, Channel::Zposition, Channel::Zrotation, Channel::Xrotation,
+                    Channel::Yrotation},
+                   RotationOrder::ZXY);
+        k.endSites[0] = glm::vec3(0.0f, 0.0f, kRatLength);
+        return k;
+    }();
+    return sk;
+}
+
+RootXf creatureAt(const SceneCharacter& c, double t) {
+    const auto& k = c.keys;
+    if (k.empty()) return {};
+    if (t <= k.front().time) return k.front().at;
+    if (t >= k.back().time) return k.back().at;
+    const auto it = std::upper_bound(k.begin(), k.end(), t, [](double x, const RootKey& key) { return x < key.time; });
+    const RootKey& b = *it;
+    const RootKey& a = *(it - 1);
+    const double span = b.time - a.time;
+    return lerp(a.at, b.at, span > 0 ? (t - a.time) / span : 1.0);
+}
+
 int Scene::instanceAt(int c, double t) const { return instanceIndexAt(characters[static_cast<std::size_t>(c)].track, t); }
 
 int instanceIndexAt(std::span<const ActionInstance> track, double t) {
@@ -145,6 +170,12 @@ std::string sceneToJson(const Scene& scene, const ActionLibrary& lib) {
     for (const auto& c : scene.characters) {
         json cj;
         cj["name"] = c.name;
+        if (!c.body.empty()) {
+            cj["body"] = c.body;
+            json keys = json::array();
+            for (const auto& k : c.keys) keys.push_back(json::array({k.time, k.at.pos.x, k.at.pos.y, k.at.heading}));
+            cj["keys"] = std::move(keys);
+        }
         cj["side"] = c.side;
         cj["group"] = c.group;
         cj["preset"] = c.preset;
@@ -275,6 +306,28 @@ Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, co
         SceneCharacter sc;
         FRAY_TRY(name, rd.stringAt(c, p, "name"));
         sc.name = name;
+        if (const auto bf = c.find("body"); bf != c.end()) {
+            FRAY_TRY(body, rd.string(*bf, p + "/body"));
+            if (body != "rat") return rd.error(p + "/body", "unknown body '" + body + "' (this build knows \"rat\")");
+            sc.body = body;
+            FRAY_TRY(kf, rd.field(c, p, "keys"));
+            if (!kf->is_array() || kf->empty() || kf->size() > 1'000'000) {
+                return rd.error(p + "/keys", "must be an array of [time, x, z, heading] keys, at least one");
+            }
+            for (std::size_t k = 0; k < kf->size(); ++k) {
+                const std::string kp = p + "/keys/" + std::to_string(k);
+                const json& q = (*kf)[k];
+                if (!q.is_array() || q.size() != 4) return rd.error(kp, "must be [time, x, z, heading]");
+                double v[4];
+                for (std::size_t e = 0; e < 4; ++e) {
+                    FRAY_TRY(num, rd.number(q[e], kp + "/" + std::to_string(e)));
+                    if (!(std::fabs(num) <= 1e6)) return rd.error(kp + "/" + std::to_string(e), "is not a finite value in range");
+                    v[e] = num;
+                }
+                if (!sc.keys.empty() && v[0] < sc.keys.back().time) return rd.error(kp + "/0", "keys must be in time order");
+                sc.keys.push_back({v[0], {{static_cast<float>(v[1]), static_cast<float>(v[2])}, wrapAngle(v[3])}});
+            }
+        }
         FRAY_TRY(side, rd.integerAt(c, p, "side"));
         sc.side = side;
         FRAY_TRY(group, rd.integerAt(c, p, "group"));
@@ -405,6 +458,7 @@ ScenePoser::ScenePoser(const Scene& scene, const ActionLibrary& lib, double blen
     : scene_(scene), lib_(lib), blend_(blendSeconds) {}
 
 const Skeleton& ScenePoser::skeleton(int character) const {
+    if (scene_.isCreature(character)) return creatureSkeleton();
     const auto& track = scene_.characters[static_cast<std::size_t>(character)].track;
     const int motion = track.empty() ? 0 : lib_.actions[static_cast<std::size_t>(track.front().action)].motion;
     return lib_.motions[static_cast<std::size_t>(motion)].motion.skeleton();
@@ -425,6 +479,12 @@ void ScenePoser::rawPose(int character, int instance, double t, Pose& out) const
 }
 
 void ScenePoser::pose(int character, double t, Pose& out) const {
+    if (scene_.isCreature(character)) {
+        const RootXf at = creatureAt(scene_.characters[static_cast<std::size_t>(character)], t);
+        out.translations.assign(1, glm::vec3(at.pos.x, kRatHeight, at.pos.y));
+        out.rotations.assign(1, glm::angleAxis(static_cast<float>(at.heading), glm::vec3(0, 1, 0)));
+        return;
+    }
     const int i = scene_.instanceAt(character, t);
     if (i < 0) return;
     rawPose(character, i, t, out);
@@ -454,6 +514,7 @@ void ScenePoser::worldPositions(int character, double t, std::vector<glm::vec3>&
 }
 
 std::array<bool, 2> ScenePoser::contacts(int character, double t) const {
+    if (scene_.isCreature(character)) return {false, false};
     const int i = scene_.instanceAt(character, t);
     if (i < 0) return {false, false};
     const auto& inst = scene_.characters[static_cast<std::size_t>(character)].track[static_cast<std::size_t>(i)];

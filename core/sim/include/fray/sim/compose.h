@@ -22,7 +22,7 @@ struct UserCommand {
     std::string annotation;  // punch, kick, avoid, ... or a group (attack, defence)
 };
 
-enum class SceneKind { OneVsMany, OneVsOne, Domino, Luggage, Football };
+enum class SceneKind { OneVsMany, OneVsOne, Domino, Luggage, Football, Rat };
 
 // A painted floor area (domino, SPEC 4.5): pixel (x, y) covers the floor
 // square [origin.x + x m, + m) x [origin.y + y m, + m), m = metresPerPixel;
@@ -83,10 +83,27 @@ struct ComposeSpec {
     // the chosen one (the carrier's very same run and cut, the two tacklers
     // never meeting).
     bool doubles = false;
+    // Rat: the rat runs along the user's trajectory (x, z polyline) at ratSpeed
+    // from ratStart on, through a crowd standing within `band` of it, people
+    // `spacing` apart; those within `reach` of the trajectory must get out of
+    // its way, and bump into their neighbours doing so.
+    std::vector<glm::vec2> ratPath;
+    double ratSpeed = 2.5;
+    double ratStart = 1.0;
+    int crowd = 30;
+    double band = 2.5;
+    double spacing = 0.9;
+    double reach = 1.0;
+    double bumps = 0.5;  // 0: stepping aside avoids bumping into neighbours; 1: prefers it
     // Scores (SPEC 4.4).
     double wDensity = 10, wUsage = 1000, wUser = 10000, densityScale = 1.0;
     std::string text;              // the spec as written, kept in the scene
 };
+
+// Does a compose spec of this kind draw on the patch library? (The rat scene
+// plans its interactions at composition; it reads "kind" only, and says yes
+// for anything it cannot read, so the full parser reports the error.)
+bool composeNeedsPatches(std::string_view specText);
 
 // Reads a compose spec (JSON). Errors name the file and the JSON path.
 Result<ComposeSpec> parseComposeSpec(std::string_view text, std::string_view fileName, const PatchLibrary& patches);
@@ -100,6 +117,13 @@ struct ComposeStats {
     double goalReached = -1;               // football: when the carrier crossed the goal line (s), -1 never
     int locomotionSteps = 0;
     int chainFalls = 0;                    // domino: people knocked over by a falling body
+    int ratNear = 0;                       // rat: people standing within reach of its trajectory
+    int ratAvoided = 0;                    // rat: of those, who stepped out of its way
+    int ratPushed = 0;                     // rat: of those, who were pushed by someone else first
+    int ratStartled = 0;                   // rat: of those, who had no way out and reeled back as it ran into them
+    int ratRunOver = 0;                    // rat: of those, who could not even reel back (stood as it ran past their feet)
+    int bumps = 0;                         // rat: people pushed by someone stepping aside (a pushed one may push on)
+    double ratClearance = -1;              // rat: closest the rat came to an avoider's feet and shins (m), -1 none
     // domino: share of the painted area within kCoverRadius of where someone
     // stood and fell (sampled every 0.25 m); how much of the area the chains fill.
     double paintedCoverage = 0;

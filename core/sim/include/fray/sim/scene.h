@@ -98,8 +98,20 @@ struct PlannerStats {
     double prunedShare() const { return choices > 0 ? static_cast<double>(pruned) / static_cast<double>(choices) : 0.0; }
 };
 
+// A creature's root placement at a time (SPEC 4.5: the rat is a character
+// with one joint, moved along the user's trajectory, not by captured actions).
+struct RootKey {
+    double time = 0;
+    RootXf at;
+    friend bool operator==(const RootKey&, const RootKey&) = default;
+};
+
 struct SceneCharacter {
     std::string name;
+    // "" for a person playing the project's actions; "rat" for a one-joint
+    // creature whose root follows `keys` (its track stays empty).
+    std::string body;
+    std::vector<RootKey> keys;  // time-ordered
     int side = 0, group = 0;
     std::string preset;
     int depth = 0;
@@ -124,13 +136,23 @@ struct Scene {
 
     // The instance of character c playing at time t (the last one for t past the end); -1 when the track is empty.
     int instanceAt(int c, double t) const;
-    // A character is in the scene from its first action's start on
-    // (composed scenes bring newcomers in later).
+    // A person is in the scene from its first action's start on
+    // (composed scenes bring newcomers in later). Creatures never count as
+    // present bodies: they have no action, so planners and metrics skip them.
     bool present(int c, double t) const {
         const auto& track = characters[static_cast<std::size_t>(c)].track;
         return !track.empty() && t >= track.front().start - 1e-9;
     }
+    bool isCreature(int c) const { return !characters[static_cast<std::size_t>(c)].body.empty(); }
 };
+
+// The one-joint skeleton of a creature body ("rat"): a root joint on the
+// floor with an end site at its nose (+Z), so the body mesh is a short capsule.
+const Skeleton& creatureSkeleton();
+inline constexpr float kRatLength = 0.24f;  // m, root to nose
+inline constexpr float kRatHeight = 0.05f;  // m, root above the floor
+// A creature's placement at time t (held at its first and last keys).
+RootXf creatureAt(const SceneCharacter& c, double t);
 
 std::string sceneToJson(const Scene& scene, const ActionLibrary& lib);
 // Resolves actions against the library; errors name the file, JSON path and problem.
@@ -150,7 +172,7 @@ public:
     void pose(int character, double t, Pose& out) const;
     // World joint positions of a character at time t.
     void worldPositions(int character, double t, std::vector<glm::vec3>& out) const;
-    // Foot contact of the source clip at time t: [left, right].
+    // Foot contact of the source clip at time t: [left, right] (creatures: none).
     std::array<bool, 2> contacts(int character, double t) const;
 
 private:
