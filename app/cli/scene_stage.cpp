@@ -53,6 +53,19 @@ SceneStage::SceneStage(LoadedScene scene) : loaded_(std::move(scene)) {
                              : m.kind == "trail" ? render::Polyline{{}, glm::vec4(0.85f, 0.25f, 0.2f, 0.7f), 0.05f}
                                                  : render::Polyline{{}, glm::vec4(0.97f, 0.97f, 0.97f, 0.9f), 0.12f});
     }
+    if (const sim::FloorBitmap& f = sc.floor; !f.empty()) {
+        floorPixels_.assign(f.painted.size() * 4, 0);
+        for (std::size_t i = 0; i < f.painted.size(); ++i) {
+            if (!f.painted[i]) continue;  // unpainted: transparent
+            std::uint8_t* px = &floorPixels_[i * 4];
+            px[0] = 205, px[1] = 72, px[2] = 52, px[3] = 150;
+        }
+        floorImage_.rgba = floorPixels_.data();
+        floorImage_.width = f.width;
+        floorImage_.height = f.height;
+        floorImage_.min = f.extentMin();
+        floorImage_.max = f.extentMax();
+    }
     // Spans into linePoints_, which no longer changes.
     for (std::size_t i = 0; i < linePoints_.size(); ++i) {
         render::Polyline line = i < paths    ? render::Polyline{{}, glm::vec4(1.0f, 0.8f, 0.2f, 0.8f), 0.04f}

@@ -52,6 +52,9 @@ public:
     // football goal line in white, the running arrows in amber).
     std::span<const render::Polyline> trajectories() const { return lines_; }
     std::span<const render::Checkpoint> checkpoints() const { return marks_; }
+    // The painted floor area of a domino scene (a translucent red where
+    // painted), for FrameDescription::floorBitmap; nullptr when the scene has none.
+    const render::FloorBitmap* floorBitmap() const { return floorImage_.width > 0 ? &floorImage_ : nullptr; }
     // Box around the stage; empty when the scene has none.
     render::Bounds stageBounds() const;
 
@@ -69,6 +72,8 @@ private:
     std::vector<std::vector<glm::vec3>> linePoints_;  // lines_ point into these
     std::vector<render::Polyline> lines_;
     std::vector<render::Checkpoint> marks_;
+    std::vector<std::uint8_t> floorPixels_;  // floorImage_ points into it
+    render::FloorBitmap floorImage_;
 };
 
 }  // namespace fray::cli

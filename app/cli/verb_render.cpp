@@ -351,6 +351,7 @@ void runScene(const RenderArgs& a, const FrameRange& range, std::pair<int, int> 
     frame.camera = camera;
     frame.trajectories = stage.trajectories();
     frame.checkpoints = stage.checkpoints();
+    frame.floorBitmap = stage.floorBitmap();
     std::vector<render::Flash> flashes;
     render::Image image;
     int written = 0;

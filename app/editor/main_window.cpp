@@ -176,9 +176,11 @@ void MainWindow::tick() {
         viewport_->frame().characters = scene_->shown();
         viewport_->frame().trajectories = scene_->trajectories();
         viewport_->frame().checkpoints = scene_->checkpoints();
+        viewport_->frame().floorBitmap = scene_->floorBitmap();
     } else {
         stage_.pose(time_, true);
         viewport_->frame().characters = stage_.instances();
+        viewport_->frame().floorBitmap = nullptr;
     }
     showTime();
     auto drawn = viewport_->renderNow();

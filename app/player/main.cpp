@@ -378,6 +378,7 @@ int main(int argc, char** argv) {
         if (scene) {
             frame.trajectories = scene->trajectories();
             frame.checkpoints = scene->checkpoints();
+            frame.floorBitmap = scene->floorBitmap();
         }
         const bool lastFrame = args.frames > 0 && drawn + 1 >= args.frames;
         render::Image shown;

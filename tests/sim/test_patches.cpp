@@ -476,6 +476,18 @@ TEST(PatchCompose, DominoFallsInsideThePaintedAreaOnly) {
         totalChain += st.chainFalls;
         const auto m = computeMetrics(*scene, lib);
         EXPECT_EQ(m.penetrationFrames, 0) << "seed " << seed;
+        // The scene file keeps the painted area for the viewers.
+        const std::string text = sceneToJson(*scene, lib);
+        auto back = sceneFromJson(text, "d.frayscene", lib);
+        ASSERT_TRUE(back) << back.error().message;
+        EXPECT_EQ(back->floor, spec.floor);
+        std::string broken = text;
+        const auto rows = broken.find("\"rows\": [");
+        ASSERT_NE(rows, std::string::npos);
+        broken.insert(broken.find('"', rows + 10) + 1, "7 ");
+        auto bad = sceneFromJson(broken, "d.frayscene", lib);
+        ASSERT_FALSE(bad);
+        EXPECT_EQ(bad.error().message.rfind("d.frayscene: /floor/rows/0: runs add up to", 0), 0u) << bad.error().message;
         // Each fall is caused by the one before it: the pusher is already falling.
         for (const auto& h : scene->hits) {
             const auto& pusher = scene->characters[static_cast<std::size_t>(h.attacker)];

@@ -1440,6 +1440,7 @@ struct Composer {
             }
         }
         stats.paintedCoverage = coverage(spots);
+        scene.floor = spec.floor;  // the viewers draw the painted area
         // Bystanders outside the painted area, clear of every fall.
         const glm::vec2 lo = spec.floor.extentMin(), hi = spec.floor.extentMax();
         for (int b = 0, tries = 0; b < spec.background && tries < 200 * spec.background; ++tries) {
@@ -1693,13 +1694,6 @@ struct Composer {
 
 }  // namespace
 
-bool FloorBitmap::paintedAt(glm::vec2 floor) const {
-    if (empty() || !(metresPerPixel > 0)) return false;
-    const double x = (static_cast<double>(floor.x) - static_cast<double>(origin.x)) / metresPerPixel;
-    const double y = (static_cast<double>(floor.y) - static_cast<double>(origin.y)) / metresPerPixel;
-    if (!(x >= 0 && y >= 0 && x < width && y < height)) return false;
-    return painted[static_cast<std::size_t>(static_cast<int>(y)) * static_cast<std::size_t>(width) + static_cast<std::size_t>(static_cast<int>(x))] != 0;
-}
 
 namespace {
 

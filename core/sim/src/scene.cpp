@@ -113,6 +113,87 @@ Result<Arena> parseArena(const JsonReader& rd, const json& v, const std::string&
     return a;
 }
 
+bool FloorBitmap::paintedAt(glm::vec2 floor) const {
+    if (empty() || !(metresPerPixel > 0)) return false;
+    const double x = (static_cast<double>(floor.x) - static_cast<double>(origin.x)) / metresPerPixel;
+    const double y = (static_cast<double>(floor.y) - static_cast<double>(origin.y)) / metresPerPixel;
+    if (!(x >= 0 && y >= 0 && x < width && y < height)) return false;
+    return painted[static_cast<std::size_t>(static_cast<int>(y)) * static_cast<std::size_t>(width) + static_cast<std::size_t>(static_cast<int>(x))] != 0;
+}
+
+namespace {
+
+// A painted floor in the scene file: one string per image row of run lengths,
+// alternating unpainted and painted pixels and starting with unpainted ("3 4 1"
+// is 3 unpainted, 4 painted, 1 unpainted).
+json floorToJson(const FloorBitmap& f) {
+    json rows = json::array();
+    for (int y = 0; y < f.height; ++y) {
+        std::string row;
+        std::uint8_t value = 0;
+        int run = 0;
+        for (int x = 0; x < f.width; ++x) {
+            const std::uint8_t v = f.painted[static_cast<std::size_t>(y) * static_cast<std::size_t>(f.width) + static_cast<std::size_t>(x)] != 0;
+            if (v != value) {
+                row += std::to_string(run) + " ";
+                value = v, run = 0;
+            }
+            ++run;
+        }
+        rows.push_back(row + std::to_string(run));
+    }
+    return json{{"width", f.width}, {"height", f.height}, {"origin", {f.origin.x, f.origin.y}},
+                {"metres_per_pixel", f.metresPerPixel}, {"rows", std::move(rows)}};
+}
+
+Result<FloorBitmap> floorFromJson(const JsonReader& rd, const json& v, const std::string& path) {
+    if (!v.is_object()) return rd.error(path, "must be an object {width, height, origin, metres_per_pixel, rows}");
+    FloorBitmap f;
+    FRAY_TRY(w, rd.integerAt(v, path, "width"));
+    FRAY_TRY(h, rd.integerAt(v, path, "height"));
+    if (w < 1 || w > 8192) return rd.error(path + "/width", "must be between 1 and 8192 pixels");
+    if (h < 1 || h > 8192) return rd.error(path + "/height", "must be between 1 and 8192 pixels");
+    f.width = static_cast<int>(w), f.height = static_cast<int>(h);
+    FRAY_TRY(of, rd.field(v, path, "origin"));
+    if (!of->is_array() || of->size() != 2) return rd.error(path + "/origin", "must be [x, z]");
+    FRAY_TRY(ox, rd.number((*of)[0], path + "/origin/0"));
+    FRAY_TRY(oz, rd.number((*of)[1], path + "/origin/1"));
+    if (!(std::fabs(ox) <= 1e4) || !(std::fabs(oz) <= 1e4)) return rd.error(path + "/origin", "is too far out");
+    f.origin = {static_cast<float>(ox), static_cast<float>(oz)};
+    FRAY_TRY(m, rd.numberAt(v, path, "metres_per_pixel"));
+    if (!(m > 0.001) || m > 10) return rd.error(path + "/metres_per_pixel", "must be in (0.001, 10]");
+    f.metresPerPixel = m;
+    FRAY_TRY(rf, rd.field(v, path, "rows"));
+    if (!rf->is_array() || rf->size() != static_cast<std::size_t>(f.height)) {
+        return rd.error(path + "/rows", "must be an array of " + std::to_string(f.height) + " rows (the height)");
+    }
+    f.painted.reserve(static_cast<std::size_t>(f.width) * static_cast<std::size_t>(f.height));
+    for (int y = 0; y < f.height; ++y) {
+        const std::string rp = path + "/rows/" + std::to_string(y);
+        FRAY_TRY(row, rd.string((*rf)[static_cast<std::size_t>(y)], rp));
+        std::uint8_t value = 0;
+        long filled = 0;
+        const char* p = row.data();
+        const char* e = p + row.size();
+        while (p < e) {
+            while (p < e && *p == ' ') ++p;
+            if (p == e) break;
+            long run = 0;
+            const char* digits = p;
+            while (p < e && *p >= '0' && *p <= '9' && run <= 8192) run = run * 10 + (*p++ - '0');
+            if (p == digits || (p < e && *p != ' ')) return rd.error(rp, "must be run lengths: whole numbers separated by spaces");
+            if (filled + run > f.width) return rd.error(rp, "runs add up to more than the width (" + std::to_string(f.width) + ")");
+            f.painted.insert(f.painted.end(), static_cast<std::size_t>(run), value);
+            filled += run;
+            value ^= 1;
+        }
+        if (filled != f.width) return rd.error(rp, "runs add up to " + std::to_string(filled) + ", not the width (" + std::to_string(f.width) + ")");
+    }
+    return f;
+}
+
+}  // namespace
+
 const Skeleton& creatureSkeleton() {
     static const Skeleton sk = [] {
         Skeleton k;
@@ -166,6 +247,7 @@ std::string sceneToJson(const Scene& scene, const ActionLibrary& lib) {
         }
         j["marks"] = std::move(marks);
     }
+    if (!scene.floor.empty()) j["floor"] = floorToJson(scene.floor);
     json chars = json::array();
     for (const auto& c : scene.characters) {
         json cj;
@@ -295,6 +377,10 @@ Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, co
             }
             scene.marks.push_back(std::move(mark));
         }
+    }
+    if (const auto fl = j.find("floor"); fl != j.end()) {
+        FRAY_TRY(floor, floorFromJson(rd, *fl, "/floor"));
+        scene.floor = std::move(floor);
     }
     FRAY_TRY(cf, rd.field(j, "", "characters"));
     if (!cf->is_array()) return rd.error("/characters", "must be an array");

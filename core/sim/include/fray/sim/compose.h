@@ -24,22 +24,6 @@ struct UserCommand {
 
 enum class SceneKind { OneVsMany, OneVsOne, Domino, Luggage, Football, Rat };
 
-// A painted floor area (domino, SPEC 4.5): pixel (x, y) covers the floor
-// square [origin.x + x m, + m) x [origin.y + y m, + m), m = metresPerPixel;
-// image rows run along +z.
-struct FloorBitmap {
-    int width = 0, height = 0;
-    std::vector<std::uint8_t> painted;  // row-major, 1 where painted
-    glm::vec2 origin{0.0f};
-    double metresPerPixel = 0.1;
-    bool empty() const { return width <= 0 || height <= 0; }
-    bool paintedAt(glm::vec2 floor) const;
-    glm::vec2 extentMin() const { return origin; }
-    glm::vec2 extentMax() const {
-        return origin + glm::vec2(static_cast<float>(width * metresPerPixel), static_cast<float>(height * metresPerPixel));
-    }
-};
-
 // Where and when a domino chain starts: the person standing there falls first.
 struct DominoStart {
     double time = 0;

@@ -68,6 +68,24 @@ struct FloorMark {
     friend bool operator==(const FloorMark&, const FloorMark&) = default;
 };
 
+// A painted floor area (domino, SPEC 4.5), kept in the scene file for the
+// viewers: pixel (x, y) covers the floor
+// square [origin.x + x m, + m) x [origin.y + y m, + m), m = metresPerPixel;
+// image rows run along +z.
+struct FloorBitmap {
+    int width = 0, height = 0;
+    std::vector<std::uint8_t> painted;  // row-major, 1 where painted
+    glm::vec2 origin{0.0f};
+    double metresPerPixel = 0.1;
+    bool empty() const { return width <= 0 || height <= 0; }
+    bool paintedAt(glm::vec2 floor) const;
+    glm::vec2 extentMin() const { return origin; }
+    glm::vec2 extentMax() const {
+        return origin + glm::vec2(static_cast<float>(width * metresPerPixel), static_cast<float>(height * metresPerPixel));
+    }
+    friend bool operator==(const FloorBitmap&, const FloorBitmap&) = default;
+};
+
 struct HitEvent {
     double time = 0;
     int attacker = 0, defender = 0;  // character indices
@@ -133,6 +151,7 @@ struct Scene {
     std::string spec;        // the scene spec it was made from (JSON text), for the record
     Arena arena;             // the stage it was planned on (SimOptions::arena), for viewers
     std::vector<FloorMark> marks;  // lines on the floor for viewers (composed scenes)
+    FloorBitmap floor;             // the painted area a domino scene was composed on (empty: none)
 
     // The instance of character c playing at time t (the last one for t past the end); -1 when the track is empty.
     int instanceAt(int c, double t) const;
