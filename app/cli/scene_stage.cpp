@@ -106,7 +106,7 @@ std::string SceneStage::currentAction(int c) const {
     return library().actions[static_cast<std::size_t>(inst.action)].label() + (inst.forced ? " (hit)" : "");
 }
 
-void SceneStage::pose(double t, bool labels, int selected) {
+void SceneStage::pose(double t, Labels labels, int selected) {
     time_ = t;
     shown_.clear();
     shownIndex_.clear();
@@ -119,7 +119,8 @@ void SceneStage::pose(double t, bool labels, int selected) {
         positions_[k].resize(poses_[k].translations.size());
         rotations_[k].resize(poses_[k].translations.size());
         forwardKinematics(sk, poses_[k].translations, poses_[k].rotations, positions_[k], rotations_[k]);
-        labels_[k] = labels ? loaded_.scene.characters[k].name + ": " + currentAction(c) : std::string();
+        const bool labelled = labels == Labels::All || (labels == Labels::Auto && characterCount() <= kAutoLabels) || c == selected;
+        labels_[k] = labelled ? loaded_.scene.characters[k].name + ": " + currentAction(c) : std::string();
         shown_.push_back({&sk, positions_[k], rotations_[k], tint(c), labels_[k], c == selected});
         shownIndex_.push_back(c);
     }
@@ -128,7 +129,7 @@ void SceneStage::pose(double t, bool labels, int selected) {
 render::Bounds SceneStage::bounds(double t0, double t1, int samples) {
     render::Bounds b;
     for (int k = 0; k <= samples; ++k) {
-        pose(t0 + (t1 - t0) * k / samples, false);
+        pose(t0 + (t1 - t0) * k / samples, Labels::None);
         if (!shown_.empty()) b.add(render::characterBounds(shown_));
     }
     return b;

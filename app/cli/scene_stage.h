@@ -27,9 +27,13 @@ public:
     // Every character's skeleton, in character order (for --rig).
     std::vector<const Skeleton*> skeletons() const;
 
-    // Poses everyone at t (s). Labels read "name: action" when `labels`; the
-    // selected character (-1: none) is highlighted.
-    void pose(double t, bool labels = true, int selected = -1);
+    // Which characters get a "name: action" label: everyone, nobody, or
+    // everyone in scenes of up to kAutoLabels characters (a crowd's labels
+    // would hide it). The selected character is always labelled.
+    enum class Labels { None, All, Auto };
+    static constexpr int kAutoLabels = 16;
+    // Poses everyone at t (s); the selected character (-1: none) is highlighted.
+    void pose(double t, Labels labels = Labels::All, int selected = -1);
     // The characters in the scene at the last pose, in character order.
     std::span<const render::CharacterInstance> shown() const { return shown_; }
     // Scene character of shown()[i].

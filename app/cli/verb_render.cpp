@@ -358,7 +358,7 @@ void runScene(const RenderArgs& a, const FrameRange& range, std::pair<int, int> 
     const auto t0 = std::chrono::steady_clock::now();
     for (int f = first; f <= last; f += range.step) {
         const double t = f / kSceneFps;
-        stage.pose(t, a.labels);
+        stage.pose(t, a.labels ? SceneStage::Labels::All : SceneStage::Labels::None);
         frame.characters = stage.shown();
         if (const auto followed = stage.jointPositions(0); follow && !followed.empty()) {
             const glm::vec3 centre(followed[0].x, 1.0f, followed[0].z);

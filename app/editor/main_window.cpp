@@ -128,14 +128,14 @@ void MainWindow::frameAll() {
         // The selected character as it is now, or everyone over the whole scene.
         const double now = time_;
         if (selected_ >= 0) {
-            scene_->pose(now, false);
+            scene_->pose(now, cli::SceneStage::Labels::None);
             if (scene_->present(selected_)) {
                 for (std::size_t k = 0; k < scene_->shown().size(); ++k)
                     if (scene_->shownCharacter(k) == selected_) b = render::characterBounds(scene_->shown().subspan(k, 1));
             }
         }
         if (b.empty()) b = scene_->bounds(0.0, scene_->duration());
-        scene_->pose(now, true, selected_);
+        scene_->pose(now, cli::SceneStage::Labels::Auto, selected_);
     } else {
         b = stage_.bounds();
     }
@@ -172,7 +172,7 @@ void MainWindow::tick() {
     const double duration = scene_ ? scene_->duration() : stage_.duration();
     if (duration > 0.0 && time_ > duration) time_ = std::fmod(time_, duration);
     if (scene_) {
-        scene_->pose(time_, true, selected_);
+        scene_->pose(time_, cli::SceneStage::Labels::Auto, selected_);
         viewport_->frame().characters = scene_->shown();
         viewport_->frame().trajectories = scene_->trajectories();
         viewport_->frame().checkpoints = scene_->checkpoints();

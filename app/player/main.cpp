@@ -281,7 +281,7 @@ int main(int argc, char** argv) {
             playing = false;
         }
         if (scene) {
-            scene->pose(loop && duration > 0.0 ? std::fmod(t, duration) : std::min(t, duration), true, selected);
+            scene->pose(loop && duration > 0.0 ? std::fmod(t, duration) : std::min(t, duration), cli::SceneStage::Labels::Auto, selected);
         } else {
             for (std::size_t i = 0; i < stage.actors().size(); ++i) stage.actors()[i].selected = static_cast<int>(i) == selected;
             stage.pose(t, loop);
