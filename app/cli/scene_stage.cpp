@@ -94,12 +94,16 @@ std::vector<const Skeleton*> SceneStage::skeletons() const {
 }
 
 glm::vec3 SceneStage::tint(int c) const {
-    if (loaded_.scene.isCreature(c)) return glm::vec3(0.35f, 0.27f, 0.22f);  // a brown rat among the teams' colours
+    if (loaded_.scene.isCreature(c)) {
+        // A brown rat and a khaki bag among the teams' colours.
+        return loaded_.scene.characters[static_cast<std::size_t>(c)].body == "rat" ? glm::vec3(0.35f, 0.27f, 0.22f)
+                                                                                   : glm::vec3(0.52f, 0.46f, 0.28f);
+    }
     return render::teamColor(loaded_.scene.characters[static_cast<std::size_t>(c)].side * 3 + c % 3);
 }
 
 std::string SceneStage::currentAction(int c) const {
-    if (loaded_.scene.isCreature(c)) return "running";
+    if (loaded_.scene.isCreature(c)) return loaded_.scene.characters[static_cast<std::size_t>(c)].body == "rat" ? "running" : "carried";
     const int i = loaded_.scene.instanceAt(c, time_);
     if (i < 0) return {};
     const auto& inst = loaded_.scene.characters[static_cast<std::size_t>(c)].track[static_cast<std::size_t>(i)];

@@ -182,12 +182,12 @@ struct Composer {
         double t = t0;
         auto cost = [&](const RootXf& p) {
             const glm::vec2 d = target.pos - p.pos;
-            const double dist = glm::length(d);
+            const double dist = static_cast<double>(glm::length(d));
             const double facing = dist > 1.0 ? std::fabs(wrapAngle(angleOf(d) - p.heading)) : std::fabs(wrapAngle(target.heading - p.heading));
             return dist + 0.3 * facing;
         };
         for (int step = 0; step < kMaxLocomotionSteps; ++step) {
-            const double dist = glm::length(target.pos - at.pos);
+            const double dist = static_cast<double>(glm::length(target.pos - at.pos));
             if (dist < kArriveDistance && std::fabs(wrapAngle(target.heading - at.heading)) < kArriveHeading) break;
             const double now = cost(at);
             int best = -1;
@@ -297,7 +297,7 @@ struct Composer {
                 timeShift = next;
             }
             if (!settled) continue;
-            const double error = glm::length(end.pos - goal.pos);
+            const double error = static_cast<double>(glm::length(end.pos - goal.pos));
             if (error > kMaxJunction) continue;
             const double shift = timeShift;
             std::vector<ActionInstance> out;
@@ -1143,7 +1143,7 @@ struct Composer {
         if (crowd.empty()) return makeError("rat: nobody could stand near the trajectory (widen band or lower spacing)");
         for (auto& b : crowd) {
             for (double t = spec.ratStart; t <= ratEnd + 1e-9; t += 0.02) {
-                const double d = glm::length(creatureAt(ratBody, t).pos - b.spot);
+                const double d = static_cast<double>(glm::length(creatureAt(ratBody, t).pos - b.spot));
                 if (d < b.passDistance) b.passDistance = d, b.passTime = t;
             }
             b.near = b.passDistance < spec.reach;
@@ -1519,6 +1519,7 @@ struct Composer {
         for (int k = 0; k < spec.porters; ++k) porters.push_back(addCharacter("porter-" + std::to_string(k + 1), 0));
         // The first hand-over at the origin; the other porters wait in a row behind the receiver.
         int prev = -1, carrier = porters[0], aside = -1, retries = 0;
+        std::vector<Pass> passes;
         std::vector<double> lastUsed(porters.size(), -1.0);
         for (int k = 0; k < spec.handoffs; ++k) {
             const double t0 = track(carrier).empty() ? 0.0 : freeAt(carrier);
@@ -1615,6 +1616,7 @@ struct Composer {
                 if (!track(rc).empty()) waitUntil(rc, start);
                 placeTrack(p, 0, carrier, start, xf);
                 placeTrack(p, 1, rc, start, xf);
+                passes.push_back({carrier, rc, start, start + p.duration});
                 used(options[o].patch);
                 (linked ? stats.temporalLinks : stats.recycled) += 1;
                 prev = static_cast<int>(options[o].patch);
@@ -1673,7 +1675,69 @@ struct Composer {
         double end = 0;
         for (int c : porters) end = std::max(end, freeAt(c));
         for (int c : porters) waitUntil(c, end);
+        addBag(passes, porters[0], end);
         return {};
+    }
+
+    // A hand-over of the luggage: giver, receiver and the patch's time span.
+    struct Pass {
+        int giver = 0, receiver = 0;
+        double start = 0, end = 0;
+    };
+
+    // The item itself, as a one-joint body ("bag") held between its holder's
+    // hands, across the body: the first porter holds it from the start, and it
+    // changes hands in each hand-over where the two porters' hands come
+    // closest, passing from one pair of hands to the other over kPassTime
+    // (hands that do not quite meet do not make it jump).
+    void addBag(const std::vector<Pass>& passes, int first, double end) {
+        const ScenePoser poser(scene, lib);
+        std::vector<glm::vec3> world;
+        auto hands = [&](int c, double t) {
+            const auto& joints = lib.motions[static_cast<std::size_t>(act(track(c).front().action).motion)].joints;
+            poser.worldPositions(c, t, world);
+            if (!joints.hasHands()) return world[0];
+            return 0.5f * (world[static_cast<std::size_t>(joints.leftHand)] + world[static_cast<std::size_t>(joints.rightHand)]);
+        };
+        std::vector<std::pair<double, int>> holders{{0.0, first}};  // from this time on, this porter
+        for (const auto& p : passes) {
+            double best = p.start, bestD = std::numeric_limits<double>::max();
+            for (double t = p.start; t <= p.end + 1e-9; t += 1.0 / kSampleRate) {
+                const double d = static_cast<double>(glm::length(hands(p.giver, t) - hands(p.receiver, t)));
+                if (d < bestD) bestD = d, best = t;
+            }
+            holders.emplace_back(best, p.receiver);
+        }
+        SceneCharacter bag;
+        bag.name = "bag";
+        bag.body = "bag";
+        bag.side = 1;
+        bag.preset = "prop";
+        constexpr double kKeyRate = 15;  // keys per second
+        constexpr double kPassTime = 0.5;  // s
+        auto across = [&](int c, double t) {  // the bag's axis along the holder's left-right
+            const auto& inst = playingAt(c, t);
+            return wrapAngle(inst.placementAt(lib, inst.clipTimeAt(t)).heading + std::numbers::pi / 2);
+        };
+        std::size_t h = 0;
+        for (int k = 0; k <= static_cast<int>(std::ceil(end * kKeyRate)); ++k) {
+            const double t = std::min(end, k / kKeyRate);
+            while (h + 1 < holders.size() && holders[h + 1].first - 0.5 * kPassTime <= t) ++h;
+            const int c = holders[h].second;
+            glm::vec3 mid = hands(c, t);
+            double heading = across(c, t);
+            if (h > 0 && t < holders[h].first + 0.5 * kPassTime) {
+                // Passing: from the giver's hands to the receiver's.
+                const int giver = holders[h - 1].second;
+                const double x = std::clamp((t - (holders[h].first - 0.5 * kPassTime)) / kPassTime, 0.0, 1.0);
+                const float w = static_cast<float>(x * x * (3.0 - 2.0 * x));
+                mid = hands(giver, t) + w * (mid - hands(giver, t));
+                heading = lerp(RootXf{{}, across(giver, t)}, RootXf{{}, heading}, static_cast<double>(w)).heading;
+            }
+            const glm::vec2 centre(mid.x, mid.z);
+            bag.keys.push_back({t, {centre - headingVector(heading) * (0.5f * kBagLength), heading}, std::max(0.0f, mid.y)});
+        }
+        scene.characters.push_back(std::move(bag));
     }
 
     // The standard pose nearest to c among those some usable patch starts from.

@@ -194,29 +194,49 @@ Result<FloorBitmap> floorFromJson(const JsonReader& rd, const json& v, const std
 
 }  // namespace
 
-const Skeleton& creatureSkeleton() {
-    static const Skeleton sk = [] {
+const Skeleton* creatureSkeleton(std::string_view body) {
+    auto make = [](const char* name, float length) {
         Skeleton k;
-        k.addJoint("rat", -1, glm::vec3(0.0f),
+        k.addJoint(name, -1, glm::vec3(0.0f),
                    {Channel::Xposition, Channel::Yposition, Channel::Zposition, Channel::Zrotation, Channel::Xrotation,
                     Channel::Yrotation},
                    RotationOrder::ZXY);
-        k.endSites[0] = glm::vec3(0.0f, 0.0f, kRatLength);
+        k.endSites[0] = glm::vec3(0.0f, 0.0f, length);
         return k;
-    }();
-    return sk;
+    };
+    static const Skeleton rat = make("rat", kRatLength), bag = make("bag", kBagLength);
+    if (body == "rat") return &rat;
+    if (body == "bag") return &bag;
+    return nullptr;
 }
 
-RootXf creatureAt(const SceneCharacter& c, double t) {
-    const auto& k = c.keys;
-    if (k.empty()) return {};
-    if (t <= k.front().time) return k.front().at;
-    if (t >= k.back().time) return k.back().at;
+namespace {
+
+// The keys either side of t and the blend between them.
+std::tuple<const RootKey*, const RootKey*, double> keysAround(const std::vector<RootKey>& k, double t) {
+    if (t <= k.front().time) return {&k.front(), &k.front(), 0.0};
+    if (t >= k.back().time) return {&k.back(), &k.back(), 0.0};
     const auto it = std::upper_bound(k.begin(), k.end(), t, [](double x, const RootKey& key) { return x < key.time; });
     const RootKey& b = *it;
     const RootKey& a = *(it - 1);
     const double span = b.time - a.time;
-    return lerp(a.at, b.at, span > 0 ? (t - a.time) / span : 1.0);
+    return {&a, &b, span > 0 ? (t - a.time) / span : 1.0};
+}
+
+}  // namespace
+
+RootXf creatureAt(const SceneCharacter& c, double t) {
+    if (c.keys.empty()) return {};
+    const auto [a, b, u] = keysAround(c.keys, t);
+    return lerp(a->at, b->at, u);
+}
+
+float creatureHeightAt(const SceneCharacter& c, double t) {
+    const float own = c.body == "rat" ? kRatHeight : 0.0f;
+    if (c.keys.empty()) return own;
+    const auto [a, b, u] = keysAround(c.keys, t);
+    if (a->height < 0 || b->height < 0) return own;
+    return a->height + static_cast<float>(u) * (b->height - a->height);
 }
 
 int Scene::instanceAt(int c, double t) const { return instanceIndexAt(characters[static_cast<std::size_t>(c)].track, t); }
@@ -255,7 +275,11 @@ std::string sceneToJson(const Scene& scene, const ActionLibrary& lib) {
         if (!c.body.empty()) {
             cj["body"] = c.body;
             json keys = json::array();
-            for (const auto& k : c.keys) keys.push_back(json::array({k.time, k.at.pos.x, k.at.pos.y, k.at.heading}));
+            for (const auto& k : c.keys) {
+                json key = json::array({k.time, k.at.pos.x, k.at.pos.y, k.at.heading});
+                if (k.height >= 0) key.push_back(k.height);
+                keys.push_back(std::move(key));
+            }
             cj["keys"] = std::move(keys);
         }
         cj["side"] = c.side;
@@ -394,24 +418,25 @@ Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, co
         sc.name = name;
         if (const auto bf = c.find("body"); bf != c.end()) {
             FRAY_TRY(body, rd.string(*bf, p + "/body"));
-            if (body != "rat") return rd.error(p + "/body", "unknown body '" + body + "' (this build knows \"rat\")");
+            if (!creatureSkeleton(body)) return rd.error(p + "/body", "unknown body '" + body + "' (this build knows \"rat\" and \"bag\")");
             sc.body = body;
             FRAY_TRY(kf, rd.field(c, p, "keys"));
             if (!kf->is_array() || kf->empty() || kf->size() > 1'000'000) {
-                return rd.error(p + "/keys", "must be an array of [time, x, z, heading] keys, at least one");
+                return rd.error(p + "/keys", "must be an array of [time, x, z, heading(, height)] keys, at least one");
             }
             for (std::size_t k = 0; k < kf->size(); ++k) {
                 const std::string kp = p + "/keys/" + std::to_string(k);
                 const json& q = (*kf)[k];
-                if (!q.is_array() || q.size() != 4) return rd.error(kp, "must be [time, x, z, heading]");
-                double v[4];
-                for (std::size_t e = 0; e < 4; ++e) {
+                if (!q.is_array() || (q.size() != 4 && q.size() != 5)) return rd.error(kp, "must be [time, x, z, heading] or [time, x, z, heading, height]");
+                double v[5] = {0, 0, 0, 0, -1};
+                for (std::size_t e = 0; e < q.size(); ++e) {
                     FRAY_TRY(num, rd.number(q[e], kp + "/" + std::to_string(e)));
                     if (!(std::fabs(num) <= 1e6)) return rd.error(kp + "/" + std::to_string(e), "is not a finite value in range");
                     v[e] = num;
                 }
                 if (!sc.keys.empty() && v[0] < sc.keys.back().time) return rd.error(kp + "/0", "keys must be in time order");
-                sc.keys.push_back({v[0], {{static_cast<float>(v[1]), static_cast<float>(v[2])}, wrapAngle(v[3])}});
+                if (q.size() == 5 && !(v[4] >= 0 && v[4] <= 100)) return rd.error(kp + "/4", "height must be in [0, 100] m");
+                sc.keys.push_back({v[0], {{static_cast<float>(v[1]), static_cast<float>(v[2])}, wrapAngle(v[3])}, static_cast<float>(v[4])});
             }
         }
         FRAY_TRY(side, rd.integerAt(c, p, "side"));
@@ -544,7 +569,7 @@ ScenePoser::ScenePoser(const Scene& scene, const ActionLibrary& lib, double blen
     : scene_(scene), lib_(lib), blend_(blendSeconds) {}
 
 const Skeleton& ScenePoser::skeleton(int character) const {
-    if (scene_.isCreature(character)) return creatureSkeleton();
+    if (scene_.isCreature(character)) return *creatureSkeleton(scene_.characters[static_cast<std::size_t>(character)].body);
     const auto& track = scene_.characters[static_cast<std::size_t>(character)].track;
     const int motion = track.empty() ? 0 : lib_.actions[static_cast<std::size_t>(track.front().action)].motion;
     return lib_.motions[static_cast<std::size_t>(motion)].motion.skeleton();
@@ -566,8 +591,9 @@ void ScenePoser::rawPose(int character, int instance, double t, Pose& out) const
 
 void ScenePoser::pose(int character, double t, Pose& out) const {
     if (scene_.isCreature(character)) {
-        const RootXf at = creatureAt(scene_.characters[static_cast<std::size_t>(character)], t);
-        out.translations.assign(1, glm::vec3(at.pos.x, kRatHeight, at.pos.y));
+        const auto& c = scene_.characters[static_cast<std::size_t>(character)];
+        const RootXf at = creatureAt(c, t);
+        out.translations.assign(1, glm::vec3(at.pos.x, creatureHeightAt(c, t), at.pos.y));
         out.rotations.assign(1, glm::angleAxis(static_cast<float>(at.heading), glm::vec3(0, 1, 0)));
         return;
     }

@@ -11,6 +11,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -116,18 +117,20 @@ struct PlannerStats {
     double prunedShare() const { return choices > 0 ? static_cast<double>(pruned) / static_cast<double>(choices) : 0.0; }
 };
 
-// A creature's root placement at a time (SPEC 4.5: the rat is a character
-// with one joint, moved along the user's trajectory, not by captured actions).
+// A one-joint body's root placement at a time (SPEC 4.5: the rat is a
+// character with one joint, moved along the user's trajectory, not by
+// captured actions; the luggage chain's bag is carried in the porters' hands).
 struct RootKey {
     double time = 0;
     RootXf at;
+    float height = -1;  // m above the floor; < 0: the body's own (a rat runs on the floor)
     friend bool operator==(const RootKey&, const RootKey&) = default;
 };
 
 struct SceneCharacter {
     std::string name;
-    // "" for a person playing the project's actions; "rat" for a one-joint
-    // creature whose root follows `keys` (its track stays empty).
+    // "" for a person playing the project's actions; "rat" or "bag" for a
+    // one-joint body whose root follows `keys` (its track stays empty).
     std::string body;
     std::vector<RootKey> keys;  // time-ordered
     int side = 0, group = 0;
@@ -165,13 +168,17 @@ struct Scene {
     bool isCreature(int c) const { return !characters[static_cast<std::size_t>(c)].body.empty(); }
 };
 
-// The one-joint skeleton of a creature body ("rat"): a root joint on the
-// floor with an end site at its nose (+Z), so the body mesh is a short capsule.
-const Skeleton& creatureSkeleton();
+// The one-joint skeleton of a body kind ("rat", "bag"): a root joint with an
+// end site along +Z (a rat's nose), so the body mesh is one capsule; nullptr
+// for a kind this build does not know.
+const Skeleton* creatureSkeleton(std::string_view body);
 inline constexpr float kRatLength = 0.24f;  // m, root to nose
 inline constexpr float kRatHeight = 0.05f;  // m, root above the floor
-// A creature's placement at time t (held at its first and last keys).
+inline constexpr float kBagLength = 0.45f;  // m, end to end of the luggage chain's bag (a holdall)
+// A creature's placement at time t (held at its first and last keys), and
+// the height of its root then.
 RootXf creatureAt(const SceneCharacter& c, double t);
+float creatureHeightAt(const SceneCharacter& c, double t);
 
 std::string sceneToJson(const Scene& scene, const ActionLibrary& lib);
 // Resolves actions against the library; errors name the file, JSON path and problem.
