@@ -4,10 +4,12 @@
 
 namespace fray::sim {
 
-Obb Obb::placed(const RootXf& xf) const {
+Obb Obb::placed(const RootXf& xf) const { return placed(xf, FloorRotation(xf.heading)); }
+
+Obb Obb::placed(const RootXf& xf, const FloorRotation& rotate) const {
     Obb out;
-    out.centre = xf.apply(centre);
-    for (int i = 0; i < 3; ++i) out.axes[i] = xf.applyDirection(axes[i]);
+    out.centre = rotate(centre) + glm::vec3(xf.pos.x, 0.0f, xf.pos.y);
+    for (int i = 0; i < 3; ++i) out.axes[i] = rotate(axes[i]);
     out.half = half;
     return out;
 }

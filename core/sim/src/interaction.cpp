@@ -1,6 +1,7 @@
 #include "interaction.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -27,15 +28,18 @@ HitCandidate findHit(const ActionLibrary& lib, const Playing& att, const Playing
     int effectors[2] = {a.effector, -1};
     if (a.effector == kLeftShin) effectors[1] = kLeftFoot;
     if (a.effector == kRightShin) effectors[1] = kRightFoot;
+    // Both placements are fixed over the window: their rotations computed once.
+    const FloorRotation attRotation(att.root.heading), defRotation(def.root.heading);
     for (int s = sBegin; s <= sEnd; ++s) {
         const double ts = std::max(att.start + s / kSampleRate - att.offset, t0);
         if (ts > t1) break;
         const Obb* ab = lib.boxesAt(att.action, s);
+        const Obb* db = lib.boxesAt(def.action, lib.sampleAt(def.action, def.clipTime(ts)));
         for (int e : effectors) {
             if (e < 0) continue;
-            const Obb eff = ab[e].placed(att.root);
+            const Obb eff = ab[e].placed(att.root, attRotation);
             for (int target : kTargetSegments) {
-                if (!overlaps(eff, def.box(lib, ts, target))) continue;
+                if (!overlaps(eff, db[target].placed(def.root, defRotation))) continue;
                 hit.time = ts;
                 hit.target = target;
                 hit.effector = e;
@@ -49,18 +53,34 @@ HitCandidate findHit(const ActionLibrary& lib, const Playing& att, const Playing
     return hit;
 }
 
-bool coreBodiesOverlap(const ActionLibrary& lib, const BodyPose& a, const BodyPose& b, float shrink, float pelvisReach) {
-    const glm::vec2 d = (a.root * lib.rootAt(a.action, a.tau)).pos - (b.root * lib.rootAt(b.action, b.tau)).pos;
+CoreBody::CoreBody(const ActionLibrary& lib, const BodyPose& pose, const FloorRotation& rotate, float shrink)
+    : lib_(&lib), pose_(pose), rotate_(rotate), shrink_(shrink),
+      pelvis_(pose.root.pos + rotate_(lib.rootAt(pose.action, pose.tau).pos)) {}
+
+const std::array<Obb, kCoreSegments.size()>& CoreBody::boxes() const {
+    if (!boxes_) {
+        const Obb* local = lib_->boxesAt(pose_.action, lib_->sampleAt(pose_.action, pose_.tau));
+        auto& placed = boxes_.emplace();
+        for (std::size_t k = 0; k < kCoreSegments.size(); ++k) {
+            placed[k] = local[kCoreSegments[k]].placed(pose_.root, rotate_).shrunk(shrink_);
+        }
+    }
+    return *boxes_;
+}
+
+bool coreBodiesOverlap(const CoreBody& a, const CoreBody& b, float pelvisReach) {
+    const glm::vec2 d = a.pelvis() - b.pelvis();
     if (glm::dot(d, d) > pelvisReach * pelvisReach) return false;
-    const Obb* ba = lib.boxesAt(a.action, lib.sampleAt(a.action, a.tau));
-    const Obb* bb = lib.boxesAt(b.action, lib.sampleAt(b.action, b.tau));
-    for (int x : kCoreSegments) {
-        const Obb ox = ba[x].placed(a.root).shrunk(shrink);
-        for (int y : kCoreSegments) {
-            if (overlaps(ox, bb[y].placed(b.root).shrunk(shrink))) return true;
+    for (const Obb& x : a.boxes()) {
+        for (const Obb& y : b.boxes()) {
+            if (overlaps(x, y)) return true;
         }
     }
     return false;
+}
+
+bool coreBodiesOverlap(const ActionLibrary& lib, const BodyPose& a, const BodyPose& b, float shrink, float pelvisReach) {
+    return coreBodiesOverlap(CoreBody(lib, a, shrink), CoreBody(lib, b, shrink), pelvisReach);
 }
 
 double effectiveMass(int effector) {

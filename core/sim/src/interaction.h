@@ -3,6 +3,8 @@
 // Interaction Patches too): the earliest hit of an attack on a defender, the
 // forced reaction that best matches a victim's posture and the hit direction
 // (SPEC 2.1, 4.2), and the impulse of a blow. Internal to fray_sim.
+#include <array>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -35,6 +37,29 @@ struct BodyPose {
 // overlap, boxes shrunk by `shrink` (grazing contact is not penetration)?
 // Bodies whose pelvises are more than pelvisReach apart never do.
 bool coreBodiesOverlap(const ActionLibrary& lib, const BodyPose& a, const BodyPose& b, float shrink, float pelvisReach = 1.2f);
+
+// The same test in two halves, for callers that test one body against many:
+// a body's pelvis on the floor and its core boxes placed and shrunk, the
+// boxes only when asked (they cost ten times the pelvis).
+class CoreBody {
+public:
+    CoreBody(const ActionLibrary& lib, const BodyPose& pose, float shrink)
+        : CoreBody(lib, pose, FloorRotation(pose.root.heading), shrink) {}
+    // With the rotation of pose.root already computed.
+    CoreBody(const ActionLibrary& lib, const BodyPose& pose, const FloorRotation& rotate, float shrink);
+    glm::vec2 pelvis() const { return pelvis_; }
+    const std::array<Obb, kCoreSegments.size()>& boxes() const;
+
+private:
+    const ActionLibrary* lib_;
+    BodyPose pose_;
+    FloorRotation rotate_;
+    float shrink_;
+    glm::vec2 pelvis_;
+    // Empty until asked for (an empty optional costs no initialisation).
+    mutable std::optional<std::array<Obb, kCoreSegments.size()>> boxes_;
+};
+bool coreBodiesOverlap(const CoreBody& a, const CoreBody& b, float pelvisReach);
 inline BodyPose bodyAt(const Playing& p, double t) { return {p.action, p.clipTime(t), p.root}; }
 
 // Earliest hit in [t0, t1] of one attacker on one defender; time < 0 if none.

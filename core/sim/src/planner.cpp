@@ -4,6 +4,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numeric>
 #include <random>
@@ -25,6 +26,7 @@ constexpr std::size_t kArenaBeam = 3;            // clips followed per look-ahea
 constexpr double kMovementSeconds = 0.5;         // s: the action length whose movement terms weigh 1 (per-second scoring)
 constexpr double kCatchStep = 1.0 / 15.0;
 constexpr float kPenetrationShrink = 0.8f;       // grazing contact is not penetration
+constexpr float kPenetrationReach = 0.8f;        // m: two torsos are never wider apart
 constexpr double kReachMargin = 0.35;             // m beyond an attack's reach: the target's body depth and a lean
 
 struct CharState {
@@ -60,7 +62,21 @@ struct Recorder {
 struct Member {
     int global = 0;
     const CharacterSpec* spec = nullptr;
+    // Per library action: its Next() within this character's allowed set,
+    // reactive clips left out (SPEC 2.1's legal choices before pruning).
+    std::vector<std::vector<int>> legal;
 };
+
+std::vector<std::vector<int>> legalChoices(const ActionLibrary& lib, const CharacterSpec& spec) {
+    std::vector<std::vector<int>> legal(static_cast<std::size_t>(lib.size()));
+    for (int a = 0; a < lib.size(); ++a) {
+        const auto& next = lib.next[static_cast<std::size_t>(a)];
+        auto& out = legal[static_cast<std::size_t>(a)];
+        std::set_intersection(next.begin(), next.end(), spec.allowed.begin(), spec.allowed.end(), std::back_inserter(out));
+        std::erase_if(out, [&](int b) { return lib.actions[static_cast<std::size_t>(b)].is(kReactive); });
+    }
+    return legal;
+}
 
 struct Context {
     const ActionLibrary* lib = nullptr;
@@ -113,6 +129,12 @@ int opponentOf(const Context& ctx, const GroupState& g, int who, double t) {
             if (ctx.members[static_cast<std::size_t>(i)].global == explicitOpp) return i;
         }
     }
+    // One enemy in the group (a duel): no need to measure.
+    int only = -1, enemiesFound = 0;
+    for (int i = 0; i < g.n; ++i) {
+        if (i != who && enemies(ctx, who, i)) only = i, ++enemiesFound;
+    }
+    if (enemiesFound <= 1) return only;
     const glm::vec2 p = placement(ctx, g.c[static_cast<std::size_t>(who)], t).pos;
     int best = -1;
     float bestD = std::numeric_limits<float>::max();
@@ -370,9 +392,8 @@ Value edgeScore(const Context& ctx, const GroupState& before, const GroupState& 
 }
 
 bool bodiesPenetrate(const Context& ctx, const RootXf& place, int action, double tau, const CharState& other, double t) {
-    // Two torsos are never wider than 0.8 m apart.
     return detail::coreBodiesOverlap(*ctx.lib, {action, tau, place}, detail::bodyAt(playing(other), std::min(t, other.end)),
-                                     kPenetrationShrink, 0.8f);
+                                     kPenetrationShrink, kPenetrationReach);
 }
 
 // Legal choices of `who` at a node (SPEC 2.1) and the pruning criteria
@@ -382,9 +403,7 @@ public:
     Pruner(const Context& ctx, const GroupState& g, int who, bool root) : ctx_(ctx), g_(g), who_(who) {
         const auto& spec = specOf(ctx, who);
         const auto& s = g.c[static_cast<std::size_t>(who)];
-        const auto& next = ctx.lib->next[static_cast<std::size_t>(s.action)];
-        std::set_intersection(next.begin(), next.end(), spec.allowed.begin(), spec.allowed.end(), std::back_inserter(base_));
-        std::erase_if(base_, [&](int a) { return act(ctx, a).is(kReactive); });
+        base_ = ctx.members[static_cast<std::size_t>(who)].legal[static_cast<std::size_t>(s.action)];
         if (base_.empty()) {
             // No legal action: an idle/guard one of its set (else any).
             fallback_ = true;
@@ -400,12 +419,16 @@ public:
         }
         if (ctx.opt->arena.bounded()) keepInsideArena(s);
         if (!root && ctx.opt->variants && base_.size() > 1) {
-            // One representative (the first) per variant class.
-            std::vector<int> seen;
+            // One representative (the first) per variant class: a class is
+            // seen when its stamp holds this call's number.
+            thread_local std::vector<std::uint64_t> seenAt;
+            thread_local std::uint64_t call = 0;
+            ++call;
+            seenAt.resize(ctx.lib->variantClass.size() + 1, 0);
             std::erase_if(base_, [&](int a) {
-                const int c = ctx.lib->variantClass[static_cast<std::size_t>(a)];
-                if (std::find(seen.begin(), seen.end(), c) != seen.end()) return true;
-                seen.push_back(c);
+                auto& stamp = seenAt[static_cast<std::size_t>(ctx.lib->variantClass[static_cast<std::size_t>(a)])];
+                if (stamp == call) return true;
+                stamp = call;
                 return false;
             });
         }
@@ -413,6 +436,7 @@ public:
         if (opp_ >= 0) {
             const auto& o = g.c[static_cast<std::size_t>(opp_)];
             start_ = s.root * act(ctx, s.action).end;
+            startRotation_ = FloorRotation(start_.heading);
             r_ = static_cast<double>(glm::length(placement(ctx, o, g.time).pos - start_.pos));
             const auto& oa = act(ctx, o.action);
             oppAttacking_ = oa.is(kAttack) && !o.attackDone && clipTime(o, g.time) < oa.activeEnd / kSampleRate &&
@@ -428,8 +452,17 @@ public:
         const auto& o = g_.c[static_cast<std::size_t>(opp_)];
         const double T = std::clamp(o.end - g_.time, 1.0 / kSampleRate, act(ctx_, a).duration);
         if (lastFrameOnly) return !bodiesPenetrate(ctx_, start_, a, T, o, g_.time + T);
-        for (double tau = 0; tau <= T + 1e-9; tau += kPenetrationStep) {
-            if (bodiesPenetrate(ctx_, start_, a, tau, o, g_.time + tau)) return false;
+        // Every candidate is tested at the same times against the same
+        // opponent: its placed body at the k-th time is kept for the next.
+        std::size_t k = 0;
+        for (double tau = 0; tau <= T + 1e-9; tau += kPenetrationStep, ++k) {
+            if (k == opponentBodies_.size()) {
+                if (k == 0) opponentBodies_.reserve(32);
+                opponentBodies_.emplace_back(*ctx_.lib, detail::bodyAt(playing(o), std::min(g_.time + tau, o.end)),
+                                             kPenetrationShrink);
+            }
+            const detail::CoreBody me(*ctx_.lib, {a, tau, start_}, startRotation_, kPenetrationShrink);
+            if (detail::coreBodiesOverlap(me, opponentBodies_[k], kPenetrationReach)) return false;
         }
         return true;
     }
@@ -554,6 +587,8 @@ private:
     bool fallback_ = false;
     int opp_ = -1;
     RootXf start_;
+    FloorRotation startRotation_{0.0};
+    mutable std::vector<detail::CoreBody> opponentBodies_;
     double r_ = 0;
     bool oppAttacking_ = false;
 };
@@ -803,7 +838,7 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
                 return makeError("group " + std::to_string(c.group) + " has more than " + std::to_string(kMaxGroupSize) +
                                  " characters (the game tree holds every member of a group)");
             }
-            ctx.members.push_back({i, &c});
+            ctx.members.push_back({i, &c, legalChoices(lib, c)});
             rec.global[static_cast<std::size_t>(g.n)] = i;
             if (c.weights.wPath > 0 || c.weights.wPsi > 0 || c.weights.wReq > 0) ctx.cooperative = true;
             // Start: the given action, or an idle one of its set chosen by the

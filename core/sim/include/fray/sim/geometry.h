@@ -14,7 +14,9 @@ namespace fray::sim {
 // Wraps an angle to (-pi, pi].
 inline double wrapAngle(double a) {
     constexpr double kTwoPi = 2.0 * std::numbers::pi;
-    a = std::fmod(a, kTwoPi);
+    // fmod returns a unchanged inside (-2pi, 2pi): skip the call there (the
+    // common case: sums of two wrapped angles), same result bit for bit.
+    if (!(a > -kTwoPi && a < kTwoPi)) a = std::fmod(a, kTwoPi);
     if (a <= -std::numbers::pi) a += kTwoPi;
     if (a > std::numbers::pi) a -= kTwoPi;
     return a;
@@ -29,11 +31,20 @@ inline glm::vec2 headingVector(double heading) {
 // Heading of a floor direction (x, z): the inverse of headingVector.
 inline double angleOf(glm::vec2 v) { return std::atan2(static_cast<double>(v.x), static_cast<double>(v.y)); }
 
+// A heading's rotation on the floor, its sine and cosine computed once.
+struct FloorRotation {
+    float c = 1.0f, s = 0.0f;
+    explicit FloorRotation(double heading)
+        : c(static_cast<float>(std::cos(heading))), s(static_cast<float>(std::sin(heading))) {}
+    glm::vec2 operator()(glm::vec2 v) const { return {c * v.x + s * v.y, -s * v.x + c * v.y}; }
+    glm::vec3 operator()(const glm::vec3& d) const {
+        const glm::vec2 p = (*this)(glm::vec2(d.x, d.z));
+        return {p.x, d.y, p.y};
+    }
+};
+
 // Rotates a floor vector (x, z) by a heading.
-inline glm::vec2 rotateFloor(glm::vec2 v, double heading) {
-    const float c = static_cast<float>(std::cos(heading)), s = static_cast<float>(std::sin(heading));
-    return {c * v.x + s * v.y, -s * v.x + c * v.y};
-}
+inline glm::vec2 rotateFloor(glm::vec2 v, double heading) { return FloorRotation(heading)(v); }
 
 // A placement on the floor: position (x, z) and heading. Actions are stored
 // relative to their first frame's placement; a timeline places them in the
@@ -75,6 +86,8 @@ struct Obb {
     // Radius of the bounding sphere, for a cheap first test.
     float radius() const { return std::sqrt(half.x * half.x + half.y * half.y + half.z * half.z); }
     Obb placed(const RootXf& xf) const;
+    // The same with the placement's rotation already computed.
+    Obb placed(const RootXf& xf, const FloorRotation& rotate) const;
     Obb shrunk(float factor) const { return {centre, axes, half * factor}; }
 };
 
