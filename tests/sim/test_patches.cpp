@@ -533,9 +533,9 @@ TEST(PatchCompose, LuggageTravelsTheWholeChain) {
     }
     buildConnections(lib, patches);
     ASSERT_GT(patches.patches.size(), 10u);
-    // (Seeds 2 and 5 of the first ten end in "cannot reach the hand-over":
-    // docs/PATCHES.md says why.)
-    for (std::uint64_t seed : {1u, 3u, 8u}) {
+    // (Seeds 3 and 18 of the first twenty end in "cannot reach the
+    // hand-over": docs/PATCHES.md says why.)
+    for (std::uint64_t seed : {1u, 2u, 5u, 8u}) {
         ComposeSpec spec;
         spec.kind = SceneKind::Luggage;
         spec.seed = seed;
@@ -563,6 +563,15 @@ TEST(PatchCompose, LuggageTravelsTheWholeChain) {
         std::sort(events.begin(), events.end(), [](const Event& a, const Event& b) {
             return a.time != b.time ? a.time < b.time : a.hand > b.hand;
         });
+        const ScenePoser handPoser(*scene, lib);
+        std::vector<glm::vec3> handWorld;
+        auto handsOf = [&](int c, double t) {
+            handPoser.worldPositions(c, t, handWorld);
+            const auto& j = lib.motions[static_cast<std::size_t>(
+                                            lib.actions[static_cast<std::size_t>(scene->characters[static_cast<std::size_t>(c)].track.front().action)].motion)]
+                                .joints;
+            return 0.5f * (handWorld[static_cast<std::size_t>(j.leftHand)] + handWorld[static_cast<std::size_t>(j.rightHand)]);
+        };
         int handovers = 0, holder = -1;
         std::vector<int> porters;
         for (std::size_t k = 0; k + 1 < events.size(); ++k) {
@@ -577,6 +586,15 @@ TEST(PatchCompose, LuggageTravelsTheWholeChain) {
             holder = recv.who;
             porters.push_back(recv.who);
             ++handovers;
+            // The hands meet (within the patches' 0.35 m) while the receiver receives.
+            const auto& inst = *std::find_if(scene->characters[static_cast<std::size_t>(recv.who)].track.begin(),
+                                             scene->characters[static_cast<std::size_t>(recv.who)].track.end(),
+                                             [&](const ActionInstance& i) { return std::fabs(i.start - recv.time) < 1e-9; });
+            double closest = 1e9;
+            for (double t = inst.start; t <= inst.end; t += 1.0 / 30) {
+                closest = std::min(closest, static_cast<double>(glm::length(handsOf(events[k].who, t) - handsOf(recv.who, t))));
+            }
+            EXPECT_LE(closest, 0.35) << "seed " << seed << ": hands apart in the hand-over at " << events[k].time << " s";
         }
         EXPECT_EQ(handovers, 9) << "seed " << seed;
         std::sort(porters.begin(), porters.end());
@@ -584,7 +602,7 @@ TEST(PatchCompose, LuggageTravelsTheWholeChain) {
         EXPECT_EQ(porters.size(), 4u) << "every porter is recycled";
         EXPECT_EQ(computeMetrics(*scene, lib).penetrationFrames, 0) << "seed " << seed;
         // The bag itself travels with them: a one-joint body, never jumping
-        // (at most 0.35 m in a 1/15 s key step: passed from hand to hand),
+        // (at most 0.25 m in a 1/15 s key step: passed from hand to hand),
         // ending in the last receiver's hands.
         const auto& bag = scene->characters.back();
         ASSERT_EQ(bag.body, "bag");
@@ -592,7 +610,7 @@ TEST(PatchCompose, LuggageTravelsTheWholeChain) {
         EXPECT_NEAR(bag.keys.back().time, scene->duration, 1e-6);
         auto centre = [&](const RootKey& k) { return k.at.pos + headingVector(k.at.heading) * (0.5f * kBagLength); };
         for (std::size_t k = 1; k < bag.keys.size(); ++k) {
-            EXPECT_LE(glm::length(centre(bag.keys[k]) - centre(bag.keys[k - 1])), 0.35f) << "seed " << seed << " at " << bag.keys[k].time << " s";
+            EXPECT_LE(glm::length(centre(bag.keys[k]) - centre(bag.keys[k - 1])), 0.25f) << "seed " << seed << " at " << bag.keys[k].time << " s";
         }
         const ScenePoser poser(*scene, lib);
         std::vector<glm::vec3> world;

@@ -27,6 +27,14 @@ constexpr SegmentDef kSegmentDefs[kSegmentCount] = {
     {kRightThigh, 0.075f, 0.075f, 0.02f}, {kRightShin, 0.055f, 0.055f, 0.02f}, {kRightFoot, 0.045f, 0.05f, 0.04f},
 };
 
+}  // namespace
+
+glm::vec3 segmentTip(const Obb& box, int segment) {
+    return box.centre + box.axes[0] * (box.half.x - kSegmentDefs[segment].pad);
+}
+
+namespace {
+
 std::uint32_t flagsOf(const std::vector<std::string>& annotations) {
     std::uint32_t f = 0;
     for (const auto& a : annotations) {

@@ -41,6 +41,9 @@ struct Composer {
     // Walkers keep this far (m) from other bodies' boxes; the luggage chain,
     // where porters stand close, relies on the body test (penetrates) instead.
     float nearDistance = 0.45f;
+    // Characters whose track has ended stand where it stopped (the luggage
+    // porters wait in place between hand-overs) rather than being absent.
+    bool standWhenDone = false;
     std::mt19937_64 rng;
 
     Composer(const ActionLibrary& l, const PatchLibrary& p, const ComposeSpec& s, ComposeStats& st)
@@ -165,9 +168,21 @@ struct Composer {
             for (double t = w.start; t <= w.end + 1e-9; t += 1.0 / kSampleRate) {
                 const detail::BodyPose me{w.action, w.offset + (t - w.start), w.root};
                 for (int c = 0; c < static_cast<int>(scene.characters.size()); ++c) {
-                    if (c == self || !scene.present(c, t)) continue;
-                    const auto& inst = playingAt(c, t);
-                    const detail::BodyPose other{inst.action, inst.clipTimeAt(t), inst.root};
+                    if (c == self) continue;
+                    detail::BodyPose other;
+                    if (scene.present(c, t)) {
+                        const auto& inst = playingAt(c, t);
+                        other = {inst.action, inst.clipTimeAt(t), inst.root};
+                    } else if (standWhenDone && !track0(c).empty() && t > track0(c).back().end) {
+                        // Waiting where its track stopped, as waitUntil will
+                        // have it: the idle that follows, looped from there.
+                        const auto& last = track0(c).back();
+                        const int idle = idleAfter(last.action);
+                        const RootXf at = leaves(c);
+                        other = {idle, std::fmod(t - last.end, act(idle).duration), at * lib.rootAt(idle, 0).inverse()};
+                    } else {
+                        continue;
+                    }
                     if (detail::coreBodiesOverlap(lib, me, other, kShrink)) return true;
                 }
             }
@@ -1472,7 +1487,7 @@ struct Composer {
 
     // A porter who has handed the item on walks 2.5-4 m away, in the first
     // direction (away from the carrier first) whose walk touches nobody.
-    void stepAside(int c, int carrier) {
+    bool stepAside(int c, int carrier) {
         const RootXf g = leaves(c);
         glm::vec2 away = g.pos - leaves(carrier).pos;
         if (glm::length(away) < 1e-3f) away = -headingVector(g.heading);
@@ -1494,9 +1509,10 @@ struct Composer {
                 if (!room) continue;
                 for (auto& w : walk) track(c).push_back(w);
                 stats.locomotionSteps += static_cast<int>(walk.size());
-                return;
+                return true;
             }
         }
+        return false;
     }
 
     // ---- luggage: an item passed along a chain of porters; whoever has handed
@@ -1514,6 +1530,7 @@ struct Composer {
         }
         if (handoffs.empty()) return makeError("luggage: the patch library has no patch where character 1 hands and character 2 receives");
         nearDistance = 0.25f;
+        standWhenDone = true;
         if (spec.porters < 2) return makeError("luggage: needs at least 2 porters");
         std::vector<int> porters;
         for (int k = 0; k < spec.porters; ++k) porters.push_back(addCharacter("porter-" + std::to_string(k + 1), 0));
@@ -1570,6 +1587,9 @@ struct Composer {
                 for (const auto& b : footprint(p, 1, xf).parts) print.add(b);
                 if (!others.parts.empty() && others.overlaps(print, 0.0f)) continue;
                 const RootXf goal = xf * p.tracks[1].front().root;
+                // To take this option back: the tracks' lengths before it.
+                const std::size_t kept[] = {track(carrier).size(), track(rc).size(), aside >= 0 ? track(aside).size() : 0};
+                const int keptSteps = stats.locomotionSteps;
                 // The receiver walks over from where it is (it starts next to the goal the first time).
                 std::vector<ActionInstance> walk;
                 double arrive = t0;
@@ -1612,10 +1632,28 @@ struct Composer {
                 const double start = std::max(t0, arrive);
                 if (!track(carrier).empty()) waitUntil(carrier, start);
                 for (auto& w : walk) track(rc).push_back(w);
-                stats.locomotionSteps += static_cast<int>(walk.size());
                 if (!track(rc).empty()) waitUntil(rc, start);
                 placeTrack(p, 0, carrier, start, xf);
                 placeTrack(p, 1, rc, start, xf);
+                // The previous giver steps out of the way now that this
+                // hand-over is known (its walk is checked against it) and
+                // waits there to be recycled. Where it cannot, or where the
+                // hand-over would touch someone on the move (the footprint
+                // test above sees where people stand, not where they walk):
+                // the next option instead.
+                const auto added = [&](int c, std::size_t from) {
+                    return std::vector<ActionInstance>(track(c).begin() + static_cast<std::ptrdiff_t>(from), track(c).end());
+                };
+                const bool clear = (aside < 0 || aside == rc || stepAside(aside, carrier)) &&
+                                   !penetrates(added(carrier, kept[0]), carrier) && !penetrates(added(rc, kept[1]), rc);
+                if (!clear) {
+                    track(carrier).resize(kept[0]);
+                    track(rc).resize(kept[1]);
+                    if (aside >= 0) track(aside).resize(kept[2]);
+                    stats.locomotionSteps = keptSteps;
+                    continue;
+                }
+                stats.locomotionSteps += static_cast<int>(walk.size());
                 passes.push_back({carrier, rc, start, start + p.duration});
                 used(options[o].patch);
                 (linked ? stats.temporalLinks : stats.recycled) += 1;
@@ -1638,16 +1676,20 @@ struct Composer {
                     if (step < 0 || (rng() & 1)) step = i;
                 }
                 if (step < 0) return makeError("luggage: porter " + std::to_string(receiver + 1) + " cannot reach the hand-over at " + std::to_string(t0) + " s");
+                // The last giver leaves first (it stands where the carrier
+                // would go), and the others wait where they are while the
+                // carrier moves: a porter whose track has ended is not yet
+                // there for the collision test, but will be standing there.
+                if (aside >= 0 && aside != rc && stepAside(aside, carrier)) aside = -1;
                 const ActionInstance move{step, t0, 0.0, t0 + act(step).duration, leaves(carrier), false, false};
+                for (int c : porters) {
+                    if (c != carrier && !track(c).empty()) waitUntil(c, move.end);
+                }
                 if (!penetrates({move}, carrier)) track(carrier).push_back(move);
                 --k;
                 continue;
             }
             retries = 0;
-            // The previous giver steps out of the way now that this receiver's
-            // walk is known (its own walk is checked against it), and waits
-            // there to be recycled.
-            if (aside >= 0 && aside != rc) stepAside(aside, carrier);
             aside = carrier;
             carrier = rc;
             if (k == 0) {
@@ -1672,6 +1714,8 @@ struct Composer {
             }
             if (!reportProgress(progress, static_cast<double>(k + 1) / spec.handoffs, "compose")) return makeError("cancelled");
         }
+        // The last giver steps aside too (it would stand in the last carrier's way).
+        if (aside >= 0 && aside != carrier) stepAside(aside, carrier);
         double end = 0;
         for (int c : porters) end = std::max(end, freeAt(c));
         for (int c : porters) waitUntil(c, end);

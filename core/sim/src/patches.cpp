@@ -24,6 +24,9 @@ constexpr double kStep = 1.0 / kSampleRate;     // s between body tests: every s
 constexpr float kShrink = 0.82f;                 // grazing contact is not penetration (a little stricter than the metrics' 0.8)
 constexpr double kReachMargin = 0.35;            // m beyond an attack's reach (as the planner)
 constexpr double kNearMiss = 0.45;               // m: an attack this close to a defender that avoided it counts
+constexpr double kHandsMeet = 0.15;              // m: hands this close in a hand-over meet
+constexpr double kHandsSlack = 0.30;             // m: beyond meeting, the contact criterion falls to 0 over this
+constexpr double kHandsReach = 0.35;             // m: a hand-over whose hands never come closer is discarded
 constexpr double kHitGrace = 0.25;               // s after a blow during which bodies may touch
 constexpr int kMaxEntries = 12;
 constexpr double kCollisionMass = 10.0;          // kg behind a colliding body segment
@@ -366,6 +369,33 @@ RootXf placeAt(const ActionLibrary& lib, const std::vector<ActionInstance>& trac
     return playingOf(*i).placement(lib, std::min(t, i->end));
 }
 
+// The middle of a body's two hands (the far ends of its forearm boxes), where
+// an item held in both hands is.
+glm::vec3 handsAt(const ActionLibrary& lib, const ActionInstance& inst, double t) {
+    const Playing p = playingOf(inst);
+    const double at = std::min(t, inst.end);
+    glm::vec3 sum(0.0f);
+    for (int seg : {kLeftForearm, kRightForearm}) sum += segmentTip(p.box(lib, at, seg), seg);
+    return 0.5f * sum;
+}
+
+// How close the hands of the two characters come while entry e (a receive)
+// plays: the hand-over's contact.
+double closestHands(const Engine& eng, const State& s, std::size_t e) {
+    const auto& pe = eng.pattern.entries[e];
+    const auto& mine = s.tracks[static_cast<std::size_t>(pe.character)];
+    const auto& theirs = s.tracks[static_cast<std::size_t>(1 - pe.character)];
+    const ActionInstance* recv = instanceAt(mine, s.entryStart[e]);
+    double closest = std::numeric_limits<double>::max();
+    if (recv == nullptr) return closest;
+    for (double t = recv->start; t <= recv->end + 1e-9; t += 1.0 / kSampleRate) {
+        const ActionInstance* other = instanceAt(theirs, t);
+        if (other == nullptr) continue;
+        closest = std::min(closest, static_cast<double>(glm::length(handsAt(eng.lib, *recv, t) - handsAt(eng.lib, *other, t))));
+    }
+    return closest;
+}
+
 Scores evaluate(const Engine& eng, const State& s) {
     const auto& lib = eng.lib;
     Scores sc;
@@ -377,6 +407,13 @@ Scores evaluate(const Engine& eng, const State& s) {
         const auto& pe = eng.pattern.entries[e];
         if (isResponse(eng.pattern, e)) {
             sum += 1, ++items;
+            continue;
+        }
+        if (pe.annotation == "receive") {
+            // A hand-over: the hands must meet.
+            ++items;
+            const double closest = closestHands(eng, s, e);
+            sum += std::clamp((kHandsMeet + kHandsSlack - closest) / kHandsSlack, 0.0, 1.0);
             continue;
         }
         if (pe.annotation != "defence" && pe.annotation != "avoid" && pe.annotation != "dodge") continue;
@@ -505,6 +542,13 @@ struct Expansion {
         }
         for (std::size_t e = 0; e < eng.pattern.entries.size(); ++e) {
             if (!s.started[e]) {
+                ++stats.missedContact;
+                return;
+            }
+        }
+        // A hand-over whose hands never come within reach passes nothing.
+        for (std::size_t e = 0; e < eng.pattern.entries.size(); ++e) {
+            if (eng.pattern.entries[e].annotation == "receive" && closestHands(eng, s, e) > kHandsReach) {
                 ++stats.missedContact;
                 return;
             }

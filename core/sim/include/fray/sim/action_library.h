@@ -34,6 +34,9 @@ enum Segment : int {
     kSegmentCount
 };
 const char* segmentName(int segment);
+// The far joint of a limb segment's box (the hand of a forearm, the ankle of
+// a shin): its axis 0 runs from the near joint to the far one, padded.
+glm::vec3 segmentTip(const Obb& box, int segment);
 // Segments that count as "the body" for penetration (SPEC 2.4 criterion 1).
 inline constexpr std::array<int, 5> kCoreSegments = {kPelvis, kTorso, kHead, kLeftThigh, kRightThigh};
 // Segments an attack can land on.
