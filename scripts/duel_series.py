@@ -25,6 +25,7 @@ def main():
     ap.add_argument("--motion-b", default="shadowbox_energetic")
     ap.add_argument("--matches", type=int, default=20)
     ap.add_argument("--seconds", type=float, default=20.0)
+    ap.add_argument("--leaf-budget", type=int, default=None, help="leaves one decision may visit (the spec's leaf_budget)")
     args = ap.parse_args()
     wins = 0
     total = [0, 0]
@@ -37,6 +38,8 @@ def main():
                          "start": {"x": 0, "z": 0, "heading_deg": 90}},
                         {"name": "b", "side": 1, "depth": args.depth_b, "motions": [args.motion_b], "actions": ACTIONS,
                          "start": {"x": 1.1, "z": 0, "heading_deg": -90}}]}
+            if args.leaf_budget:
+                spec["leaf_budget"] = args.leaf_budget
             scene, planning = simulate(args.cli, args.project, spec, tmp)
             hits = [0, 0]
             for h in scene["hits"]:

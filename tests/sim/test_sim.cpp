@@ -117,6 +117,11 @@ TEST(SimSpec, BadInputNamesTheField) {
     expectError(R"({"duration": 5, "arena": 4, "characters": [{"name": "a"}]})", "/arena: must be {x, z, radius}");
     expectError(R"({"duration": 5, "arena": {"x": 10, "radius": 3}, "characters": [{"name": "a"}]})",
                 "/characters/0/start: 'a' starts 10.00 m from the arena's centre, outside its radius of 3.00 m");
+    expectError(R"({"duration": 5, "leaf_budget": 10, "characters": [{"name": "a"}]})", "/leaf_budget: must be an integer from 1000");
+    expectError(R"({"duration": 5, "leaf_budget": 2.5e3, "characters": [{"name": "a"}]})", "/leaf_budget: must be an integer");
+    auto budget = parseSpec(R"({"duration": 5, "leaf_budget": 400000, "characters": [{"name": "a"}]})");
+    ASSERT_TRUE(budget) << budget.error().message;
+    EXPECT_EQ(budget->options.leafBudget, 400000);
 }
 
 // The stage: with an arena, a chase on the running take turns back at its

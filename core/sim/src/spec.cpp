@@ -253,7 +253,7 @@ Result<SceneSpec> parseSceneSpec(std::string_view text, std::string_view fileNam
     if (!j.is_object()) return rd.error("", "must be a JSON object");
     static const char* const kTopKeys[] = {"version",   "duration",     "seed",         "pruning",      "alpha_beta",
                                            "parallel",  "catch_radius", "stop_on_catch", "fall_impulse", "start_jitter",
-                                           "checkpoint_radius", "arena", "characters", "description"};
+                                           "checkpoint_radius", "arena", "characters", "description", "leaf_budget"};
     for (auto it = j.begin(); it != j.end(); ++it) {
         if (std::find_if(std::begin(kTopKeys), std::end(kTopKeys), [&](const char* k) { return it.key() == k; }) ==
             std::end(kTopKeys)) {
@@ -296,6 +296,13 @@ Result<SceneSpec> parseSceneSpec(std::string_view text, std::string_view fileNam
                    flag("stop_on_catch", o.stopOnCatch), positive("catch_radius", o.catchRadius),
                    positive("fall_impulse", o.fallImpulse), positive("checkpoint_radius", o.checkpointRadius)}) {
         if (!s) return s.error();
+    }
+    if (auto v = j.find("leaf_budget"); v != j.end()) {
+        // Leaves one decision may visit before it settles for a shallower depth.
+        if (!v->is_number_unsigned() || v->get<std::uint64_t>() < 1000 || v->get<std::uint64_t>() > 1'000'000'000) {
+            return rd.error("/leaf_budget", "must be an integer from 1000 to 1000000000 (leaves one decision may visit)");
+        }
+        o.leafBudget = static_cast<std::int64_t>(v->get<std::uint64_t>());
     }
     if (auto v = j.find("start_jitter"); v != j.end()) {
         if (!v->is_object()) return rd.error("/start_jitter", "must be {distance, angle_deg}");
