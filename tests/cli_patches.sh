@@ -145,7 +145,7 @@ mv "$p.patches" "$tmp/aside.patches"
 sed 's/"crowd": [0-9]*/"crowd": 40/' "$(dirname "$0")/../resources/demo/rat.json" > "$tmp/rat.json"
 "$cli" compose "$p" --spec "$tmp/rat.json" --out "$tmp/rat.frayscene" -q > "$tmp/rat.txt"
 check "rat composed without a patch library" "grep -q 'rat, 41 characters' '$tmp/rat.txt'"
-check "rat: nobody run over" "grep -q 'could not even do that' '$tmp/rat.txt' && grep -q ', 0 could not even do that' '$tmp/rat.txt'"
+check "rat: nobody run over" "grep -q ', 0 could not even do that' '$tmp/rat.txt'"
 "$cli" metrics "$tmp/rat.frayscene" --json -q > "$tmp/rat_metrics.json"
 check "rat: no penetration" "python3 -c 'import json,sys; m=json.load(open(sys.argv[1])); assert m[\"penetration_frames\"] == 0, m' '$tmp/rat_metrics.json'"
 "$cli" export "$tmp/rat.frayscene" --format bvh --out "$tmp/rat_bvh" -q > /dev/null

@@ -247,7 +247,7 @@ void registerPatches(CLI::App& app) {
         auto args = std::make_shared<ComposeArgs>();
         auto* cmd = app.add_subcommand("compose", "Compose a scene from Interaction Patches (one-vs-many, one-vs-one, domino, luggage, football, rat)");
         cmd->add_option("project", args->project, "Project file (*.frayproj)")->required();
-        cmd->add_option("--spec", args->spec, "Compose spec (JSON: kind, duration, seed, enemies, patterns, commands)")->required();
+        cmd->add_option("--spec", args->spec, "Compose spec (JSON: kind and its inputs, e.g. enemies, commands, bitmap, porters, directions, rat; duration, seed; docs/PATCHES.md)")->required();
         cmd->add_option("-o,--out", args->out, "Scene file to write (*.frayscene)")->required();
         cmd->add_option("--patches", args->patches, "Patch library (default: PROJECT.patches)");
         cmd->add_flag("-q,--quiet", args->quiet, "No progress on stderr");

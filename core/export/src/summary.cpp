@@ -53,7 +53,7 @@ json characterJson(const sim::SceneCharacter& c, const CharacterTake& take, cons
             // files hold the character in its first pose where it enters.
             {"enter", c.track.empty() ? 0.0 : c.track.front().start},
             {"actions", std::move(actions)}};
-    // A creature (the rat) plays no action: its root follows its keys.
+    // A one-joint body (a rat, a bag) plays no action: its root follows its keys.
     if (!c.body.empty()) out["body"] = c.body;
     return out;
 }

@@ -882,12 +882,7 @@ struct Composer {
 
     static double distanceToPolyline(glm::vec2 p, const std::vector<glm::vec2>& line) {
         double best = std::numeric_limits<double>::max();
-        for (std::size_t i = 0; i + 1 < line.size(); ++i) {
-            const glm::vec2 ab = line[i + 1] - line[i];
-            const float len2 = glm::dot(ab, ab);
-            const float u = len2 > 0 ? std::clamp(glm::dot(p - line[i], ab) / len2, 0.0f, 1.0f) : 0.0f;
-            best = std::min(best, static_cast<double>(glm::length(p - (line[i] + u * ab))));
-        }
+        for (std::size_t i = 0; i + 1 < line.size(); ++i) best = std::min(best, distanceToSegment(p, line[i], line[i + 1]));
         return best;
     }
 
@@ -1819,21 +1814,28 @@ Status optionalInt(const prep::JsonReader& rd, const json& obj, const char* key,
     return {};
 }
 
-Status optionalNumber(const prep::JsonReader& rd, const json& obj, const char* key, double lo, double hi, const char* unit,
-                      double& out) {
-    const std::string path = std::string("/") + key;
-    auto f = rd.field(obj, "", key, false);
+// An optional number field of obj (at JSON path `parent`) within (lo, hi],
+// or [lo, hi] when lowIncluded.
+Status optionalNumberIn(const prep::JsonReader& rd, const json& obj, const std::string& parent, const char* key, double lo,
+                        double hi, const char* unit, double& out, bool lowIncluded) {
+    const std::string path = parent + "/" + key;
+    auto f = rd.field(obj, parent, key, false);
     if (!f) return f.error();
     if (!*f) return {};
     auto x = rd.number(**f, path);
     if (!x) return x.error();
-    if (!(*x > lo) || *x > hi) {
+    if (!(lowIncluded ? *x >= lo : *x > lo) || *x > hi) {
         char range[64];
-        std::snprintf(range, sizeof range, "must be in (%g, %g] %s", lo, hi, unit);
+        std::snprintf(range, sizeof range, "must be in %c%g, %g] %s", lowIncluded ? '[' : '(', lo, hi, unit);
         return rd.error(path, range);
     }
     out = *x;
     return {};
+}
+
+Status optionalNumber(const prep::JsonReader& rd, const json& obj, const char* key, double lo, double hi, const char* unit,
+                      double& out) {
+    return optionalNumberIn(rd, obj, "", key, lo, hi, unit, out, false);
 }
 
 }  // namespace
@@ -2004,20 +2006,8 @@ Result<ComposeSpec> parseComposeSpec(std::string_view text, std::string_view fil
         if (s.ratPath.size() < 2 || length < 0.5) {
             return rd.error("/rat/path", "the rat's trajectory is empty: draw at least two points, 0.5 m apart or more");
         }
-        auto number = [&](const char* key, double lo, double hi, const char* unit, double& out) -> Status {
-            FRAY_TRY(v, rd.field(r, "/rat", key, false));
-            if (!v) return {};
-            FRAY_TRY(x, rd.number(*v, std::string("/rat/") + key));
-            if (!(x >= lo) || x > hi) {
-                char range[64];
-                std::snprintf(range, sizeof range, "must be in [%g, %g] %s", lo, hi, unit);
-                return rd.error(std::string("/rat/") + key, range);
-            }
-            out = x;
-            return {};
-        };
-        if (auto st = number("speed", 0.3, 10, "m/s", s.ratSpeed); !st) return st.error();
-        if (auto st = number("start", 0, 600, "s", s.ratStart); !st) return st.error();
+        if (auto st = optionalNumberIn(rd, r, "/rat", "speed", 0.3, 10, "m/s", s.ratSpeed, true); !st) return st.error();
+        if (auto st = optionalNumberIn(rd, r, "/rat", "start", 0, 600, "s", s.ratStart, true); !st) return st.error();
     }
     if (auto st = optionalInt(rd, j, "crowd", 1, 2000, s.crowd); !st) return st.error();
     if (auto st = optionalNumber(rd, j, "band", 0, 100, "m", s.band); !st) return st.error();

@@ -40,13 +40,6 @@ bool penetrate(const ActionLibrary& lib, const Placed& a, const Placed& b) {
     return detail::coreBodiesOverlap(lib, {a.action, a.tau, a.root}, {b.action, b.tau, b.root}, 0.8f);
 }
 
-double distanceToSegment(glm::vec2 p, glm::vec2 a, glm::vec2 b) {
-    const glm::vec2 ab = b - a;
-    const float len2 = glm::dot(ab, ab);
-    const float t = len2 > 0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0f, 1.0f) : 0.0f;
-    return glm::length(p - (a + t * ab));
-}
-
 double distanceToPath(glm::vec2 p, const std::vector<Checkpoint>& path, bool loop) {
     if (path.size() == 1) return glm::length(p - path[0].pos);
     double best = 1e30;

@@ -1,10 +1,12 @@
 #pragma once
 // Floor placements and oriented boxes: the geometry the planners share
 // (SPEC 2.1: per-body-segment bounding boxes for collision and hit tests).
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <numbers>
 
+#include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
@@ -30,6 +32,14 @@ inline glm::vec2 headingVector(double heading) {
 
 // Heading of a floor direction (x, z): the inverse of headingVector.
 inline double angleOf(glm::vec2 v) { return std::atan2(static_cast<double>(v.x), static_cast<double>(v.y)); }
+
+// Distance on the floor from p to the segment a-b.
+inline double distanceToSegment(glm::vec2 p, glm::vec2 a, glm::vec2 b) {
+    const glm::vec2 ab = b - a;
+    const float len2 = glm::dot(ab, ab);
+    const float t = len2 > 0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0f, 1.0f) : 0.0f;
+    return glm::length(p - (a + t * ab));
+}
 
 // A heading's rotation on the floor, its sine and cosine computed once.
 struct FloorRotation {
