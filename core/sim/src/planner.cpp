@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <random>
 
 #include <tbb/parallel_for.h>
@@ -65,6 +66,9 @@ struct Member {
     // Per library action: its Next() within this character's allowed set,
     // reactive clips left out (SPEC 2.1's legal choices before pruning).
     std::vector<std::vector<int>> legal;
+    // The same with one representative (the first) per variant class, for
+    // inside the tree (SimOptions::variants).
+    std::vector<std::vector<int>> folded;
 };
 
 std::vector<std::vector<int>> legalChoices(const ActionLibrary& lib, const CharacterSpec& spec) {
@@ -76,6 +80,20 @@ std::vector<std::vector<int>> legalChoices(const ActionLibrary& lib, const Chara
         std::erase_if(out, [&](int b) { return lib.actions[static_cast<std::size_t>(b)].is(kReactive); });
     }
     return legal;
+}
+
+std::vector<std::vector<int>> foldVariants(const ActionLibrary& lib, const std::vector<std::vector<int>>& legal) {
+    std::vector<std::vector<int>> folded(legal.size());
+    for (std::size_t a = 0; a < legal.size(); ++a) {
+        std::vector<int> seen;
+        for (int b : legal[a]) {
+            const int c = lib.variantClass[static_cast<std::size_t>(b)];
+            if (std::find(seen.begin(), seen.end(), c) != seen.end()) continue;
+            seen.push_back(c);
+            folded[a].push_back(b);
+        }
+    }
+    return folded;
 }
 
 struct Context {
@@ -403,8 +421,13 @@ public:
     Pruner(const Context& ctx, const GroupState& g, int who, bool root) : ctx_(ctx), g_(g), who_(who) {
         const auto& spec = specOf(ctx, who);
         const auto& s = g.c[static_cast<std::size_t>(who)];
-        base_ = ctx.members[static_cast<std::size_t>(who)].legal[static_cast<std::size_t>(s.action)];
+        // Inside the tree with no stage, the variant-folded list is ready
+        // made (on a stage the folding comes after the stage's filter).
+        const auto& member = ctx.members[static_cast<std::size_t>(who)];
+        bool folded = !root && ctx.opt->variants && !ctx.opt->arena.bounded();
+        base_ = (folded ? member.folded : member.legal)[static_cast<std::size_t>(s.action)];
         if (base_.empty()) {
+            folded = false;
             // No legal action: an idle/guard one of its set (else any).
             fallback_ = true;
             for (int a : spec.allowed) {
@@ -418,7 +441,7 @@ public:
             if (base_.empty()) base_ = spec.allowed;
         }
         if (ctx.opt->arena.bounded()) keepInsideArena(s);
-        if (!root && ctx.opt->variants && base_.size() > 1) {
+        if (!root && ctx.opt->variants && !folded && base_.size() > 1) {
             // One representative (the first) per variant class: a class is
             // seen when its stamp holds this call's number.
             thread_local std::vector<std::uint64_t> seenAt;
@@ -472,7 +495,9 @@ public:
         const auto& o = g_.c[static_cast<std::size_t>(opp_)];
         const double d = act(ctx_, a).duration;
         const RootXf pe = start_ * ctx_.lib->rootAt(a, d);
-        const glm::vec2 to = placement(ctx_, o, std::min(g_.time + d, o.end)).pos - pe.pos;
+        // Most candidates outlast the opponent's action: its end placement once.
+        if (g_.time + d >= o.end && !oppEnd_) oppEnd_ = placement(ctx_, o, o.end).pos;
+        const glm::vec2 to = (g_.time + d >= o.end ? *oppEnd_ : placement(ctx_, o, g_.time + d).pos) - pe.pos;
         if (glm::dot(to, to) < 1e-6f) return true;
         return std::fabs(wrapAngle(angleOf(to) - pe.heading)) <= std::numbers::pi / 2;
     }
@@ -589,6 +614,7 @@ private:
     RootXf start_;
     FloorRotation startRotation_{0.0};
     mutable std::vector<detail::CoreBody> opponentBodies_;
+    mutable std::optional<glm::vec2> oppEnd_;  // the opponent where its action ends (facing)
     double r_ = 0;
     bool oppAttacking_ = false;
 };
@@ -838,7 +864,9 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
                 return makeError("group " + std::to_string(c.group) + " has more than " + std::to_string(kMaxGroupSize) +
                                  " characters (the game tree holds every member of a group)");
             }
-            ctx.members.push_back({i, &c, legalChoices(lib, c)});
+            auto legal = legalChoices(lib, c);
+            auto folded = foldVariants(lib, legal);
+            ctx.members.push_back({i, &c, std::move(legal), std::move(folded)});
             rec.global[static_cast<std::size_t>(g.n)] = i;
             if (c.weights.wPath > 0 || c.weights.wPsi > 0 || c.weights.wReq > 0) ctx.cooperative = true;
             // Start: the given action, or an idle one of its set chosen by the
