@@ -165,7 +165,7 @@ struct Composer {
     bool penetrates(const std::vector<ActionInstance>& walk, int self) const {
         constexpr float kShrink = 0.82f;
         for (const auto& w : walk) {
-            for (double t = w.start; t <= w.end + 1e-9; t += 1.0 / kSampleRate) {
+            auto touches = [&](double t) {
                 const detail::BodyPose me{w.action, w.offset + (t - w.start), w.root};
                 for (int c = 0; c < static_cast<int>(scene.characters.size()); ++c) {
                     if (c == self) continue;
@@ -185,6 +185,10 @@ struct Composer {
                     }
                     if (detail::coreBodiesOverlap(lib, me, other, kShrink)) return true;
                 }
+                return false;
+            };
+            for (double t = w.start; t <= w.end + 1e-9; t += 1.0 / kSampleRate) {
+                if (touches(t)) return true;
             }
         }
         return false;
@@ -1547,12 +1551,17 @@ struct Composer {
             }
             const bool linked = !cands.empty();
             if (!linked) cands = handoffs;
-            // The receiver: the porter free for longest (never the carrier).
-            int receiver = -1;
+            // The receiver: the porter free for longest (never the carrier);
+            // when that one has failed to reach the carrier twice, the next.
+            std::vector<int> free;
             for (std::size_t j = 0; j < porters.size(); ++j) {
-                if (porters[j] == carrier) continue;
-                if (receiver < 0 || lastUsed[j] < lastUsed[static_cast<std::size_t>(receiver)]) receiver = static_cast<int>(j);
+                if (porters[j] != carrier) free.push_back(static_cast<int>(j));
             }
+            std::stable_sort(free.begin(), free.end(), [&](int x, int y) {
+                return lastUsed[static_cast<std::size_t>(x)] < lastUsed[static_cast<std::size_t>(y)];
+            });
+            const int receiver = free[std::min(static_cast<std::size_t>(retries / 2), free.size() - 1)];
+            auto carrierIndex = [&](int c) { return static_cast<int>(std::find(porters.begin(), porters.end(), c) - porters.begin()); };
             const int rc = porters[static_cast<std::size_t>(receiver)];
             struct Option {
                 double score;
@@ -1660,17 +1669,33 @@ struct Composer {
             if (!placed) {
                 // Nobody can reach the carrier where it stands: it carries on a
                 // step (or turns) and the hand-over is tried again from there.
+                auto when = [&] {
+                    char buf[32];
+                    std::snprintf(buf, sizeof buf, "%.2f s", t0);
+                    return std::string(buf);
+                };
                 if (++retries > 6 || track(carrier).empty()) {
-                    return makeError("luggage: porter " + std::to_string(receiver + 1) + " cannot reach the hand-over at " + std::to_string(t0) + " s");
+                    return makeError("luggage: no porter can reach porter " + std::to_string(carrierIndex(carrier) + 1) + " to take the item at " +
+                                     when() + " (it moved on and was tried again 6 times; try another seed or fewer porters)");
                 }
+                // A carrying walk or turn that continues its last action; where
+                // none does (it has put the item down), any carrying action
+                // that does (picking it up again).
                 int step = -1;
-                for (int i = 0; i < lib.size(); ++i) {
-                    const auto& a = act(i);
-                    if (!a.has("carry") || !(a.is(kWalk) || a.is(kTurn)) || a.has("hand") || a.has("receive")) continue;
-                    if (lib.startNode[static_cast<std::size_t>(i)] != lib.endNode[static_cast<std::size_t>(track(carrier).back().action)]) continue;
-                    if (step < 0 || (rng() & 1)) step = i;
+                for (const bool moving : {true, false}) {
+                    for (int i = 0; i < lib.size(); ++i) {
+                        const auto& a = act(i);
+                        if (!a.has("carry") || (moving && !(a.is(kWalk) || a.is(kTurn))) || a.has("hand") || a.has("receive")) continue;
+                        if (lib.startNode[static_cast<std::size_t>(i)] != lib.endNode[static_cast<std::size_t>(track(carrier).back().action)]) continue;
+                        if (step < 0 || (rng() & 1)) step = i;
+                    }
+                    if (step >= 0) break;
                 }
-                if (step < 0) return makeError("luggage: porter " + std::to_string(receiver + 1) + " cannot reach the hand-over at " + std::to_string(t0) + " s");
+                if (step < 0) {
+                    return makeError("luggage: porter " + std::to_string(receiver + 1) + " cannot reach the hand-over at " + when() +
+                                     ", and the carrier has no carrying step that continues its '" + act(track(carrier).back().action).name +
+                                     "' (try another seed)");
+                }
                 // The last giver leaves first (it stands where the carrier
                 // would go), and the others wait where they are while the
                 // carrier moves: a porter whose track has ended is not yet
