@@ -412,9 +412,9 @@ namespace fray::sim {
 namespace {
 
 // Deeper is smarter (thesis 4.5.1): a general boxer expanding 4 levels lands
-// more blows than one expanding 2, and wins most of 10 short seeded matches.
-// (The 80 % of 20 matches of 20 s is measured by
-// scripts/duel_series.py, too long for CI: see docs/TREE_EXPANSION.md.)
+// more blows than one expanding 2, and wins 80 % of 10 short seeded matches.
+// (The 20 matches of 20 s are measured by scripts/duel_series.py,
+// too long for CI: see docs/TREE_EXPANSION.md.)
 TEST(SimDepth, DeeperBoxerWinsMostMatches) {
     int wins = 0, matches = 0, hitsDeep = 0, hitsShallow = 0;
     for (std::uint64_t seed = 1; seed <= 10; ++seed) {
@@ -431,7 +431,9 @@ TEST(SimDepth, DeeperBoxerWinsMostMatches) {
     RecordProperty("wins", wins);
     RecordProperty("hits_depth4", hitsDeep);
     RecordProperty("hits_depth2", hitsShallow);
-    EXPECT_GE(wins * 10, matches * 6) << wins << " wins of " << matches << "; hits " << hitsDeep << " vs " << hitsShallow;
+    // Depth 4 is searched in full under the default leaf budget; at the old
+    // 150,000 (some decisions at depth 3) this was 7 of 10.
+    EXPECT_GE(wins * 10, matches * 8) << wins << " wins of " << matches << "; hits " << hitsDeep << " vs " << hitsShallow;
     EXPECT_GT(hitsDeep, hitsShallow);
 }
 

@@ -1594,6 +1594,7 @@ struct Composer {
                 // To take this option back: the tracks' lengths before it.
                 const std::size_t kept[] = {track(carrier).size(), track(rc).size(), aside >= 0 ? track(aside).size() : 0};
                 const int keptSteps = stats.locomotionSteps;
+                const double keptJunction = stats.maxJunctionError;
                 // The receiver walks over from where it is (it starts next to the goal the first time).
                 std::vector<ActionInstance> walk;
                 double arrive = t0;
@@ -1655,6 +1656,7 @@ struct Composer {
                     track(rc).resize(kept[1]);
                     if (aside >= 0) track(aside).resize(kept[2]);
                     stats.locomotionSteps = keptSteps;
+                    stats.maxJunctionError = keptJunction;
                     continue;
                 }
                 stats.locomotionSteps += static_cast<int>(walk.size());
@@ -1697,9 +1699,8 @@ struct Composer {
                                      "' (try another seed)");
                 }
                 // The last giver leaves first (it stands where the carrier
-                // would go), and the others wait where they are while the
-                // carrier moves: a porter whose track has ended is not yet
-                // there for the collision test, but will be standing there.
+                // would go), and the others wait where they are (their idles
+                // written now) while the carrier moves.
                 if (aside >= 0 && aside != rc && stepAside(aside, carrier)) aside = -1;
                 const ActionInstance move{step, t0, 0.0, t0 + act(step).duration, leaves(carrier), false, false};
                 for (int c : porters) {

@@ -79,7 +79,7 @@ struct SimOptions {
     // Leaves one decision may visit. Deeper levels are searched one at a time
     // (iterative deepening); when one would exceed the budget the last
     // complete depth decides (counted in PlannerStats::shallower).
-    std::int64_t leafBudget = 150000;
+    std::int64_t leafBudget = 2000000;
     double catchRadius = 0.6;      // m, pelvis to pelvis
     bool stopOnCatch = false;      // a group's simulation ends at its first catch
     double fallImpulse = 30;       // N s: a stronger hit knocks down, a weaker one pushes
