@@ -194,20 +194,41 @@ Result<FloorBitmap> floorFromJson(const JsonReader& rd, const json& v, const std
 
 }  // namespace
 
-const Skeleton* creatureSkeleton(std::string_view body) {
-    auto make = [](const char* name, float length) {
-        Skeleton k;
-        k.addJoint(name, -1, glm::vec3(0.0f),
-                   {Channel::Xposition, Channel::Yposition, Channel::Zposition, Channel::Zrotation, Channel::Xrotation,
-                    Channel::Yrotation},
-                   RotationOrder::ZXY);
-        k.endSites[0] = glm::vec3(0.0f, 0.0f, length);
-        return k;
-    };
-    static const Skeleton rat = make("rat", kRatLength), bag = make("bag", kBagLength);
-    if (body == "rat") return &rat;
-    if (body == "bag") return &bag;
+namespace {
+
+// The one-joint body kinds this build knows: length along +Z (the end site)
+// and the root's height above the floor when the keys give none.
+struct BodyKind {
+    std::string_view name;
+    float length, height;
+};
+constexpr BodyKind kBodyKinds[] = {{"rat", kRatLength, kRatHeight}, {"bag", kBagLength, 0.0f}};
+
+const BodyKind* bodyKind(std::string_view name) {
+    for (const auto& k : kBodyKinds) {
+        if (k.name == name) return &k;
+    }
     return nullptr;
+}
+
+}  // namespace
+
+const Skeleton* creatureSkeleton(std::string_view body) {
+    static const auto skeletons = [] {
+        std::vector<Skeleton> out;
+        for (const auto& kind : kBodyKinds) {
+            Skeleton k;
+            k.addJoint(std::string(kind.name), -1, glm::vec3(0.0f),
+                       {Channel::Xposition, Channel::Yposition, Channel::Zposition, Channel::Zrotation, Channel::Xrotation,
+                        Channel::Yrotation},
+                       RotationOrder::ZXY);
+            k.endSites[0] = glm::vec3(0.0f, 0.0f, kind.length);
+            out.push_back(std::move(k));
+        }
+        return out;
+    }();
+    const BodyKind* kind = bodyKind(body);
+    return kind ? &skeletons[static_cast<std::size_t>(kind - kBodyKinds)] : nullptr;
 }
 
 namespace {
@@ -232,7 +253,8 @@ RootXf creatureAt(const SceneCharacter& c, double t) {
 }
 
 float creatureHeightAt(const SceneCharacter& c, double t) {
-    const float own = c.body == "rat" ? kRatHeight : 0.0f;
+    const BodyKind* kind = bodyKind(c.body);
+    const float own = kind ? kind->height : 0.0f;
     if (c.keys.empty()) return own;
     const auto [a, b, u] = keysAround(c.keys, t);
     if (a->height < 0 || b->height < 0) return own;
@@ -418,7 +440,11 @@ Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, co
         sc.name = name;
         if (const auto bf = c.find("body"); bf != c.end()) {
             FRAY_TRY(body, rd.string(*bf, p + "/body"));
-            if (!creatureSkeleton(body)) return rd.error(p + "/body", "unknown body '" + body + "' (this build knows \"rat\" and \"bag\")");
+            if (!bodyKind(body)) {
+                std::string known;
+                for (const auto& k : kBodyKinds) known += (known.empty() ? "\"" : ", \"") + std::string(k.name) + "\"";
+                return rd.error(p + "/body", "unknown body '" + body + "' (this build knows " + known + ")");
+            }
             sc.body = body;
             FRAY_TRY(kf, rd.field(c, p, "keys"));
             if (!kf->is_array() || kf->empty() || kf->size() > 1'000'000) {
