@@ -1536,7 +1536,8 @@ struct Composer {
         // The first hand-over at the origin; the other porters wait in a row behind the receiver.
         int prev = -1, carrier = porters[0], aside = -1, retries = 0;
         std::vector<Pass> passes;
-        std::vector<double> lastUsed(porters.size(), -1.0);
+        std::vector<double> lastUsed(porters.size(), -1.0);  // per porter index
+        auto porterIndex = [&](int c) { return static_cast<int>(std::find(porters.begin(), porters.end(), c) - porters.begin()); };
         for (int k = 0; k < spec.handoffs; ++k) {
             const double t0 = track(carrier).empty() ? 0.0 : freeAt(carrier);
             if (t0 >= spec.duration) break;
@@ -1561,7 +1562,6 @@ struct Composer {
                 return lastUsed[static_cast<std::size_t>(x)] < lastUsed[static_cast<std::size_t>(y)];
             });
             const int receiver = free[std::min(static_cast<std::size_t>(retries / 2), free.size() - 1)];
-            auto carrierIndex = [&](int c) { return static_cast<int>(std::find(porters.begin(), porters.end(), c) - porters.begin()); };
             const int rc = porters[static_cast<std::size_t>(receiver)];
             struct Option {
                 double score;
@@ -1664,7 +1664,7 @@ struct Composer {
                 used(options[o].patch);
                 (linked ? stats.temporalLinks : stats.recycled) += 1;
                 prev = static_cast<int>(options[o].patch);
-                lastUsed[static_cast<std::size_t>(std::find(porters.begin(), porters.end(), carrier) - porters.begin())] = start;
+                lastUsed[static_cast<std::size_t>(porterIndex(carrier))] = start;
                 lastUsed[static_cast<std::size_t>(receiver)] = start;
                 placed = true;
             }
@@ -1677,7 +1677,7 @@ struct Composer {
                     return std::string(buf);
                 };
                 if (++retries > 6 || track(carrier).empty()) {
-                    return makeError("luggage: no porter can reach porter " + std::to_string(carrierIndex(carrier) + 1) + " to take the item at " +
+                    return makeError("luggage: no porter can reach porter " + std::to_string(porterIndex(carrier) + 1) + " to take the item at " +
                                      when() + " (it moved on and was tried again 6 times; try another seed or fewer porters)");
                 }
                 // A carrying walk or turn that continues its last action; where
@@ -1796,7 +1796,8 @@ struct Composer {
                 const int giver = holders[h - 1].second;
                 const double x = std::clamp((t - (holders[h].first - 0.5 * kPassTime)) / kPassTime, 0.0, 1.0);
                 const float w = static_cast<float>(x * x * (3.0 - 2.0 * x));
-                mid = hands(giver, t) + w * (mid - hands(giver, t));
+                const glm::vec3 from = hands(giver, t);
+                mid = from + w * (mid - from);
                 heading = lerp(RootXf{{}, across(giver, t)}, RootXf{{}, heading}, static_cast<double>(w)).heading;
             }
             const glm::vec2 centre(mid.x, mid.z);
