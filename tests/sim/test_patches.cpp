@@ -612,12 +612,7 @@ TEST(PatchCompose, LuggageTravelsTheWholeChain) {
         for (std::size_t k = 1; k < bag.keys.size(); ++k) {
             EXPECT_LE(glm::length(centre(bag.keys[k]) - centre(bag.keys[k - 1])), 0.25f) << "seed " << seed << " at " << bag.keys[k].time << " s";
         }
-        const ScenePoser poser(*scene, lib);
-        std::vector<glm::vec3> world;
-        poser.worldPositions(holder, scene->duration, world);
-        const auto& joints = lib.motions[static_cast<std::size_t>(lib.actions[static_cast<std::size_t>(
-                                              scene->characters[static_cast<std::size_t>(holder)].track.front().action)].motion)].joints;
-        const glm::vec3 hands = 0.5f * (world[static_cast<std::size_t>(joints.leftHand)] + world[static_cast<std::size_t>(joints.rightHand)]);
+        const glm::vec3 hands = handsOf(holder, scene->duration);
         EXPECT_LT(glm::length(centre(bag.keys.back()) - glm::vec2(hands.x, hands.z)), 0.05f) << "seed " << seed;
         EXPECT_NEAR(bag.keys.back().height, hands.y, 0.05f);
         auto back = sceneFromJson(sceneToJson(*scene, lib), "l.frayscene", lib);
