@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <numeric>
 #include <optional>
 #include <random>
@@ -104,6 +105,9 @@ struct Context {
     std::vector<Member> members;
     bool cooperative = false;  // any cooperative weight: alpha-beta does not apply
     std::vector<glm::vec2> reactionDir;  // per library action: initial travel direction of reactive clips
+    std::vector<int> nameId;             // per library action: its name's number (unnamed: a number of its own)
+    std::vector<double> maxHitSpeed;     // per library action: the fastest its effector lands (attacks; else 0)
+    bool boundedFrontier = false;        // a duel scored by blows: frontier edges can be bounded (boundedFrontier)
 };
 
 struct Value {
@@ -174,11 +178,12 @@ void pushRecent(CharState& s, int action) {
 // How recently an action with the same name was used: 1 for the last one,
 // fading to 1/kRecent for the oldest remembered; 0 when not remembered.
 double recency(const Context& ctx, const CharState& s, int action) {
-    const auto& name = act(ctx, action).name;
+    const int name = ctx.nameId[static_cast<std::size_t>(action)];
+    int idx = s.recentPos;
     for (int k = 0; k < s.recentCount; ++k) {
-        const int idx = (s.recentPos - 1 - k + 2 * kRecent) % kRecent;
+        idx = idx == 0 ? kRecent - 1 : idx - 1;  // newest first
         const int a = s.recent[static_cast<std::size_t>(idx)];
-        if (a == action || (!name.empty() && act(ctx, a).name == name)) return 1.0 - static_cast<double>(k) / kRecent;
+        if (ctx.nameId[static_cast<std::size_t>(a)] == name) return 1.0 - static_cast<double>(k) / kRecent;
     }
     return 0.0;
 }
@@ -522,6 +527,18 @@ public:
         stats.choices += static_cast<std::int64_t>(out.size());
         if (!active()) return;
         const std::size_t before = out.size();
+        // When some candidate passes every criterion the rule keeps exactly
+        // those: the costly penetration test is then needed only for the
+        // candidates that pass the cheap ones.
+        std::vector<int> all;
+        for (int a : out) {
+            if (cheapCriteria(a) && penetrationFree(a, false)) all.push_back(a);
+        }
+        if (!all.empty()) {
+            out.swap(all);
+            stats.pruned += static_cast<std::int64_t>(before - out.size());
+            return;
+        }
         auto apply = [&](auto&& keep) {
             std::vector<int> kept;
             for (int a : out) {
@@ -654,6 +671,81 @@ bool better(bool mx, const Value& a, const Value& b) {
     return mx ? (a.comp + a.coop > b.comp + b.coop) : (a.comp - a.coop < b.comp - b.coop);
 }
 
+// A frontier node of a duel scored by blows (Context::boundedFrontier), under
+// alpha-beta. The chooser maximises its own edge score e, so each candidate
+// gets a cheap key first: e itself when nothing can land in the interval
+// (neither a blow of its own nor one of the opponent's: the edge is the
+// launch and the movement, no hit search), else an upper bound (movement at
+// most 0, the fastest blow its effector can land, nothing received).
+// Candidates are then taken best key first: a key no better than the best
+// edge found cannot win, so it and the rest are skipped without their
+// pruning tests. Only the value changes with the order (the fail-soft bound
+// of a cutoff), never the exact minimax value, so root choices are those of
+// the plain frontier. Returns nothing when no candidate passes every
+// criterion (the caller then applies the full rule with its fallbacks).
+std::optional<Value> boundedFrontier(const Context& ctx, const GroupState& g, int who, bool mx, const Pruner& pruner,
+                                     double alpha, double beta, const Value& acc, Stats& stats) {
+    const int opp = 1 - who;
+    const auto& o = g.c[static_cast<std::size_t>(opp)];
+    const auto& oa = act(ctx, o.action);
+    const bool oppCanHit = oa.is(kAttack) && oa.effector >= 0 && !o.attackDone &&
+                           o.start + oa.activeEnd / kSampleRate - o.offset >= g.time;
+    const auto& w = specOf(ctx, who).weights;
+    struct Key {
+        double key;
+        int action;
+        bool exact;
+    };
+    thread_local std::vector<Key> keys;
+    keys.clear();
+    GroupState after;
+    for (int a : pruner.base()) {
+        const auto& x = act(ctx, a);
+        const bool attack = x.is(kAttack) && x.effector >= 0;
+        after = g;
+        launch(ctx, after, who, a, g.time);
+        after.time = std::min(after.c[0].end, after.c[1].end);
+        if (!attack && !oppCanHit) {
+            updateCheckpoints(ctx, after, after.time);
+            keys.push_back({edgeScore(ctx, g, after, who, a, Events{}).comp, a, true});
+            continue;
+        }
+        // The scoring-free part of the edge, without movement, stage and path
+        // (a blow either way moves someone) plus the best blow it can land.
+        double bound = -w.wRecency * recency(ctx, g.c[static_cast<std::size_t>(who)], a);
+        if (ctx.combo) {
+            bound += w.wCombo * static_cast<double>((*ctx.combo)[static_cast<std::size_t>(a) * static_cast<std::size_t>(ctx.comboN) +
+                                                      static_cast<std::size_t>(o.action)]);
+        }
+        if (attack) bound += (x.is(kKick) ? w.wHitLong : w.wHitShort) * ctx.maxHitSpeed[static_cast<std::size_t>(a)];
+        keys.push_back({bound, a, false});
+    }
+    std::stable_sort(keys.begin(), keys.end(), [](const Key& x, const Key& y) { return x.key > y.key; });
+    Value best;
+    bool have = false;
+    Child ch;
+    for (const Key& k : keys) {
+        if (have && (mx ? acc.comp + k.key <= best.comp : acc.comp - k.key >= best.comp)) break;
+        if (!pruner.cheapCriteria(k.action) || !pruner.penetrationFree(k.action, false)) continue;
+        ++stats.leaves;
+        Value v;
+        if (k.exact) {
+            v.comp = mx ? acc.comp + k.key : acc.comp - k.key;
+            v.coop = acc.coop;
+        } else {
+            makeChild(ctx, g, who, k.action, acc, mx, ch);
+            v = ch.acc;
+        }
+        if (!have || better(mx, v, best)) best = v, have = true;
+        if (mx ? best.comp >= beta : best.comp <= alpha) {
+            ++stats.cutoffs;
+            break;
+        }
+    }
+    if (!have) return std::nullopt;
+    return best;
+}
+
 // Min-max over the next `depth` decisions. With alpha-beta (competitive
 // scenes only: the cooperative back-up rules are not zero-sum) the window
 // [alpha, beta] bounds S_comp; the frontier is evaluated lazily so a cutoff
@@ -672,6 +764,9 @@ Value search(const Context& ctx, const GroupState& g, int depth, double alpha, d
     const Pruner pruner(ctx, g, who, false);
     Child ch;
     if (depth <= 1) {
+        if (ab && ctx.boundedFrontier && pruner.active()) {
+            if (auto v = boundedFrontier(ctx, g, who, mx, pruner, alpha, beta, acc, stats)) return *v;
+        }
         // Frontier: when some action passes every criterion, the pruned set
         // is exactly those actions, so each is tested only when reached and a
         // cutoff skips the rest. Otherwise the full rule with its fallbacks.
@@ -757,35 +852,54 @@ int decide(const Context& ctx, const GroupState& g, int depth, Stats& stats, boo
     // has its own share of the budget, so the outcome does not depend on
     // thread timing.
     const std::int64_t share = std::max<std::int64_t>(2000, ctx.opt->leafBudget / static_cast<std::int64_t>(children.size()));
+    // Each deeper pass searches the children in the order of the last pass's
+    // values, so the bound comes from the likely best child. The choice is
+    // the same as in the immediate-score order: among the exact values the
+    // best wins, ties going to the child first in that order; a child before
+    // the bound's child in it is searched just below the bound, so a tie
+    // with the bound is exact too.
+    std::vector<std::size_t> order(children.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
     std::size_t chosen = 0;
     for (int d = 2; d <= depth; ++d) {
         std::vector<Value> values(children.size());
+        std::vector<double> floor(children.size(), -kInf);
         std::vector<Stats> childStats(children.size());
         for (auto& cs : childStats) cs.budget = share;
-        values[0] = search(ctx, children[0].state, d - 1, -kInf, kInf, children[0].acc, rootSide, childStats[0]);
-        const double alpha = ab ? values[0].comp : -kInf;
-        auto run = [&](std::size_t i) {
-            values[i] = search(ctx, children[i].state, d - 1, alpha, kInf, children[i].acc, rootSide, childStats[i]);
+        const std::size_t first = order[0];
+        values[first] = search(ctx, children[first].state, d - 1, -kInf, kInf, children[first].acc, rootSide, childStats[first]);
+        const double alpha = ab ? values[first].comp : -kInf;
+        for (std::size_t i = 0; i < children.size(); ++i) {
+            if (ab && i != first) floor[i] = i < first ? std::nextafter(alpha, -kInf) : alpha;
+        }
+        auto run = [&](std::size_t k) {
+            const std::size_t i = order[k];
+            values[i] = search(ctx, children[i].state, d - 1, floor[i], kInf, children[i].acc, rootSide, childStats[i]);
         };
         if (ctx.opt->parallel) {
             tbb::parallel_for(std::size_t{1}, children.size(), run);
         } else {
-            for (std::size_t i = 1; i < children.size(); ++i) run(i);
+            for (std::size_t k = 1; k < children.size(); ++k) run(k);
         }
         bool exhausted = false;
-        std::size_t best = 0;
+        std::size_t best = first;
         for (std::size_t i = 0; i < children.size(); ++i) {
             stats.add(childStats[i]);
             exhausted = exhausted || childStats[i].exhausted;
-            if (i == 0) continue;
-            if (ab && !(values[i].comp > alpha)) continue;  // failed low: at most the bound
-            if (better(true, values[i], values[best])) best = i;
+            if (i == first) continue;
+            if (ab && !(values[i].comp > floor[i])) continue;  // failed low: at most the bound
+            if (better(true, values[i], values[best]) || (i < best && !better(true, values[best], values[i]))) best = i;
         }
         if (exhausted) {
             ++stats.shallower;
             break;
         }
         chosen = best;
+        std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
+            return values[x].comp + values[x].coop > values[y].comp + values[y].coop;
+        });
+        // The chosen child first (a failed-low bound can equal its value).
+        std::rotate(order.begin(), std::find(order.begin(), order.end(), chosen), std::find(order.begin(), order.end(), chosen) + 1);
     }
     return children[chosen].action;
 }
@@ -844,6 +958,25 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
     base.comboN = n;
     base.opt = &opt;
     base.reactionDir = detail::reactionDirections(lib);
+    {
+        std::map<std::string, int> names;
+        base.nameId.resize(static_cast<std::size_t>(n));
+        for (int a = 0; a < n; ++a) {
+            const auto& name = lib.actions[static_cast<std::size_t>(a)].name;
+            base.nameId[static_cast<std::size_t>(a)] =
+                name.empty() ? -1 - a : names.emplace(name, static_cast<int>(names.size())).first->second;
+        }
+    }
+    base.maxHitSpeed.assign(static_cast<std::size_t>(n), 0.0);
+    for (int a = 0; a < n; ++a) {
+        const auto& x = lib.actions[static_cast<std::size_t>(a)];
+        if (!x.is(kAttack)) continue;
+        double fastest = 0;
+        for (int k = x.activeBegin; k <= std::min(x.activeEnd, x.sampleCount - 1); ++k) {
+            fastest = std::max(fastest, static_cast<double>(lib.effectorSpeed[static_cast<std::size_t>(x.sampleBegin + k)]));
+        }
+        base.maxHitSpeed[static_cast<std::size_t>(a)] = fastest;
+    }
 
     // Groups, in order of first appearance.
     std::vector<int> groupIds;
@@ -854,6 +987,7 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
     Stats total;
     for (std::size_t gi = 0; gi < groupIds.size(); ++gi) {
         Context ctx = base;
+        bool catches = false;
         GroupState g;
         Recorder rec;
         rec.scene = &scene;
@@ -869,6 +1003,7 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
             ctx.members.push_back({i, &c, std::move(legal), std::move(folded)});
             rec.global[static_cast<std::size_t>(g.n)] = i;
             if (c.weights.wPath > 0 || c.weights.wPsi > 0 || c.weights.wReq > 0) ctx.cooperative = true;
+            if (c.weights.catches) catches = true;
             // Start: the given action, or an idle one of its set chosen by the
             // seed, entered at a seeded point so decisions interleave differently.
             int a0 = c.startAction;
@@ -902,6 +1037,8 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
             track.push_back({a0, 0.0, offset, s.end, s.root, false, false});
             ++g.n;
         }
+        ctx.boundedFrontier = g.n == 2 && !catches && specOf(ctx, 0).side != specOf(ctx, 1).side &&
+                              specOf(ctx, 0).opponent < 0 && specOf(ctx, 1).opponent < 0;
         {
             Events ev;  // the first node: whoever finishes its start action first
             advance(ctx, g, ev, &rec);
