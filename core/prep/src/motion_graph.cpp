@@ -507,6 +507,35 @@ double poseDistance(const PoseFeature& a, const PoseFeature& b, const GraphWeigh
     return static_cast<double>(packedDistance(pa.data(), pb.data(), l, Weights(weights)));
 }
 
+void PoseMatcher::add(const PoseFeature& pose) {
+    Layout l;
+    l.n = static_cast<int>(pose.rotations.size());
+    offset_.push_back(packed_.size());
+    count_.push_back(l.n);
+    packed_.resize(packed_.size() + static_cast<std::size_t>(l.stride()));
+    pack(pose, l, packed_.data() + offset_.back());
+}
+
+double PoseMatcher::distance(Probe& probe, std::size_t i) const {
+    // poseDistance compares the first min(n_a, n_b) rotations of both.
+    Layout l;
+    l.n = std::min(count_[i], static_cast<int>(probe.pose_->rotations.size()));
+    Layout mine;
+    mine.n = count_[i];
+    if (probe.n_ != l.n) {
+        probe.n_ = l.n;
+        probe.packed_.assign(static_cast<std::size_t>(l.stride()), 0.0f);
+        pack(*probe.pose_, l, probe.packed_.data());
+    }
+    const float* stored = packed_.data() + offset_[i];
+    if (mine.n == l.n) return static_cast<double>(packedDistance(probe.packed_.data(), stored, l, Weights(weights_)));
+    // A pose with more rotations than the probe: repack its first ones.
+    thread_local std::vector<float> shorter;
+    shorter.assign(static_cast<std::size_t>(l.stride()), 0.0f);
+    pack(unpack(stored, mine), l, shorter.data());
+    return static_cast<double>(packedDistance(probe.packed_.data(), shorter.data(), l, Weights(weights_)));
+}
+
 std::vector<int> naturalSuccessors(std::span<const ActionRef> actions) {
     std::vector<int> out(actions.size(), -1);
     std::map<std::pair<int, int>, int> byStart;  // (motion, first frame) -> action

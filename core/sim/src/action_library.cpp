@@ -360,6 +360,7 @@ Result<ActionLibrary> buildActionLibrary(const prep::Project& project, std::span
         const int upto = std::max(1, static_cast<int>(0.35 * a.sampleCount));
         for (int s = 0; s < upto; s += 2) {
             lib.reactions.push_back({i, s, prep::poseFeature(lm.motion, lm.joints, lib.frameAt(i, s / kSampleRate))});
+            lib.reactionPoses.add(lib.reactions.back().feature);
         }
     }
     reportProgress(progress, 1.0, "action library");

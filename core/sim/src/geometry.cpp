@@ -18,7 +18,11 @@ bool overlaps(const Obb& a, const Obb& b) {
     const glm::vec3 d = b.centre - a.centre;
     const float ra0 = a.radius(), rb0 = b.radius();
     if (glm::dot(d, d) > (ra0 + rb0) * (ra0 + rb0)) return false;
+    return overlapsBeyondSpheres(a, b);
+}
 
+bool overlapsBeyondSpheres(const Obb& a, const Obb& b) {
+    const glm::vec3 d = b.centre - a.centre;
     // R[i][j] = a.axis i . b.axis j, in a's frame; epsilon guards parallel edges.
     float R[3][3], absR[3][3];
     constexpr float kEps = 1e-6f;

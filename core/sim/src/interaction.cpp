@@ -63,6 +63,7 @@ const std::array<Obb, kCoreSegments.size()>& CoreBody::boxes() const {
         auto& placed = boxes_.emplace();
         for (std::size_t k = 0; k < kCoreSegments.size(); ++k) {
             placed[k] = local[kCoreSegments[k]].placed(pose_.root, rotate_).shrunk(shrink_);
+            radii_[k] = placed[k].radius();
         }
     }
     return *boxes_;
@@ -71,9 +72,13 @@ const std::array<Obb, kCoreSegments.size()>& CoreBody::boxes() const {
 bool coreBodiesOverlap(const CoreBody& a, const CoreBody& b, float pelvisReach) {
     const glm::vec2 d = a.pelvis() - b.pelvis();
     if (glm::dot(d, d) > pelvisReach * pelvisReach) return false;
-    for (const Obb& x : a.boxes()) {
-        for (const Obb& y : b.boxes()) {
-            if (overlaps(x, y)) return true;
+    const auto& ab = a.boxes();
+    const auto& bb = b.boxes();
+    for (std::size_t i = 0; i < ab.size(); ++i) {
+        for (std::size_t j = 0; j < bb.size(); ++j) {
+            const glm::vec3 c = bb[j].centre - ab[i].centre;
+            const float r = a.radii()[i] + b.radii()[j];
+            if (glm::dot(c, c) <= r * r && overlapsBeyondSpheres(ab[i], bb[j])) return true;
         }
     }
     return false;
@@ -125,17 +130,18 @@ std::pair<int, int> chooseReaction(const ActionLibrary& lib, const std::vector<g
     const auto& a = lib.actions[static_cast<std::size_t>(victim.action)];
     const auto& lm = lib.motions[static_cast<std::size_t>(a.motion)];
     const prep::PoseFeature now = prep::poseFeature(lm.motion, lm.joints, lib.frameAt(victim.action, sample / kSampleRate));
-    const auto weights = prep::GraphWeights::fighting();
+    prep::PoseMatcher::Probe probe(now);
     std::pair<int, int> best{-1, 0};
     double bestCost = std::numeric_limits<double>::max();
     for (int pass = 0; pass < 2 && best.first < 0; ++pass) {
-        for (const auto& e : lib.reactions) {
+        for (std::size_t k = 0; k < lib.reactions.size(); ++k) {
+            const auto& e = lib.reactions[k];
             if (!std::binary_search(pool.begin(), pool.end(), e.action)) continue;
             const bool falls = lib.actions[static_cast<std::size_t>(e.action)].is(kFalling);
             if (pass == 0 && falls != strong) continue;
             const glm::vec2 travel = reactionDir[static_cast<std::size_t>(e.action)];
             const double dirCost = glm::dot(travel, travel) > 0 ? 0.5 * (1.0 - static_cast<double>(glm::dot(travel, dir))) : 0.25;
-            const double cost = prep::poseDistance(now, e.feature, weights) + dirCost;
+            const double cost = lib.reactionPoses.distance(probe, k) + dirCost;
             if (cost < bestCost) bestCost = cost, best = {e.action, e.sample};
         }
     }

@@ -49,6 +49,8 @@ public:
     CoreBody(const ActionLibrary& lib, const BodyPose& pose, const FloorRotation& rotate, float shrink);
     glm::vec2 pelvis() const { return pelvis_; }
     const std::array<Obb, kCoreSegments.size()>& boxes() const;
+    // Their bounding-sphere radii (valid after boxes()).
+    const std::array<float, kCoreSegments.size()>& radii() const { return radii_; }
 
 private:
     const ActionLibrary* lib_;
@@ -58,6 +60,7 @@ private:
     glm::vec2 pelvis_;
     // Empty until asked for (an empty optional costs no initialisation).
     mutable std::optional<std::array<Obb, kCoreSegments.size()>> boxes_;
+    mutable std::array<float, kCoreSegments.size()> radii_;
 };
 bool coreBodiesOverlap(const CoreBody& a, const CoreBody& b, float pelvisReach);
 inline BodyPose bodyAt(const Playing& p, double t) { return {p.action, p.clipTime(t), p.root}; }

@@ -87,6 +87,34 @@ PoseFeature poseFeature(const Motion& motion, const StandardJoints& joints, int 
 // SPEC 1.5 D(A, B). Both features must come from the same skeleton.
 double poseDistance(const PoseFeature& a, const PoseFeature& b, const GraphWeights& weights);
 
+// D of one pose against many, each packed once (forced reactions match a
+// victim's posture against every reactive clip's opening poses). distance()
+// gives the same value as poseDistance.
+class PoseMatcher {
+public:
+    explicit PoseMatcher(const GraphWeights& weights = GraphWeights::fighting()) : weights_(weights) {}
+    void add(const PoseFeature& pose);
+    std::size_t size() const { return count_.size(); }
+    // A pose to match, packed on demand for each rotation count it meets.
+    class Probe {
+    public:
+        explicit Probe(const PoseFeature& pose) : pose_(&pose) {}
+
+    private:
+        friend class PoseMatcher;
+        const PoseFeature* pose_;
+        int n_ = -1;
+        std::vector<float> packed_;
+    };
+    double distance(Probe& probe, std::size_t i) const;
+
+private:
+    GraphWeights weights_;
+    std::vector<float> packed_;
+    std::vector<std::size_t> offset_;
+    std::vector<int> count_;  // rotations per pose
+};
+
 struct GraphOptions {
     GraphWeights weights;
     // Largest allowed distance of a pose to its cluster centre, in the units

@@ -95,6 +95,7 @@ public:
     std::vector<Obb> boxes;                     // kSegmentCount per sample, action frame
     std::vector<float> effectorSpeed;           // m/s per sample (attacks; 0 otherwise)
     std::vector<ReactionEntry> reactions;       // reactive clips, first part, every 2nd sample
+    prep::PoseMatcher reactionPoses;            // their features packed for matching (same order)
     // Source data, not owned: they must outlive the library.
     std::span<const prep::LoadedMotion> motions;
     std::vector<std::string> vocabulary;
