@@ -797,27 +797,45 @@ Value search(const Context& ctx, const GroupState& g, int depth, double alpha, d
         }
         return have ? best : acc;
     }
-    std::vector<int> cands;
-    pruner.prune(cands, stats);
-    if (cands.empty()) return acc;
-    std::vector<Child> children(cands.size());
-    for (std::size_t i = 0; i < cands.size(); ++i) makeChild(ctx, g, who, cands[i], acc, mx, children[i]);
-    std::stable_sort(children.begin(), children.end(), [](const Child& a, const Child& b) { return a.order > b.order; });
-    Value best;
-    bool have = false;
-    for (const auto& c : children) {
-        const Value v = search(ctx, c.state, depth - 1, alpha, beta, c.acc, rootSide, stats);
-        if (!have || better(mx, v, best)) best = v, have = true;
-        if (ab) {
-            if (mx) alpha = std::max(alpha, v.comp);
-            else beta = std::min(beta, v.comp);
-            if (alpha >= beta) {
-                ++stats.cutoffs;
-                break;
+    // Inner node: children in the order of their immediate scores. Under
+    // alpha-beta a cutoff skips the rest, so when some action passes every
+    // criterion (the pruned set is then exactly those) the penetration test
+    // waits until a child is reached; otherwise the full rule.
+    std::vector<Child> children;
+    auto searchChildren = [&](bool testPenetration) {
+        std::stable_sort(children.begin(), children.end(), [](const Child& a, const Child& b) { return a.order > b.order; });
+        Value best;
+        bool have = false;
+        for (const auto& c : children) {
+            if (testPenetration && !pruner.penetrationFree(c.action, false)) continue;
+            const Value v = search(ctx, c.state, depth - 1, alpha, beta, c.acc, rootSide, stats);
+            if (!have || better(mx, v, best)) best = v, have = true;
+            if (ab) {
+                if (mx) alpha = std::max(alpha, v.comp);
+                else beta = std::min(beta, v.comp);
+                if (alpha >= beta) {
+                    ++stats.cutoffs;
+                    break;
+                }
             }
         }
+        return std::optional<Value>(have ? std::optional<Value>(best) : std::nullopt);
+    };
+    if (ab && pruner.active()) {
+        for (int a : pruner.base()) {
+            if (!pruner.cheapCriteria(a)) continue;
+            makeChild(ctx, g, who, a, acc, mx, children.emplace_back());
+        }
+        if (auto v = searchChildren(true)) return *v;
+        children.clear();
     }
-    return best;
+    std::vector<int> cands;
+    Stats ignored;  // choices and pruning are counted at the real decisions
+    pruner.prune(cands, ignored);
+    if (cands.empty()) return acc;
+    children.resize(cands.size());
+    for (std::size_t i = 0; i < cands.size(); ++i) makeChild(ctx, g, who, cands[i], acc, mx, children[i]);
+    return searchChildren(false).value_or(acc);
 }
 
 // The real choice of the character due at g.time. The first child (best by

@@ -107,7 +107,7 @@ struct PlannerStats {
     std::int64_t decisions = 0;   // real choices made
     std::int64_t nodes = 0;       // tree nodes expanded
     std::int64_t leaves = 0;
-    std::int64_t choices = 0;     // candidate actions before pruning, over expanded nodes
+    std::int64_t choices = 0;     // candidate actions before pruning, over the real decisions (every variant)
     std::int64_t pruned = 0;      // of which pruned
     std::int64_t cutoffs = 0;     // alpha-beta cutoffs
     std::int64_t fallbacks = 0;   // decisions with no legal action (idle/guard taken)
