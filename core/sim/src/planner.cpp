@@ -106,6 +106,8 @@ struct Context {
     bool cooperative = false;  // any cooperative weight: alpha-beta does not apply
     std::vector<glm::vec2> reactionDir;  // per library action: initial travel direction of reactive clips
     std::vector<int> nameId;             // per library action: its name's number (unnamed: a number of its own)
+    std::vector<RootXf> endAt;           // per library action: rootAt(action, duration)
+    std::vector<glm::vec2> endFacing;    // per library action: headingVector of endAt's heading
     std::vector<double> maxHitSpeed;     // per library action: the fastest its effector lands (attacks; else 0)
     bool boundedFrontier = false;        // a duel scored by blows: frontier edges can be bounded (boundedFrontier)
 };
@@ -499,12 +501,14 @@ public:
         if (!specOf(ctx_, who_).weights.faceOpponent) return true;
         const auto& o = g_.c[static_cast<std::size_t>(opp_)];
         const double d = act(ctx_, a).duration;
-        const RootXf pe = start_ * ctx_.lib->rootAt(a, d);
+        const auto k = static_cast<std::size_t>(a);
+        const glm::vec2 end = start_.pos + startRotation_(ctx_.endAt[k].pos);
         // Most candidates outlast the opponent's action: its end placement once.
         if (g_.time + d >= o.end && !oppEnd_) oppEnd_ = placement(ctx_, o, o.end).pos;
-        const glm::vec2 to = (g_.time + d >= o.end ? *oppEnd_ : placement(ctx_, o, g_.time + d).pos) - pe.pos;
+        const glm::vec2 to = (g_.time + d >= o.end ? *oppEnd_ : placement(ctx_, o, g_.time + d).pos) - end;
         if (glm::dot(to, to) < 1e-6f) return true;
-        return std::fabs(wrapAngle(angleOf(to) - pe.heading)) <= std::numbers::pi / 2;
+        // Within 90 degrees of its facing there: no angle needed.
+        return glm::dot(to, startRotation_(ctx_.endFacing[k])) >= 0.0f;
     }
     // 3. In distance: no attack beyond attackRange, no defence beyond defenceRange.
     bool inDistance(int a) const {
@@ -984,6 +988,10 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
             base.nameId[static_cast<std::size_t>(a)] =
                 name.empty() ? -1 - a : names.emplace(name, static_cast<int>(names.size())).first->second;
         }
+    }
+    for (int a = 0; a < n; ++a) {
+        base.endAt.push_back(lib.rootAt(a, lib.actions[static_cast<std::size_t>(a)].duration));
+        base.endFacing.push_back(headingVector(base.endAt.back().heading));
     }
     base.maxHitSpeed.assign(static_cast<std::size_t>(n), 0.0);
     for (int a = 0; a < n; ++a) {
