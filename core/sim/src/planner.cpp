@@ -109,6 +109,7 @@ struct Context {
     std::vector<RootXf> endAt;           // per library action: rootAt(action, duration)
     std::vector<glm::vec2> endFacing;    // per library action: headingVector of endAt's heading
     std::vector<double> maxHitSpeed;     // per library action: the fastest its effector lands (attacks; else 0)
+    bool duel = false;                   // two members on opposite sides: each one's opponent is the other
     bool boundedFrontier = false;        // a duel scored by blows: frontier edges can be bounded (boundedFrontier)
 };
 
@@ -147,6 +148,7 @@ int chooserOf(const GroupState& g) {
 bool enemies(const Context& ctx, int a, int b) { return specOf(ctx, a).side != specOf(ctx, b).side; }
 
 int opponentOf(const Context& ctx, const GroupState& g, int who, double t) {
+    if (ctx.duel) return 1 - who;
     const int explicitOpp = specOf(ctx, who).opponent;
     if (explicitOpp >= 0) {
         for (int i = 0; i < g.n; ++i) {
@@ -710,7 +712,7 @@ std::optional<Value> boundedFrontier(const Context& ctx, const GroupState& g, in
         launch(ctx, after, who, a, g.time);
         after.time = std::min(after.c[0].end, after.c[1].end);
         if (!attack && !oppCanHit) {
-            updateCheckpoints(ctx, after, after.time);
+            // (No checkpoints to update: alpha-beta runs without cooperative terms.)
             keys.push_back({edgeScore(ctx, g, after, who, a, Events{}).comp, a, true});
             continue;
         }
@@ -1063,8 +1065,10 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
             track.push_back({a0, 0.0, offset, s.end, s.root, false, false});
             ++g.n;
         }
-        ctx.boundedFrontier = g.n == 2 && !catches && specOf(ctx, 0).side != specOf(ctx, 1).side &&
-                              specOf(ctx, 0).opponent < 0 && specOf(ctx, 1).opponent < 0;
+        ctx.duel = g.n == 2 && specOf(ctx, 0).side != specOf(ctx, 1).side &&
+                   (specOf(ctx, 0).opponent < 0 || specOf(ctx, 0).opponent == ctx.members[1].global) &&
+                   (specOf(ctx, 1).opponent < 0 || specOf(ctx, 1).opponent == ctx.members[0].global);
+        ctx.boundedFrontier = ctx.duel && !catches;
         {
             Events ev;  // the first node: whoever finishes its start action first
             advance(ctx, g, ev, &rec);
