@@ -147,18 +147,17 @@ private:
 
 }  // namespace
 
-BodyMesh buildBodyMesh(const Skeleton& sk, const BodyMeshOptions& options) {
-    BodyMesh mesh;
-    if (sk.jointCount() == 0) return mesh;
+std::vector<BodyCapsule> bodyCapsules(const Skeleton& sk) {
+    std::vector<BodyCapsule> capsules;
+    if (sk.jointCount() == 0) return capsules;
     if (sk.jointCount() == 1 && sk.endSites[0] && glm::length(*sk.endSites[0]) >= 1e-3f) {
         // A one-joint creature (a rat): one plump capsule from the joint to its end site.
         const glm::vec3 e = *sk.endSites[0];
-        CapsuleWriter(mesh, options).add(glm::vec3(0.0f), e, 0.22f * glm::length(e), 0);
-        return mesh;
+        capsules.push_back({glm::vec3(0.0f), e, 0.22f * glm::length(e), 0});
+        return capsules;
     }
     const Roles roles = findRoles(sk);
     const float scale = std::clamp(restExtent(sk) / 1.7f, 0.3f, 3.0f);
-    CapsuleWriter writer(mesh, options);
     const int pelvis = roles.sj.pelvis;
     for (int c = 0; c < sk.jointCount(); ++c) {
         const auto cu = static_cast<std::size_t>(c);
@@ -170,26 +169,33 @@ BodyMesh buildBodyMesh(const Skeleton& sk, const BodyMeshOptions& options) {
         const glm::vec3 off = sk.offsets[cu];
         const float len = glm::length(off);
         if (len < 1e-3f) continue;
-        writer.add(glm::vec3(0.0f), off, boneRadius(roles, p, c, len) * scale, static_cast<std::uint32_t>(p));
+        capsules.push_back({glm::vec3(0.0f), off, boneRadius(roles, p, c, len) * scale, static_cast<std::uint32_t>(p)});
     }
     for (int j = 0; j < sk.jointCount(); ++j) {
         const auto ju = static_cast<std::size_t>(j);
         const bool head = j == roles.sj.head;
+        const auto joint = static_cast<std::uint32_t>(j);
         if (sk.endSites[ju] && glm::length(*sk.endSites[ju]) >= 1e-3f) {
             const glm::vec3 e = *sk.endSites[ju];
             if (head) {
                 // A head: a short, round capsule from just above the joint.
-                writer.add(e * 0.3f, e * 0.6f, 0.1f * scale, static_cast<std::uint32_t>(j));
+                capsules.push_back({e * 0.3f, e * 0.6f, 0.1f * scale, joint});
             } else {
-                writer.add(glm::vec3(0.0f), e, boneRadius(roles, j, -1, glm::length(e)) * scale,
-                           static_cast<std::uint32_t>(j));
+                capsules.push_back({glm::vec3(0.0f), e, boneRadius(roles, j, -1, glm::length(e)) * scale, joint});
             }
         } else if (head && sk.children(j).empty()) {
             // No end site: a ball continuing the neck's direction.
             const glm::vec3 dir = glm::length(sk.offsets[ju]) > 1e-4f ? glm::normalize(sk.offsets[ju]) : glm::vec3(0, 1, 0);
-            writer.add(dir * 0.1f * scale, dir * 0.1f * scale, 0.1f * scale, static_cast<std::uint32_t>(j));
+            capsules.push_back({dir * 0.1f * scale, dir * 0.1f * scale, 0.1f * scale, joint});
         }
     }
+    return capsules;
+}
+
+BodyMesh buildBodyMesh(const Skeleton& sk, const BodyMeshOptions& options) {
+    BodyMesh mesh;
+    CapsuleWriter writer(mesh, options);
+    for (const BodyCapsule& c : bodyCapsules(sk)) writer.add(c.a, c.b, c.radius, c.joint);
     return mesh;
 }
 

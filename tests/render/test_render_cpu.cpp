@@ -40,6 +40,31 @@ TEST(BodyMesh, EveryBoneOfTheDemoSkeletonGetsAClosedCapsule) {
     EXPECT_EQ(joints.size(), static_cast<std::size_t>(sk.jointCount()));
 }
 
+// The capsule list (which the renderer's cards use) is what the mesh is
+// built from: one capsule per bone, each vertex within its capsule's radius
+// of the segment, on the capsule's joint.
+TEST(BodyMesh, TheMeshTessellatesTheCapsuleList) {
+    const Skeleton sk = demo::makeDemoSkeleton();
+    const std::vector<BodyCapsule> capsules = bodyCapsules(sk);
+    const BodyMeshOptions opt{8, 2};
+    const BodyMesh mesh = buildBodyMesh(sk, opt);
+    ASSERT_EQ(capsules.size(), static_cast<std::size_t>(mesh.bones));
+    const std::size_t perCapsule = mesh.vertices.size() / capsules.size();
+    for (std::size_t c = 0; c < capsules.size(); ++c) {
+        const BodyCapsule& cap = capsules[c];
+        ASSERT_LT(cap.joint, static_cast<std::uint32_t>(sk.jointCount()));
+        EXPECT_GT(cap.radius, 0.01f);
+        const glm::vec3 ab = cap.b - cap.a;
+        for (std::size_t k = c * perCapsule; k < (c + 1) * perCapsule; ++k) {
+            const BodyVertex& v = mesh.vertices[k];
+            ASSERT_EQ(v.joint, cap.joint);
+            const float len2 = glm::dot(ab, ab);
+            const float t = len2 > 0.0f ? std::clamp(glm::dot(v.position - cap.a, ab) / len2, 0.0f, 1.0f) : 0.0f;
+            EXPECT_NEAR(glm::length(v.position - (cap.a + t * ab)), cap.radius, 1e-4f) << "capsule " << c;
+        }
+    }
+}
+
 TEST(BodyMesh, TrianglesFaceOutwards) {
     const BodyMesh mesh = buildBodyMesh(demo::makeDemoSkeleton());
     for (std::size_t t = 0; t < mesh.indices.size(); t += 3) {

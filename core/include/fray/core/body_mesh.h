@@ -32,6 +32,18 @@ struct BodyMesh {
     int bones = 0;                       // capsules built
 };
 
+// One capsule of the default body: the segment a-b in its joint's local frame.
+struct BodyCapsule {
+    glm::vec3 a;
+    glm::vec3 b;
+    float radius;  // metres
+    std::uint32_t joint;
+};
+
+// The capsules buildBodyMesh tessellates, in its order: one per bone from a
+// joint to each child, one per end site (a round one for the head).
+std::vector<BodyCapsule> bodyCapsules(const Skeleton& skeleton);
+
 // Capsule radii come from the bone's role (torso, head, limbs; found by
 // guessStandardJoints) and scale with the skeleton's rest size. Bones shorter
 // than 1 mm get no capsule. Every vertex's joint is < skeleton.jointCount().
