@@ -13,6 +13,7 @@
 #include "overlay_builder.h"
 
 // SPIR-V compiled from resources/shaders at build time.
+#include "fray_shaders/body_card_vert.h"
 #include "fray_shaders/body_frag.h"
 #include "fray_shaders/body_skinned_vert.h"
 #include "fray_shaders/body_vert.h"
@@ -60,15 +61,28 @@ struct GpuJoint {
 };
 static_assert(sizeof(GpuJoint) == 32);
 
-// A skeleton's body in three levels of detail: [0] as configured, [1] 6-sided
-// capsules with one cap ring, [2] 4-sided ones, for characters that are small
-// on screen.
+// A capsule of the coarsest level of detail as a hexagonal card facing the
+// camera (resources/shaders/body_card.vert): six vertices, four triangles.
+struct CardVertex {
+    glm::vec3 anchor;  // this end of the capsule, joint-local
+    float radius;
+    glm::vec3 other;      // the other end
+    std::uint32_t corner;  // joint | corner << 16 | second end << 18
+};
+static_assert(sizeof(CardVertex) == 32);
+
+// Levels of detail: [0] as configured, [1] 6-sided capsules with one cap ring,
+// [2] 4-sided ones, [3] cards (kCardLod; Fast quality only, in their own buffers).
+constexpr int kLevels = 4;
+constexpr int kCardLod = 3;
+
+// A skeleton's body in every level of detail.
 struct MeshEntry {
     std::uint64_t fingerprint = 0;
     int jointCount = 0;
-    std::array<std::uint32_t, 3> firstIndex{};
-    std::array<std::uint32_t, 3> indexCount{};
-    std::array<std::int32_t, 3> vertexOffset{};
+    std::array<std::uint32_t, kLevels> firstIndex{};
+    std::array<std::uint32_t, kLevels> indexCount{};
+    std::array<std::int32_t, kLevels> vertexOffset{};
 };
 
 // A skeleton's rig (Renderer::setRig): its mesh (CPU copy; the GPU buffers
@@ -154,6 +168,7 @@ struct Renderer::Impl {
     VkDescriptorSet set = VK_NULL_HANDLE;
     // Body and floor pipelines per variant (shadows, bitmap), created on first use.
     std::array<VkPipeline, 2> bodyPipes{};
+    VkPipeline cardPipe = VK_NULL_HANDLE;  // created when cards are first drawn
     std::array<std::array<VkPipeline, 2>, 2> floorPipes{};
     // Rigs: per shadow variant, and their shadow pass; created when a rig is first drawn.
     std::array<VkPipeline, 2> rigPipes{};
@@ -161,10 +176,10 @@ struct Renderer::Impl {
     VkPipeline bodyPipe = VK_NULL_HANDLE, floorPipe = VK_NULL_HANDLE, rigPipe = VK_NULL_HANDLE;  // this frame's
     VkPipeline shadowPipe = VK_NULL_HANDLE, overlayDepthPipe = VK_NULL_HANDLE, overlayTopPipe = VK_NULL_HANDLE;
     VkShaderModule bodyV = VK_NULL_HANDLE, bodyF = VK_NULL_HANDLE, floorV = VK_NULL_HANDLE, floorF = VK_NULL_HANDLE;
-    VkShaderModule rigV = VK_NULL_HANDLE, rigShadowV = VK_NULL_HANDLE;
+    VkShaderModule rigV = VK_NULL_HANDLE, rigShadowV = VK_NULL_HANDLE, cardV = VK_NULL_HANDLE;
     bool linearShadowFilter = false;
     bool fast = false;
-    gpu::Buffer uniforms, instanceBuf, paletteBuf, overlayBuf, meshVB, meshIB, rigVB, rigIB, readbackBuf;
+    gpu::Buffer uniforms, instanceBuf, paletteBuf, overlayBuf, meshVB, meshIB, cardVB, cardIB, rigVB, rigIB, readbackBuf;
     VkCommandPool cmdPool = VK_NULL_HANDLE;
     VkCommandBuffer cmd = VK_NULL_HANDLE;
     VkFence fence = VK_NULL_HANDLE;
@@ -174,6 +189,8 @@ struct Renderer::Impl {
     std::vector<MeshEntry> meshes;
     std::vector<BodyVertex> meshVertices;
     std::vector<std::uint32_t> meshIndices;
+    std::vector<CardVertex> cardVertices;
+    std::vector<std::uint32_t> cardIndices;
     // Rigs by skeleton fingerprint; uploaded in the next prepare() when dirty.
     std::vector<RigEntry> rigs;
     bool rigsDirty = false;
@@ -186,7 +203,7 @@ struct Renderer::Impl {
     std::vector<std::uint8_t> characterLod;
     std::vector<std::uint8_t> characterVisible;
     std::vector<DrawGroup> groups;
-    std::array<float, 2> lodPixels{};  // below [k] pixels tall: level k + 1
+    std::array<float, 2> lodPixels{};  // below [k] pixels tall: level k + 1 (Fast: cards below [1])
     OverlayBuilder overlays;
     std::array<std::uint32_t, 3> overlayFirst{}, overlayCount{};
     bool shadowsThisFrame = false;
@@ -210,7 +227,7 @@ struct Renderer::Impl {
     Status createTargets();
     void destroyTargets();
     Status createPipelines();
-    Status variantPipelines(bool shadows, bool withBitmap, bool withRigs);
+    Status variantPipelines(bool shadows, bool withBitmap, bool withRigs, bool withCards);
     Status ensureBuffer(gpu::Buffer& b, VkDeviceSize needed, VkBufferUsageFlags usage, VkDeviceSize minimum);
     Status registerMesh(const Skeleton& skeleton, std::uint64_t fingerprint, int& index);
     Status uploadRigs();
@@ -631,6 +648,12 @@ const std::array<VkVertexInputAttributeDescription, 3> kBodyAttrs{{
     {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(BodyVertex, normal)},
     {2, 0, VK_FORMAT_R32_UINT, offsetof(BodyVertex, joint)},
 }};
+const VkVertexInputBindingDescription kCardBinding{0, sizeof(CardVertex), VK_VERTEX_INPUT_RATE_VERTEX};
+const std::array<VkVertexInputAttributeDescription, 3> kCardAttrs{{
+    {0, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(CardVertex, anchor)},
+    {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(CardVertex, other)},
+    {2, 0, VK_FORMAT_R32_UINT, offsetof(CardVertex, corner)},
+}};
 const VkVertexInputBindingDescription kRigBinding{0, sizeof(SkinnedVertex), VK_VERTEX_INPUT_RATE_VERTEX};
 const std::array<VkVertexInputAttributeDescription, 4> kRigAttrs{{
     {0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(SkinnedVertex, position)},
@@ -658,10 +681,11 @@ Status Renderer::Impl::createPipelines() {
     floorF = makeShader(device, kSpirv_floor_frag);
     rigV = makeShader(device, kSpirv_body_skinned_vert);
     rigShadowV = makeShader(device, kSpirv_shadow_skinned_vert);
+    cardV = makeShader(device, kSpirv_body_card_vert);
     VkShaderModule shadowV = makeShader(device, kSpirv_shadow_vert);
     VkShaderModule overlayV = makeShader(device, kSpirv_overlay_vert);
     VkShaderModule overlayF = makeShader(device, kSpirv_overlay_frag);
-    const std::array<VkShaderModule, 9> modules{bodyV, bodyF, floorV, floorF, rigV, rigShadowV, shadowV, overlayV, overlayF};
+    const std::array<VkShaderModule, 10> modules{bodyV, bodyF, floorV, floorF, rigV, rigShadowV, cardV, shadowV, overlayV, overlayF};
     Status status;
     if (std::any_of(modules.begin(), modules.end(), [](VkShaderModule m) { return m == VK_NULL_HANDLE; })) {
         status = makeError("vkCreateShaderModule failed for an embedded shader");
@@ -690,7 +714,7 @@ Status Renderer::Impl::createPipelines() {
     return status;
 }
 
-Status Renderer::Impl::variantPipelines(bool shadows, bool withBitmap, bool withRigs) {
+Status Renderer::Impl::variantPipelines(bool shadows, bool withBitmap, bool withRigs, bool withCards) {
     const std::array<VkSpecializationMapEntry, 2> entries{{{0, offsetof(Variant, shadows), sizeof(VkBool32)},
                                                            {1, offsetof(Variant, bitmap), sizeof(VkBool32)}}};
     const Variant v{shadows ? VK_TRUE : VK_FALSE, withBitmap ? VK_TRUE : VK_FALSE};
@@ -711,6 +735,13 @@ Status Renderer::Impl::variantPipelines(bool shadows, bool withBitmap, bool with
     }
     bodyPipe = body;
     floorPipe = floor;
+    // Cards face the camera (never culled) and only appear without a shadow map (Fast).
+    if (withCards && !cardPipe) {
+        auto p = makePipeline(device, layout, {cardV, bodyF, &kCardBinding, kCardAttrs, VK_CULL_MODE_NONE, true, true, false,
+                                               false, samples, mainPass, &spec});
+        if (!p) return p.error();
+        cardPipe = *p;
+    }
     rigPipe = VK_NULL_HANDLE;
     if (!withRigs) return {};
     VkPipeline& rig = rigPipes[shadows ? 1 : 0];
@@ -735,9 +766,9 @@ void Renderer::Impl::destroy() {
     vkDeviceWaitIdle(device);
     destroyTargets();
     for (VkPipeline p : {bodyPipes[0], bodyPipes[1], floorPipes[0][0], floorPipes[0][1], floorPipes[1][0], floorPipes[1][1],
-                         rigPipes[0], rigPipes[1], rigShadowPipe, shadowPipe, overlayDepthPipe, overlayTopPipe})
+                         rigPipes[0], rigPipes[1], rigShadowPipe, cardPipe, shadowPipe, overlayDepthPipe, overlayTopPipe})
         if (p) vkDestroyPipeline(device, p, nullptr);
-    for (VkShaderModule m : {bodyV, bodyF, floorV, floorF, rigV, rigShadowV})
+    for (VkShaderModule m : {bodyV, bodyF, floorV, floorF, rigV, rigShadowV, cardV})
         if (m) vkDestroyShaderModule(device, m, nullptr);
     if (layout) vkDestroyPipelineLayout(device, layout, nullptr);
     if (pool) vkDestroyDescriptorPool(device, pool, nullptr);
@@ -748,7 +779,8 @@ void Renderer::Impl::destroy() {
     shadowMap.destroy(device);
     fontAtlas.destroy(device);
     bitmap.destroy(device);
-    for (gpu::Buffer* b : {&uniforms, &instanceBuf, &paletteBuf, &overlayBuf, &meshVB, &meshIB, &rigVB, &rigIB}) b->destroy(device);
+    for (gpu::Buffer* b : {&uniforms, &instanceBuf, &paletteBuf, &overlayBuf, &meshVB, &meshIB, &cardVB, &cardIB, &rigVB, &rigIB})
+        b->destroy(device);
     if (mainPass) vkDestroyRenderPass(device, mainPass, nullptr);
     if (shadowPass) vkDestroyRenderPass(device, shadowPass, nullptr);
     if (fence) vkDestroyFence(device, fence, nullptr);
@@ -771,7 +803,7 @@ Status Renderer::Impl::registerMesh(const Skeleton& skeleton, std::uint64_t fing
     MeshEntry e;
     e.fingerprint = fingerprint;
     e.jointCount = skeleton.jointCount();
-    for (std::size_t lod = 0; lod < 3; ++lod) {
+    for (std::size_t lod = 0; lod < kCardLod; ++lod) {
         const BodyMesh mesh = buildBodyMesh(skeleton, lod == 0 ? options.body : kCoarseBodies[lod - 1]);
         e.firstIndex[lod] = static_cast<std::uint32_t>(meshIndices.size());
         e.indexCount[lod] = static_cast<std::uint32_t>(mesh.indices.size());
@@ -779,17 +811,40 @@ Status Renderer::Impl::registerMesh(const Skeleton& skeleton, std::uint64_t fing
         meshVertices.insert(meshVertices.end(), mesh.vertices.begin(), mesh.vertices.end());
         meshIndices.insert(meshIndices.end(), mesh.indices.begin(), mesh.indices.end());
     }
+    // Cards: per capsule the hexagon tip, side, side at the first end, then
+    // side, side, tip at the second. A corner's side is the camera-facing
+    // perpendicular of the direction to the other end, so a second-end
+    // corner 2 lies on the first end's corner-1 side.
+    e.firstIndex[kCardLod] = static_cast<std::uint32_t>(cardIndices.size());
+    e.vertexOffset[kCardLod] = static_cast<std::int32_t>(cardVertices.size());
+    std::uint32_t base = 0;
+    for (const BodyCapsule& c : bodyCapsules(skeleton)) {
+        const std::uint32_t first = c.joint, second = c.joint | (1u << 18);
+        for (std::uint32_t corner : {0u, 1u, 2u}) cardVertices.push_back({c.a, c.radius, c.b, first | corner << 16});
+        for (std::uint32_t corner : {2u, 1u, 0u}) cardVertices.push_back({c.b, c.radius, c.a, second | corner << 16});
+        // Around the hexagon: 0 tip, 1 side, 3 side, 5 tip, 4 side, 2 side.
+        for (std::uint32_t k : {0u, 1u, 2u, 1u, 3u, 4u, 1u, 4u, 2u, 3u, 5u, 4u}) cardIndices.push_back(base + k);
+        base += 6;
+    }
+    e.indexCount[kCardLod] = static_cast<std::uint32_t>(cardIndices.size()) - e.firstIndex[kCardLod];
     meshes.push_back(e);
     index = static_cast<int>(meshes.size()) - 1;
     if (meshVertices.empty() || meshIndices.empty()) return {};
     // Rebuild the static buffers with every mesh (rare: once per new skeleton).
-    meshVB.destroy(device);
-    meshIB.destroy(device);
+    for (gpu::Buffer* b : {&meshVB, &meshIB, &cardVB, &cardIB}) b->destroy(device);
     if (Status s = gpu::createStaticBuffer(*dev, meshVB, meshVertices.data(), meshVertices.size() * sizeof(BodyVertex),
                                            VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
         !s)
         return s;
-    return gpu::createStaticBuffer(*dev, meshIB, meshIndices.data(), meshIndices.size() * sizeof(std::uint32_t),
+    if (Status s = gpu::createStaticBuffer(*dev, meshIB, meshIndices.data(), meshIndices.size() * sizeof(std::uint32_t),
+                                           VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
+        !s)
+        return s;
+    if (Status s = gpu::createStaticBuffer(*dev, cardVB, cardVertices.data(), cardVertices.size() * sizeof(CardVertex),
+                                           VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+        !s)
+        return s;
+    return gpu::createStaticBuffer(*dev, cardIB, cardIndices.data(), cardIndices.size() * sizeof(std::uint32_t),
                                    VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
 }
 
@@ -960,7 +1015,8 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
             characterVisible[i] = inside ? 1 : 0;
             const float ahead = glm::dot(c - eye, fwd);
             const float pixels = ahead > frame.camera.nearPlane ? 2.0f * r * focalPx / ahead : 1e9f;
-            characterLod[i] = rig >= 0 ? 0 : (pixels < lodPixels[1] ? 2 : (pixels < lodPixels[0] ? 1 : 0));
+            const int coarsest = fast ? kCardLod : 2;
+            characterLod[i] = rig >= 0 ? 0 : (pixels < lodPixels[1] ? coarsest : (pixels < lodPixels[0] ? 1 : 0));
         }
     }
 
@@ -1002,7 +1058,7 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
         ++written;
     };
     for (std::size_t m = 0; m < meshes.size(); ++m) {
-        for (int lod = 0; lod < 3; ++lod) {
+        for (int lod = 0; lod < kLevels; ++lod) {
             const std::uint32_t first = written;
             for (int pass = 0; pass < (shadowsThisFrame ? 2 : 1); ++pass)
                 for (std::size_t i = 0; i < n; ++i)
@@ -1032,6 +1088,7 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
         }
     }
     const bool rigsThisFrame = std::any_of(groups.begin(), groups.end(), [](const DrawGroup& g) { return g.rig; });
+    const bool cardsThisFrame = std::any_of(groups.begin(), groups.end(), [](const DrawGroup& g) { return g.lod == kCardLod; });
     for (std::size_t i = 0; i < n; ++i) stats.culled += characterVisible[i] ? 0 : 1;
 
     // The sun and the shadow volume around the characters.
@@ -1075,7 +1132,8 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
     std::memcpy(uniforms.mapped, &u, sizeof u);
 
     if (Status s = updateBitmap(haveBitmap ? fb : nullptr); !s) return s;
-    if (Status s = variantPipelines(shadowsThisFrame, haveBitmap && u.floorParams.x > 0.0f, rigsThisFrame); !s) return s;
+    if (Status s = variantPipelines(shadowsThisFrame, haveBitmap && u.floorParams.x > 0.0f, rigsThisFrame, cardsThisFrame); !s)
+        return s;
 
     // Overlays.
     buildOverlays(frame, viewProj, glm::vec2(static_cast<float>(width), static_cast<float>(height)), st.shadows && fast,
@@ -1166,11 +1224,12 @@ void Renderer::Impl::record(VkCommandBuffer c) {
     rendered = true;
 }
 
-// The body groups: capsule bodies with `capsules`, then rigs with `rigged`
-// (groups are in that order); only the characters in view when `visibleOnly`.
+// The body groups: capsule bodies with `capsules` (cards with cardPipe), then
+// rigs with `rigged` (groups are in that order); only the characters in view
+// when `visibleOnly`. Cards come only in Fast quality, which has no shadow pass.
 void Renderer::Impl::recordBodies(VkCommandBuffer c, VkPipeline capsules, VkPipeline rigged, bool visibleOnly) {
     const VkDeviceSize zero = 0;
-    bool rigBound = false, capsulesBound = false;
+    bool rigBound = false, capsulesBound = false, cardsBound = false;
     for (const DrawGroup& g : groups) {
         const std::uint32_t count = visibleOnly ? g.visible : g.count;
         if (count == 0) continue;
@@ -1185,11 +1244,18 @@ void Renderer::Impl::recordBodies(VkCommandBuffer c, VkPipeline capsules, VkPipe
             vkCmdDrawIndexed(c, static_cast<std::uint32_t>(r.indices.size()), count, r.firstIndex, r.vertexOffset, g.firstInstance);
             continue;
         }
-        if (!capsulesBound) {
+        if (g.lod == kCardLod && !cardsBound) {
+            vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, cardPipe);
+            vkCmdBindVertexBuffers(c, 0, 1, &cardVB.buffer, &zero);
+            vkCmdBindIndexBuffer(c, cardIB.buffer, 0, VK_INDEX_TYPE_UINT32);
+            cardsBound = true;
+            capsulesBound = false;
+        } else if (g.lod != kCardLod && !capsulesBound) {
             vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, capsules);
             vkCmdBindVertexBuffers(c, 0, 1, &meshVB.buffer, &zero);
             vkCmdBindIndexBuffer(c, meshIB.buffer, 0, VK_INDEX_TYPE_UINT32);
             capsulesBound = true;
+            cardsBound = false;
         }
         const MeshEntry& m = meshes[static_cast<std::size_t>(g.mesh)];
         const auto l = static_cast<std::size_t>(g.lod);

@@ -349,6 +349,75 @@ TEST_F(RenderEngine, LevelOfDetailAndCulling) {
     EXPECT_EQ(compareImages(withHidden, without, 0).differing, 0);
 }
 
+// Fast quality draws characters a few dozen pixels tall as camera-facing
+// cards, four triangles per capsule: they cover the pixels the capsules cover
+// and are shaded in the character's tint, from the side and from above (bones
+// seen end-on), and the default thresholds pick them for small characters only.
+TEST_F(RenderEngine, FastQualityDrawsSmallCharactersAsCards) {
+    RendererOptions o;
+    o.width = kWidth;
+    o.height = kHeight;
+    o.quality = Quality::Fast;
+    o.lodPixels = 100000;  // everyone counts as small: cards
+    auto cards = Renderer::create(GpuEnvironment::device(), o);
+    o.lodPixels = 0;  // full-detail capsules
+    auto capsules = Renderer::create(GpuEnvironment::device(), o);
+    ASSERT_TRUE(cards.ok() && capsules.ok());
+    const Character c = posedCharacter({0.0f, 0.0f, 0.0f}, 30.0f, {{"RightArm", aboutAxis(-60.0f, {0, 0, 1})}});
+    const std::vector<CharacterInstance> one{instanceOf(c, kRed)};
+    for (const float pitch : {0.32f, 1.5f}) {
+        FrameDescription f;
+        f.camera = goldenCamera();
+        f.camera.pitch = pitch;
+        f.settings.shadows = false;
+        Image empty, withCards, withCapsules;
+        ASSERT_TRUE((*cards)->render(f, &empty).ok());
+        f.characters = one;
+        ASSERT_TRUE((*cards)->render(f, &withCards).ok());
+        EXPECT_EQ((*cards)->stats().triangles, 28u * 4u);
+        ASSERT_TRUE((*capsules)->render(f, &withCapsules).ok());
+        EXPECT_EQ((*capsules)->stats().triangles, 28u * 64u);
+        // The body's pixels: those that differ from the empty floor.
+        int both = 0, either = 0, reddish = 0, cardPixels = 0;
+        for (int y = 0; y < kHeight; ++y)
+            for (int x = 0; x < kWidth; ++x) {
+                auto differs = [&](const Image& img) {
+                    for (int k = 0; k < 3; ++k)
+                        if (std::abs(int(img.pixel(x, y)[k]) - int(empty.pixel(x, y)[k])) > 8) return true;
+                    return false;
+                };
+                const bool a = differs(withCards), b = differs(withCapsules);
+                both += a && b;
+                either += a || b;
+                cardPixels += a;
+                const std::uint8_t* p = withCards.pixel(x, y);
+                reddish += a && p[0] > p[2] + 40;
+            }
+        ASSERT_GT(either, 300) << "pitch " << pitch;
+        const double iou = static_cast<double>(both) / static_cast<double>(either);
+        EXPECT_GT(iou, 0.9) << "cards and capsules cover different pixels (pitch " << pitch << ")";
+        EXPECT_GT(reddish, cardPixels * 8 / 10) << "cards are shaded in the tint (pitch " << pitch << ")";
+    }
+    // Default thresholds: the near character in full detail, one 8 m back
+    // (about 40 px tall) as cards; High quality keeps 4-sided capsules for it.
+    o.lodPixels = -1;
+    auto fast = Renderer::create(GpuEnvironment::device(), o);
+    ASSERT_TRUE(fast.ok());
+    const Character mid = posedCharacter({0.0f, 0.0f, -8.0f}, 0.0f);
+    FrameDescription f;
+    f.camera = goldenCamera();
+    f.camera.yaw = 0.0f;
+    std::vector<CharacterInstance> v{instanceOf(posedCharacter({0.0f, 0.0f, 0.0f}, 0.0f), kRed)};
+    f.characters = v;
+    ASSERT_TRUE((*fast)->render(f).ok());
+    const std::uint64_t near = (*fast)->stats().triangles;
+    EXPECT_GE(near, 28u * 24u);
+    v.push_back(instanceOf(mid, kBlue));
+    f.characters = v;
+    ASSERT_TRUE((*fast)->render(f).ok());
+    EXPECT_EQ((*fast)->stats().triangles, near + 28u * 4u);
+}
+
 TEST_F(RenderEngine, SteadyStateFramesDoNotAllocate) {
     // The validation layer allocates for its own bookkeeping on every call,
     // so this test measures on a device without it (lavapipe is C, and our

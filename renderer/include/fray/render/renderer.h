@@ -25,7 +25,8 @@ namespace fray::render {
 
 // High: 4x MSAA, a 2048 shadow map (bodies and floor receive shadows), full
 // detail down to 60 px tall characters. Fast: no MSAA, soft blob shadows under
-// each character, coarser bodies below 240 px; for the viewport on a CPU
+// each character, coarser bodies below 240 px and cards (a camera-facing
+// hexagon per capsule) below 96 px; for the viewport on a CPU
 // device (lavapipe), where the shadow pass alone (another single-threaded
 // vertex pass) would halve the frame rate. Auto picks Fast on CPU devices and
 // High on GPUs.
@@ -40,8 +41,8 @@ struct RendererOptions {
     int shadowMapSize = 0;
     BodyMeshOptions body{0, 0};
     // Characters shorter than this on screen (pixels) use a coarser body
-    // (6-sided capsules; below 40 % of it 4-sided ones); -1: from the quality
-    // (Fast 240, High 60), 0: always full detail.
+    // (6-sided capsules; below 40 % of it 4-sided ones in High, camera-facing
+    // cards in Fast); -1: from the quality (Fast 240, High 60), 0: always full detail.
     int lodPixels = -1;
 };
 
