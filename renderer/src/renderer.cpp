@@ -141,10 +141,11 @@ struct PipelineDesc {
     const VkSpecializationInfo* spec = nullptr;  // fragment stage constants
 };
 
-// Fragment specialisation constants: 0 = shadows, 1 = floor bitmap.
+// Fragment specialisation constants: 0 = shadows, 1 = floor bitmap, 2 = fog.
 struct Variant {
     VkBool32 shadows;
     VkBool32 bitmap;
+    VkBool32 fog;
 };
 
 }  // namespace
@@ -166,14 +167,16 @@ struct Renderer::Impl {
     VkPipelineLayout layout = VK_NULL_HANDLE;
     VkDescriptorPool pool = VK_NULL_HANDLE;
     VkDescriptorSet set = VK_NULL_HANDLE;
-    // Body and floor pipelines per variant (shadows, bitmap), created on first use.
+    // Body and floor pipelines per variant (shadows, bitmap; the floor's also
+    // fog: [.][.][0] for the square where fog is 0), created on first use.
     std::array<VkPipeline, 2> bodyPipes{};
     VkPipeline cardPipe = VK_NULL_HANDLE;  // created when cards are first drawn
-    std::array<std::array<VkPipeline, 2>, 2> floorPipes{};
+    std::array<std::array<std::array<VkPipeline, 2>, 2>, 2> floorPipes{};
     // Rigs: per shadow variant, and their shadow pass; created when a rig is first drawn.
     std::array<VkPipeline, 2> rigPipes{};
     VkPipeline rigShadowPipe = VK_NULL_HANDLE;
-    VkPipeline bodyPipe = VK_NULL_HANDLE, floorPipe = VK_NULL_HANDLE, rigPipe = VK_NULL_HANDLE;  // this frame's
+    VkPipeline bodyPipe = VK_NULL_HANDLE, rigPipe = VK_NULL_HANDLE;  // this frame's
+    std::array<VkPipeline, 2> floorPipe{};                            // this frame's, without and with fog
     VkPipeline shadowPipe = VK_NULL_HANDLE, overlayDepthPipe = VK_NULL_HANDLE, overlayTopPipe = VK_NULL_HANDLE;
     VkShaderModule bodyV = VK_NULL_HANDLE, bodyF = VK_NULL_HANDLE, floorV = VK_NULL_HANDLE, floorF = VK_NULL_HANDLE;
     VkShaderModule rigV = VK_NULL_HANDLE, rigShadowV = VK_NULL_HANDLE, cardV = VK_NULL_HANDLE;
@@ -715,9 +718,10 @@ Status Renderer::Impl::createPipelines() {
 }
 
 Status Renderer::Impl::variantPipelines(bool shadows, bool withBitmap, bool withRigs, bool withCards) {
-    const std::array<VkSpecializationMapEntry, 2> entries{{{0, offsetof(Variant, shadows), sizeof(VkBool32)},
-                                                           {1, offsetof(Variant, bitmap), sizeof(VkBool32)}}};
-    const Variant v{shadows ? VK_TRUE : VK_FALSE, withBitmap ? VK_TRUE : VK_FALSE};
+    const std::array<VkSpecializationMapEntry, 3> entries{{{0, offsetof(Variant, shadows), sizeof(VkBool32)},
+                                                           {1, offsetof(Variant, bitmap), sizeof(VkBool32)},
+                                                           {2, offsetof(Variant, fog), sizeof(VkBool32)}}};
+    const Variant v{shadows ? VK_TRUE : VK_FALSE, withBitmap ? VK_TRUE : VK_FALSE, VK_TRUE};
     const VkSpecializationInfo spec{static_cast<std::uint32_t>(entries.size()), entries.data(), sizeof v, &v};
     VkPipeline& body = bodyPipes[shadows ? 1 : 0];
     if (!body) {
@@ -726,15 +730,20 @@ Status Renderer::Impl::variantPipelines(bool shadows, bool withBitmap, bool with
         if (!p) return p.error();
         body = *p;
     }
-    VkPipeline& floor = floorPipes[shadows ? 1 : 0][withBitmap ? 1 : 0];
-    if (!floor) {
-        auto p = makePipeline(device, layout,
-                              {floorV, floorF, nullptr, {}, VK_CULL_MODE_NONE, true, true, false, false, samples, mainPass, &spec});
-        if (!p) return p.error();
-        floor = *p;
+    for (std::size_t fog = 0; fog < 2; ++fog) {
+        VkPipeline& floor = floorPipes[shadows ? 1 : 0][withBitmap ? 1 : 0][fog];
+        if (!floor) {
+            Variant fv = v;
+            fv.fog = fog ? VK_TRUE : VK_FALSE;
+            const VkSpecializationInfo fspec{static_cast<std::uint32_t>(entries.size()), entries.data(), sizeof fv, &fv};
+            auto p = makePipeline(device, layout,
+                                  {floorV, floorF, nullptr, {}, VK_CULL_MODE_NONE, true, true, false, false, samples, mainPass, &fspec});
+            if (!p) return p.error();
+            floor = *p;
+        }
+        floorPipe[fog] = floor;
     }
     bodyPipe = body;
-    floorPipe = floor;
     // Cards face the camera (never culled) and only appear without a shadow map (Fast).
     if (withCards && !cardPipe) {
         auto p = makePipeline(device, layout, {cardV, bodyF, &kCardBinding, kCardAttrs, VK_CULL_MODE_NONE, true, true, false,
@@ -765,8 +774,12 @@ void Renderer::Impl::destroy() {
     if (!device) return;
     vkDeviceWaitIdle(device);
     destroyTargets();
-    for (VkPipeline p : {bodyPipes[0], bodyPipes[1], floorPipes[0][0], floorPipes[0][1], floorPipes[1][0], floorPipes[1][1],
-                         rigPipes[0], rigPipes[1], rigShadowPipe, cardPipe, shadowPipe, overlayDepthPipe, overlayTopPipe})
+    for (const auto& byBitmap : floorPipes)
+        for (const auto& byFog : byBitmap)
+            for (VkPipeline p : byFog)
+                if (p) vkDestroyPipeline(device, p, nullptr);
+    for (VkPipeline p : {bodyPipes[0], bodyPipes[1], rigPipes[0], rigPipes[1], rigShadowPipe, cardPipe, shadowPipe,
+                         overlayDepthPipe, overlayTopPipe})
         if (p) vkDestroyPipeline(device, p, nullptr);
     for (VkShaderModule m : {bodyV, bodyF, floorV, floorF, rigV, rigShadowV, cardV})
         if (m) vkDestroyShaderModule(device, m, nullptr);
@@ -1157,7 +1170,7 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
     if (descriptorsDirty) writeDescriptors();
     stats.characters = static_cast<int>(n);
     stats.overlayVertices = static_cast<int>(ov);
-    stats.drawCalls = static_cast<int>(groups.size()) + 1 + (overlayCount[0] ? 1 : 0) + (overlayCount[1] ? 1 : 0) +
+    stats.drawCalls = static_cast<int>(groups.size()) + 2 + (overlayCount[0] ? 1 : 0) + (overlayCount[1] ? 1 : 0) +
                       (overlayCount[2] ? 1 : 0);
     return {};
 }
@@ -1201,8 +1214,11 @@ void Renderer::Impl::record(VkCommandBuffer c) {
     vkCmdBindDescriptorSets(c, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 1, &set, 0, nullptr);
     // Bodies first so the floor's fragments behind them fail the depth test early.
     recordBodies(c, bodyPipe, rigPipe, true);
-    vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, floorPipe);
+    // The floor: the square where fog is 0 without fog, then the ring around it.
+    vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, floorPipe[0]);
     vkCmdDraw(c, 6, 1, 0, 0);
+    vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, floorPipe[1]);
+    vkCmdDraw(c, 24, 1, 6, 0);
     if (overlayCount[0] + overlayCount[1] + overlayCount[2] > 0) {
         vkCmdBindVertexBuffers(c, 0, 1, &overlayBuf.buffer, &zero);
         if (overlayCount[0]) {

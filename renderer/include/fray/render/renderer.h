@@ -49,7 +49,7 @@ struct RendererOptions {
 struct RenderStats {
     int characters = 0;
     int culled = 0;                // characters outside the view (not drawn in the main pass)
-    int drawCalls = 0;             // body draws (one per distinct skeleton) + floor + overlay groups
+    int drawCalls = 0;             // body draws (one per skeleton and level of detail) + floor (2) + overlay groups
     std::uint64_t triangles = 0;   // body triangles of the main pass (after culling and level of detail)
     int overlayVertices = 0;
     int bufferGrowths = 0;         // GPU buffer reallocations since creation (geometric growth)
