@@ -10,7 +10,7 @@ layout(location = 2) in uint inJoint;
 
 layout(location = 0) out vec3 vWorldPos;
 layout(location = 1) out vec3 vNormal;
-layout(location = 2) flat out uint vInstance;
+layout(location = 2) flat out vec4 vTint;  // rgb: tint, a: 1 when selected
 
 void main() {
     Instance inst = instances[gl_InstanceIndex];
@@ -18,6 +18,6 @@ void main() {
     vec3 world = j.position.xyz + rotateByQuat(j.rotation, inPosition);
     vWorldPos = world;
     vNormal = rotateByQuat(j.rotation, inNormal);
-    vInstance = uint(gl_InstanceIndex);
+    vTint = vec4(inst.tint.rgb, float(inst.flags & 1u));
     gl_Position = frame.viewProj * vec4(world, 1.0);
 }

@@ -14,7 +14,7 @@ layout(location = 2) in uint inCorner;  // bits 0-15: joint; 16-17: 0 tip, 1 and
 
 layout(location = 0) out vec3 vWorldPos;
 layout(location = 1) out vec3 vNormal;
-layout(location = 2) flat out uint vInstance;
+layout(location = 2) flat out vec4 vTint;  // rgb: tint, a: 1 when selected
 
 void main() {
     Instance inst = instances[gl_InstanceIndex];
@@ -47,6 +47,6 @@ void main() {
     vec3 world = anchor + r * (corner == 0u ? side : side + toCamera);
     vWorldPos = world;
     vNormal = 1.5 * side + toCamera;
-    vInstance = uint(gl_InstanceIndex);
+    vTint = vec4(inst.tint.rgb, float(inst.flags & 1u));
     gl_Position = frame.viewProj * vec4(world, 1.0);
 }

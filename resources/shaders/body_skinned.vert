@@ -13,7 +13,7 @@ layout(location = 3) in vec4 inWeights;
 
 layout(location = 0) out vec3 vWorldPos;
 layout(location = 1) out vec3 vNormal;
-layout(location = 2) flat out uint vInstance;
+layout(location = 2) flat out vec4 vTint;  // rgb: tint, a: 1 when selected
 
 void main() {
     Instance inst = instances[gl_InstanceIndex];
@@ -31,6 +31,6 @@ void main() {
     }
     vWorldPos = world;
     vNormal = normal;
-    vInstance = uint(gl_InstanceIndex);
+    vTint = vec4(inst.tint.rgb, float(inst.flags & 1u));
     gl_Position = frame.viewProj * vec4(world, 1.0);
 }
