@@ -418,6 +418,9 @@ TEST_F(RenderEngine, FastQualityDrawsSmallCharactersAsCards) {
     EXPECT_EQ((*fast)->stats().triangles, near + 28u * 4u);
 }
 
+// Every overlay kind and a crowd: once warmed up (meshes built, buffers grown
+// to the crowd, pipeline variants and the bitmap uploaded), frames whose poses
+// and camera change allocate nothing, in both qualities.
 TEST_F(RenderEngine, SteadyStateFramesDoNotAllocate) {
     // The validation layer allocates for its own bookkeeping on every call,
     // so this test measures on a device without it (lavapipe is C, and our
@@ -426,27 +429,94 @@ TEST_F(RenderEngine, SteadyStateFramesDoNotAllocate) {
     o.preference = DevicePreference::Cpu;
     auto plain = VulkanDevice::create(o);
     ASSERT_TRUE(plain.ok()) << plain.error().message;
-    RendererOptions ro;
-    ro.width = kWidth;
-    ro.height = kHeight;
-    ro.quality = Quality::High;
-    auto r = Renderer::create(*plain, ro);
-    ASSERT_TRUE(r.ok()) << r.error().message;
+
+    // The duel with a label, a selection, a flash, a trajectory with
+    // checkpoints (two labelled) and a painted floor.
     Duel d;
     d.instances[0].label = "jab";
     d.instances[1].selected = true;
-    FrameDescription f = d.frame();
     const std::vector<Flash> flashes{{glm::vec3(0.0f, 1.45f, 0.0f), 0.2f, {1.0f, 0.4f, 0.1f, 0.9f}}};
-    f.flashes = flashes;
-    Image img;
-    ASSERT_TRUE((*r)->render(f, &img).ok());  // warm up: meshes, buffers, image storage
-    ASSERT_TRUE((*r)->render(f, &img).ok());
-    const long before = allocationCount();
-    for (int i = 0; i < 3; ++i) {
-        f.camera.yaw += 0.1f;
-        ASSERT_TRUE((*r)->render(f, &img).ok());
+    std::vector<glm::vec3> path;
+    for (int i = 0; i <= 24; ++i) path.emplace_back(-2.0f + 0.16f * static_cast<float>(i), 0.0f, 1.0f + 0.3f * std::sin(0.5f * i));
+    const std::vector<Polyline> lines{{path, {1.0f, 0.75f, 0.15f, 0.95f}, 0.07f}, {{path.data(), 12}, {0.3f, 0.6f, 1.0f, 0.9f}, 0.05f}};
+    const std::vector<Checkpoint> marks{{path.front(), {0.2f, 0.9f, 0.4f, 1.0f}, 0.3f, "start"},
+                                        {path[12], {1.0f, 0.75f, 0.15f, 1.0f}, 0.25f, {}},
+                                        {path.back(), {0.95f, 0.3f, 0.3f, 1.0f}, 0.3f, "end"}};
+    Image paint;
+    paint.resize(64, 32);
+    std::fill(paint.rgba.begin(), paint.rgba.end(), std::uint8_t(180));
+    FloorBitmap bmp;
+    bmp.rgba = paint.rgba.data();
+    bmp.width = paint.width;
+    bmp.height = paint.height;
+    bmp.min = {-2.0f, 0.4f};
+    bmp.max = {2.0f, 2.4f};
+
+    // A crowd of 1,024 on a 32 x 32 grid in two sets of poses (frames
+    // alternate between them, as when playing), every tenth labelled, one
+    // selected, with the same trajectories, checkpoints and floor.
+    std::array<std::vector<Character>, 2> poses;
+    std::array<std::vector<CharacterInstance>, 2> crowd;
+    for (int k = 0; k < 2; ++k)
+        for (int i = 0; i < 1024; ++i) {
+            const glm::vec3 at((static_cast<float>(i % 32) - 16.0f) * 1.2f, 0.0f, (static_cast<float>(i / 32) - 16.0f) * 1.2f);
+            poses[static_cast<std::size_t>(k)].push_back(
+                posedCharacter(at, static_cast<float>((i * 37 + k * 90) % 360), {{"RightArm", aboutAxis(k ? -40.0f : 20.0f, {0, 0, 1})}}));
+        }
+    for (int k = 0; k < 2; ++k) {
+        const auto ku = static_cast<std::size_t>(k);
+        for (std::size_t i = 0; i < poses[ku].size(); ++i) {
+            crowd[ku].push_back(instanceOf(poses[ku][i], teamColor(static_cast<int>(i % 4))));
+            if (i % 10 == 0) crowd[ku].back().label = i % 20 == 0 ? "jab" : "block";
+        }
+        crowd[ku][517].selected = true;
     }
-    EXPECT_EQ(allocationCount() - before, 0) << "C++ allocations during steady-state frames";
+
+    for (Quality q : {Quality::High, Quality::Fast}) {
+        SCOPED_TRACE(q == Quality::High ? "High" : "Fast");
+        RendererOptions ro;
+        ro.width = kWidth;
+        ro.height = kHeight;
+        ro.quality = q;
+        auto r = Renderer::create(*plain, ro);
+        ASSERT_TRUE(r.ok()) << r.error().message;
+
+        FrameDescription f = d.frame();
+        f.flashes = flashes;
+        f.trajectories = lines;
+        f.checkpoints = marks;
+        f.floorBitmap = &bmp;
+        Image img;
+        ASSERT_TRUE((*r)->render(f, &img).ok());  // warm up: meshes, buffers, image storage, bitmap
+        ASSERT_TRUE((*r)->render(f, &img).ok());
+        long before = allocationCount();
+        for (int i = 0; i < 3; ++i) {
+            f.camera.yaw += 0.1f;
+            ASSERT_TRUE((*r)->render(f, &img).ok());
+        }
+        EXPECT_EQ(allocationCount() - before, 0) << "C++ allocations during steady-state frames of the duel";
+
+        Bounds area;
+        area.add(glm::vec3(-20.0f, 0.0f, -20.0f));
+        area.add(glm::vec3(20.0f, 1.8f, 20.0f));
+        f.camera.frame(area, static_cast<float>(kWidth) / static_cast<float>(kHeight));
+        for (int k = 0; k < 2; ++k) {  // warm up: buffers grow to the crowd
+            f.characters = crowd[static_cast<std::size_t>(k)];
+            ASSERT_TRUE((*r)->render(f, &img).ok());
+        }
+        EXPECT_EQ((*r)->stats().characters, 1024);
+        EXPECT_EQ((*r)->stats().culled, 0);
+        const int growths = (*r)->stats().bufferGrowths;
+        before = allocationCount();
+        for (int i = 0; i < 4; ++i) {
+            f.characters = crowd[static_cast<std::size_t>(i % 2)];
+            f.camera.yaw += 0.02f;
+            ASSERT_TRUE((*r)->render(f, &img).ok());
+        }
+        EXPECT_EQ(allocationCount() - before, 0) << "C++ allocations during steady-state frames of a crowd";
+        EXPECT_EQ((*r)->stats().bufferGrowths, growths);
+        EXPECT_GT((*r)->stats().overlayVertices, 103 * 3 * 6) << "the crowd's labels are drawn";
+    }
 }
 
 TEST_F(RenderEngine, BadInputIsAnErrorAndTheRendererStaysUsable) {
