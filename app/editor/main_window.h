@@ -73,6 +73,7 @@ private:
     QTimer timer_;
     double time_ = 0.0;
     bool playing_ = true;
+    bool lastDrawn_ = false;  // the previous tick put a frame on screen
     int ticks_ = 0;
     int exitCode_ = 0;
     std::chrono::steady_clock::time_point last_;

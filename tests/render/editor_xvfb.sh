@@ -2,9 +2,11 @@
 # fray (the Qt editor) under Xvfb: opens the demo scene or project with no
 # argument, shows N frames with validation on, and writes a screenshot of the
 # window and one of the viewport (the renderer's own readback) that are neither
-# blank nor uniform; plays a composed scene the same way, and with a skinned
-# rig; clear errors for a broken scene or rig, without a display, with an
-# unreachable X server and on a Qt platform without Vulkan windows.
+# blank nor uniform and show the characters (pixels of their team colours);
+# plays a composed scene the same way, at the time of its Nth frame, and later
+# frames show the characters elsewhere; with a skinned rig; clear errors for a
+# broken scene or rig, without a display, with an unreachable X server and on
+# a Qt platform without Vulkan windows.
 # Usage: editor_xvfb.sh FRAY IMAGE_CHECK DEMO_LIBRARY_DIR OUT_DIR FRAY_CLI
 set -uo pipefail
 fray=$1 check=$2 lib=$3 out=$4 cli=$5
@@ -19,10 +21,16 @@ if ! timeout 120 "$fray" --quit-after 10 --validate \
      --screenshot "$out/window.png" --viewport-screenshot "$out/viewport.png" >"$out/demo.log" 2>&1; then
   bad "fray on the demo project failed: $(cat "$out/demo.log") $(xvfb_log)"
 fi
-grep -q "drew 10 frames" "$out/demo.log" || bad "expected 10 frames: $(cat "$out/demo.log")"
+# Frame k is shown at k/60 s of scene (or take) time: the 10th at 0.150 s.
+grep -q "drew 10 frames, at 0.150 s" "$out/demo.log" || bad "expected 10 frames, the last at 0.150 s: $(cat "$out/demo.log")"
 grep -q "validation" "$out/demo.log" && bad "validation messages: $(cat "$out/demo.log")"
 "$check" "$out/window.png" 640 400 || bad "window screenshot check"
 "$check" "$out/viewport.png" 320 200 || bad "viewport screenshot check"
+# The first character is drawn in the first team colour (the demo's first
+# take, or the duel's first fighter when command (1) has written the duel);
+# an empty floor has no pixel of that hue.
+red=0.80,0.30,0.25 purple=0.55,0.35,0.70
+"$check" "$out/viewport.png" --tint $red 400 || bad "demo: no character drawn in the viewport"
 
 # A motion file given on the command line.
 if ! timeout 120 "$fray" "$lib/walking.bvh" --quit-after 3 >"$out/motion.log" 2>&1; then
@@ -35,9 +43,22 @@ if ! timeout 120 "$fray" "$out/fight.frayscene" --quit-after 12 --validate \
      --screenshot "$out/scene-window.png" --viewport-screenshot "$out/scene.png" >"$out/scene.log" 2>&1; then
   bad "fray on a scene failed: $(cat "$out/scene.log") $(xvfb_log)"
 fi
-grep -q "drew 12 frames" "$out/scene.log" || bad "scene: expected 12 frames: $(cat "$out/scene.log")"
+grep -q "drew 12 frames, at 0.183 s" "$out/scene.log" || bad "scene: expected 12 frames, the last at 0.183 s: $(cat "$out/scene.log")"
 grep -q "validation" "$out/scene.log" && bad "scene: validation messages: $(cat "$out/scene.log")"
 "$check" "$out/scene.png" 320 200 || bad "scene viewport screenshot check"
+# Both fighters are drawn in their team colours (side 0 red, side 1 purple;
+# the composed fight has no paths or checkpoints in those colours).
+"$check" "$out/scene.png" --tint $red 400 || bad "scene: the red fighter is not drawn"
+"$check" "$out/scene.png" --tint $purple 400 || bad "scene: the purple fighter is not drawn"
+# Playback moves: 36 frames later (0.6 s of fighting) both fighters' pixels
+# changed in many places.
+if ! timeout 120 "$fray" "$out/fight.frayscene" --quit-after 48 --viewport-screenshot "$out/scene-later.png" \
+     >"$out/later.log" 2>&1; then
+  bad "fray on a scene, 48 frames, failed: $(cat "$out/later.log") $(xvfb_log)"
+fi
+grep -q "drew 48 frames, at 0.783 s" "$out/later.log" || bad "scene: expected 48 frames, the last at 0.783 s: $(cat "$out/later.log")"
+"$check" "$out/scene.png" --differs "$out/scene-later.png" 150 $red || bad "scene: the red fighter did not move"
+"$check" "$out/scene.png" --differs "$out/scene-later.png" 150 $purple || bad "scene: the purple fighter did not move"
 # The same scene drawn with a skinned rig (the scene exported as GLB); a
 # truncated rig is one clear line and exit code 1, before any window.
 "$cli" export "$out/fight.frayscene" --format glb --out "$out/rig" -q >"$out/export.log" 2>&1 || bad "export: $(cat "$out/export.log")"
