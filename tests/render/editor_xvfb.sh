@@ -5,8 +5,8 @@
 # blank nor uniform and show the characters (pixels of their team colours);
 # plays a composed scene the same way, at the time of its Nth frame, and later
 # frames show the characters elsewhere; with a skinned rig; clear errors for a
-# broken scene or rig, without a display, with an unreachable X server and on
-# a Qt platform without Vulkan windows.
+# broken scene or rig, without a Vulkan driver, without a display, with an
+# unreachable X server and on a Qt platform without Vulkan windows.
 # Usage: editor_xvfb.sh FRAY IMAGE_CHECK DEMO_LIBRARY_DIR OUT_DIR FRAY_CLI
 set -uo pipefail
 fray=$1 check=$2 lib=$3 out=$4 cli=$5
@@ -75,6 +75,9 @@ rc=0
 grep -q "^fray: $out/cut.glb: Assimp cannot read the file" "$out/badrig.log" || bad "broken rig message: $(cat "$out/badrig.log")"
 # A broken scene file: a clear message naming it, exit code 1, no crash.
 expect_broken_scene "$out" "$fray" --quit-after 1
+# No Vulkan driver: one line naming mesa-vulkan-drivers, exit code 1, no
+# crash (and, with --quit-after, no message box waiting for a click).
+expect_no_vulkan_driver "$out" fray "$fray" "$lib/walking.bvh" --quit-after 1
 
 # expect_error PATTERN -- ENV... : exit code 1 and the message, no crash.
 expect_error() {

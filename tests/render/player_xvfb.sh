@@ -2,7 +2,8 @@
 # fray-play under Xvfb: a fixed number of frames with validation on, a
 # screenshot of the window as shown that is neither blank nor uniform, for
 # takes, for a composed scene and for the scene with a skinned rig, and clear
-# errors without a display or for a broken scene or rig file.
+# errors without a display, without a Vulkan driver or for a broken scene or
+# rig file.
 # Usage: player_xvfb.sh FRAY_PLAY IMAGE_CHECK DEMO_LIBRARY_DIR OUT_DIR FRAY_CLI
 set -uo pipefail
 play=$1 check=$2 lib=$3 out=$4 cli=$5
@@ -61,6 +62,10 @@ grep -q "^fray-play: $out/cut.glb: Assimp cannot read the file" "$out/badrig.log
 
 # A broken scene file: a clear message, no crash.
 expect_broken_scene "$out" "$play" --frames 1
+
+# No Vulkan driver (the loader finds no ICD): one line naming the package to
+# install, exit code 1, no crash.
+expect_no_vulkan_driver "$out" fray-play "$play" "$lib/walking.bvh" --frames 1
 
 if (( fails > 0 )); then echo "$fails failure(s)"; exit 1; fi
 echo "player_xvfb: all checks passed"

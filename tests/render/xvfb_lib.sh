@@ -58,3 +58,19 @@ expect_broken_scene() {
   (( rc == 1 )) || bad "broken scene: exit code $rc"
   grep -q "broken.frayscene" "$out/broken.log" || bad "broken scene message: $(cat "$out/broken.log")"
 }
+
+# expect_no_vulkan_driver OUT NAME APP ARGS...: APP (which prints errors as
+# "NAME: ...") run with the Vulkan loader pointed at a driver manifest that
+# does not exist (VK_DRIVER_FILES, and VK_ICD_FILENAMES for older loaders)
+# exits with 1 after one line that names mesa-vulkan-drivers; a crash or a
+# hang fails.
+expect_no_vulkan_driver() {
+  local out=$1 name=$2; shift 2
+  local rc=0
+  VK_DRIVER_FILES=/nonexistent/fray_icd.json VK_ICD_FILENAMES=/nonexistent/fray_icd.json timeout 60 "$@" \
+    >"$out/nodriver.log" 2>&1 || rc=$?
+  (( rc == 1 )) || bad "no Vulkan driver: exit code $rc (expected 1): $(cat "$out/nodriver.log")"
+  grep -q "^$name: no Vulkan device found; install mesa-vulkan-drivers" "$out/nodriver.log" ||
+    bad "no Vulkan driver message: $(cat "$out/nodriver.log")"
+  (( $(grep -c "" "$out/nodriver.log") == 1 )) || bad "no Vulkan driver: expected one line: $(cat "$out/nodriver.log")"
+}
