@@ -176,7 +176,7 @@ void renderCrowd(benchmark::State& state, Quality quality, bool readback) {
 }
 
 // Viewport quality on a CPU device (what Auto picks on lavapipe): no MSAA,
-// blob shadows, 6-sided capsules.
+// blob shadows, cards for the characters below 96 px (all of them from 200 on).
 void BM_RenderFast720p(benchmark::State& state) { renderCrowd(state, Quality::Fast, false); }
 BENCHMARK(BM_RenderFast720p)->Arg(50)->Arg(200)->Arg(1000)->Unit(benchmark::kMillisecond)->UseRealTime();
 
