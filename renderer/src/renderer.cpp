@@ -67,7 +67,7 @@ struct CardVertex {
     glm::vec3 anchor;  // this end of the capsule, joint-local
     float radius;
     glm::vec3 other;      // the other end
-    std::uint32_t corner;  // joint | corner << 16 | second end << 18
+    std::uint32_t corner;  // joint (24 bits) | corner << 24 | second end << 26
 };
 static_assert(sizeof(CardVertex) == 32);
 
@@ -813,6 +813,9 @@ Status Renderer::Impl::ensureBuffer(gpu::Buffer& b, VkDeviceSize needed, VkBuffe
 }
 
 Status Renderer::Impl::registerMesh(const Skeleton& skeleton, std::uint64_t fingerprint, int& index) {
+    // Cards keep the joint in 24 bits.
+    if (skeleton.jointCount() >= (1 << 24))
+        return makeError("a skeleton of " + std::to_string(skeleton.jointCount()) + " joints is more than the renderer draws (16,777,215)");
     MeshEntry e;
     e.fingerprint = fingerprint;
     e.jointCount = skeleton.jointCount();
@@ -832,9 +835,9 @@ Status Renderer::Impl::registerMesh(const Skeleton& skeleton, std::uint64_t fing
     e.vertexOffset[kCardLod] = static_cast<std::int32_t>(cardVertices.size());
     std::uint32_t base = 0;
     for (const BodyCapsule& c : bodyCapsules(skeleton)) {
-        const std::uint32_t first = c.joint, second = c.joint | (1u << 18);
-        for (std::uint32_t corner : {0u, 1u, 2u}) cardVertices.push_back({c.a, c.radius, c.b, first | corner << 16});
-        for (std::uint32_t corner : {2u, 1u, 0u}) cardVertices.push_back({c.b, c.radius, c.a, second | corner << 16});
+        const std::uint32_t first = c.joint, second = c.joint | (1u << 26);
+        for (std::uint32_t corner : {0u, 1u, 2u}) cardVertices.push_back({c.a, c.radius, c.b, first | corner << 24});
+        for (std::uint32_t corner : {2u, 1u, 0u}) cardVertices.push_back({c.b, c.radius, c.a, second | corner << 24});
         // Around the hexagon: 0 tip, 1 side, 3 side, 5 tip, 4 side, 2 side.
         for (std::uint32_t k : {0u, 1u, 2u, 1u, 3u, 4u, 1u, 4u, 2u, 3u, 5u, 4u}) cardIndices.push_back(base + k);
         base += 6;

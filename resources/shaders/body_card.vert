@@ -10,7 +10,7 @@
 
 layout(location = 0) in vec4 inAnchor;  // xyz: this end, w: radius
 layout(location = 1) in vec3 inOther;   // the other end
-layout(location = 2) in uint inCorner;  // bits 0-15: joint; 16-17: 0 tip, 1 and 2 the two sides; 18: second end
+layout(location = 2) in uint inCorner;  // bits 0-23: joint; 24-25: 0 tip, 1 and 2 the two sides; 26: second end
 
 layout(location = 0) out vec3 vWorldPos;
 layout(location = 1) out vec3 vNormal;
@@ -18,7 +18,7 @@ layout(location = 2) flat out vec4 vTint;  // rgb: tint, a: 1 when selected
 
 void main() {
     Instance inst = instances[gl_InstanceIndex];
-    JointTransform j = joints[inst.paletteOffset + (inCorner & 0xffffu)];
+    JointTransform j = joints[inst.paletteOffset + (inCorner & 0xffffffu)];
     vec3 anchor = j.position.xyz + rotateByQuat(j.rotation, inAnchor.xyz);
     vec3 other = j.position.xyz + rotateByQuat(j.rotation, inOther);
     float r = inAnchor.w;
@@ -33,10 +33,10 @@ void main() {
         along = d / len;
     } else {
         vec3 helper = abs(toCamera.y) < 0.9 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0);
-        along = normalize(cross(toCamera, helper)) * ((inCorner & 0x40000u) != 0u ? -1.0 : 1.0);
+        along = normalize(cross(toCamera, helper)) * ((inCorner & 0x4000000u) != 0u ? -1.0 : 1.0);
     }
     vec3 across = cross(along, toCamera);
-    uint corner = (inCorner >> 16) & 3u;
+    uint corner = (inCorner >> 24) & 3u;
     vec3 side;
     if (corner == 0u) side = -along;
     else side = corner == 1u ? across : -across;
