@@ -201,6 +201,18 @@ inline ArmChange armChange(const FrameDescription& f, const Character& a, const 
 }
 
 // A fixed three-quarter view of the area around the origin.
+// `paint` laid on the floor from x -2 to 2 and z 0.4 to 2.4, in front of the
+// golden camera (it must outlive the frames that use it).
+inline FloorBitmap floorBitmapOf(const Image& paint) {
+    FloorBitmap bmp;
+    bmp.rgba = paint.rgba.data();
+    bmp.width = paint.width;
+    bmp.height = paint.height;
+    bmp.min = {-2.0f, 0.4f};
+    bmp.max = {2.0f, 2.4f};
+    return bmp;
+}
+
 inline OrbitCamera goldenCamera() {
     OrbitCamera cam;
     cam.target = glm::vec3(0.0f, 0.9f, 0.0f);

@@ -157,12 +157,7 @@ TEST_F(RenderGolden, FloorBitmap) {
         }
     const std::uint8_t yellow[4] = {255, 220, 40, 255};
     drawText(paint, 10, 8, "FRAY", 2, yellow, false);
-    FloorBitmap bmp;
-    bmp.rgba = paint.rgba.data();
-    bmp.width = paint.width;
-    bmp.height = paint.height;
-    bmp.min = {-2.0f, 0.4f};
-    bmp.max = {2.0f, 2.4f};
+    FloorBitmap bmp = floorBitmapOf(paint);
     f.floorBitmap = &bmp;
     const Image img = renderImage(f);
     expectMatchesGolden(img, "floor_bitmap");
@@ -447,12 +442,7 @@ TEST_F(RenderEngine, SteadyStateFramesDoNotAllocate) {
     Image paint;
     paint.resize(64, 32);
     std::fill(paint.rgba.begin(), paint.rgba.end(), std::uint8_t(180));
-    FloorBitmap bmp;
-    bmp.rgba = paint.rgba.data();
-    bmp.width = paint.width;
-    bmp.height = paint.height;
-    bmp.min = {-2.0f, 0.4f};
-    bmp.max = {2.0f, 2.4f};
+    const FloorBitmap bmp = floorBitmapOf(paint);
 
     // A crowd of 1,024 on a 32 x 32 grid in two sets of poses (frames
     // alternate between them, as when playing), every tenth labelled, one
