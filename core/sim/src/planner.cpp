@@ -825,7 +825,7 @@ Value search(const Context& ctx, const GroupState& g, int depth, double alpha, d
                 }
             }
         }
-        return std::optional<Value>(have ? std::optional<Value>(best) : std::nullopt);
+        return have ? std::optional<Value>(best) : std::nullopt;
     };
     if (ab && pruner.active()) {
         for (int a : pruner.base()) {
