@@ -182,7 +182,7 @@ void runCompose(const ComposeArgs& a) {
     auto ss = openSimSession(a.project, stderrProgress(a.quiet));
     if (!ss) return fail(ss.error().message);
     auto& s = **ss;
-    // The rat scene plans its interactions itself; the others draw on the patch library.
+    // The rat scene generates its own patches for the rat's speed; the others draw on the patch library.
     auto patches = sim::composeNeedsPatches(*specText) ? openPatches(a.project, a.patches, s.library)
                                                         : Result<sim::PatchLibrary>(sim::PatchLibrary{});
     if (!patches) return fail(patches.error().message);
@@ -216,6 +216,7 @@ void runCompose(const ComposeArgs& a) {
                     scene->characters.size() - 1, spec->crowd, spec->band, spec->spacing);
     }
     if (spec->kind == sim::SceneKind::Rat) {
+        std::printf("%s: %d {run, AVOID} patches generated for the rat's %.1f m/s\n", a.out.c_str(), st.ratPatches, spec->ratSpeed);
         std::printf("%s: %d people within %.1f m of the rat's trajectory: %d stepped out of its way (closest it came to "
                     "their feet %.2f m), %d were pushed aside by a neighbour first, %d had no way out and reeled back, %d could not "
                     "even do that; %d bumps in all\n",

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <numbers>
+#include <set>
 
 #include "fray/core/atomic_file.h"
 #include "fray/sim/compose.h"
@@ -769,7 +770,7 @@ TEST(PatchCompose, RatCrowdGetsOutOfTheWay) {
     spec.ratPath = {{-7, -2}, {-3, 1}, {0, -1}, {3, 1.5f}, {7, 0}};
     spec.crowd = 70;
     spec.spacing = 0.8;
-    const PatchLibrary none;  // the rat scene plans its own interactions
+    const PatchLibrary none;  // the rat scene generates its own patches
     EXPECT_FALSE(composeNeedsPatches(R"({"kind": "rat"})"));
     EXPECT_TRUE(composeNeedsPatches(R"({"kind": "domino"})"));
     EXPECT_TRUE(composeNeedsPatches("[1, 2"));
@@ -872,6 +873,103 @@ TEST(PatchCompose, RatCrowdGetsOutOfTheWay) {
     }
     EXPECT_GE(bumps, 2) << "nobody bumped into anyone in three crowds of " << spec.crowd;
     EXPECT_GE(near, 30);
+}
+
+// The rat's {run, AVOID} patches (SPEC 4.5): initial conditions on the SPEC
+// grid, and every patch, played back on its own against a straight rat, keeps
+// the rat off the person's feet.
+TEST(PatchCompose, RatAvoidPatchesKeepTheRatOffTheFeet) {
+    const auto& lib = demoWorld().library;
+    ComposeSpec spec;
+    spec.kind = SceneKind::Rat;
+    spec.ratPath = {{0, -5}, {0, 5}};
+    spec.reach = 1.0;
+    spec.ratSpeed = 2.5;
+    auto table = ratAvoidPatches(lib, spec);
+    ASSERT_TRUE(table) << table.error().message;
+    ASSERT_GT(table->size(), 1000u);
+    std::set<std::pair<long, long>> cells, withPatch;
+    for (long l = -6; l <= 6; ++l) {
+        for (long f = -9; f < 9; ++f) cells.insert({l, f});
+    }
+    for (const auto& p : *table) {
+        const double l = p.lateral / 0.2, f = p.facing / (std::numbers::pi / 9), k = p.lead / 0.1;
+        ASSERT_NEAR(l, std::round(l), 1e-9);
+        ASSERT_NEAR(f, std::round(f), 1e-9);
+        ASSERT_NEAR(k, std::round(k), 1e-9);
+        ASSERT_LE(std::abs(p.lateral), spec.reach + 0.2 + 1e-9);
+        ASSERT_GT(p.lead, 0.0);
+        ASSERT_GE(p.clearance, 0.08);
+        ASSERT_FALSE(p.actions.empty());
+        withPatch.insert({std::lround(l), std::lround(f) == 9 ? -9 : std::lround(f)});
+    }
+    // Someone can get out of the rat's way from nearly every configuration within reach.
+    int within = 0, covered = 0;
+    for (const auto& c : cells) {
+        if (std::abs(c.first) > 5) continue;
+        ++within;
+        covered += withPatch.count(c) ? 1 : 0;
+    }
+    EXPECT_GE(covered, 0.9 * within) << covered << " of " << within << " cells have a patch";
+
+    // Played back: the person stands in the guard (the longest idle) at the
+    // origin, turned `facing` from +Z; the rat runs along +Z, `lateral` m to
+    // the person's right (x = -lateral: +X is the left of someone facing +Z).
+    int hold = -1;
+    double longest = -1;
+    for (int a = 0; a < lib.size(); ++a) {
+        if (lib.actions[static_cast<std::size_t>(a)].is(kIdle) && lib.actions[static_cast<std::size_t>(a)].duration > longest) {
+            longest = lib.actions[static_cast<std::size_t>(a)].duration, hold = a;
+        }
+    }
+    ASSERT_GE(hold, 0);
+    constexpr double kPass = 3.0;
+    std::vector<glm::vec3> world;
+    const std::size_t stride = std::max<std::size_t>(1, table->size() / 400);
+    int checked = 0;
+    for (std::size_t i = 0; i < table->size(); i += stride) {
+        const auto& p = (*table)[i];
+        Scene scene;
+        SceneCharacter person;
+        person.name = "person";
+        const RootXf at{glm::vec2(0.0f), p.facing};
+        const double ts = kPass - p.lead;
+        person.track.push_back({hold, 0.0, 0.0, ts, at * lib.rootAt(hold, 0).inverse(), false, false});
+        RootXf place = at * lib.rootAt(p.actions.front(), 0).inverse();
+        double t = ts;
+        for (int a : p.actions) {
+            const auto& A = lib.actions[static_cast<std::size_t>(a)];
+            person.track.push_back({a, t, 0.0, t + A.duration, place, false, false});
+            place = place * A.end;
+            t += A.duration;
+        }
+        scene.characters.push_back(person);
+        const ScenePoser poser(scene, lib, 0.0);
+        const auto& joints = lib.motions[static_cast<std::size_t>(lib.actions[static_cast<std::size_t>(hold)].motion)].joints;
+        for (double tt = kPass - 0.5; tt <= std::min(t, kPass + 0.5); tt += 1.0 / 30) {
+            poser.worldPositions(0, tt, world);
+            const glm::vec2 rat(static_cast<float>(-p.lateral), static_cast<float>(spec.ratSpeed * (tt - kPass)));
+            for (int j : {joints.leftFoot, joints.rightFoot, joints.leftToe, joints.rightToe}) {
+                if (j < 0) continue;
+                const glm::vec2 foot(world[static_cast<std::size_t>(j)].x, world[static_cast<std::size_t>(j)].z);
+                for (float along : {0.0f, 0.5f, 1.0f}) {
+                    const float d = glm::length(foot - (rat + glm::vec2(0.0f, along * kRatLength)));
+                    ASSERT_GT(d, 0.08f) << "patch " << i << " (lateral " << p.lateral << " m, facing " << p.facing << ", lead " << p.lead
+                                        << " s): the rat runs over a foot at " << tt - kPass << " s";
+                }
+            }
+        }
+        ++checked;
+    }
+    EXPECT_GE(checked, 300);
+    // A project with nothing to step aside with has no patches, and says why.
+    ActionLibrary still = lib;
+    for (auto& a : still.actions) {
+        if (a.is(kAvoid | kStep)) a.flags = kIdle;
+    }
+    auto none = ratAvoidPatches(still, spec);
+    ASSERT_FALSE(none);
+    EXPECT_NE(none.error().message.find("no avoid or step action"), std::string::npos) << none.error().message;
 }
 
 TEST(PatchCompose, SpecErrorsNameTheField) {

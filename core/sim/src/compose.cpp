@@ -1,6 +1,7 @@
 #include "fray/sim/compose.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +11,8 @@
 #include <optional>
 #include <random>
 #include <tuple>
+
+#include <tbb/parallel_for.h>
 
 #include "fray/prep/json_reader.h"
 #include "interaction.h"
@@ -871,11 +874,12 @@ struct Composer {
 
     // ---- rat: people step out of the way of a rat running along the user's
     // trajectory (SPEC 4.5), and bump into their neighbours doing so. The rat
-    // is a one-joint creature, so its interactions are not in the patch
-    // library: each one is planned here, the same way a patch is evaluated
-    // (every avoiding action and start time tried against the rat's
-    // passage, the best kept), and a bump pushes the neighbour into the
-    // forced reaction that best matches its posture and the push.
+    // is a one-joint creature with no captured actions, so its {run, AVOID}
+    // patches are generated here for the scene's rat speed (makeRatPatches),
+    // not read from the project's patch library. A bump pushes the neighbour
+    // into the forced reaction that best matches its posture and the push,
+    // the response rule of patch generation ({any, AVOID, PUSHED}), applied
+    // where the neighbours actually stand.
     struct Bystander {
         glm::vec2 spot{0.0f};
         RootXf at;                           // standing placement
@@ -932,24 +936,152 @@ struct Composer {
         return {inst.action, inst.clipTimeAt(t), inst.root};
     }
 
-    // Closest the rat's body comes to the feet and shins of someone following
-    // `plan` while it passes them (m; negative: it runs into them).
-    double ratClearance(const Bystander& b, const std::vector<ActionInstance>& plan) const {
-        double best = std::numeric_limits<double>::max();
-        for (double t = b.passTime - 0.6; t <= b.passTime + 0.6; t += 1.0 / kSampleRate) {
-            const RootXf r = creatureAt(ratBody, t);
-            const glm::vec2 fwd = headingVector(r.heading);
-            const detail::BodyPose body = bodyIn(plan, b.at, t);
+    // The floor boxes of the feet and shins of someone following `plan`
+    // (standing at `at` when it is empty) at every sample from 0.6 s before
+    // the rat's closest approach `pass` to 0.6 s after it.
+    using FootBoxes = std::vector<std::array<SweptBox, 4>>;
+    FootBoxes footBoxes(const std::vector<ActionInstance>& plan, const RootXf& at, double pass) const {
+        FootBoxes out;
+        for (double t = pass - 0.6; t <= pass + 0.6; t += 1.0 / kSampleRate) {
+            const detail::BodyPose body = bodyIn(plan, at, t);
             const Obb* boxes = lib.boxesAt(body.action, lib.sampleAt(body.action, body.tau));
-            for (int seg : {kLeftFoot, kRightFoot, kLeftShin, kRightShin}) {
-                const SweptBox box = floorBox(boxes[seg].placed(body.root));
+            auto& feet = out.emplace_back();
+            int k = 0;
+            for (int seg : {kLeftFoot, kRightFoot, kLeftShin, kRightShin}) feet[static_cast<std::size_t>(k++)] = floorBox(boxes[seg].placed(body.root));
+        }
+        return out;
+    }
+
+    // Closest the rat's body (ratAt(t): its root) comes to those boxes (m;
+    // negative: it runs into them). Stops as soon as it is below `enough`.
+    template <class RatAt>
+    static double clearanceOf(const FootBoxes& feet, RatAt&& ratAt, double pass, double enough = -1e9) {
+        double best = std::numeric_limits<double>::max();
+        double t = pass - 0.6;
+        for (const auto& sample : feet) {
+            const RootXf r = ratAt(t);
+            const glm::vec2 fwd = headingVector(r.heading);
+            for (const SweptBox& box : sample) {
                 for (float along : {0.0f, 0.5f, 1.0f}) {
                     const double d = static_cast<double>(rectDistance(box, r.pos + fwd * (along * kRatLength))) - 0.04;  // the rat's girth
                     best = std::min(best, d);
                 }
             }
+            if (best < enough) break;
+            t += 1.0 / kSampleRate;
         }
         return best;
+    }
+
+    // Closest the rat's body comes to the feet and shins of someone following
+    // `plan` while it passes them (m; negative: it runs into them).
+    double ratClearance(const Bystander& b, const std::vector<ActionInstance>& plan) const {
+        return clearanceOf(footBoxes(plan, b.at, b.passTime), [&](double t) { return creatureAt(ratBody, t); }, b.passTime);
+    }
+
+    // Ways out of the rat's path: an avoid or a step that can start from
+    // standing, alone or followed by a second one that continues it in the
+    // motion graph (a guard step moves 0.3 m; two get the feet clear of a
+    // rat running right under someone). One representative per variant
+    // class and start node. False when there are none.
+    static constexpr const char* kNoWays = "rat: the project has no avoid or step action (people need one to get out of the rat's way)";
+    bool findWays() {
+        std::map<std::pair<int, int>, int> reps;
+        for (int a = 0; a < lib.size(); ++a) {
+            const auto& A = act(a);
+            if (!A.is(kAvoid | kStep) || A.is(kReactive | kAttack | kRun | kWalk) || A.has("carry")) continue;
+            reps.emplace(std::make_pair(lib.variantClass[static_cast<std::size_t>(a)], lib.startNode[static_cast<std::size_t>(a)]), a);
+        }
+        ways.clear();
+        for (int pass = 0; pass < 2 && ways.empty(); ++pass) {
+            for (const auto& [key, a] : reps) {
+                if (pass == 0 && !lib.continuesInto(hold, a)) continue;
+                ways.push_back({a});
+                for (const auto& [key2, b] : reps) {
+                    if (lib.continuesInto(a, b) && glm::length(act(b).end.pos) > 0.1f) ways.push_back({a, b});
+                }
+            }
+        }
+        return !ways.empty();
+    }
+
+    // {run, AVOID} patches (SPEC 4.5, the rat scene's third PatternList): the
+    // rat runs straight at the scene's speed past someone standing in the
+    // guard `lateral` m to the side of its line (positive: on its left) and
+    // turned `facing` from its heading; every way out, started `lead` s
+    // before the rat's closest approach, that keeps the rat clear of the feet
+    // and shins is a patch. The initial conditions are the SPEC grid (0.2 m,
+    // 20 degrees, 0.1 s). The rat has no captured actions to make patches
+    // from, so its run is made for the scene's speed and the table is
+    // generated per scene (in parallel; each cell on its own, so the same
+    // table every time). The composer looks each bystander up in it.
+    struct RatPatch {
+        int way = 0;           // index into `ways`
+        double lead = 0;       // s
+        double clearance = 0;  // m, against the straight rat
+        double score() const { return std::min(clearance, 0.25) - 0.01 * lead; }  // clear by a safe margin, at the last moment
+    };
+    static constexpr double kRatLateralStep = 0.2, kRatLeadStep = 0.1;
+    static constexpr int kRatFacings = 18;  // 20 degrees apart
+    int ratLaterals = 0;                    // cells either side of the line
+    std::vector<std::vector<RatPatch>> ratTable;  // per (lateral, facing) cell, best first
+    std::vector<std::vector<int>> ways;      // ways out: one or two avoiding or stepping actions
+
+    static glm::vec2 leftOf(double heading) { return headingVector(heading + 0.5 * std::numbers::pi); }
+    static double ratFacingAt(int f) { return wrapAngle((f - kRatFacings / 2) * 2 * std::numbers::pi / kRatFacings); }
+    std::size_t ratCell(int lateral, int facing) const {
+        return static_cast<std::size_t>((lateral + ratLaterals) * kRatFacings + facing);
+    }
+
+    void makeRatPatches() {
+        ratLaterals = static_cast<int>(std::ceil(spec.reach / kRatLateralStep - 1e-9)) + 1;  // a cell beyond reach, to look up either side
+        ratTable.assign(static_cast<std::size_t>((2 * ratLaterals + 1) * kRatFacings), {});
+        constexpr double kPass = 3.0;  // patch time of the rat's closest approach
+        tbb::parallel_for(0, kRatFacings, [&](int f) {
+            const RootXf at{glm::vec2(0.0f), ratFacingAt(f)};
+            for (std::size_t w = 0; w < ways.size(); ++w) {
+                const auto& way = ways[w];
+                const RootXf root = at * lib.rootAt(way.front(), 0).inverse();
+                double duration = 0;
+                for (int a : way) duration += act(a).duration;
+                for (int k = 1; k * kRatLeadStep <= std::min(duration + 0.6, kPass - 0.2) + 1e-9; ++k) {
+                    const double lead = k * kRatLeadStep;
+                    const FootBoxes feet = footBoxes(planMove(at, kPass - lead, way, 0.0, root, false, kPass + 1.0), at, kPass);
+                    for (int l = -ratLaterals; l <= ratLaterals; ++l) {
+                        // The person stands l * 0.2 m to the left of the rat's line.
+                        const glm::vec2 line = -static_cast<float>(l * kRatLateralStep) * leftOf(0.0);
+                        const double clear = clearanceOf(
+                            feet, [&](double t) { return RootXf{line + headingVector(0.0) * static_cast<float>(spec.ratSpeed * (t - kPass)), 0.0}; },
+                            kPass, kRatClear);
+                        if (clear >= kRatClear) ratTable[ratCell(l, f)].push_back({static_cast<int>(w), lead, clear});
+                    }
+                }
+            }
+        });
+        for (auto& cell : ratTable) {
+            std::stable_sort(cell.begin(), cell.end(), [](const RatPatch& a, const RatPatch& b) { return a.score() > b.score(); });
+            stats.ratPatches += static_cast<int>(cell.size());
+        }
+    }
+
+    // The patches of the cells nearest a bystander's configuration (the two
+    // nearest lateral offsets by the two nearest facings), each way and lead once.
+    std::vector<RatPatch> ratCandidates(const Bystander& b) const {
+        const RootXf r = creatureAt(ratBody, b.passTime);
+        const double lateral = static_cast<double>(glm::dot(b.spot - r.pos, leftOf(r.heading))) / kRatLateralStep;
+        const double facing = (wrapAngle(b.at.heading - r.heading) + std::numbers::pi) / (2 * std::numbers::pi / kRatFacings);
+        const int l0 = static_cast<int>(std::floor(lateral)), f0 = static_cast<int>(std::floor(facing));
+        std::vector<RatPatch> out;
+        for (int l : {l0, l0 + 1}) {
+            if (l < -ratLaterals || l > ratLaterals) continue;
+            for (int f : {f0, f0 + 1}) {
+                for (const RatPatch& p : ratTable[ratCell(l, ((f % kRatFacings) + kRatFacings) % kRatFacings)]) {
+                    const bool seen = std::any_of(out.begin(), out.end(), [&](const RatPatch& q) { return q.way == p.way && std::abs(q.lead - p.lead) < 1e-9; });
+                    if (!seen) out.push_back(p);
+                }
+            }
+        }
+        return out;
     }
 
     // When a plan moves the body: from its first action that is not an idle
@@ -1113,28 +1245,8 @@ struct Composer {
                 if (act(a).is(kPushed)) pushedPool.push_back(a);
             }
         }
-        // Ways out of the rat's path: an avoid or a step that can start from
-        // standing, alone or followed by a second one that continues it in the
-        // motion graph (a guard step moves 0.3 m; two get the feet clear of a
-        // rat running right under someone). One representative per variant
-        // class and start node.
-        std::map<std::pair<int, int>, int> reps;
-        for (int a = 0; a < lib.size(); ++a) {
-            const auto& A = act(a);
-            if (!A.is(kAvoid | kStep) || A.is(kReactive | kAttack | kRun | kWalk) || A.has("carry")) continue;
-            reps.emplace(std::make_pair(lib.variantClass[static_cast<std::size_t>(a)], lib.startNode[static_cast<std::size_t>(a)]), a);
-        }
-        std::vector<std::vector<int>> ways;
-        for (int pass = 0; pass < 2 && ways.empty(); ++pass) {
-            for (const auto& [key, a] : reps) {
-                if (pass == 0 && !lib.continuesInto(hold, a)) continue;
-                ways.push_back({a});
-                for (const auto& [key2, b] : reps) {
-                    if (lib.continuesInto(a, b) && glm::length(act(b).end.pos) > 0.1f) ways.push_back({a, b});
-                }
-            }
-        }
-        if (ways.empty()) return makeError("rat: the project has no avoid or step action (people need one to get out of the rat's way)");
+        if (!findWays()) return makeError(kNoWays);
+        makeRatPatches();
 
         // The crowd: people standing within `band` of the trajectory, `spacing` apart.
         std::vector<Bystander> crowd;
@@ -1175,53 +1287,54 @@ struct Composer {
                 return makeError("cancelled");
             }
             if (!b.near || !b.plan.empty()) continue;  // far off, or already pushed out of the way
-            // Every way out at every start time (0.05 s apart) before the rat arrives.
+            // The {run, AVOID} patches of the nearest configurations, placed
+            // where the person stands and tried against the rat's actual run
+            // (it may curve) and the neighbours: candidates minus colliding ones.
             struct Option {
                 double score = -std::numeric_limits<double>::max();
                 std::vector<ActionInstance> plan;
                 double start = 0, clearance = 0;
                 std::vector<Push> pushes;
             } best;
-            for (const auto& way : ways) {
+            for (const RatPatch& patch : ratCandidates(b)) {
+                const auto& way = ways[static_cast<std::size_t>(patch.way)];
                 const RootXf root = b.at * lib.rootAt(way.front(), 0).inverse();
-                double duration = 0;
-                for (int a : way) duration += act(a).duration;
-                for (double ts = b.passTime - duration - 0.6; ts <= b.passTime - 0.05; ts += 0.05) {
-                    if (ts < 0.2) continue;
-                    auto plan = planMove(b.at, ts, way, 0.0, root, false, until);
-                    const double clear = ratClearance(b, plan);
-                    if (clear < kRatClear) continue;
-                    // Clear of the rat by a safe margin; bumping a neighbour as
-                    // the spec likes it (0: avoid it, 1: seek it); the latest
-                    // start (people react at the last moment).
-                    const double bumpBonus = 0.2 * spec.bumps - 0.05;
-                    const double base = std::min(clear, 0.25) + 0.01 * (ts - b.passTime) + 1e-4 * unit(rng);
-                    if (base + std::max(0.0, bumpBonus) <= best.score) continue;  // cannot win: skip the body tests
-                    const double settled = until;  // everyone stands still afterwards: touching later counts too
-                    const auto [other, when] = firstTouch(crowd, i, plan, ts, settled);
-                    std::vector<Push> pushes;
-                    if (other >= 0) {
-                        auto trial = crowd;
-                        trial[i].plan = plan;
-                        const detail::BodyPose mine = bodyIn(plan, b.at, when);
-                        auto chain = push(trial, static_cast<std::size_t>(other), i, mine.root * lib.rootAt(mine.action, mine.tau),
-                                          when, until, 1);
-                        if (!chain) continue;
-                        // With the pushed ones moving, the rest of the way out
-                        // touches nobody, the pushed one included once the
-                        // contact is over.
-                        for (const auto& m : *chain) trial[m.who].plan = m.plan;
-                        if (firstTouch(trial, i, plan, when, settled, static_cast<std::size_t>(other)).first >= 0) continue;
-                        if (firstTouch(trial, i, plan, when + kContactWindow, settled).first >= 0) continue;
-                        pushes = std::move(*chain);
-                    }
-                    const double score = base + (pushes.empty() ? 0.0 : bumpBonus);
-                    if (score > best.score) best = {score, std::move(plan), ts, clear, std::move(pushes)};
+                const double ts = b.passTime - patch.lead;
+                if (ts < 0.2) continue;
+                auto plan = planMove(b.at, ts, way, 0.0, root, false, until);
+                const double clear = ratClearance(b, plan);
+                if (clear < kRatClear) continue;
+                // Clear of the rat by a safe margin; bumping a neighbour as
+                // the spec likes it (0: avoid it, 1: seek it); the latest
+                // start (people react at the last moment).
+                const double bumpBonus = 0.2 * spec.bumps - 0.05;
+                const double base = std::min(clear, 0.25) + 0.01 * (ts - b.passTime) + 1e-4 * unit(rng);
+                if (base + std::max(0.0, bumpBonus) <= best.score) continue;  // cannot win: skip the body tests
+                const double settled = until;  // everyone stands still afterwards: touching later counts too
+                const auto [other, when] = firstTouch(crowd, i, plan, ts, settled);
+                std::vector<Push> pushes;
+                if (other >= 0) {
+                    auto trial = crowd;
+                    trial[i].plan = plan;
+                    const detail::BodyPose mine = bodyIn(plan, b.at, when);
+                    auto chain = push(trial, static_cast<std::size_t>(other), i, mine.root * lib.rootAt(mine.action, mine.tau),
+                                      when, until, 1);
+                    if (!chain) continue;
+                    // With the pushed ones moving, the rest of the way out
+                    // touches nobody, the pushed one included once the
+                    // contact is over.
+                    for (const auto& m : *chain) trial[m.who].plan = m.plan;
+                    if (firstTouch(trial, i, plan, when, settled, static_cast<std::size_t>(other)).first >= 0) continue;
+                    if (firstTouch(trial, i, plan, when + kContactWindow, settled).first >= 0) continue;
+                    pushes = std::move(*chain);
                 }
+                const double score = base + (pushes.empty() ? 0.0 : bumpBonus);
+                if (score > best.score) best = {score, std::move(plan), ts, clear, std::move(pushes)};
             }
             if (!best.plan.empty()) {
                 b.plan = std::move(best.plan);
                 ++stats.ratAvoided;
+                ++stats.patchesUsed;
                 stats.ratClearance = stats.ratClearance < 0 ? best.clearance : std::min(stats.ratClearance, best.clearance);
                 for (auto& m : best.pushes) {
                     if (crowd[m.who].near) ++stats.ratPushed;
@@ -2099,6 +2212,24 @@ Result<Scene> compose(const ActionLibrary& lib, const PatchLibrary& patches, con
     st.seconds = scene.stats.seconds;
     reportProgress(progress, 1.0, "compose");
     return scene;
+}
+
+Result<std::vector<RatAvoidPatch>> ratAvoidPatches(const ActionLibrary& lib, const ComposeSpec& spec) {
+    const PatchLibrary none;
+    ComposeStats st;
+    Composer c(lib, none, spec, st);
+    if (c.hold < 0) return makeError("the project has no idle action (characters need one to wait)");
+    if (!c.findWays()) return makeError(Composer::kNoWays);
+    c.makeRatPatches();
+    std::vector<RatAvoidPatch> out;
+    for (int l = -c.ratLaterals; l <= c.ratLaterals; ++l) {
+        for (int f = 0; f < Composer::kRatFacings; ++f) {
+            for (const auto& p : c.ratTable[c.ratCell(l, f)]) {
+                out.push_back({l * Composer::kRatLateralStep, Composer::ratFacingAt(f), c.ways[static_cast<std::size_t>(p.way)], p.lead, p.clearance});
+            }
+        }
+    }
+    return out;
 }
 
 }  // namespace fray::sim

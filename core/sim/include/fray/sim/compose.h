@@ -85,7 +85,7 @@ struct ComposeSpec {
 };
 
 // Does a compose spec of this kind draw on the patch library? (The rat scene
-// plans its interactions at composition; it reads "kind" only, and says yes
+// generates its own patches for the rat's speed; it reads "kind" only, and says yes
 // for anything it cannot read, so the full parser reports the error.)
 bool composeNeedsPatches(std::string_view specText);
 
@@ -101,6 +101,7 @@ struct ComposeStats {
     double goalReached = -1;               // football: when the carrier crossed the goal line (s), -1 never
     int locomotionSteps = 0;
     int chainFalls = 0;                    // domino: people knocked over by a falling body
+    int ratPatches = 0;                    // rat: {run, AVOID} patches generated for the scene's rat speed
     int ratNear = 0;                       // rat: people standing within reach of its trajectory
     int ratAvoided = 0;                    // rat: of those, who stepped out of its way
     int ratPushed = 0;                     // rat: of those, who were pushed by someone else first
@@ -115,6 +116,19 @@ struct ComposeStats {
     double maxJunctionError = 0;           // m: worst gap between where locomotion ended and where a patch starts
     double seconds = 0;
 };
+
+// The rat scene's {run, AVOID} patches (SPEC 4.5) for a spec's rat speed and
+// reach, as the composer generates them: someone standing in the guard
+// `lateral` m to the left of a straight rat's line (negative: to its right),
+// turned `facing` rad from the rat's heading, plays `actions` from `lead` s
+// before the rat's closest approach, and the rat keeps `clearance` m from
+// their feet and shins. Best first within each (lateral, facing) cell.
+struct RatAvoidPatch {
+    double lateral = 0, facing = 0;
+    std::vector<int> actions;
+    double lead = 0, clearance = 0;
+};
+Result<std::vector<RatAvoidPatch>> ratAvoidPatches(const ActionLibrary& lib, const ComposeSpec& spec);
 
 Result<Scene> compose(const ActionLibrary& lib, const PatchLibrary& patches, const ComposeSpec& spec,
                       ComposeStats* stats = nullptr, const ProgressFn& progress = {});
