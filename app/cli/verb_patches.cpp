@@ -223,6 +223,10 @@ void runCompose(const ComposeArgs& a) {
                     a.out.c_str(), st.ratNear, spec->reach, st.ratAvoided, st.ratClearance, st.ratPushed, st.ratStartled, st.ratRunOver,
                     st.bumps);
     }
+    if (spec->kind == sim::SceneKind::Luggage && st.patchesUsed < spec->handoffs) {
+        std::printf("%s: %d of the %d hand-overs asked for fit in the %.0f s duration (raise \"duration\" for more)\n", a.out.c_str(),
+                    st.patchesUsed, spec->handoffs, spec->duration);
+    }
     if (spec->kind == sim::SceneKind::Domino) {
         std::printf("%s: the falls cover %.0f %% of the painted area (within %.1f m of someone who fell)\n", a.out.c_str(),
                     100.0 * st.paintedCoverage, double(sim::ComposeStats::kCoverRadius));

@@ -535,8 +535,10 @@ TEST(PatchCompose, LuggageTravelsTheWholeChain) {
     buildConnections(lib, patches);
     ASSERT_GT(patches.patches.size(), 10u);
     // Seeds 3 and 18 were stuck before the carrier could pick the item up
-    // again and another porter could come (docs/PATCHES.md).
-    for (std::uint64_t seed : {1u, 2u, 3u, 5u, 8u, 18u}) {
+    // again and another porter could come (docs/PATCHES.md). In seed 16 the
+    // last giver turned through the last receiver as it settled into its
+    // idle: the body test took a track that had ended as held at its last frame.
+    for (std::uint64_t seed : {1u, 2u, 3u, 5u, 8u, 16u, 18u}) {
         ComposeSpec spec;
         spec.kind = SceneKind::Luggage;
         spec.seed = seed;

@@ -173,16 +173,18 @@ struct Composer {
                 for (int c = 0; c < static_cast<int>(scene.characters.size()); ++c) {
                     if (c == self) continue;
                     detail::BodyPose other;
-                    if (scene.present(c, t)) {
-                        const auto& inst = playingAt(c, t);
-                        other = {inst.action, inst.clipTimeAt(t), inst.root};
-                    } else if (standWhenDone && !track0(c).empty() && t > track0(c).back().end) {
+                    if (standWhenDone && !track0(c).empty() && t > track0(c).back().end) {
                         // Waiting where its track stopped, as waitUntil will
                         // have it: the idle that follows, looped from there.
+                        // (Tested first: a track that has ended is still
+                        // present, held at its last frame.)
                         const auto& last = track0(c).back();
                         const int idle = idleAfter(last.action);
                         const RootXf at = leaves(c);
                         other = {idle, std::fmod(t - last.end, act(idle).duration), at * lib.rootAt(idle, 0).inverse()};
+                    } else if (scene.present(c, t)) {
+                        const auto& inst = playingAt(c, t);
+                        other = {inst.action, inst.clipTimeAt(t), inst.root};
                     } else {
                         continue;
                     }
