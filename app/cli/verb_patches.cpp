@@ -228,8 +228,9 @@ void runCompose(const ComposeArgs& a) {
                     st.patchesUsed, spec->handoffs, spec->duration);
     }
     if (spec->kind == sim::SceneKind::Domino) {
-        std::printf("%s: the falls cover %.0f %% of the painted area (within %.1f m of someone who fell)\n", a.out.c_str(),
-                    100.0 * st.paintedCoverage, double(sim::ComposeStats::kCoverRadius));
+        std::printf("%s: %d of the %d chain falls joined by spatial connection; the falls cover %.0f %% of the painted area (within "
+                    "%.1f m of someone who fell)\n",
+                    a.out.c_str(), st.spatialJoined, st.chainFalls, 100.0 * st.paintedCoverage, double(sim::ComposeStats::kCoverRadius));
     }
 }
 

@@ -1395,6 +1395,7 @@ struct Composer {
         int action = 0;
         RootXf root;           // placement of the clip's first frame
         double offset = 0;     // clip time the fall started at
+        int patch = -1;        // the patch it fell in (as its character 2), -1: a start
     };
 
     SweptBox standingBox(const glm::vec2& p) const { return {p - glm::vec2(0.35f), p + glm::vec2(0.35f)}; }
@@ -1469,6 +1470,7 @@ struct Composer {
         if (spec.floor.empty()) return makeError("domino: no floor bitmap");
         if (spec.starts.empty()) return makeError("domino: no start (where the first person falls)");
         std::vector<std::size_t> chainPatches;
+        std::vector<char> isChain(patches.patches.size(), 0);
         for (std::size_t i = 0; i < patches.patches.size(); ++i) {
             const auto& p = patches.patches[i];
             const auto& pattern = patches.patterns[static_cast<std::size_t>(p.pattern)];
@@ -1476,7 +1478,7 @@ struct Composer {
                 pattern.entries[0].character != 0)
                 continue;
             const bool pushes = std::any_of(p.hits.begin(), p.hits.end(), [](const HitEvent& h) { return h.attacker == 0 && !h.blocked; });
-            if (pushes) chainPatches.push_back(i);
+            if (pushes) chainPatches.push_back(i), isChain[i] = 1;
         }
         if (chainPatches.empty()) return makeError("domino: the patch library has no patch where a falling body knocks someone over (generate the fall-fall pattern)");
         std::vector<Print> prints;     // per character: where it stands and falls
@@ -1503,7 +1505,7 @@ struct Composer {
             first.add(standingBox(at.pos));
             prints.push_back(first);
             spots.push_back(at.pos);
-            queue.push_back({c, st.time, action, root, 0.0});
+            queue.push_back({c, st.time, action, root, 0.0, -1});
             std::push_heap(queue.begin(), queue.end(), byTime);
         }
         constexpr int kBranch = 3;
@@ -1511,14 +1513,29 @@ struct Composer {
             std::pop_heap(queue.begin(), queue.end(), byTime);
             const Faller f = queue.back();
             queue.pop_back();
+            // What the faller can knock over next: where it fell in a patch,
+            // the chain patches spatially connected to it through the faller
+            // (SPEC 4.3: it plays the same fall on, and the new victim never
+            // meets whoever pushed it); a start, any chain patch that begins
+            // with its fall. With the patch time from which the fall is the faller's.
+            std::vector<std::pair<std::size_t, double>> next;
+            if (f.patch >= 0) {
+                for (const auto& l : patches.spatial[static_cast<std::size_t>(f.patch)]) {
+                    if (l.sharedA == 1 && l.sharedB == 0 && isChain[static_cast<std::size_t>(l.to)]) next.emplace_back(l.to, l.from);
+                }
+                std::sort(next.begin(), next.end());
+            } else {
+                for (std::size_t idx : chainPatches) {
+                    if (patches.patches[idx].tracks[0].front().action == f.action) next.emplace_back(idx, f.offset);
+                }
+            }
             for (int child = 0; child < kBranch && static_cast<int>(scene.characters.size()) < spec.maxCharacters; ++child) {
                 int best = -1;
                 double bestS = -std::numeric_limits<double>::max();
-                for (std::size_t idx : chainPatches) {
+                for (const auto& [idx, from] : next) {
                     const Patch& p = patches.patches[idx];
-                    if (p.tracks[0].front().action != f.action) continue;
                     const HitEvent& hit = *std::find_if(p.hits.begin(), p.hits.end(), [](const HitEvent& h) { return h.attacker == 0; });
-                    if (hit.time < f.offset + 0.05) continue;  // the fall is already past that point
+                    if (hit.time < from + 0.05) continue;  // the fall is already past that point
                     const RootXf xf = f.root * p.tracks[0].front().root.inverse();
                     const glm::vec2 q = (xf * p.tracks[1].front().placementAt(lib, 0)).pos;
                     if (!spec.floor.paintedAt(q)) continue;
@@ -1561,7 +1578,8 @@ struct Composer {
                 spots.push_back(standing.pos);
                 used(static_cast<std::size_t>(best));
                 ++stats.chainFalls;
-                queue.push_back({n, tHit - reaction.offset, reaction.action, fall.root, reaction.offset});
+                stats.spatialJoined += f.patch >= 0 ? 1 : 0;
+                queue.push_back({n, tHit - reaction.offset, reaction.action, fall.root, reaction.offset, best});
                 std::push_heap(queue.begin(), queue.end(), byTime);
             }
             if (!reportProgress(progress, std::min(1.0, static_cast<double>(scene.characters.size()) / spec.maxCharacters), "compose")) {

@@ -4,11 +4,16 @@
 #include <cstring>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <type_traits>
 #include <unordered_map>
+#include <vector>
+
+#include <tbb/parallel_for.h>
 
 #include "fray/core/atomic_file.h"
 #include "fray/sim/patches.h"
+#include "interaction.h"
 
 namespace fray::sim {
 
@@ -18,6 +23,9 @@ constexpr double kContinueF = 0.5;    // F below which a final configuration con
 constexpr double kStandardF = 0.35;   // clusters grow until every configuration is this close to its pose
 constexpr int kMaxStandardPoses = 64;
 constexpr float kClearance = 0.15f;   // m between the bounding boxes of characters that must not meet
+constexpr int kSamplesPerSlice = 8;   // body tests per swept slice where the boxes come near (30 Hz over 0.25 s)
+constexpr float kBodyShrink = 0.82f;  // as the composer's penetration test
+constexpr float kPelvisReach = 1.2f;  // bodies whose pelvises are further apart never touch (coreBodiesOverlap's default)
 
 PatchConfig swapped(const PatchConfig& c) { return {c.r, c.theta2, c.theta1, c.delay}; }
 
@@ -66,7 +74,15 @@ void temporalTable(const ActionLibrary& lib, PatchLibrary& out) {
     }
 }
 
-void spatialTable(PatchLibrary& out) {
+// The body of a patch's character at patch time t (held before its first
+// action and after its last), placed by xf.
+detail::BodyPose bodyIn(const Patch& p, int who, double t, const RootXf& xf) {
+    const auto& track = p.tracks[static_cast<std::size_t>(who)];
+    const auto& inst = track[static_cast<std::size_t>(std::max(0, instanceIndexAt(track, t)))];
+    return {inst.action, inst.clipTimeAt(t), xf * inst.root};
+}
+
+void spatialTable(const ActionLibrary& lib, PatchLibrary& out) {
     const auto n = out.patches.size();
     out.spatial.assign(n, {});
     // Index: first action of each character of every patch.
@@ -74,29 +90,54 @@ void spatialTable(PatchLibrary& out) {
     for (std::size_t ib = 0; ib < n; ++ib) {
         for (int m = 0; m < 2; ++m) heads[out.patches[ib].tracks[static_cast<std::size_t>(m)].front().action].push_back({static_cast<int>(ib), m});
     }
-    for (std::size_t ia = 0; ia < n; ++ia) {
+    // Each patch's links on their own (in parallel; the same table every time).
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t ia) {
         const Patch& a = out.patches[ia];
         for (int k = 0; k < 2; ++k) {
             const auto& ta = a.tracks[static_cast<std::size_t>(k)];
             for (std::size_t j = 0; j < ta.size(); ++j) {
                 const auto it = heads.find(ta[j].action);
                 if (it == heads.end()) continue;
+                // a's unshared body at the sample times of a link, made once
+                // per offset (the links of one shared action mostly share it).
+                double bodiesAt = std::numeric_limits<double>::quiet_NaN();
+                std::vector<std::optional<detail::CoreBody>> bodies;
+                auto bodyOfA = [&](double offset, std::size_t sample, double t) -> const detail::CoreBody& {
+                    if (!(offset == bodiesAt)) bodies.clear(), bodiesAt = offset;
+                    if (bodies.size() <= sample) bodies.resize(sample + 1);
+                    if (!bodies[sample]) bodies[sample].emplace(lib, bodyIn(a, 1 - k, t, RootXf{}), kBodyShrink);
+                    return *bodies[sample];
+                };
                 for (const auto& [ibi, m] : it->second) {
                     if (static_cast<std::size_t>(ibi) == ia) continue;
                     const Patch& b = out.patches[static_cast<std::size_t>(ibi)];
                     const auto& tb = b.tracks[static_cast<std::size_t>(m)];
-                    // The shared character's series: a's tail from j equals b's head (or contains it).
-                    bool same = true;
-                    for (std::size_t q = 0; q < tb.size() && j + q < ta.size() && same; ++q) {
+                    // The shared character's series: a's tail from j equals b's
+                    // head (or contains it). Its first action may be a forced
+                    // reaction in a and b's own first entry (a victim's fall
+                    // that knocks the next one over), and a may join that clip
+                    // later (from the reaction's best-matching frame, which b
+                    // plays from further back): clip times line up, and where
+                    // either goes on to another action the other must not
+                    // still be in the clip.
+                    const auto& x0 = ta[j];
+                    const auto& y0 = tb.front();
+                    const double xEnd = x0.offset + (x0.end - x0.start), yEnd = y0.offset + (y0.end - y0.start);
+                    const bool xMore = j + 1 < ta.size(), yMore = tb.size() > 1;
+                    bool same = y0.offset <= x0.offset + 1e-6 && (!xMore || yEnd <= xEnd + 1e-6) && (!yMore || xEnd <= yEnd + 1e-6);
+                    for (std::size_t q = 1; q < tb.size() && j + q < ta.size() && same; ++q) {
                         const auto& x = ta[j + q];
                         const auto& y = tb[q];
                         same = x.action == y.action && std::fabs(x.offset - y.offset) < 1e-6 &&
                                std::fabs((x.end - x.start) - (y.end - y.start)) < 1e-6 && x.forced == y.forced;
                     }
                     if (!same) continue;
-                    const double offset = ta[j].start - tb.front().start;
+                    const double offset = (x0.start - x0.offset) - (y0.start - y0.offset);
+                    const double from = y0.start + (x0.offset - y0.offset);
                     const RootXf xf = ta[j].root * tb.front().root.inverse();
-                    // The unshared characters never meet while both exist.
+                    // The unshared characters never meet while both exist:
+                    // where their swept boxes come near, their bodies do
+                    // not touch (the composer's test, every 30 Hz sample).
                     const auto& sa = a.swept[static_cast<std::size_t>(1 - k)];
                     const auto& sb = b.swept[static_cast<std::size_t>(1 - m)];
                     bool meet = false;
@@ -104,14 +145,20 @@ void spatialTable(PatchLibrary& out) {
                         const double t = offset + static_cast<double>(q) * kSweptSlice;
                         const auto slice = static_cast<std::size_t>(std::max(0.0, std::floor(t / kSweptSlice)));
                         const SweptBox other = slice < sa.size() ? sa[slice] : sa.back();
-                        meet = placedBox(sb[q], xf).overlaps(other, kClearance);
+                        if (!placedBox(sb[q], xf).overlaps(other, kClearance)) continue;
+                        for (int s = 0; s < kSamplesPerSlice && !meet; ++s) {
+                            const double at = (static_cast<double>(q) + static_cast<double>(s) / kSamplesPerSlice) * kSweptSlice;
+                            const detail::CoreBody mine(lib, bodyIn(b, 1 - m, at, xf), kBodyShrink);
+                            meet = detail::coreBodiesOverlap(bodyOfA(offset, q * kSamplesPerSlice + static_cast<std::size_t>(s), offset + at), mine, kPelvisReach);
+                        }
                     }
                     if (meet) continue;
-                    out.spatial[ia].push_back({ibi, static_cast<std::int8_t>(k), static_cast<std::int8_t>(m), static_cast<float>(offset)});
+                    out.spatial[ia].push_back(
+                        {ibi, static_cast<std::int8_t>(k), static_cast<std::int8_t>(m), static_cast<float>(offset), static_cast<float>(from)});
                 }
             }
         }
-    }
+    });
 }
 
 PatchConfig meanConfig(const std::vector<const PatchConfig*>& members) {
@@ -240,7 +287,7 @@ struct Reader {
 
 void buildConnections(const ActionLibrary& lib, PatchLibrary& out) {
     temporalTable(lib, out);
-    spatialTable(out);
+    spatialTable(lib, out);
     standardPoses(out);
 }
 

@@ -96,7 +96,8 @@ struct ComposeStats {
     int patchesUsed = 0;
     int temporalLinks = 0, recycled = 0;   // how each next patch was found
     int graphJoined = 0;                   // football: joined where the carrier's run continues in the motion graph
-    int spatialJoined = 0;                 // football: second tacklers joined by a spatial connection
+    int spatialJoined = 0;                 // football: second tacklers joined by a spatial connection; domino: falls caused
+                                           // by a faller through a spatial connection of the patch it fell in
     int tacklersPassed = 0;                // football: tackles the carrier got away from
     double goalReached = -1;               // football: when the carrier crossed the goal line (s), -1 never
     int locomotionSteps = 0;

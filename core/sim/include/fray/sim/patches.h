@@ -123,7 +123,11 @@ struct GenerateStats {
 // characters to b's (0: same roles, 1: swapped); `shared` is -1 when both
 // continue, else a's character that continues (the other leaves and b's
 // other character joins). Spatial: a and b overlap in time, a's character
-// `sharedA` being b's `sharedB`, b starting `offset` s after a.
+// `sharedA` being b's `sharedB`, b starting `offset` s after a. The shared
+// character plays the same series in both from b's time `from` on: b's head
+// may start its clip earlier than a does (a fall that a's victim joins at a
+// reaction's best-matching frame and b plays from its start), and only what
+// b does from `from` on can be used.
 struct TemporalLink {
     int to = 0;
     std::int8_t roles = 0;
@@ -133,6 +137,7 @@ struct SpatialLink {
     int to = 0;
     std::int8_t sharedA = 0, sharedB = 0;
     float offset = 0;
+    float from = 0;
 };
 
 struct PatchLibrary {
