@@ -232,6 +232,11 @@ int main(int argc, char** argv) {
     frame.camera.yaw = 0.5f;
     frame.camera.pitch = 0.35f;
     const int characters = scene ? scene->characterCount() : static_cast<int>(stage.actors().size());
+    // The overlay panel's right edge in framebuffer pixels: framing centres
+    // the characters in the part of the view right of it, so the panel does
+    // not hide them in a small window. Until the first frame lays the panel
+    // out, where it opens (10 px in, 330 px wide).
+    float panelRight = 340.0f;
     auto frameSelection = [&](int selected) {
         render::Bounds b;
         if (scene) {
@@ -244,7 +249,13 @@ int main(int argc, char** argv) {
         }
         b.add(b.min - glm::vec3(0.3f));
         b.add(b.max + glm::vec3(0.3f));
-        frame.camera.frame(b, static_cast<float>(std::max(fbw, 1)) / static_cast<float>(std::max(fbh, 1)));
+        const auto w = static_cast<float>(std::max(fbw, 1)), h = static_cast<float>(std::max(fbh, 1));
+        if (w - panelRight >= 0.4f * w) {
+            frame.camera.frame(b, (w - panelRight) / h);
+            frame.camera.pan(0.5f * panelRight, 0.0f, h);  // the scene moves right by half the panel
+        } else {
+            frame.camera.frame(b, w / h);  // too narrow a window to keep anything beside the panel
+        }
     };
     frameSelection(-1);
     int selected = -1;
@@ -319,6 +330,12 @@ int main(int argc, char** argv) {
         ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
         ImGui::SetNextWindowSize(ImVec2(330, 0), ImGuiCond_FirstUseEver);
         ImGui::Begin("fray-play");
+        {
+            int ww = 0, wh = 0;
+            glfwGetWindowSize(window, &ww, &wh);
+            const float scale = ww > 0 ? static_cast<float>(fbw) / static_cast<float>(ww) : 1.0f;
+            panelRight = ImGui::IsWindowCollapsed() ? 0.0f : (ImGui::GetWindowPos().x + ImGui::GetWindowSize().x) * scale;
+        }
         if (ImGui::Button(playing ? "Pause" : "Play")) playing = !playing;
         ImGui::SameLine();
         if (ImGui::Button("|<")) t = 0.0;

@@ -29,7 +29,7 @@ grep -q "validation" "$out/demo.log" && bad "validation messages: $(cat "$out/de
 # The first character is drawn in the first team colour (the demo's first
 # take, or the duel's first fighter when command (1) has written the duel);
 # an empty floor has no pixel of that hue.
-red=0.80,0.30,0.25 purple=0.55,0.35,0.70
+red=$tint_red purple=$tint_purple
 "$check" "$out/viewport.png" --tint $red 400 || bad "demo: no character drawn in the viewport"
 
 # A motion file given on the command line.

@@ -43,6 +43,10 @@ fi
 grep -q "drew 12 frames" "$out/scene.log" || bad "scene: expected 12 frames: $(cat "$out/scene.log")"
 grep -q "validation" "$out/scene.log" && bad "scene: validation messages: $(cat "$out/scene.log")"
 "$check" "$out/scene.png" 640 360 || bad "scene screenshot check"
+# Both fighters are drawn beside the panel, in their team colours (the
+# panel's own swatches are 144 pixels each).
+"$check" "$out/scene.png" --tint $tint_red 400 || bad "scene: the red fighter is not drawn beside the panel"
+"$check" "$out/scene.png" --tint $tint_purple 400 || bad "scene: the purple fighter is not drawn beside the panel"
 # The same scene with a skinned rig (the scene exported as GLB) instead of
 # capsules; a broken rig file is one clear line and exit code 1, before any window.
 "$cli" export "$out/fight.frayscene" --format glb --out "$out/rig" -q >"$out/export.log" 2>&1 || bad "export: $(cat "$out/export.log")"
