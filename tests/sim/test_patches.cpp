@@ -708,12 +708,13 @@ TEST(PatchSmoke, SmallLibraryThroughEveryStage) {
     ASSERT_TRUE(back) << back.error().message;
     EXPECT_EQ(back->patches.size(), out.patches.size());
 
-    std::vector<ComposeSpec> specs(4);
+    std::vector<ComposeSpec> specs(5);
     specs[0].kind = SceneKind::OneVsMany, specs[0].enemies = 3, specs[0].duration = 60;
     specs[1].kind = SceneKind::OneVsOne, specs[1].duration = 10;
     specs[2].kind = SceneKind::Domino, specs[2].floor = discs({{glm::vec2(0.0f), 3.0f}}), specs[2].starts = {{0.2, glm::vec2(0.0f)}};
     specs[2].background = 5;
     specs[3].kind = SceneKind::Luggage, specs[3].porters = 3, specs[3].handoffs = 2, specs[3].duration = 100;
+    specs[4].kind = SceneKind::Rat, specs[4].ratPath = {{-3, 0}, {3, 0.5f}}, specs[4].crowd = 12, specs[4].reach = 0.6;
     int composed = 0;
     for (const auto& spec : specs) {
         auto scene = compose(lib, out, spec);
@@ -730,7 +731,7 @@ TEST(PatchSmoke, SmallLibraryThroughEveryStage) {
         const auto m = computeMetrics(*scene, lib);
         EXPECT_EQ(m.characters.size(), scene->characters.size());
     }
-    EXPECT_GE(composed, 2) << sceneKindName(specs[0].kind);
+    EXPECT_GE(composed, 3) << sceneKindName(specs[0].kind);
 }
 
 // American football (SPEC 4.5): the carrier runs for the goal line the way
