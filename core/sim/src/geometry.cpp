@@ -8,7 +8,7 @@ Obb Obb::placed(const RootXf& xf) const { return placed(xf, FloorRotation(xf.hea
 
 Obb Obb::placed(const RootXf& xf, const FloorRotation& rotate) const {
     Obb out;
-    out.centre = rotate(centre) + glm::vec3(xf.pos.x, 0.0f, xf.pos.y);
+    out.centre = placedCentre(xf, rotate);
     for (int i = 0; i < 3; ++i) out.axes[i] = rotate(axes[i]);
     out.half = half;
     return out;

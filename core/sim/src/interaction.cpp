@@ -37,9 +37,19 @@ HitCandidate findHit(const ActionLibrary& lib, const Playing& att, const Playing
         const Obb* db = lib.boxesAt(def.action, lib.sampleAt(def.action, def.clipTime(ts)));
         for (int e : effectors) {
             if (e < 0) continue;
-            const Obb eff = ab[e].placed(att.root, attRotation);
+            // overlaps() in two steps: most pairs fail its bounding-sphere
+            // test, which needs only the placed centres, so the boxes' axes
+            // are placed for the pairs that pass it.
+            const glm::vec3 effCentre = ab[e].placedCentre(att.root, attRotation);
+            const float effRadius = ab[e].radius();
+            std::optional<Obb> eff;
             for (int target : kTargetSegments) {
-                if (!overlaps(eff, db[target].placed(def.root, defRotation))) continue;
+                const Obb& tb = db[target];
+                const glm::vec3 gap = tb.placedCentre(def.root, defRotation) - effCentre;
+                const float r = effRadius + tb.radius();
+                if (glm::dot(gap, gap) > r * r) continue;
+                if (!eff) eff = ab[e].placed(att.root, attRotation);
+                if (!overlapsBeyondSpheres(*eff, tb.placed(def.root, defRotation))) continue;
                 hit.time = ts;
                 hit.target = target;
                 hit.effector = e;

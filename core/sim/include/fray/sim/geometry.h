@@ -122,6 +122,10 @@ struct Obb {
     Obb placed(const RootXf& xf) const;
     // The same with the placement's rotation already computed.
     Obb placed(const RootXf& xf, const FloorRotation& rotate) const;
+    // placed(xf, rotate).centre alone: a bounding-sphere test needs no axes.
+    glm::vec3 placedCentre(const RootXf& xf, const FloorRotation& rotate) const {
+        return rotate(centre) + glm::vec3(xf.pos.x, 0.0f, xf.pos.y);
+    }
     Obb shrunk(float factor) const { return {centre, axes, half * factor}; }
 };
 
