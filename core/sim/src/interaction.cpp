@@ -151,8 +151,9 @@ std::pair<int, int> chooseReaction(const ActionLibrary& lib, const std::vector<g
             if (pass == 0 && falls != strong) continue;
             const glm::vec2 travel = reactionDir[static_cast<std::size_t>(e.action)];
             const double dirCost = glm::dot(travel, travel) > 0 ? 0.5 * (1.0 - static_cast<double>(glm::dot(travel, dir))) : 0.25;
-            const double cost = lib.reactionPoses.distance(probe, k) + dirCost;
-            if (cost < bestCost) bestCost = cost, best = {e.action, e.sample};
+            if (const auto cost = lib.reactionPoses.distanceBelow(probe, k, dirCost, bestCost)) {
+                bestCost = *cost, best = {e.action, e.sample};
+            }
         }
     }
     cache.emplace(key, best);

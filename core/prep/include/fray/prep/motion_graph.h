@@ -107,8 +107,14 @@ public:
         std::vector<float> packed_;
     };
     double distance(Probe& probe, std::size_t i) const;
+    // distance(probe, i) + offset when that is below bound, else nothing
+    // (the same value and test, summed only as far as needed: a search for
+    // the best match skips most poses part way).
+    std::optional<double> distanceBelow(Probe& probe, std::size_t i, double offset, double bound) const;
 
 private:
+    // Pose i packed as the probe is (the probe packed for it first); n: their rotations.
+    const float* row(Probe& probe, std::size_t i, int& n) const;
     GraphWeights weights_;
     std::vector<float> packed_;
     std::vector<std::size_t> offset_;
