@@ -63,9 +63,9 @@ HitCandidate findHit(const ActionLibrary& lib, const Playing& att, const Playing
     return hit;
 }
 
-CoreBody::CoreBody(const ActionLibrary& lib, const BodyPose& pose, const FloorRotation& rotate, float shrink)
-    : lib_(&lib), pose_(pose), rotate_(rotate), shrink_(shrink),
-      pelvis_(pose.root.pos + rotate_(lib.rootAt(pose.action, pose.tau).pos)) {}
+CoreBody::CoreBody(const ActionLibrary& lib, const BodyPose& pose, const FloorRotation& rotate, glm::vec2 clipPelvis,
+                   float shrink)
+    : lib_(&lib), pose_(pose), rotate_(rotate), shrink_(shrink), pelvis_(pose.root.pos + rotate_(clipPelvis)) {}
 
 const std::array<Obb, kCoreSegments.size()>& CoreBody::boxes() const {
     if (!boxes_) {

@@ -46,7 +46,11 @@ public:
     CoreBody(const ActionLibrary& lib, const BodyPose& pose, float shrink)
         : CoreBody(lib, pose, FloorRotation(pose.root.heading), shrink) {}
     // With the rotation of pose.root already computed.
-    CoreBody(const ActionLibrary& lib, const BodyPose& pose, const FloorRotation& rotate, float shrink);
+    CoreBody(const ActionLibrary& lib, const BodyPose& pose, const FloorRotation& rotate, float shrink)
+        : CoreBody(lib, pose, rotate, lib.rootAt(pose.action, pose.tau).pos, shrink) {}
+    // And with the pelvis in the clip's frame, lib.rootAt(pose.action, pose.tau).pos, already known.
+    CoreBody(const ActionLibrary& lib, const BodyPose& pose, const FloorRotation& rotate, glm::vec2 clipPelvis,
+             float shrink);
     glm::vec2 pelvis() const { return pelvis_; }
     const std::array<Obb, kCoreSegments.size()>& boxes() const;
     // Their bounding-sphere radii (valid after boxes()).

@@ -109,6 +109,13 @@ struct Context {
     std::vector<RootXf> endAt;           // per library action: rootAt(action, duration)
     std::vector<glm::vec2> endFacing;    // per library action: headingVector of endAt's heading
     std::vector<double> maxHitSpeed;     // per library action: the fastest its effector lands (attacks; else 0)
+    // Per library action, from testPelvisBegin[action]: its pelvis in the
+    // clip's frame (rootAt(action, tau).pos) at the clip times the
+    // penetration test steps through, tau = 0, kPenetrationStep, ... (summed
+    // as that loop sums them) up to its duration. Every node tests its
+    // candidates at these same times.
+    std::vector<std::size_t> testPelvisBegin;
+    std::vector<glm::vec2> testPelvis;
     bool duel = false;                   // two members on opposite sides: each one's opponent is the other
     bool boundedFrontier = false;        // a duel scored by blows: frontier edges can be bounded (boundedFrontier)
 };
@@ -487,13 +494,17 @@ public:
         // Every candidate is tested at the same times against the same
         // opponent: its placed body at the k-th time is kept for the next.
         std::size_t k = 0;
+        const auto ak = static_cast<std::size_t>(a);
+        const std::size_t pelvisBegin = ctx_.testPelvisBegin[ak];
+        const std::size_t pelvisCount = ctx_.testPelvisBegin[ak + 1] - pelvisBegin;
         for (double tau = 0; tau <= T + 1e-9; tau += kPenetrationStep, ++k) {
             if (k == opponentBodies_.size()) {
                 if (k == 0) opponentBodies_.reserve(32);
                 opponentBodies_.emplace_back(*ctx_.lib, detail::bodyAt(playing(o), std::min(g_.time + tau, o.end)),
                                              kPenetrationShrink);
             }
-            const detail::CoreBody me(*ctx_.lib, {a, tau, start_}, startRotation_, kPenetrationShrink);
+            const glm::vec2 pelvis = k < pelvisCount ? ctx_.testPelvis[pelvisBegin + k] : ctx_.lib->rootAt(a, tau).pos;
+            const detail::CoreBody me(*ctx_.lib, {a, tau, start_}, startRotation_, pelvis, kPenetrationShrink);
             if (detail::coreBodiesOverlap(me, opponentBodies_[k], kPenetrationReach)) return false;
         }
         return true;
@@ -1006,6 +1017,14 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
         }
         base.maxHitSpeed[static_cast<std::size_t>(a)] = fastest;
     }
+    for (int a = 0; a < n; ++a) {
+        base.testPelvisBegin.push_back(base.testPelvis.size());
+        const double duration = lib.actions[static_cast<std::size_t>(a)].duration;
+        for (double tau = 0; tau <= duration + 1e-9; tau += kPenetrationStep) {
+            base.testPelvis.push_back(lib.rootAt(a, tau).pos);
+        }
+    }
+    base.testPelvisBegin.push_back(base.testPelvis.size());
 
     // Groups, in order of first appearance.
     std::vector<int> groupIds;
