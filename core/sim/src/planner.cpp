@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -346,10 +347,39 @@ void advance(const Context& ctx, GroupState& g, Events& ev, Recorder* rec) {
     updateCheckpoints(ctx, g, g.time);
 }
 
+// One character's placement at one moment, kept for the next call with the
+// same state and moment (compared bit for bit: the same inputs, the same
+// value). A node's edges judge the opponent where its action ends whenever
+// the candidate outlasts it, from the same state unless a blow changed it, so
+// one per node saves most of those placements.
+class PlacementMemo {
+public:
+    RootXf operator()(const Context& ctx, const CharState& s, double t) {
+        if (!valid_ || s.action != action_ || !same(s.start, start_) || !same(s.offset, offset_) || !same(t, t_) ||
+            !same(s.root.pos.x, root_.pos.x) || !same(s.root.pos.y, root_.pos.y) ||
+            !same(s.root.heading, root_.heading)) {
+            valid_ = true;
+            action_ = s.action, start_ = s.start, offset_ = s.offset, root_ = s.root, t_ = t;
+            value_ = placement(ctx, s, t);
+        }
+        return value_;
+    }
+
+private:
+    static bool same(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
+    static bool same(float a, float b) { return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b); }
+    bool valid_ = false;
+    int action_ = 0;
+    double start_ = 0, offset_ = 0, t_ = 0;
+    RootXf root_;
+    RootXf value_;
+};
+
 // F_comp and F_coop of the edge "who launched action" (SPEC 2.3), evaluated
-// at the next node with the events of the interval.
+// at the next node with the events of the interval. oppAt: the node's memo of
+// the opponent's placement.
 Value edgeScore(const Context& ctx, const GroupState& before, const GroupState& after, int who, int action,
-                const Events& ev) {
+                const Events& ev, PlacementMemo& oppAt) {
     const auto& spec = specOf(ctx, who);
     const auto& w = spec.weights;
     // Movement is judged where the launched action leaves the character (its
@@ -366,7 +396,7 @@ Value edgeScore(const Context& ctx, const GroupState& before, const GroupState& 
     const int opp = opponentOf(ctx, after, who, after.time);
     if (opp >= 0) {
         const auto& os = after.c[static_cast<std::size_t>(opp)];
-        const RootXf po = placement(ctx, os, std::min(t, os.end));
+        const RootXf po = oppAt(ctx, os, std::min(t, os.end));
         const glm::vec2 d = po.pos - pm.pos;
         const double r = glm::length(d);
         const double theta = r > 1e-6 ? wrapAngle(angleOf(d) - pm.heading) : 0.0;
@@ -671,13 +701,14 @@ struct Child {
 bool isMax(const Context& ctx, int who, int rootSide) { return specOf(ctx, who).side == rootSide; }
 
 // The child reached by `who` launching `action` from g, with the path sums.
-void makeChild(const Context& ctx, const GroupState& g, int who, int action, const Value& acc, bool mx, Child& ch) {
+void makeChild(const Context& ctx, const GroupState& g, int who, int action, const Value& acc, bool mx, Child& ch,
+               PlacementMemo& oppAt) {
     ch.action = action;
     ch.state = g;
     launch(ctx, ch.state, who, action, g.time);
     Events ev;
     advance(ctx, ch.state, ev, nullptr);
-    const Value e = edgeScore(ctx, g, ch.state, who, action, ev);
+    const Value e = edgeScore(ctx, g, ch.state, who, action, ev, oppAt);
     ch.acc.comp = acc.comp + (mx ? e.comp : -e.comp);
     ch.acc.coop = acc.coop + e.coop;
     ch.order = mx ? ch.acc.comp + ch.acc.coop : -(ch.acc.comp - ch.acc.coop);
@@ -701,7 +732,7 @@ bool better(bool mx, const Value& a, const Value& b) {
 // the plain frontier. Returns nothing when no candidate passes every
 // criterion (the caller then applies the full rule with its fallbacks).
 std::optional<Value> boundedFrontier(const Context& ctx, const GroupState& g, int who, bool mx, const Pruner& pruner,
-                                     double alpha, double beta, const Value& acc, Stats& stats) {
+                                     double alpha, double beta, const Value& acc, Stats& stats, PlacementMemo& oppAt) {
     const int opp = 1 - who;
     const auto& o = g.c[static_cast<std::size_t>(opp)];
     const auto& oa = act(ctx, o.action);
@@ -725,7 +756,7 @@ std::optional<Value> boundedFrontier(const Context& ctx, const GroupState& g, in
             after = g;
             launch(ctx, after, who, a, g.time);
             after.time = std::min(after.c[0].end, after.c[1].end);
-            keys.push_back({edgeScore(ctx, g, after, who, a, Events{}).comp, a, true});
+            keys.push_back({edgeScore(ctx, g, after, who, a, Events{}, oppAt).comp, a, true});
             continue;
         }
         // The scoring-free part of the edge, without movement, stage and path
@@ -751,7 +782,7 @@ std::optional<Value> boundedFrontier(const Context& ctx, const GroupState& g, in
             v.comp = mx ? acc.comp + k.key : acc.comp - k.key;
             v.coop = acc.coop;
         } else {
-            makeChild(ctx, g, who, k.action, acc, mx, ch);
+            makeChild(ctx, g, who, k.action, acc, mx, ch, oppAt);
             v = ch.acc;
         }
         if (!have || better(mx, v, best)) best = v, have = true;
@@ -781,9 +812,10 @@ Value search(const Context& ctx, const GroupState& g, int depth, double alpha, d
     const bool ab = ctx.opt->alphaBeta && !ctx.cooperative;
     const Pruner pruner(ctx, g, who, false);
     Child ch;
+    PlacementMemo oppAt;
     if (depth <= 1) {
         if (ab && ctx.boundedFrontier && pruner.active()) {
-            if (auto v = boundedFrontier(ctx, g, who, mx, pruner, alpha, beta, acc, stats)) return *v;
+            if (auto v = boundedFrontier(ctx, g, who, mx, pruner, alpha, beta, acc, stats, oppAt)) return *v;
         }
         // Frontier: when some action passes every criterion, the pruned set
         // is exactly those actions, so each is tested only when reached and a
@@ -791,7 +823,7 @@ Value search(const Context& ctx, const GroupState& g, int depth, double alpha, d
         Value best;
         bool have = false;
         auto visit = [&](int a) {
-            makeChild(ctx, g, who, a, acc, mx, ch);
+            makeChild(ctx, g, who, a, acc, mx, ch, oppAt);
             ++stats.leaves;
             if (!have || better(mx, ch.acc, best)) best = ch.acc, have = true;
             if (ab && (mx ? best.comp >= beta : best.comp <= alpha)) {
@@ -842,7 +874,7 @@ Value search(const Context& ctx, const GroupState& g, int depth, double alpha, d
     if (ab && pruner.active()) {
         for (int a : pruner.base()) {
             if (!pruner.cheapCriteria(a)) continue;
-            makeChild(ctx, g, who, a, acc, mx, children.emplace_back());
+            makeChild(ctx, g, who, a, acc, mx, children.emplace_back(), oppAt);
         }
         if (auto v = searchChildren(true)) return *v;
         children.clear();
@@ -852,7 +884,7 @@ Value search(const Context& ctx, const GroupState& g, int depth, double alpha, d
     pruner.prune(cands, ignored);
     if (cands.empty()) return acc;
     children.resize(cands.size());
-    for (std::size_t i = 0; i < cands.size(); ++i) makeChild(ctx, g, who, cands[i], acc, mx, children[i]);
+    for (std::size_t i = 0; i < cands.size(); ++i) makeChild(ctx, g, who, cands[i], acc, mx, children[i], oppAt);
     return searchChildren(false).value_or(acc);
 }
 
@@ -870,7 +902,8 @@ int decide(const Context& ctx, const GroupState& g, int depth, Stats& stats, boo
     if (cands.empty()) return -1;
     if (cands.size() == 1) return cands[0];
     std::vector<Child> children(cands.size());
-    for (std::size_t i = 0; i < cands.size(); ++i) makeChild(ctx, g, who, cands[i], Value{}, true, children[i]);
+    PlacementMemo oppAt;
+    for (std::size_t i = 0; i < cands.size(); ++i) makeChild(ctx, g, who, cands[i], Value{}, true, children[i], oppAt);
     if (depth <= 1) {
         stats.leaves += static_cast<std::int64_t>(children.size());
         std::size_t best = 0;
