@@ -40,8 +40,10 @@ struct CharState {
     bool attackDone = false;   // the current attack landed (one hit per attack)
     bool caught = false;       // a catch was scored during the current action
     bool reacting = false;     // in a forced reaction: cannot be hit again until it ends
+    // The names (Context::nameId) of its last actions, newest first: recency()
+    // is asked about every candidate of a node, an action starts once.
     std::array<std::int16_t, kRecent> recent{};
-    std::int8_t recentCount = 0, recentPos = 0;
+    std::int8_t recentCount = 0;
 };
 
 struct GroupState {
@@ -181,9 +183,9 @@ int opponentOf(const Context& ctx, const GroupState& g, int who, double t) {
     return best;
 }
 
-void pushRecent(CharState& s, int action) {
-    s.recent[static_cast<std::size_t>(s.recentPos)] = static_cast<std::int16_t>(action);
-    s.recentPos = static_cast<std::int8_t>((s.recentPos + 1) % kRecent);
+void pushRecent(const Context& ctx, CharState& s, int action) {
+    std::copy_backward(s.recent.begin(), s.recent.end() - 1, s.recent.end());
+    s.recent[0] = static_cast<std::int16_t>(ctx.nameId[static_cast<std::size_t>(action)]);
     if (s.recentCount < kRecent) ++s.recentCount;
 }
 
@@ -191,11 +193,8 @@ void pushRecent(CharState& s, int action) {
 // fading to 1/kRecent for the oldest remembered; 0 when not remembered.
 double recency(const Context& ctx, const CharState& s, int action) {
     const int name = ctx.nameId[static_cast<std::size_t>(action)];
-    int idx = s.recentPos;
     for (int k = 0; k < s.recentCount; ++k) {
-        idx = idx == 0 ? kRecent - 1 : idx - 1;  // newest first
-        const int a = s.recent[static_cast<std::size_t>(idx)];
-        if (ctx.nameId[static_cast<std::size_t>(a)] == name) return 1.0 - static_cast<double>(k) / kRecent;
+        if (s.recent[static_cast<std::size_t>(k)] == name) return 1.0 - static_cast<double>(k) / kRecent;
     }
     return 0.0;
 }
@@ -211,7 +210,7 @@ void launch(const Context& ctx, GroupState& g, int who, int action, double t) {
     s.attackDone = false;
     s.caught = false;
     s.reacting = false;
-    pushRecent(s, action);
+    pushRecent(ctx, s, action);
 }
 
 detail::Playing playing(const CharState& s) { return {s.action, s.start, s.offset, s.root}; }
@@ -325,7 +324,7 @@ void advance(const Context& ctx, GroupState& g, Events& ev, Recorder* rec) {
                 ns.attackDone = true;
                 ns.caught = false;
                 ns.reacting = true;
-                pushRecent(ns, reaction);
+                pushRecent(ctx, ns, reaction);
                 if (rec) {
                     auto& track = rec->scene->characters[static_cast<std::size_t>(rec->global[static_cast<std::size_t>(bestDef)])].track;
                     if (!track.empty()) track.back().end = te;
@@ -1112,7 +1111,7 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
                 start.heading = wrapAngle(start.heading + jh);
             }
             s.root = start * lib.rootAt(a0, offset).inverse();
-            pushRecent(s, a0);
+            pushRecent(ctx, s, a0);
             g.c[static_cast<std::size_t>(g.n)] = s;
             auto& track = scene.characters[static_cast<std::size_t>(i)].track;
             track.push_back({a0, 0.0, offset, s.end, s.root, false, false});
