@@ -209,7 +209,7 @@ void runCompose(const ComposeArgs& a) {
         if (st.goalReached >= 0) std::snprintf(goal, sizeof goal, "crossed the goal line at %.1f s", st.goalReached);
         std::printf("%s: %d patches joined through the carrier's motion graph, %d second tackler%s beside them by spatial "
                     "connection; the carrier got past %d tacklers and %s\n",
-                    a.out.c_str(), st.graphJoined, st.spatialJoined, st.spatialJoined == 1 ? "" : "s", st.tacklersPassed, goal);
+                    a.out.c_str(), st.graphJoined, st.secondTacklers, st.secondTacklers == 1 ? "" : "s", st.tacklersPassed, goal);
     }
     if (spec->kind == sim::SceneKind::Rat && static_cast<int>(scene->characters.size()) - 1 < spec->crowd) {
         std::printf("%s: %zu of the %d people asked for fit within %.1f m of the trajectory at %.2f m spacing\n", a.out.c_str(),
@@ -230,7 +230,7 @@ void runCompose(const ComposeArgs& a) {
     if (spec->kind == sim::SceneKind::Domino) {
         std::printf("%s: %d of the %d chain falls joined by spatial connection; the falls cover %.0f %% of the painted area (within "
                     "%.1f m of someone who fell)\n",
-                    a.out.c_str(), st.spatialJoined, st.chainFalls, 100.0 * st.paintedCoverage, double(sim::ComposeStats::kCoverRadius));
+                    a.out.c_str(), st.spatialFalls, st.chainFalls, 100.0 * st.paintedCoverage, double(sim::ComposeStats::kCoverRadius));
     }
 }
 

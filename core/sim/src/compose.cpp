@@ -10,6 +10,7 @@
 #include <numbers>
 #include <optional>
 #include <random>
+#include <set>
 #include <tuple>
 
 #include <tbb/parallel_for.h>
@@ -613,7 +614,7 @@ struct Composer {
             }
             placeHits(pb, {carrier, tackler}, tb);
             stats.locomotionSteps += static_cast<int>(walk.size());
-            ++stats.spatialJoined;
+            ++stats.secondTacklers;
             stats.tacklersPassed += pb.hits.empty() ? 1 : 0;
             used(static_cast<std::size_t>(l.to));
             getUpAndStand(tackler);
@@ -1074,12 +1075,12 @@ struct Composer {
         const double facing = (wrapAngle(b.at.heading - r.heading) + std::numbers::pi) / (2 * std::numbers::pi / kRatFacings);
         const int l0 = static_cast<int>(std::floor(lateral)), f0 = static_cast<int>(std::floor(facing));
         std::vector<RatPatch> out;
+        std::set<std::pair<int, double>> seen;  // (way, lead): the cells share the 0.1 s lead grid exactly
         for (int l : {l0, l0 + 1}) {
             if (l < -ratLaterals || l > ratLaterals) continue;
             for (int f : {f0, f0 + 1}) {
                 for (const RatPatch& p : ratTable[ratCell(l, ((f % kRatFacings) + kRatFacings) % kRatFacings)]) {
-                    const bool seen = std::any_of(out.begin(), out.end(), [&](const RatPatch& q) { return q.way == p.way && std::abs(q.lead - p.lead) < 1e-9; });
-                    if (!seen) out.push_back(p);
+                    if (seen.emplace(p.way, p.lead).second) out.push_back(p);
                 }
             }
         }
@@ -1300,9 +1301,9 @@ struct Composer {
             } best;
             for (const RatPatch& patch : ratCandidates(b)) {
                 const auto& way = ways[static_cast<std::size_t>(patch.way)];
-                const RootXf root = b.at * lib.rootAt(way.front(), 0).inverse();
                 const double ts = b.passTime - patch.lead;
                 if (ts < 0.2) continue;
+                const RootXf root = b.at * lib.rootAt(way.front(), 0).inverse();
                 auto plan = planMove(b.at, ts, way, 0.0, root, false, until);
                 const double clear = ratClearance(b, plan);
                 if (clear < kRatClear) continue;
@@ -1578,7 +1579,7 @@ struct Composer {
                 spots.push_back(standing.pos);
                 used(static_cast<std::size_t>(best));
                 ++stats.chainFalls;
-                stats.spatialJoined += f.patch >= 0 ? 1 : 0;
+                stats.spatialFalls += f.patch >= 0 ? 1 : 0;
                 queue.push_back({n, tHit - reaction.offset, reaction.action, fall.root, reaction.offset, best});
                 std::push_heap(queue.begin(), queue.end(), byTime);
             }

@@ -96,12 +96,12 @@ struct ComposeStats {
     int patchesUsed = 0;
     int temporalLinks = 0, recycled = 0;   // how each next patch was found
     int graphJoined = 0;                   // football: joined where the carrier's run continues in the motion graph
-    int spatialJoined = 0;                 // football: second tacklers joined by a spatial connection; domino: falls caused
-                                           // by a faller through a spatial connection of the patch it fell in
+    int secondTacklers = 0;                // football: second tacklers joined beside a patch by a spatial connection
     int tacklersPassed = 0;                // football: tackles the carrier got away from
     double goalReached = -1;               // football: when the carrier crossed the goal line (s), -1 never
     int locomotionSteps = 0;
     int chainFalls = 0;                    // domino: people knocked over by a falling body
+    int spatialFalls = 0;                  // domino: of those, caused through a spatial connection of the faller's patch
     int ratPatches = 0;                    // rat: {run, AVOID} patches generated for the scene's rat speed
     int ratNear = 0;                       // rat: people standing within reach of its trajectory
     int ratAvoided = 0;                    // rat: of those, who stepped out of its way
