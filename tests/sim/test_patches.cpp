@@ -11,6 +11,8 @@
 #include <numbers>
 #include <set>
 
+#include <tbb/task_arena.h>
+
 #include "fray/core/atomic_file.h"
 #include "fray/sim/compose.h"
 #include "fray/sim/metrics.h"
@@ -283,6 +285,55 @@ TEST(PatchTables, ConnectionsAndStandardPoses) {
             EXPECT_LE(configDistance(out.patches[i].initial, out.standardPoses[static_cast<std::size_t>(out.initialPose[i])]), 0.35 + 1e-9);
         }
     }
+}
+
+// The temporal table asks the motion graph once per pair of distinct actions
+// and builds its rows in parallel: its links where both characters continue
+// must be exactly those found by asking for every pair of patches, and one
+// thread must build the same tables as many.
+TEST(PatchTables, TemporalLinksMatchThePairwiseRuleWithOneThreadOrMany) {
+    const auto& lib = demoWorld().library;
+    const auto& out = fightLibrary();
+    const std::size_t n = out.patches.size();
+    ASSERT_GT(n, 50u);
+    std::size_t expected = 0;
+    for (std::size_t a = 0; a < n; ++a) {
+        const Patch& pa = out.patches[a];
+        std::vector<std::pair<int, int>> want, have;
+        for (std::size_t b = 0; b < n; ++b) {
+            const Patch& pb = out.patches[b];
+            for (int roles = 0; roles < 2; ++roles) {
+                const int m0 = roles ? 1 : 0;
+                const bool both = lib.continuesInto(pa.tracks[0].back().action, pb.tracks[static_cast<std::size_t>(m0)].front().action) &&
+                                  lib.continuesInto(pa.tracks[1].back().action, pb.tracks[static_cast<std::size_t>(1 - m0)].front().action);
+                const PatchConfig fin = roles ? PatchConfig{pa.final.r, pa.final.theta2, pa.final.theta1, pa.final.delay} : pa.final;
+                if (both && configDistance(fin, pb.initial) <= 0.5) want.push_back({static_cast<int>(b), roles});
+            }
+        }
+        for (const auto& l : out.temporal[a]) {
+            if (l.shared < 0) have.push_back({l.to, l.roles});
+        }
+        expected += want.size();
+        ASSERT_EQ(have, want) << "patch " << a;
+    }
+    EXPECT_GT(expected, 0u);
+
+    PatchLibrary single;
+    single.patterns = out.patterns;
+    single.patches = out.patches;
+    tbb::task_arena one(1);
+    one.execute([&] { buildConnections(lib, single); });
+    ASSERT_EQ(single.temporal.size(), n);
+    for (std::size_t a = 0; a < n; ++a) {
+        ASSERT_EQ(single.temporal[a].size(), out.temporal[a].size()) << "patch " << a;
+        for (std::size_t i = 0; i < out.temporal[a].size(); ++i) {
+            EXPECT_EQ(single.temporal[a][i].to, out.temporal[a][i].to);
+            EXPECT_EQ(single.temporal[a][i].roles, out.temporal[a][i].roles);
+            EXPECT_EQ(single.temporal[a][i].shared, out.temporal[a][i].shared);
+        }
+        ASSERT_EQ(single.spatial[a].size(), out.spatial[a].size()) << "patch " << a;
+    }
+    EXPECT_EQ(single.initialPose, out.initialPose);
 }
 
 const PatchLibrary& dominoLibrary();

@@ -1,6 +1,8 @@
 // Connection tables, standard poses (SPEC 4.3, 4.4) and the patch cache.
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <numbers>
@@ -39,19 +41,57 @@ bool sweptMeets(const Patch& b, int who, const RootXf& xf, const SweptBox& box) 
     return false;
 }
 
+// Whether each patch's last actions continue into each patch's first ones,
+// asked once per pair of distinct actions (a library has a few hundred of
+// each, against millions of patch pairs).
+class ContinuationTable {
+public:
+    ContinuationTable(const ActionLibrary& lib, const std::vector<Patch>& patches) {
+        std::vector<int> lastIndex(static_cast<std::size_t>(lib.size()), -1), firstIndex(lastIndex);
+        std::vector<int> lasts, firsts;
+        auto index = [](std::vector<int>& at, std::vector<int>& list, int action) {
+            auto& i = at[static_cast<std::size_t>(action)];
+            if (i < 0) i = static_cast<int>(list.size()), list.push_back(action);
+            return i;
+        };
+        last_.resize(patches.size()), first_.resize(patches.size());
+        for (std::size_t p = 0; p < patches.size(); ++p) {
+            for (std::size_t k = 0; k < 2; ++k) {
+                last_[p][k] = index(lastIndex, lasts, patches[p].tracks[k].back().action);
+                first_[p][k] = index(firstIndex, firsts, patches[p].tracks[k].front().action);
+            }
+        }
+        firstCount_ = firsts.size();
+        cont_.resize(lasts.size() * firsts.size());
+        for (std::size_t i = 0; i < lasts.size(); ++i)
+            for (std::size_t j = 0; j < firsts.size(); ++j) cont_[i * firstCount_ + j] = continues(lib, lasts[i], firsts[j]);
+    }
+    // Does patch a's character ka's last action continue into patch b's character kb's first one?
+    bool operator()(std::size_t a, int ka, std::size_t b, int kb) const {
+        const auto i = static_cast<std::size_t>(last_[a][static_cast<std::size_t>(ka)]);
+        const auto j = static_cast<std::size_t>(first_[b][static_cast<std::size_t>(kb)]);
+        return cont_[i * firstCount_ + j] != 0;
+    }
+
+private:
+    std::vector<std::array<int, 2>> last_, first_;  // per patch and character: dense action index
+    std::size_t firstCount_ = 0;
+    std::vector<std::uint8_t> cont_;
+};
+
 void temporalTable(const ActionLibrary& lib, PatchLibrary& out) {
     const auto n = out.patches.size();
     out.temporal.assign(n, {});
-    for (std::size_t ia = 0; ia < n; ++ia) {
+    const ContinuationTable continuesTo(lib, out.patches);
+    // Each patch's row on its own: the same table with one thread or many.
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t ia) {
         const Patch& a = out.patches[ia];
-        const std::array<int, 2> lastA = {a.tracks[0].back().action, a.tracks[1].back().action};
         for (std::size_t ib = 0; ib < n; ++ib) {
             const Patch& b = out.patches[ib];
             for (int roles = 0; roles < 2; ++roles) {
                 // b's character m is a's character (roles ? 1 - m : m).
                 const int m0 = roles ? 1 : 0;  // b's character that a's character 0 becomes
-                const std::array<bool, 2> cont = {continues(lib, lastA[0], b.tracks[static_cast<std::size_t>(m0)].front().action),
-                                                  continues(lib, lastA[1], b.tracks[static_cast<std::size_t>(1 - m0)].front().action)};
+                const std::array<bool, 2> cont = {continuesTo(ia, 0, ib, m0), continuesTo(ia, 1, ib, 1 - m0)};
                 const PatchConfig fin = roles ? swapped(a.final) : a.final;
                 if (cont[0] && cont[1] && configDistance(fin, b.initial) <= kContinueF) {
                     out.temporal[ia].push_back({static_cast<int>(ib), static_cast<std::int8_t>(roles), -1});
@@ -71,7 +111,7 @@ void temporalTable(const ActionLibrary& lib, PatchLibrary& out) {
                 }
             }
         }
-    }
+    });
 }
 
 // The body of a patch's character at patch time t (held before its first
