@@ -22,6 +22,7 @@ namespace fray::sim {
 namespace {
 
 constexpr double kContinueF = 0.5;    // F below which a final configuration continues into an initial one
+constexpr double kConfigR = 0.30;     // m: C_r of F (configDistance)
 constexpr double kStandardF = 0.35;   // clusters grow until every configuration is this close to its pose
 constexpr int kMaxStandardPoses = 64;
 constexpr float kClearance = 0.15f;   // m between the bounding boxes of characters that must not meet
@@ -84,6 +85,24 @@ void temporalTable(const ActionLibrary& lib, PatchLibrary& out) {
     out.temporal.assign(n, {});
     const ContinuationTable continuesTo(lib, out.patches);
     // Each patch's row on its own: the same table with one thread or many.
+    // Per patch and character: where its last action ends, the inverse of
+    // where its first one starts, and the hull of its swept boxes (a joiner
+    // whose placed hull stays clear of the leaving one meets it nowhere).
+    struct Ends {
+        std::array<RootXf, 2> end, startInverse;
+        std::array<SweptBox, 2> hull{SweptBox::empty(), SweptBox::empty()};
+    };
+    std::vector<Ends> ends(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const Patch& p = out.patches[i];
+        for (std::size_t k = 0; k < 2; ++k) {
+            ends[i].end[k] = p.endPlacement(lib, static_cast<int>(k));
+            ends[i].startInverse[k] = p.tracks[k].front().root.inverse();
+            for (const auto& box : p.swept[k]) ends[i].hull[k].add(box);
+        }
+    }
+    constexpr float kHullSlack = 1e-3f;  // m: rounding of the placed hull against the placed slices
+    // Each patch's row on its own: the same table with one thread or many.
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t ia) {
         const Patch& a = out.patches[ia];
         for (std::size_t ib = 0; ib < n; ++ib) {
@@ -92,8 +111,11 @@ void temporalTable(const ActionLibrary& lib, PatchLibrary& out) {
                 // b's character m is a's character (roles ? 1 - m : m).
                 const int m0 = roles ? 1 : 0;  // b's character that a's character 0 becomes
                 const std::array<bool, 2> cont = {continuesTo(ia, 0, ib, m0), continuesTo(ia, 1, ib, 1 - m0)};
+                if (!cont[0] && !cont[1]) continue;
                 const PatchConfig fin = roles ? swapped(a.final) : a.final;
-                if (cont[0] && cont[1] && configDistance(fin, b.initial) <= kContinueF) {
+                // F is at least its distance term: most pairs are rejected by it alone.
+                const double dr = (fin.r - b.initial.r) / kConfigR;
+                if (cont[0] && cont[1] && dr * dr <= kContinueF && configDistance(fin, b.initial) <= kContinueF) {
                     out.temporal[ia].push_back({static_cast<int>(ib), static_cast<std::int8_t>(roles), -1});
                     continue;
                 }
@@ -102,10 +124,10 @@ void temporalTable(const ActionLibrary& lib, PatchLibrary& out) {
                 for (int k = 0; k < 2; ++k) {
                     if (!cont[static_cast<std::size_t>(k)]) continue;
                     const int m = k == 0 ? m0 : 1 - m0;
-                    const RootXf endK = a.endPlacement(lib, k);
-                    const RootXf xf = endK * b.tracks[static_cast<std::size_t>(m)].front().root.inverse();
+                    const RootXf xf = ends[ia].end[static_cast<std::size_t>(k)] * ends[ib].startInverse[static_cast<std::size_t>(m)];
                     const SweptBox leaving = a.swept[static_cast<std::size_t>(1 - k)].back();
-                    if (sweptMeets(b, 1 - m, xf, leaving)) continue;
+                    const bool hullMeets = placedBox(ends[ib].hull[static_cast<std::size_t>(1 - m)], xf).overlaps(leaving, kClearance + kHullSlack);
+                    if (hullMeets && sweptMeets(b, 1 - m, xf, leaving)) continue;
                     out.temporal[ia].push_back({static_cast<int>(ib), static_cast<std::int8_t>(roles), static_cast<std::int8_t>(k)});
                     break;
                 }
