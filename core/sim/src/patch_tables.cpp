@@ -84,7 +84,6 @@ void temporalTable(const ActionLibrary& lib, PatchLibrary& out) {
     const auto n = out.patches.size();
     out.temporal.assign(n, {});
     const ContinuationTable continuesTo(lib, out.patches);
-    // Each patch's row on its own: the same table with one thread or many.
     // Per patch and character: where its last action ends, the inverse of
     // where its first one starts, and the hull of its swept boxes (a joiner
     // whose placed hull stays clear of the leaving one meets it nowhere).
