@@ -10,6 +10,7 @@
 #include <fstream>
 #include <numbers>
 #include <set>
+#include <tuple>
 
 #include <tbb/task_arena.h>
 
@@ -287,42 +288,60 @@ TEST(PatchTables, ConnectionsAndStandardPoses) {
     }
 }
 
-// The temporal table asks the motion graph once per pair of distinct actions
-// and builds its rows in parallel: its links where both characters continue
-// must be exactly those found by asking for every pair of patches, and one
-// thread must build the same tables as many.
+// The temporal table asks the motion graph once per pair of distinct actions,
+// skips placing most swept boxes and builds its rows in parallel: its links
+// must be exactly those of the rule (docs/PATCHES.md) applied to every pair of
+// patches and role mapping, and one thread must build the same tables as many.
 TEST(PatchTables, TemporalLinksMatchThePairwiseRuleWithOneThreadOrMany) {
     const auto& lib = demoWorld().library;
     const auto& out = fightLibrary();
     const std::size_t n = out.patches.size();
     ASSERT_GT(n, 50u);
-    std::size_t expected = 0;
+    constexpr float kClearance = 0.15f;  // m between the swept boxes of characters that must not meet
+    std::size_t both = 0, one = 0;
     for (std::size_t a = 0; a < n; ++a) {
         const Patch& pa = out.patches[a];
-        std::vector<std::pair<int, int>> want, have;
+        std::vector<std::tuple<int, int, int>> want, have;  // (to, roles, shared)
         for (std::size_t b = 0; b < n; ++b) {
             const Patch& pb = out.patches[b];
             for (int roles = 0; roles < 2; ++roles) {
-                const int m0 = roles ? 1 : 0;
-                const bool both = lib.continuesInto(pa.tracks[0].back().action, pb.tracks[static_cast<std::size_t>(m0)].front().action) &&
-                                  lib.continuesInto(pa.tracks[1].back().action, pb.tracks[static_cast<std::size_t>(1 - m0)].front().action);
+                const int m0 = roles ? 1 : 0;  // b's character that a's character 0 becomes
+                const bool cont[2] = {
+                    lib.continuesInto(pa.tracks[0].back().action, pb.tracks[static_cast<std::size_t>(m0)].front().action),
+                    lib.continuesInto(pa.tracks[1].back().action, pb.tracks[static_cast<std::size_t>(1 - m0)].front().action)};
                 const PatchConfig fin = roles ? PatchConfig{pa.final.r, pa.final.theta2, pa.final.theta1, pa.final.delay} : pa.final;
-                if (both && configDistance(fin, pb.initial) <= 0.5) want.push_back({static_cast<int>(b), roles});
+                if (cont[0] && cont[1] && configDistance(fin, pb.initial) <= 0.5) {
+                    want.emplace_back(static_cast<int>(b), roles, -1);
+                    continue;
+                }
+                // One continues; the other leaves, standing where a leaves it,
+                // and must stay clear of every swept box of b's newcomer.
+                for (int k = 0; k < 2; ++k) {
+                    if (!cont[k]) continue;
+                    const int m = k == 0 ? m0 : 1 - m0;
+                    const RootXf xf = pa.endPlacement(lib, k) * pb.tracks[static_cast<std::size_t>(m)].front().root.inverse();
+                    const SweptBox leaving = pa.swept[static_cast<std::size_t>(1 - k)].back();
+                    const auto& joiner = pb.swept[static_cast<std::size_t>(1 - m)];
+                    const bool meets = std::any_of(joiner.begin(), joiner.end(),
+                                                   [&](const SweptBox& s) { return placedBox(s, xf).overlaps(leaving, kClearance); });
+                    if (meets) continue;
+                    want.emplace_back(static_cast<int>(b), roles, k);
+                    break;
+                }
             }
         }
-        for (const auto& l : out.temporal[a]) {
-            if (l.shared < 0) have.push_back({l.to, l.roles});
-        }
-        expected += want.size();
+        for (const auto& l : out.temporal[a]) have.emplace_back(l.to, l.roles, l.shared);
+        for (const auto& w : want) ++(std::get<2>(w) < 0 ? both : one);
         ASSERT_EQ(have, want) << "patch " << a;
     }
-    EXPECT_GT(expected, 0u);
+    EXPECT_GT(both, 0u);
+    EXPECT_GT(one, 0u);
 
     PatchLibrary single;
     single.patterns = out.patterns;
     single.patches = out.patches;
-    tbb::task_arena one(1);
-    one.execute([&] { buildConnections(lib, single); });
+    tbb::task_arena oneThread(1);
+    oneThread.execute([&] { buildConnections(lib, single); });
     ASSERT_EQ(single.temporal.size(), n);
     for (std::size_t a = 0; a < n; ++a) {
         ASSERT_EQ(single.temporal[a].size(), out.temporal[a].size()) << "patch " << a;
