@@ -4,6 +4,7 @@
 // the motion graph and the action library.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -27,6 +28,15 @@ inline Result<sim::Scene> runSpec(const std::string& json) {
     auto spec = parseSpec(json);
     if (!spec) return spec.error();
     return sim::simulate(demoWorld().library, demoWorld().project.combos, *spec);
+}
+
+// Successful (unblocked) blows landed by characters 0 and 1 of a duel.
+inline std::array<int, 2> landedHits(const sim::Scene& scene) {
+    std::array<int, 2> hits{0, 0};
+    for (const auto& h : scene.hits) {
+        if (!h.blocked && h.attacker >= 0 && h.attacker < 2) ++hits[static_cast<std::size_t>(h.attacker)];
+    }
+    return hits;
 }
 
 // Two boxers from one capture facing each other.

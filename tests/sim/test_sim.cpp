@@ -420,10 +420,7 @@ TEST(SimDepth, DeeperBoxerWinsMostMatches) {
     for (std::uint64_t seed = 1; seed <= 10; ++seed) {
         auto scene = test::runSpec(test::duelSpec(4, 2, seed, 12.0));
         ASSERT_TRUE(scene.ok()) << scene.error().message;
-        int hits[2] = {0, 0};
-        for (const auto& h : scene->hits) {
-            if (!h.blocked) ++hits[h.attacker];
-        }
+        const auto hits = test::landedHits(*scene);
         hitsDeep += hits[0], hitsShallow += hits[1];
         wins += hits[0] > hits[1];
         ++matches;
@@ -453,10 +450,7 @@ TEST(SimDepth, SmartTiredBoxerBeatsEnergeticOne) {
                 duelSpec(depthTired, 2, seed, 60.0, "general-boxer", "general-boxer", "shadowbox_tired", "shadowbox_energetic"));
             EXPECT_TRUE(scene.ok()) << scene.error().message;
             if (!scene.ok()) continue;
-            int hits[2] = {0, 0};
-            for (const auto& h : scene->hits) {
-                if (!h.blocked) ++hits[h.attacker];
-            }
+            const auto hits = test::landedHits(*scene);
             s.hitsTired += hits[0], s.hitsEnergetic += hits[1];
             s.wins += hits[0] > hits[1];
         }

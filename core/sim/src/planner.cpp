@@ -745,14 +745,13 @@ std::optional<Value> boundedFrontier(const Context& ctx, const GroupState& g, in
     };
     thread_local std::vector<Key> keys;
     keys.clear();
-    GroupState after;
     for (int a : pruner.base()) {
         const auto& x = act(ctx, a);
         const bool attack = x.is(kAttack) && x.effector >= 0;
         if (!attack && !oppCanHit) {
             // Only the exact key needs the launched state.
             // (No checkpoints to update: alpha-beta runs without cooperative terms.)
-            after = g;
+            GroupState after = g;
             launch(ctx, after, who, a, g.time);
             after.time = std::min(after.c[0].end, after.c[1].end);
             keys.push_back({edgeScore(ctx, g, after, who, a, Events{}, oppAt).comp, a, true});
