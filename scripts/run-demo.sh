@@ -72,8 +72,8 @@ echo "Domino:            $run/domino.frayscene (frames in $run/domino-frames)"
 echo "Football:          $run/football.frayscene (frames in $run/football-frames)"
 echo "Rat:               $run/rat.frayscene (frames in $run/rat-frames)"
 if [[ -n "${DISPLAY:-}${WAYLAND_DISPLAY:-}" && -x build/bin/fray ]]; then
-  echo "Opening the fray window on the duel (build/bin/fray with no argument opens it too)."
-  build/bin/fray "$run/duel.frayscene"
+  echo "Opening the editor on the demo project (build/bin/fray with no argument; build/bin/fray $run/duel.frayscene plays the duel)."
+  build/bin/fray "$lib/demo.frayproj"
 else
-  echo "No display: open the duel later with build/bin/fray (or xvfb-run -a build/bin/fray --quit-after 30 --screenshot shot.png)."
+  echo "No display: open the editor on the demo project later with build/bin/fray (headless: xvfb-run -a build/bin/fray --quit-after 30 --wait-analysis --screenshot shot.png); build/bin/fray $run/duel.frayscene plays the duel."
 fi

@@ -104,7 +104,7 @@ QPointF GraphView::toWidget(QPointF p) const {
 double GraphView::nodeRadius(int node) const {
     const int d = outDegree_[static_cast<std::size_t>(node)];
     const double base = data_.nodeCount > 200 ? 2.0 : 4.0;
-    return (base + 1.6 * std::sqrt(static_cast<double>(d))) * std::sqrt(zoom_);
+    return std::min(base + 1.2 * std::sqrt(static_cast<double>(d)), 14.0) * std::sqrt(zoom_);
 }
 
 QPoint GraphView::nodePosition(int node) const {

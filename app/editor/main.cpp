@@ -1,9 +1,11 @@
-// fray: the Qt editor. This first window plays a scene (planned or composed),
-// or a project's takes, or motion files, in the Vulkan viewport. With no
-// argument it opens the demo scene README command (1) writes, or the demo
-// project's takes when that scene does not exist yet.
+// fray: the Qt editor. With no argument it opens the demo project: its
+// takes play in the Vulkan viewport and the panels (library, timeline,
+// inspector, motion graph, combination table) fill in once the project is
+// analysed in the background. A scene (planned or composed) plays with its
+// characters listed; motion files play side by side.
 //
 //   fray [SCENE.frayscene | PROJECT.frayproj | MOTION...] [--rig FILE] [--quit-after N] [--screenshot out.png]
+//        [--wait-analysis] [--fresh-layout] [--describe-ui]
 //
 // --rig FILE draws the characters as a skinned rig (glTF/GLB, FBX, ...)
 // instead of capsules (app/cli/rig_setup.h, shared with fray-play).
@@ -60,7 +62,7 @@ int main(int argc, char** argv) {
     std::vector<std::string> inputs;
     int quitAfter = 0;
     std::string screenshot, viewportShot, quality = "auto", rig;
-    bool validate = false;
+    bool validate = false, describeUi = false, waitAnalysis = false, freshLayout = false;
     {
         CLI::App cli{"fray: the Fray editor"};
         cli.add_option("inputs", inputs,
@@ -73,6 +75,11 @@ int main(int argc, char** argv) {
                        "matched to the motion's joints by name");
         cli.add_option("--quality", quality, "auto, fast or high (auto: fast on a CPU Vulkan device)")->capture_default_str();
         cli.add_flag("--validate", validate, "Vulkan validation layers on; any message makes the exit code 3");
+        cli.add_flag("--describe-ui", describeUi,
+                     "Print the main window's docks, menus and actions as JSON and exit (no display or Vulkan needed)");
+        cli.add_flag("--wait-analysis", waitAnalysis,
+                     "With --quit-after: quit only once the project's analysis (contacts, profiles, graph) has finished");
+        cli.add_flag("--fresh-layout", freshLayout, "Start with the default panel layout, not the one saved by the last run");
         CLI11_PARSE(cli, argc, argv);
     }
     if (quitAfter < 0) return fail("--quit-after must be >= 0", 2);
@@ -82,18 +89,26 @@ int main(int argc, char** argv) {
     else if (quality == "high") q = fray::render::Quality::High;
     else if (quality != "auto") return fail("--quality " + quality + ": expected auto, fast or high", 2);
 
+    if (describeUi) {
+        // The window's structure only: offscreen, no Vulkan, no data.
+        if (qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) qputenv("QT_QPA_PLATFORM", "offscreen");
+        QApplication app(argc, argv);
+        QApplication::setApplicationName("fray");
+        fray::editor::EditorOptions options;
+        options.restoreLayout = false;
+        fray::editor::MainWindow window(nullptr, {}, nullptr, {}, "describe-ui", options);
+        const QByteArray json = window.describeUi();
+        std::fwrite(json.constData(), 1, static_cast<std::size_t>(json.size()), stdout);
+        return 0;
+    }
     if (inputs.empty()) {
+        // The demo project, in the editor.
         auto demo = fray::app::findDemoProject(argc > 0 ? argv[0] : nullptr);
         if (!demo)
             return fail("no input given and no demo project found (build the project first; it writes "
                         "build/demo-library/demo.frayproj, or set FRAY_DEMO_LIBRARY)",
                         2);
-        if (auto scene = fray::app::findDemoScene(*demo)) {
-            inputs.push_back(scene->string());
-        } else {
-            std::fprintf(stderr, "fray: no demo scene yet (bash scripts/run-demo.sh writes one); showing the demo takes\n");
-            inputs.push_back(demo->string());
-        }
+        inputs.push_back(demo->string());
     }
     // A scene, or takes side by side.
     std::unique_ptr<fray::cli::SceneStage> scene;
@@ -161,7 +176,13 @@ int main(int argc, char** argv) {
         options.screenshot = QString::fromStdString(screenshot);
         options.viewportScreenshot = QString::fromStdString(viewportShot);
         {
-            fray::editor::MainWindow window(viewport, std::move(takes), std::move(scene), QString::fromStdString(title), options);
+            options.waitForAnalysis = waitAnalysis;
+            options.restoreLayout = !freshLayout;
+            const QString projectFile = inputs.size() == 1 && std::filesystem::path(inputs[0]).extension() == ".frayproj"
+                                            ? QString::fromStdString(inputs[0])
+                                            : QString();
+            fray::editor::MainWindow window(viewport, std::move(takes), std::move(scene), projectFile,
+                                            QString::fromStdString(title), options);
             window.show();
             code = QApplication::exec();
             if (code == 0) code = window.exitCode();

@@ -11,7 +11,7 @@
 set -uo pipefail
 fray=$1 check=$2 lib=$3 out=$4 cli=$5
 rm -rf "$out" && mkdir -p "$out"
-export XDG_RUNTIME_DIR=$out && chmod 700 "$out"
+export XDG_RUNTIME_DIR=$out XDG_CONFIG_HOME=$out/config && chmod 700 "$out"
 fails=0
 bad() { echo "FAIL: $*"; fails=$((fails + 1)); }
 source "$(dirname "$0")/xvfb_lib.sh"
@@ -31,6 +31,18 @@ grep -q "validation" "$out/demo.log" && bad "validation messages: $(cat "$out/de
 # an empty floor has no pixel of that hue.
 red=$tint_red purple=$tint_purple
 "$check" "$out/viewport.png" --tint $red 400 || bad "demo: no character drawn in the viewport"
+
+# The editor on the demo project waits for the background analysis when asked
+# and reports it; --describe-ui lists the docks and menus without a display.
+if ! timeout 240 "$fray" --quit-after 5 --wait-analysis --fresh-layout --screenshot "$out/editor.png" >"$out/analysis.log" 2>&1; then
+  bad "fray --wait-analysis failed: $(cat "$out/analysis.log") $(xvfb_log)"
+fi
+grep -q "analysed 6 motions, graph [0-9]* nodes" "$out/analysis.log" || bad "no analysis reported: $(cat "$out/analysis.log")"
+"$check" "$out/editor.png" 640 400 || bad "editor screenshot check"
+"$fray" --describe-ui >"$out/ui.json" 2>"$out/ui.log" || bad "--describe-ui failed: $(cat "$out/ui.log")"
+for name in LibraryDock TimelineDock InspectorDock GraphDock CombosDock actionOpen actionQuit; do
+  grep -q "\"$name\"" "$out/ui.json" || bad "--describe-ui does not list $name"
+done
 
 # A motion file given on the command line.
 if ! timeout 120 "$fray" "$lib/walking.bvh" --quit-after 3 >"$out/motion.log" 2>&1; then

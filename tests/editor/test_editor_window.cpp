@@ -1,0 +1,222 @@
+// The editor's main window on the demo project, offscreen (no Vulkan
+// viewport): the background analysis fills the panels, and real mouse and
+// key events on the library, the filter, the timeline, the motion graph and
+// the combination table do what an animator expects.
+#include <gtest/gtest.h>
+
+#include <QApplication>
+#include <QDir>
+#include <QDockWidget>
+#include <QHeaderView>
+#include <QPushButton>
+#include <QLineEdit>
+#include <QListWidget>
+#include <QSortFilterProxyModel>
+#include <QStatusBar>
+#include <QTableView>
+#include <QTest>
+#include <QTextBrowser>
+#include <QTreeWidget>
+#include <set>
+
+#include "graph_view.h"
+#include "main_window.h"
+#include "takes.h"
+#include "timeline_view.h"
+
+namespace {
+
+using fray::editor::EditorOptions;
+using fray::editor::MainWindow;
+
+std::unique_ptr<MainWindow> openDemo() {
+    auto takes = fray::app::loadTakes({FRAY_DEMO_PROJECT});
+    if (!takes) {
+        ADD_FAILURE() << takes.error().message;
+        return nullptr;
+    }
+    EditorOptions options;
+    options.restoreLayout = false;
+    auto w = std::make_unique<MainWindow>(nullptr, std::move(*takes), nullptr, FRAY_DEMO_PROJECT, "demo", options);
+    w->resize(1400, 880);
+    w->show();
+    return w;
+}
+
+int distinctColours(const QImage& image) {
+    std::set<QRgb> colours;
+    for (int y = 0; y < image.height(); y += 3)
+        for (int x = 0; x < image.width(); x += 3) colours.insert(image.pixel(x, y));
+    return static_cast<int>(colours.size());
+}
+
+// The analysis runs once for the suite (SVM training and the graph take a
+// few seconds); the tests share the window.
+// Destroyed in main(), before the QApplication.
+std::unique_ptr<MainWindow> gDemoWindow;
+
+MainWindow* demoWindow() {
+    if (!gDemoWindow) {
+        gDemoWindow = openDemo();
+        if (gDemoWindow && !QTest::qWaitFor([] { return gDemoWindow->analysis() != nullptr; }, 240000))
+            ADD_FAILURE() << "the analysis did not finish: " << gDemoWindow->statusBar()->currentMessage().toStdString();
+    }
+    return gDemoWindow.get();
+}
+
+template <class T>
+T* child(MainWindow* w, const char* name) {
+    T* found = w->findChild<T*>(name);
+    EXPECT_NE(found, nullptr) << name;
+    return found;
+}
+
+TEST(EditorWindow, AnalysisFillsEveryPanel) {
+    MainWindow* w = demoWindow();
+    ASSERT_NE(w, nullptr);
+    ASSERT_NE(w->analysis(), nullptr);
+    const auto& a = *w->analysis();
+    EXPECT_EQ(a.motions.size(), 6u);
+    EXPECT_GT(a.graph.nodeCount, 5);
+    auto* library = child<QTreeWidget>(w, "library");
+    ASSERT_EQ(library->topLevelItemCount(), 6);
+    EXPECT_EQ(library->topLevelItem(0)->childCount(), a.project.motions[0].actions.actionCount());
+    auto* combos = child<QTableView>(w, "combos");
+    EXPECT_EQ(combos->model()->rowCount(), static_cast<int>(a.project.combos.records().size()));
+    // Every panel draws something: neither blank nor uniform.
+    QDir().mkpath(FRAY_EDITOR_SHOTS);
+    w->grab().save(QString(FRAY_EDITOR_SHOTS) + "/window-offscreen.png");
+    for (QDockWidget* d : w->findChildren<QDockWidget*>()) {
+        d->show();
+        d->raise();
+        QApplication::processEvents();
+        const QImage shot = d->widget()->grab().toImage();
+        shot.save(QString(FRAY_EDITOR_SHOTS) + "/" + d->objectName() + ".png");
+        EXPECT_GT(distinctColours(shot), 4) << d->objectName().toStdString() << " looks blank";
+    }
+}
+
+TEST(EditorWindow, ClickingAnActionShowsItInTheInspectorAndTimeline) {
+    MainWindow* w = demoWindow();
+    ASSERT_NE(w->analysis(), nullptr);
+    auto* library = child<QTreeWidget>(w, "library");
+    auto* timeline = child<fray::editor::TimelineView>(w, "timeline");
+    auto* inspector = child<QTextBrowser>(w, "inspector");
+    QTreeWidgetItem* motion = library->topLevelItem(0);
+    library->expandItem(motion);
+    QApplication::processEvents();
+    QTreeWidgetItem* item = motion->child(4);
+    library->scrollToItem(item);
+    const QRect r = library->visualItemRect(item);
+    ASSERT_FALSE(r.isEmpty());
+    QTest::mouseClick(library->viewport(), Qt::LeftButton, Qt::NoModifier, r.center());
+    const auto& acts = w->analysis()->project.motions[0].actions;
+    EXPECT_EQ(timeline->selectedAction(), 4);
+    EXPECT_EQ(timeline->playhead(), acts.firstFrame(4));
+    const QString text = inspector->toPlainText();
+    EXPECT_TRUE(text.contains(QString("frames %1-%2").arg(acts.firstFrame(4)).arg(acts.lastFrame(4))))
+        << text.toStdString();
+    EXPECT_TRUE(text.contains("Annotations")) << text.toStdString();
+    // Clicking another action's block in the timeline selects it.
+    const int frame = (acts.firstFrame(6) + acts.lastFrame(6)) / 2;
+    timeline->showFrames(acts.firstFrame(3), acts.lastFrame(8));
+    QTest::mouseClick(timeline, Qt::LeftButton, Qt::NoModifier, QPoint(timeline->xOfFrame(frame), timeline->actionsY()));
+    EXPECT_EQ(timeline->selectedAction(), 6);
+    EXPECT_TRUE(inspector->toPlainText().contains(QString("frames %1-%2").arg(acts.firstFrame(6)).arg(acts.lastFrame(6))));
+}
+
+TEST(EditorWindow, FilterKeepsOnlyMatchingActions) {
+    MainWindow* w = demoWindow();
+    auto* library = child<QTreeWidget>(w, "library");
+    auto* filter = child<QLineEdit>(w, "libraryFilter");
+    filter->setFocus();
+    QTest::keyClicks(filter, "jab");
+    int shown = 0, hidden = 0;
+    for (int i = 0; i < library->topLevelItemCount(); ++i) {
+        QTreeWidgetItem* top = library->topLevelItem(i);
+        for (int k = 0; k < top->childCount(); ++k) {
+            QTreeWidgetItem* c = top->child(k);
+            if (c->isHidden()) {
+                ++hidden;
+                continue;
+            }
+            ++shown;
+            EXPECT_TRUE(c->text(0).contains("jab", Qt::CaseInsensitive) || c->text(2).contains("jab", Qt::CaseInsensitive))
+                << c->text(0).toStdString();
+        }
+    }
+    EXPECT_GT(shown, 0);
+    EXPECT_GT(hidden, shown);
+    filter->clear();
+    for (int i = 0; i < library->topLevelItemCount(); ++i) EXPECT_FALSE(library->topLevelItem(i)->isHidden());
+}
+
+TEST(EditorWindow, GraphNodeListsItsActionsAndCombosSort) {
+    MainWindow* w = demoWindow();
+    const auto& a = *w->analysis();
+    auto* graphDock = child<QDockWidget>(w, "GraphDock");
+    graphDock->show();
+    graphDock->raise();
+    QApplication::processEvents();
+    auto* graph = child<fray::editor::GraphView>(w, "graph");
+    auto* nodeActions = child<QListWidget>(w, "nodeActions");
+    const int node = a.graph.startNode[0];
+    int expected = 0;
+    for (int s : a.graph.startNode) expected += s == node ? 1 : 0;
+    QTest::mouseClick(graph, Qt::LeftButton, Qt::NoModifier, graph->nodePosition(node));
+    EXPECT_EQ(graph->selectedNode(), node);
+    EXPECT_EQ(nodeActions->count(), expected);
+
+    auto* combos = child<QTableView>(w, "combos");
+    auto* combosDock = child<QDockWidget>(w, "CombosDock");
+    combosDock->show();
+    combosDock->raise();
+    QApplication::processEvents();
+    const int rows = combos->model()->rowCount();
+    ASSERT_GT(rows, 1);
+    QHeaderView* header = combos->horizontalHeader();
+    QTest::mouseClick(header->viewport(), Qt::LeftButton, Qt::NoModifier,
+                      QPoint(header->sectionViewportPosition(2) + header->sectionSize(2) / 2, header->height() / 2));
+    const double first = combos->model()->index(0, 2).data().toDouble();
+    const double last = combos->model()->index(rows - 1, 2).data().toDouble();
+    EXPECT_NE(first, last);
+    EXPECT_EQ(header->sortIndicatorSection(), 2);
+    if (header->sortIndicatorOrder() == Qt::AscendingOrder) EXPECT_LE(first, last);
+    else EXPECT_GE(first, last);
+}
+
+TEST(EditorWindow, CancellingTheAnalysisLeavesAClearMessage) {
+    auto w = openDemo();
+    ASSERT_NE(w, nullptr);
+    // The Cancel button in the status bar.
+    QPushButton* button = nullptr;
+    for (QPushButton* b : w->statusBar()->findChildren<QPushButton*>())
+        if (b->text() == "Cancel") button = b;
+    ASSERT_NE(button, nullptr);
+    QTest::mouseClick(button, Qt::LeftButton);
+    ASSERT_TRUE(QTest::qWaitFor([&] { return w->statusBar()->currentMessage().contains("cancelled"); }, 60000))
+        << w->statusBar()->currentMessage().toStdString();
+    EXPECT_EQ(w->analysis(), nullptr);
+}
+
+TEST(EditorWindow, DescribeUiListsDocksAndMenus) {
+    EditorOptions options;
+    options.restoreLayout = false;
+    MainWindow w(nullptr, {}, nullptr, {}, "describe", options);
+    const QString json = QString::fromUtf8(w.describeUi());
+    for (const char* name : {"LibraryDock", "TimelineDock", "InspectorDock", "GraphDock", "CombosDock", "actionOpen",
+                             "actionQuit", "actionResetLayout", "toggleTimelineDock"})
+        EXPECT_TRUE(json.contains(name)) << name;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) qputenv("QT_QPA_PLATFORM", "offscreen");
+    QApplication app(argc, argv);
+    QApplication::setApplicationName("fray-tests");
+    ::testing::InitGoogleTest(&argc, argv);
+    const int result = RUN_ALL_TESTS();
+    gDemoWindow.reset();
+    return result;
+}
