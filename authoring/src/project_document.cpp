@@ -3,6 +3,7 @@
 #include <QSignalBlocker>
 
 #include <algorithm>
+#include <functional>
 #include <cmath>
 
 #include "fray/authoring/commands.h"
@@ -235,108 +236,114 @@ Status ProjectDocument::pushActionInfo(const std::string& motionId, int actionIn
     return {};
 }
 
+Status ProjectDocument::editAction(const std::string& motionId, int actionIndex, const char* field,
+                                   const QString& text, DragId drag,
+                                   const std::function<Status(prep::ActionInfo&)>& change) {
+    auto a = action(motionId, actionIndex);
+    if (!a) return a.error();
+    prep::ActionInfo info = **a;
+    if (auto st = change(info); !st) return makeError(where(motionId, actionIndex) + ": " + st.error().message);
+    return pushActionInfo(motionId, actionIndex, std::move(info), field, text, drag);
+}
+
 Status ProjectDocument::setActionInfo(const std::string& motionId, int actionIndex, prep::ActionInfo info,
                                       DragId drag) {
     return pushActionInfo(motionId, actionIndex, std::move(info), "info", QStringLiteral("Edit action"), drag);
 }
 
 Status ProjectDocument::setActionName(const std::string& motionId, int actionIndex, const std::string& name) {
-    auto a = action(motionId, actionIndex);
-    if (!a) return a.error();
-    prep::ActionInfo info = **a;
-    info.name = name;
-    return pushActionInfo(motionId, actionIndex, std::move(info), "name", QStringLiteral("Name action"), 0);
+    return editAction(motionId, actionIndex, "name", QStringLiteral("Name action"), 0, [&](prep::ActionInfo& info) {
+        info.name = name;
+        return Status();
+    });
 }
 
 Status ProjectDocument::setAnnotations(const std::string& motionId, int actionIndex,
                                        std::vector<std::string> annotations) {
-    auto a = action(motionId, actionIndex);
-    if (!a) return a.error();
-    prep::ActionInfo info = **a;
-    info.annotations = std::move(annotations);
-    // A confirmed word is no longer a proposal.
-    std::erase_if(info.proposed, [&](const std::string& w) { return info.has(w); });
-    return pushActionInfo(motionId, actionIndex, std::move(info), "annotations", QStringLiteral("Annotate action"), 0);
+    return editAction(motionId, actionIndex, "annotations", QStringLiteral("Annotate action"), 0,
+                      [&](prep::ActionInfo& info) {
+                          info.annotations = std::move(annotations);
+                          // A confirmed word is no longer a proposal.
+                          std::erase_if(info.proposed, [&](const std::string& w) { return info.has(w); });
+                          return Status();
+                      });
 }
 
 Status ProjectDocument::addAnnotation(const std::string& motionId, int actionIndex, const std::string& word) {
-    auto a = action(motionId, actionIndex);
-    if (!a) return a.error();
-    if ((*a)->has(word)) return makeError(where(motionId, actionIndex) + ": already annotated " + inQuotes(word));
-    std::vector<std::string> words = (*a)->annotations;
-    words.push_back(word);
-    return setAnnotations(motionId, actionIndex, std::move(words));
+    return editAction(motionId, actionIndex, "annotations", QStringLiteral("Annotate action"), 0,
+                      [&](prep::ActionInfo& info) {
+                          if (info.has(word)) return Status(makeError("already annotated " + inQuotes(word)));
+                          info.annotations.push_back(word);
+                          std::erase(info.proposed, word);
+                          return Status();
+                      });
 }
 
 Status ProjectDocument::removeAnnotation(const std::string& motionId, int actionIndex, const std::string& word) {
-    auto a = action(motionId, actionIndex);
-    if (!a) return a.error();
-    if (!(*a)->has(word)) return makeError(where(motionId, actionIndex) + ": not annotated " + inQuotes(word));
-    std::vector<std::string> words = (*a)->annotations;
-    std::erase(words, word);
-    return setAnnotations(motionId, actionIndex, std::move(words));
+    return editAction(motionId, actionIndex, "annotations", QStringLiteral("Remove annotation"), 0,
+                      [&](prep::ActionInfo& info) {
+                          if (std::erase(info.annotations, word) == 0) {
+                              return Status(makeError("not annotated " + inQuotes(word)));
+                          }
+                          return Status();
+                      });
 }
 
 Status ProjectDocument::confirmProposal(const std::string& motionId, int actionIndex, const std::string& word) {
-    auto a = action(motionId, actionIndex);
-    if (!a) return a.error();
-    prep::ActionInfo info = **a;
-    if (std::erase(info.proposed, word) == 0) {
-        return makeError(where(motionId, actionIndex) + ": " + inQuotes(word) + " is not a proposal");
-    }
-    if (!info.has(word)) info.annotations.push_back(word);
-    return pushActionInfo(motionId, actionIndex, std::move(info), "confirm", QStringLiteral("Confirm %1").arg(q(word)),
-                          0);
+    return editAction(motionId, actionIndex, "confirm", QStringLiteral("Confirm %1").arg(q(word)), 0,
+                      [&](prep::ActionInfo& info) {
+                          if (std::erase(info.proposed, word) == 0) {
+                              return Status(makeError(inQuotes(word) + " is not a proposal"));
+                          }
+                          if (!info.has(word)) info.annotations.push_back(word);
+                          return Status();
+                      });
 }
 
 Status ProjectDocument::rejectProposal(const std::string& motionId, int actionIndex, const std::string& word) {
-    auto a = action(motionId, actionIndex);
-    if (!a) return a.error();
-    prep::ActionInfo info = **a;
-    if (std::erase(info.proposed, word) == 0) {
-        return makeError(where(motionId, actionIndex) + ": " + inQuotes(word) + " is not a proposal");
-    }
-    return pushActionInfo(motionId, actionIndex, std::move(info), "reject", QStringLiteral("Reject %1").arg(q(word)),
-                          0);
+    return editAction(motionId, actionIndex, "reject", QStringLiteral("Reject %1").arg(q(word)), 0,
+                      [&](prep::ActionInfo& info) {
+                          if (std::erase(info.proposed, word) == 0) {
+                              return Status(makeError(inQuotes(word) + " is not a proposal"));
+                          }
+                          return Status();
+                      });
 }
 
 Status ProjectDocument::setJoints(const std::string& motionId, int actionIndex, std::vector<std::string> joints) {
-    auto a = action(motionId, actionIndex);
-    if (!a) return a.error();
-    prep::ActionInfo info = **a;
-    info.joints = std::move(joints);
-    return pushActionInfo(motionId, actionIndex, std::move(info), "joints", QStringLiteral("Set joints used"), 0);
+    return editAction(motionId, actionIndex, "joints", QStringLiteral("Set joints used"), 0,
+                      [&](prep::ActionInfo& info) {
+                          info.joints = std::move(joints);
+                          return Status();
+                      });
 }
 
 Status ProjectDocument::setAttackDirection(const std::string& motionId, int actionIndex,
                                            std::optional<std::string> direction) {
-    auto a = action(motionId, actionIndex);
-    if (!a) return a.error();
     if (direction && direction->empty()) direction.reset();
-    prep::ActionInfo info = **a;
-    info.attackDirection = std::move(direction);
-    return pushActionInfo(motionId, actionIndex, std::move(info), "attack_direction",
-                          QStringLiteral("Set attack direction"), 0);
+    return editAction(motionId, actionIndex, "attack_direction", QStringLiteral("Set attack direction"), 0,
+                      [&](prep::ActionInfo& info) {
+                          info.attackDirection = std::move(direction);
+                          return Status();
+                      });
 }
 
 Status ProjectDocument::setDefendedPart(const std::string& motionId, int actionIndex, std::optional<std::string> part) {
-    auto a = action(motionId, actionIndex);
-    if (!a) return a.error();
     if (part && part->empty()) part.reset();
-    prep::ActionInfo info = **a;
-    info.defendedPart = std::move(part);
-    return pushActionInfo(motionId, actionIndex, std::move(info), "defended_part", QStringLiteral("Set defended part"),
-                          0);
+    return editAction(motionId, actionIndex, "defended_part", QStringLiteral("Set defended part"), 0,
+                      [&](prep::ActionInfo& info) {
+                          info.defendedPart = std::move(part);
+                          return Status();
+                      });
 }
 
 Status ProjectDocument::setInitialConditions(const std::string& motionId, int actionIndex,
                                              std::optional<prep::InitialConditions> conditions, DragId drag) {
-    auto a = action(motionId, actionIndex);
-    if (!a) return a.error();
-    prep::ActionInfo info = **a;
-    info.initialConditions = conditions;
-    return pushActionInfo(motionId, actionIndex, std::move(info), "initial_conditions",
-                          QStringLiteral("Set initial conditions"), drag);
+    return editAction(motionId, actionIndex, "initial_conditions", QStringLiteral("Set initial conditions"), drag,
+                      [&](prep::ActionInfo& info) {
+                          info.initialConditions = conditions;
+                          return Status();
+                      });
 }
 
 // ---- vocabulary -------------------------------------------------------------
@@ -393,30 +400,31 @@ Status ProjectDocument::addContactLabel(const std::string& motionId, const prep:
     return pushContactLabels(motionId, std::move(labels), QStringLiteral("Add contact label"), "add", 0);
 }
 
-Status ProjectDocument::changeContactLabel(const std::string& motionId, int index, const prep::ContactLabel& label,
-                                           DragId drag) {
+Result<std::vector<prep::ContactLabel>> ProjectDocument::contactLabels(const std::string& motionId, int index) {
     auto m = motion(motionId);
     if (!m) return m.error();
-    auto labels = (*m)->contactLabels;
+    const auto& labels = (*m)->contactLabels;
     if (index < 0 || index >= static_cast<int>(labels.size())) {
         return makeError("motion " + inQuotes(motionId) + ": no contact label " + std::to_string(index) + " (it has " +
                          std::to_string(labels.size()) + ")");
     }
-    labels[static_cast<std::size_t>(index)] = label;
-    return pushContactLabels(motionId, std::move(labels), QStringLiteral("Change contact label"),
+    return labels;
+}
+
+Status ProjectDocument::changeContactLabel(const std::string& motionId, int index, const prep::ContactLabel& label,
+                                           DragId drag) {
+    auto labels = contactLabels(motionId, index);
+    if (!labels) return labels.error();
+    (*labels)[static_cast<std::size_t>(index)] = label;
+    return pushContactLabels(motionId, std::move(*labels), QStringLiteral("Change contact label"),
                              "change/" + std::to_string(index), drag);
 }
 
 Status ProjectDocument::removeContactLabel(const std::string& motionId, int index) {
-    auto m = motion(motionId);
-    if (!m) return m.error();
-    auto labels = (*m)->contactLabels;
-    if (index < 0 || index >= static_cast<int>(labels.size())) {
-        return makeError("motion " + inQuotes(motionId) + ": no contact label " + std::to_string(index) + " (it has " +
-                         std::to_string(labels.size()) + ")");
-    }
-    labels.erase(labels.begin() + index);
-    return pushContactLabels(motionId, std::move(labels), QStringLiteral("Remove contact label"), "remove", 0);
+    auto labels = contactLabels(motionId, index);
+    if (!labels) return labels.error();
+    labels->erase(labels->begin() + index);
+    return pushContactLabels(motionId, std::move(*labels), QStringLiteral("Remove contact label"), "remove", 0);
 }
 
 // ---- combination table ------------------------------------------------------

@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -120,6 +121,10 @@ private:
     void notify(const ChangeEvent& event);
     Result<prep::ProjectMotion*> motion(const std::string& motionId);
     Result<prep::ActionInfo*> action(const std::string& motionId, int action);
+    // Copies the action's description, lets `change` edit it (or refuse), pushes the result.
+    Status editAction(const std::string& motionId, int action, const char* field, const QString& text, DragId drag,
+                      const std::function<Status(prep::ActionInfo&)>& change);
+    Result<std::vector<prep::ContactLabel>> contactLabels(const std::string& motionId, int index);
     Status pushActionInfo(const std::string& motionId, int action, prep::ActionInfo info, const char* field,
                           const QString& text, DragId drag);
     Status pushSettings(prep::ProjectSettings settings, const char* field, const QString& text, DragId drag);
