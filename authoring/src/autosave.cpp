@@ -28,6 +28,13 @@ Autosaver::Autosaver(ProjectDocument* document, QObject* parent)
         writtenRevision_ = document_->revision();
         removeAutosave();
     });
+    // After a Save As the autosave beside the old file is stale too.
+    connect(document_, &ProjectDocument::fileChanged, this, [this] {
+        if (written_.empty()) return;
+        std::error_code ec;
+        fs::remove(written_, ec);
+        written_.clear();
+    });
     setIntervalSeconds(kDefaultIntervalSeconds);
 }
 
@@ -64,6 +71,7 @@ Status Autosaver::autosaveNow() {
         return st;
     }
     writtenRevision_ = document_->revision();
+    written_ = target;
     Q_EMIT autosaved(QString::fromStdString(target.string()));
     return {};
 }

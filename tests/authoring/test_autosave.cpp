@@ -102,6 +102,25 @@ TEST(Autosave, OnlyAnAutosaveNewerThanItsProjectIsOffered) {
     EXPECT_FALSE(fs::exists(autosavePath(file)));
 }
 
+TEST(Autosave, SaveAsRetiresTheAutosaveBesideTheOldFile) {
+    test::TempDir dir;
+    auto doc = test::openDemoCopy(dir);
+    ASSERT_TRUE(doc);
+    const fs::path oldFile = doc->filePath();
+    Autosaver autosaver(doc.get());
+    ASSERT_TRUE(doc->setName("renamed").ok());
+    ASSERT_TRUE(autosaver.autosaveNow().ok());
+    ASSERT_TRUE(fs::exists(autosavePath(oldFile)));
+    ASSERT_TRUE(doc->saveAs(dir / "copy.frayproj").ok());
+    EXPECT_FALSE(fs::exists(autosavePath(oldFile)));
+    EXPECT_FALSE(fs::exists(autosavePath(dir / "copy.frayproj")));
+    // The next autosave goes beside the new file.
+    ASSERT_TRUE(doc->setName("renamed again").ok());
+    ASSERT_TRUE(autosaver.autosaveNow().ok());
+    EXPECT_TRUE(fs::exists(autosavePath(dir / "copy.frayproj")));
+    EXPECT_FALSE(fs::exists(autosavePath(oldFile)));
+}
+
 TEST(Autosave, ABrokenAutosaveIsAClearError) {
     test::TempDir dir;
     const fs::path file = dir / "p.frayproj";

@@ -56,6 +56,7 @@ private:
     QTimer timer_;
     int intervalSeconds_ = kDefaultIntervalSeconds;
     std::uint64_t writtenRevision_;
+    std::filesystem::path written_;  // the last autosave written
 };
 
 // An autosave newer than its project (or whose project is gone).
