@@ -121,6 +121,25 @@ TEST(Autosave, SaveAsRetiresTheAutosaveBesideTheOldFile) {
     EXPECT_FALSE(fs::exists(autosavePath(oldFile)));
 }
 
+TEST(Autosave, AFailedAutosaveIsReportedAndTouchesNothing) {
+    test::TempDir dir;
+    auto doc = test::openDemoCopy(dir);
+    ASSERT_TRUE(doc);
+    const fs::path file = doc->filePath();
+    const std::string onDisk = test::readFile(file);
+    fs::create_directories(autosavePath(file) / "blocker");  // the autosave's place is taken
+    Autosaver autosaver(doc.get());
+    QString reported;
+    QObject::connect(&autosaver, &Autosaver::failed, [&](const QString& why) { reported = why; });
+    ASSERT_TRUE(doc->setName("unsaved").ok());
+    const Status st = autosaver.autosaveNow();
+    ASSERT_FALSE(st.ok());
+    EXPECT_NE(st.error().message.find("demo.frayproj.autosave"), std::string::npos) << st.error().message;
+    EXPECT_TRUE(reported.contains(QStringLiteral("demo.frayproj.autosave"))) << reported.toStdString();
+    EXPECT_EQ(test::readFile(file), onDisk);
+    EXPECT_TRUE(doc->isDirty());
+}
+
 TEST(Autosave, ABrokenAutosaveIsAClearError) {
     test::TempDir dir;
     const fs::path file = dir / "p.frayproj";

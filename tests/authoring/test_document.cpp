@@ -258,6 +258,12 @@ TEST(Document, DragsMergeIntoOneUndoStep) {
     for (double t : {1.0, 1.5, 2.0, 2.5}) ASSERT_TRUE(doc->setGraphThreshold(t, slider).ok());
     EXPECT_EQ(stack->count(), 5);
     EXPECT_EQ(doc->project().settings.graphThreshold, 2.5);
+    // Another value in the same drag is a step of its own.
+    ASSERT_TRUE(doc->setSegmentThresholdFactor(8.0, slider).ok());
+    EXPECT_EQ(stack->count(), 6);
+    stack->undo();
+    EXPECT_EQ(doc->project().settings.graphThreshold, 2.5);
+    stack->redo();
     while (stack->canUndo()) stack->undo();
     EXPECT_EQ(doc->serialized(), start);
 }
