@@ -1,5 +1,6 @@
 #include "fray/authoring/autosave.h"
 
+#include <QCoreApplication>
 #include <QSettings>
 
 #include <algorithm>
@@ -21,7 +22,10 @@ fs::path autosavePath(const fs::path& projectFile) {
 }
 
 Autosaver::Autosaver(ProjectDocument* document, QObject* parent)
-    : QObject(parent), document_(document), writtenRevision_(document->revision()) {
+    : QObject(parent), document_(document) {
+    // A document that is already dirty (recovered, or edited before the
+    // autosaver came) is written at the first chance.
+    if (!document_->isDirty()) writtenRevision_ = document_->revision();
     connect(&timer_, &QTimer::timeout, this, [this] { (void)autosaveNow(); });
     // A saved document is on disk: the autosave is stale from then on.
     connect(document_, &ProjectDocument::saved, this, [this] {
@@ -40,7 +44,8 @@ Autosaver::Autosaver(ProjectDocument* document, QObject* parent)
 
 void Autosaver::setIntervalSeconds(int seconds) {
     intervalSeconds_ = std::max(0, seconds);
-    if (intervalSeconds_ == 0) {
+    // Timers need an event loop; a headless tool without one calls autosaveNow itself.
+    if (intervalSeconds_ == 0 || !QCoreApplication::instance()) {
         timer_.stop();
     } else {
         timer_.start(std::chrono::seconds(intervalSeconds_));

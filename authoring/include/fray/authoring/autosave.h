@@ -29,7 +29,8 @@ class Autosaver : public QObject {
 public:
     static constexpr int kDefaultIntervalSeconds = 120;
 
-    // Starts the timer at the default interval. The document must outlive it.
+    // Starts the timer at the default interval (when a QCoreApplication exists:
+    // timers need its event loop). The document must outlive it.
     explicit Autosaver(ProjectDocument* document, QObject* parent = nullptr);
 
     // 0 turns autosave off. Negative values are clamped to 0.
@@ -55,7 +56,7 @@ private:
     ProjectDocument* document_;
     QTimer timer_;
     int intervalSeconds_ = kDefaultIntervalSeconds;
-    std::uint64_t writtenRevision_;
+    std::optional<std::uint64_t> writtenRevision_;  // the revision on disk, if known
     std::filesystem::path written_;  // the last autosave written
 };
 
