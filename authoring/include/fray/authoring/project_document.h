@@ -1,0 +1,143 @@
+#pragma once
+// The open project as an editable document (issue 22, EDITOR.md): it owns the
+// prep::Project and a QUndoStack, every mutation is an undo command, and one
+// typed signal (changed) tells views what moved. Qt Core/Gui only.
+//
+// Each edit function checks its input against the project and either pushes
+// exactly one command or returns an error naming the motion, action or field
+// and changes nothing. Setting a value to what it already is pushes nothing.
+// Edits given the same DragId (from beginDrag) merge into one undo step, so a
+// dragged cut marker or slider undoes in one go; DragId 0 never merges.
+#include <QObject>
+#include <QString>
+#include <QUndoStack>
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fray/authoring/change_event.h"
+#include "fray/core/result.h"
+#include "fray/prep/project.h"
+
+namespace fray::authoring {
+
+using DragId = int;
+
+class ProjectDocument : public QObject {
+    Q_OBJECT
+
+public:
+    // `file` is where Save writes; empty for an untitled project (Save As first).
+    explicit ProjectDocument(prep::Project project, std::filesystem::path file = {}, QObject* parent = nullptr);
+    ~ProjectDocument() override;
+
+    // Loads a project file; the error names the file and the bad field.
+    static Result<std::unique_ptr<ProjectDocument>> open(const std::filesystem::path& file);
+
+    const prep::Project& project() const { return project_; }
+    // The bytes Save would write now.
+    std::string serialized() const;
+    const std::filesystem::path& filePath() const { return file_; }
+    QUndoStack* undoStack() { return &undoStack_; }
+    const QUndoStack* undoStack() const { return &undoStack_; }
+    // Unsaved changes: follows QUndoStack::isClean.
+    bool isDirty() const { return !undoStack_.isClean(); }
+    // Grows with every change (undo and redo included); the autosaver compares it.
+    std::uint64_t revision() const { return revision_; }
+
+    // Atomic writes (temporary file, flush, rename). On failure the old file is
+    // untouched and the document stays dirty. Save As into another folder
+    // re-expresses relative motion paths from the new folder.
+    Status save();
+    Status saveAs(const std::filesystem::path& file);
+    // After a crash recovery: the contents differ from the file on disk.
+    void markDirty();
+
+    DragId beginDrag() { return ++lastDrag_; }
+
+    // ---- project and settings
+    Status setName(const std::string& name);
+    Status setGraphPreset(const std::string& preset);
+    Status setGraphThreshold(std::optional<double> threshold, DragId drag = 0);
+    Status setSegmentThresholdFactor(std::optional<double> factor, DragId drag = 0);
+
+    // ---- motions. Imported entries need id (made unique with _2, _3...),
+    // path and actions (at least MotionActions::whole(frameCount)).
+    Status importMotions(std::vector<prep::ProjectMotion> motions);
+    Status removeMotion(const std::string& motionId);
+
+    // ---- cuts (SPEC 1.1): actions follow their cuts (prep::CutEdit semantics).
+    Status addCut(const std::string& motionId, int frame);
+    Status removeCut(const std::string& motionId, int frame);
+    Status moveCut(const std::string& motionId, int frame, int toFrame, DragId drag = 0);
+    // Split `action` at `frame`, which must lie inside it (not on its first frame).
+    Status splitAction(const std::string& motionId, int action, int frame);
+    // Merge `action` with the next one.
+    Status mergeActions(const std::string& motionId, int action);
+
+    // ---- action descriptions (SPEC 1.4)
+    Status setActionInfo(const std::string& motionId, int action, prep::ActionInfo info, DragId drag = 0);
+    Status setActionName(const std::string& motionId, int action, const std::string& name);
+    Status setAnnotations(const std::string& motionId, int action, std::vector<std::string> annotations);
+    Status addAnnotation(const std::string& motionId, int action, const std::string& word);
+    Status removeAnnotation(const std::string& motionId, int action, const std::string& word);
+    Status confirmProposal(const std::string& motionId, int action, const std::string& word);
+    Status rejectProposal(const std::string& motionId, int action, const std::string& word);
+    Status setJoints(const std::string& motionId, int action, std::vector<std::string> joints);
+    Status setAttackDirection(const std::string& motionId, int action, std::optional<std::string> direction);
+    Status setDefendedPart(const std::string& motionId, int action, std::optional<std::string> part);
+    Status setInitialConditions(const std::string& motionId, int action,
+                                std::optional<prep::InitialConditions> conditions, DragId drag = 0);
+
+    // ---- vocabulary (renames and removals reach actions and combination keys)
+    Status addVocabularyWord(const std::string& word);
+    Status renameVocabularyWord(const std::string& from, const std::string& to);
+    Status removeVocabularyWord(const std::string& word);
+
+    // ---- foot-contact labels (SVM training data, SPEC 1.3)
+    Status addContactLabel(const std::string& motionId, const prep::ContactLabel& label);
+    Status changeContactLabel(const std::string& motionId, int index, const prep::ContactLabel& label,
+                              DragId drag = 0);
+    Status removeContactLabel(const std::string& motionId, int index);
+
+    // ---- combination table (SPEC 1.6)
+    Status setComboRecord(const prep::ComboRecord& record, DragId drag = 0);
+    Status removeComboRecord(const std::string& mine, const std::string& theirs);
+
+Q_SIGNALS:
+    void changed(const fray::authoring::ChangeEvent& event);
+    void dirtyChanged(bool dirty);
+    void fileChanged(const QString& file);
+    // A successful Save or Save As wrote this file.
+    void saved(const QString& file);
+
+private:
+    friend class DocumentCommand;
+    void notify(const ChangeEvent& event);
+    Result<prep::ProjectMotion*> motion(const std::string& motionId);
+    Result<prep::ActionInfo*> action(const std::string& motionId, int action);
+    // Copies the action's description, lets `change` edit it (or refuse), pushes the result.
+    Status editAction(const std::string& motionId, int action, const char* field, const QString& text, DragId drag,
+                      const std::function<Status(prep::ActionInfo&)>& change);
+    Result<std::vector<prep::ContactLabel>> contactLabels(const std::string& motionId, int index);
+    Status pushActionInfo(const std::string& motionId, int action, prep::ActionInfo info, const char* field,
+                          const QString& text, DragId drag);
+    Status pushSettings(prep::ProjectSettings settings, const char* field, const QString& text, DragId drag);
+    Status pushContactLabels(const std::string& motionId, std::vector<prep::ContactLabel> labels, const QString& text,
+                             const std::string& key, DragId drag);
+    Status pushCutEdit(const std::string& motionId, Result<prep::CutEdit> edit, const QString& text, DragId drag);
+    Status pushVocabulary(const prep::Project& after, const QString& text);
+
+    prep::Project project_;
+    std::filesystem::path file_;
+    QUndoStack undoStack_;
+    std::uint64_t revision_ = 0;
+    DragId lastDrag_ = 0;
+};
+
+}  // namespace fray::authoring
