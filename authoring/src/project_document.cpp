@@ -3,8 +3,8 @@
 #include <QSignalBlocker>
 
 #include <algorithm>
-#include <functional>
 #include <cmath>
+#include <functional>
 
 #include "fray/authoring/commands.h"
 #include "fray/core/atomic_file.h"

@@ -16,11 +16,10 @@ enum class ChangeKind {
     Action,          // the description of action `index` of motionId
     ContactLabels,   // the contact labels of motionId
     Combos,          // the combination table
-    Reloaded,        // everything (a recovered or reverted document)
 };
 
 struct ChangeEvent {
-    ChangeKind kind = ChangeKind::Reloaded;
+    ChangeKind kind = ChangeKind::Name;
     std::string motionId;  // for motion-level kinds
     int index = -1;        // action or motion index, -1 when not relevant
     int count = 0;         // MotionsAdded / MotionsRemoved
