@@ -20,6 +20,20 @@ Result<Motion> loadProjectMotion(const fs::path& file, const prep::ProjectMotion
 
 }  // namespace
 
+Result<std::vector<LoadedTake>> loadProjectTakes(const prep::Project& project, const fs::path& projectFile) {
+    std::vector<LoadedTake> takes;
+    for (const prep::ProjectMotion& pm : project.motions) {
+        auto m = loadProjectMotion(prep::resolveMotionPath(projectFile, pm), pm);
+        if (!m) return m.error();
+        LoadedTake t{pm.id, std::make_shared<Motion>(std::move(*m)), {}};
+        for (int i = 0; i < pm.actions.actionCount(); ++i)
+            t.actions.push_back(
+                {pm.actions.firstFrame(i), pm.actions.lastFrame(i), pm.actions.actions[static_cast<std::size_t>(i)].name});
+        takes.push_back(std::move(t));
+    }
+    return takes;
+}
+
 Result<std::vector<LoadedTake>> loadTakes(const std::vector<std::string>& inputs) {
     std::vector<LoadedTake> takes;
     for (const std::string& in : inputs) {
@@ -31,17 +45,10 @@ Result<std::vector<LoadedTake>> loadTakes(const std::vector<std::string>& inputs
             if (inputs.size() != 1) return makeError(in + ": a project must be the only input");
             auto project = prep::loadProject(path);
             if (!project) return project.error();
-            for (const prep::ProjectMotion& pm : project->motions) {
-                auto m = loadProjectMotion(prep::resolveMotionPath(path, pm), pm);
-                if (!m) return m.error();
-                LoadedTake t{pm.id, std::make_shared<Motion>(std::move(*m)), {}};
-                for (int i = 0; i < pm.actions.actionCount(); ++i)
-                    t.actions.push_back({pm.actions.firstFrame(i), pm.actions.lastFrame(i),
-                                         pm.actions.actions[static_cast<std::size_t>(i)].name});
-                takes.push_back(std::move(t));
-            }
-            if (takes.empty()) return makeError(in + ": the project has no motions");
-            continue;
+            auto loaded = loadProjectTakes(*project, path);
+            if (!loaded) return loaded.error();
+            if (loaded->empty()) return makeError(in + ": the project has no motions");
+            return loaded;
         }
         auto m = loadMotion(path);
         if (!m) return m.error();

@@ -11,6 +11,7 @@
 
 #include "fray/core/motion.h"
 #include "fray/core/result.h"
+#include "fray/prep/project.h"
 #include "fray/render/motion_stage.h"
 
 namespace fray::app {
@@ -20,6 +21,10 @@ struct LoadedTake {
     std::shared_ptr<Motion> motion;
     std::vector<render::ActionSpan> actions;  // empty for plain motion files
 };
+
+// The takes of a project as it is in memory (an editor's document), motion
+// paths resolved from projectFile's folder; may be empty.
+Result<std::vector<LoadedTake>> loadProjectTakes(const prep::Project& project, const std::filesystem::path& projectFile);
 
 // Motion files (BVH, FBX, glTF, ...) or exactly one .frayproj.
 Result<std::vector<LoadedTake>> loadTakes(const std::vector<std::string>& inputs);

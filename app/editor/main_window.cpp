@@ -3,6 +3,7 @@
 #include <QApplication>
 #include <QCloseEvent>
 #include <QComboBox>
+#include <QDoubleSpinBox>
 #include <QDockWidget>
 #include <QFileInfo>
 #include <QFileDialog>
@@ -32,13 +33,21 @@
 #include <QThread>
 #include <QToolButton>
 #include <QTreeWidget>
+#include <QUndoGroup>
+#include <QUndoStack>
+#include <QUndoView>
 #include <QVBoxLayout>
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 #include <cstdio>
 
+#include "fray/authoring/autosave.h"
+#include "fray/authoring/project_document.h"
+#include "fray/authoring/recent_files.h"
 #include "fray/render/image.h"
 #include "graph_view.h"
+#include "inspector_panel.h"
 #include "timeline_view.h"
 #include "viewport.h"
 
@@ -48,27 +57,6 @@ namespace {
 
 // Bumped when the docks change, so an old saved layout is not restored onto them.
 constexpr int kLayoutVersion = 1;
-constexpr int kRoleMotion = Qt::UserRole + 1;
-constexpr int kRoleAction = Qt::UserRole + 2;
-
-QString html(const std::string& s) { return QString::fromStdString(s).toHtmlEscaped(); }
-
-QString joined(const std::vector<std::string>& words, const char* empty = "none") {
-    if (words.empty()) return QString("<i>%1</i>").arg(empty);
-    QStringList out;
-    for (const std::string& w : words) out << html(w);
-    return out.join(", ");
-}
-
-// Annotations as chips: small rounded labels (the inspector is rich text).
-QString chips(const std::vector<std::string>& words, const char* colour) {
-    if (words.empty()) return "<i>none</i>";
-    QString out;
-    for (const std::string& w : words)
-        out += QString("<span style='background:%1; color:#111; border-radius:6px;'>&nbsp;%2&nbsp;</span> ")
-                   .arg(colour, html(w));
-    return out;
-}
 
 }  // namespace
 
@@ -132,14 +120,23 @@ MainWindow::MainWindow(Viewport* viewport, std::vector<app::LoadedTake> takes, s
     statusBar()->addPermanentWidget(statsLabel_);
     resize(1400, 880);
 
+    settings_ = std::make_unique<QSettings>();
+    recent_ = new authoring::RecentFiles(*settings_, authoring::RecentFiles::kDefaultCapacity, this);
+    undoGroup_ = new QUndoGroup(this);
+    setAcceptDrops(true);
     buildDocks();
     buildMenus();
+    if (!projectFile_.isEmpty() && !openDocument(projectFile_)) {
+        exitCode_ = 1;
+        projectFile_.clear();
+    }
     fillLibrary();
+    fillCombos();
+    updateTitle();
     defaultLayout_ = saveState(kLayoutVersion);
     if (options_.restoreLayout) {
-        QSettings settings;
-        restoreGeometry(settings.value("window/geometry").toByteArray());
-        restoreState(settings.value("window/state").toByteArray(), kLayoutVersion);
+        restoreGeometry(settings_->value("window/geometry").toByteArray());
+        restoreState(settings_->value("window/state").toByteArray(), kLayoutVersion);
     }
 
     connect(playButton_, &QToolButton::clicked, this, &MainWindow::togglePlay);
@@ -205,6 +202,47 @@ void MainWindow::buildDocks() {
     connect(timeline_, &TimelineView::actionSelected, this, [this](int action) {
         if (currentMotion_ >= 0) showAction(currentMotion_, action);
     });
+    // Timeline gestures become document edits (one undo step each; a drag is one).
+    const auto motionId = [this]() -> std::string {
+        const prep::Project* p = project();
+        if (!p || currentMotion_ < 0 || currentMotion_ >= static_cast<int>(p->motions.size())) return {};
+        return p->motions[static_cast<std::size_t>(currentMotion_)].id;
+    };
+    const auto report = [this](const Status& s) {
+        if (!s) editFailed(QString::fromStdString(s.error().message));
+    };
+    connect(timeline_, &TimelineView::cutDragged, this, [this, motionId, report](int from, int to, bool finished) {
+        if (!doc_) return;
+        if (cutDrag_ == 0) cutDrag_ = doc_->beginDrag();
+        // The cut is wherever the drag has moved it so far: find it from `from`.
+        const prep::ProjectMotion* pm = doc_->project().findMotion(motionId());
+        if (pm) {
+            int current = from;
+            if (std::find(pm->actions.cuts.begin(), pm->actions.cuts.end(), from) == pm->actions.cuts.end())
+                current = draggedCutAt_;
+            if (current != to) report(doc_->moveCut(motionId(), current, to, cutDrag_));
+            draggedCutAt_ = to;
+        }
+        if (finished) cutDrag_ = 0;
+    });
+    connect(timeline_, &TimelineView::cutAddRequested, this, [this, motionId, report](int frame) {
+        if (doc_) report(doc_->addCut(motionId(), frame));
+    });
+    connect(timeline_, &TimelineView::cutRemoveRequested, this, [this, motionId, report](int frame) {
+        if (doc_) report(doc_->removeCut(motionId(), frame));
+    });
+    connect(timeline_, &TimelineView::mergeRequested, this, [this, motionId, report](int action) {
+        if (doc_) report(doc_->mergeActions(motionId(), action));
+    });
+    connect(timeline_, &TimelineView::contactLabelRequested, this,
+            [this, motionId, report](int foot, int first, int last, bool supported) {
+                if (!doc_) return;
+                prep::ContactLabel label;
+                label.firstFrame = first;
+                label.lastFrame = last;
+                (foot == 0 ? label.left : label.right) = supported;
+                report(doc_->addContactLabel(motionId(), label));
+            });
 
     // Combination table, tabbed with the timeline.
     auto* combosPanel = new QWidget;
@@ -225,20 +263,45 @@ void MainWindow::buildDocks() {
     combos_->setObjectName("combos");
     combos_->setModel(combosProxy_);
     combos_->setSortingEnabled(true);
-    combos_->setEditTriggers(QAbstractItemView::NoEditTriggers);
     combos_->horizontalHeader()->setStretchLastSection(true);
     combos_->verticalHeader()->hide();
-    combosLayout->addWidget(combosFilter_);
+    auto* combosBar = new QHBoxLayout;
+    combosBar->addWidget(combosFilter_, 1);
+    for (auto [name, text, slot] : {std::tuple{"combosAdd", "Add...", &MainWindow::addComboRecord},
+                                    std::tuple{"combosRemove", "Remove", &MainWindow::removeComboRecords},
+                                    std::tuple{"combosImport", "Import CSV...", &MainWindow::importCombos},
+                                    std::tuple{"combosExport", "Export CSV...", &MainWindow::exportCombos}}) {
+        auto* b = new QPushButton(text);
+        b->setObjectName(name);
+        connect(b, &QPushButton::clicked, this, slot);
+        combosBar->addWidget(b);
+    }
+    combosLayout->addLayout(combosBar);
     combosLayout->addWidget(combos_, 1);
+    combos_->setSelectionBehavior(QAbstractItemView::SelectRows);
+    combos_->setEditTriggers(QAbstractItemView::DoubleClicked | QAbstractItemView::EditKeyPressed);
+    // The model never keeps an edit itself: it pushes a command, and the
+    // document's change event refills it.
+    connect(combosModel_, &QStandardItemModel::itemChanged, this, [this](QStandardItem* item) {
+        if (fillingCombos_ || !doc_ || item->column() != 2) return;
+        const int row = item->row();
+        prep::ComboRecord r{combosModel_->item(row, 0)->text().toStdString(), combosModel_->item(row, 1)->text().toStdString(),
+                            item->data(Qt::DisplayRole).toDouble()};
+        const Status s = doc_->setComboRecord(r);
+        if (!s) {
+            editFailed(QString::fromStdString(s.error().message));
+            QTimer::singleShot(0, this, [this] { fillCombos(); });
+        }
+    });
     combosDock_ = dock("CombosDock", "Combination table", combosPanel, Qt::BottomDockWidgetArea);
     tabifyDockWidget(timelineDock_, combosDock_);
     timelineDock_->raise();
     connect(combosFilter_, &QLineEdit::textChanged, combosProxy_, &QSortFilterProxyModel::setFilterFixedString);
 
     // Inspector and motion graph, tabbed on the right.
-    inspector_ = new QTextBrowser;
+    inspector_ = new InspectorPanel;
     inspector_->setObjectName("inspector");
-    inspector_->setOpenLinks(false);
+    connect(inspector_, &InspectorPanel::editFailed, this, &MainWindow::editFailed);
     inspectorDock_ = dock("InspectorDock", "Inspector", inspector_, Qt::RightDockWidgetArea);
 
     auto* graphPanel = new QWidget;
@@ -251,6 +314,33 @@ void MainWindow::buildDocks() {
     nodeActions_->setObjectName("nodeActions");
     nodeActions_->setToolTip("Actions leaving the selected node (click one to select it)");
     nodeActions_->setMaximumHeight(150);
+    // Graph settings are part of the project (undoable); a change re-analyses in the background.
+    auto* graphBar = new QHBoxLayout;
+    graphPreset_ = new QComboBox;
+    graphPreset_->setObjectName("graphPreset");
+    graphPreset_->addItems({"fighting", "locomotion"});
+    graphPreset_->setToolTip("Pose-distance weights of the motion graph (SPEC 1.5)");
+    graphThreshold_ = new QDoubleSpinBox;
+    graphThreshold_->setObjectName("graphThreshold");
+    graphThreshold_->setRange(0.01, 5.0);
+    graphThreshold_->setSingleStep(0.01);
+    graphThreshold_->setDecimals(2);
+    graphThreshold_->setKeyboardTracking(false);
+    graphThreshold_->setToolTip("Clustering threshold (about radians): lower gives more nodes and fewer connections");
+    graphBar->addWidget(new QLabel("preset"));
+    graphBar->addWidget(graphPreset_);
+    graphBar->addWidget(new QLabel("threshold"));
+    graphBar->addWidget(graphThreshold_);
+    graphBar->addStretch(1);
+    graphLayout->addLayout(graphBar);
+    connect(graphPreset_, &QComboBox::textActivated, this, [this](const QString& preset) {
+        if (!doc_) return;
+        if (Status st = doc_->setGraphPreset(preset.toStdString()); !st) editFailed(QString::fromStdString(st.error().message));
+    });
+    connect(graphThreshold_, &QDoubleSpinBox::valueChanged, this, [this](double value) {
+        if (!doc_ || fillingGraphControls_) return;
+        if (Status st = doc_->setGraphThreshold(value); !st) editFailed(QString::fromStdString(st.error().message));
+    });
     graphLayout->addWidget(graph_, 1);
     graphLayout->addWidget(nodeActions_);
     graphDock_ = dock("GraphDock", "Motion graph", graphPanel, Qt::RightDockWidgetArea);
@@ -261,25 +351,74 @@ void MainWindow::buildDocks() {
         showAction(item->data(kRoleMotion).toInt(), item->data(kRoleAction).toInt());
     });
 
+    auto* history = new QUndoView(undoGroup_);
+    history->setObjectName("history");
+    history->setEmptyLabel("<opened>");
+    historyDock_ = dock("HistoryDock", "Undo history", history, Qt::RightDockWidgetArea);
+    tabifyDockWidget(graphDock_, historyDock_);
+    inspectorDock_->raise();
+
     resizeDocks({libraryDock_}, {280}, Qt::Horizontal);
     resizeDocks({inspectorDock_}, {360}, Qt::Horizontal);
     resizeDocks({timelineDock_}, {210}, Qt::Vertical);
 }
 
 void MainWindow::buildMenus() {
+    const auto named = [](QAction* a, const char* name, QKeySequence key = {}) {
+        a->setObjectName(name);
+        if (!key.isEmpty()) a->setShortcut(key);
+        return a;
+    };
     QMenu* file = menuBar()->addMenu("&File");
     file->setObjectName("FileMenu");
-    QAction* open = file->addAction("&Open...", this, &MainWindow::openFile);
-    open->setObjectName("actionOpen");
-    open->setShortcut(QKeySequence::Open);
+    named(file->addAction("&New project...", this, &MainWindow::newProject), "actionNew", QKeySequence(Qt::CTRL | Qt::Key_N));
+    named(file->addAction("&Open...", this, &MainWindow::openFile), "actionOpen", QKeySequence(Qt::CTRL | Qt::Key_O));
+    recentMenu_ = file->addMenu("Open &Recent");
+    recentMenu_->setObjectName("RecentMenu");
+    recentMenu_->menuAction()->setObjectName("actionOpenRecent");
+    fillRecentMenu();
     file->addSeparator();
-    QAction* quit = file->addAction("&Quit", this, &QWidget::close);
-    quit->setObjectName("actionQuit");
-    quit->setShortcut(QKeySequence(Qt::CTRL | Qt::Key_Q));
+    saveAction_ = named(file->addAction("&Save", this, &MainWindow::save), "actionSave", QKeySequence(Qt::CTRL | Qt::Key_S));
+    saveAsAction_ = named(file->addAction("Save &As...", this, &MainWindow::saveAs), "actionSaveAs",
+                          QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_S));
+    file->addSeparator();
+    importAction_ = named(file->addAction("&Import motions...", this, &MainWindow::importMotionsDialog), "actionImport",
+                          QKeySequence(Qt::CTRL | Qt::Key_I));
+    file->addSeparator();
+    named(file->addAction("&Quit", this, &QWidget::close), "actionQuit", QKeySequence(Qt::CTRL | Qt::Key_Q));
+
+    // Undo and redo name the command ("Undo Move cut in walking").
+    QMenu* edit = menuBar()->addMenu("&Edit");
+    edit->setObjectName("EditMenu");
+    QAction* undo = undoGroup_->createUndoAction(this, "&Undo");
+    undo->setObjectName("actionUndo");
+    undo->setShortcuts({QKeySequence(Qt::CTRL | Qt::Key_Z)});
+    QAction* redo = undoGroup_->createRedoAction(this, "&Redo");
+    redo->setObjectName("actionRedo");
+    redo->setShortcuts({QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_Z), QKeySequence(Qt::CTRL | Qt::Key_Y)});
+    edit->addAction(undo);
+    edit->addAction(redo);
+    edit->addSeparator();
+    named(edit->addAction("Undo &history",
+                          [this] {
+                              historyDock_->show();
+                              historyDock_->raise();
+                          }),
+          "actionUndoHistory");
+
+    QMenu* projectMenu = menuBar()->addMenu("&Project");
+    projectMenu->setObjectName("ProjectMenu");
+    segmentAction_ = named(projectMenu->addAction("&Segment the selected motion", this, &MainWindow::segmentCurrentMotion),
+                           "actionSegment", QKeySequence(Qt::CTRL | Qt::Key_E));
+    analyseAction_ = named(projectMenu->addAction("Train contacts and &analyse: contacts, profiles, motion graph", this,
+                                                  [this] {
+                                                      if (!analysisThread_) startAnalysis();
+                                                  }),
+                           "actionAnalyse", QKeySequence(Qt::CTRL | Qt::Key_G));
 
     QMenu* view = menuBar()->addMenu("&View");
     view->setObjectName("ViewMenu");
-    for (QDockWidget* d : {libraryDock_, timelineDock_, inspectorDock_, graphDock_, combosDock_}) {
+    for (QDockWidget* d : {libraryDock_, timelineDock_, inspectorDock_, graphDock_, combosDock_, historyDock_}) {
         QAction* toggle = d->toggleViewAction();
         toggle->setObjectName("toggle" + d->objectName());
         view->addAction(toggle);
@@ -348,10 +487,22 @@ QByteArray MainWindow::describeUi() const {
 }
 
 void MainWindow::closeEvent(QCloseEvent* event) {
-    QSettings settings;
-    settings.setValue("window/geometry", saveGeometry());
-    settings.setValue("window/state", saveState(kLayoutVersion));
+    if (!maybeSave()) {
+        event->ignore();
+        return;
+    }
+    settings_->setValue("window/geometry", saveGeometry());
+    settings_->setValue("window/state", saveState(kLayoutVersion));
     QMainWindow::closeEvent(event);
+}
+
+void MainWindow::undoGroupChanged() {
+    if (doc_) {
+        if (!undoGroup_->stacks().contains(doc_->undoStack())) undoGroup_->addStack(doc_->undoStack());
+        undoGroup_->setActiveStack(doc_->undoStack());
+    } else {
+        undoGroup_->setActiveStack(nullptr);
+    }
 }
 
 void MainWindow::resetLayout() { restoreState(defaultLayout_, kLayoutVersion); }
@@ -362,218 +513,6 @@ void MainWindow::showShortcuts() {
         "Space: play / pause\nLeft / Right: one frame (timeline)\nUp / Down: ten frames (timeline)\n"
         "Home: frame the whole motion (timeline)\nF: frame all (viewport)\nDelete: remove the cut under the playhead "
         "(timeline)\nCtrl+O: open\nCtrl+Q: quit");
-}
-
-void MainWindow::fillLibrary() {
-    library_->clear();
-    if (scene_) {
-        for (int c = 0; c < scene_->characterCount(); ++c) {
-            const glm::vec3 tint = scene_->tint(c);
-            QPixmap swatch(12, 12);
-            swatch.fill(QColor::fromRgbF(tint.x, tint.y, tint.z));
-            auto* item = new QTreeWidgetItem(
-                {QString::fromStdString(scene_->scene().characters[static_cast<std::size_t>(c)].name)});
-            item->setIcon(0, QIcon(swatch));
-            item->setData(0, kRoleMotion, c);
-            library_->addTopLevelItem(item);
-        }
-        return;
-    }
-    const prep::Project* project = analysis_ ? &analysis_->project : nullptr;
-    for (std::size_t i = 0; i < takes_.size(); ++i) {
-        const app::LoadedTake& t = takes_[i];
-        auto* item = new QTreeWidgetItem({QString::fromStdString(t.name),
-                                          QString("%1 (%2 s)").arg(t.motion->frameCount()).arg(t.motion->duration(), 0, 'f', 1)});
-        item->setData(0, kRoleMotion, static_cast<int>(i));
-        item->setData(0, kRoleAction, -1);
-        if (project && i < project->motions.size()) {
-            const prep::MotionActions& acts = project->motions[i].actions;
-            for (int a = 0; a < acts.actionCount(); ++a) {
-                const prep::ActionInfo& info = acts.actions[static_cast<std::size_t>(a)];
-                QStringList words;
-                for (const std::string& w : info.annotations) words << QString::fromStdString(w);
-                for (const std::string& w : info.proposed) words << QString::fromStdString(w) + "?";
-                auto* child = new QTreeWidgetItem(
-                    {actionLabel(info), QString("%1-%2").arg(acts.firstFrame(a)).arg(acts.lastFrame(a)), words.join(" ")});
-                child->setData(0, kRoleMotion, static_cast<int>(i));
-                child->setData(0, kRoleAction, a);
-                item->addChild(child);
-            }
-            item->setText(2, QString("%1 actions").arg(acts.actionCount()));
-        }
-        library_->addTopLevelItem(item);
-    }
-    library_->resizeColumnToContents(0);
-    filterLibrary(libraryFilter_->text());
-}
-
-void MainWindow::filterLibrary(const QString& text) {
-    const QString needle = text.trimmed();
-    for (int i = 0; i < library_->topLevelItemCount(); ++i) {
-        QTreeWidgetItem* top = library_->topLevelItem(i);
-        bool any = needle.isEmpty() || top->text(0).contains(needle, Qt::CaseInsensitive);
-        for (int k = 0; k < top->childCount(); ++k) {
-            QTreeWidgetItem* child = top->child(k);
-            const bool match = needle.isEmpty() || child->text(0).contains(needle, Qt::CaseInsensitive) ||
-                               child->text(2).contains(needle, Qt::CaseInsensitive);
-            child->setHidden(!match);
-            any = any || match;
-        }
-        top->setHidden(!any);
-        if (!needle.isEmpty() && any && top->childCount() > 0) top->setExpanded(true);
-    }
-}
-
-void MainWindow::librarySelectionChanged() {
-    const auto rows = library_->selectedItems();
-    if (scene_) {
-        // Selecting a character highlights it; the time keeps running.
-        selected_ = rows.empty() ? -1 : rows.front()->data(0, kRoleMotion).toInt();
-        return;
-    }
-    // An action: its motion alone, from the action's first frame.
-    if (rows.size() == 1 && rows.front()->data(0, kRoleAction).toInt() >= 0) {
-        showAction(rows.front()->data(0, kRoleMotion).toInt(), rows.front()->data(0, kRoleAction).toInt());
-        return;
-    }
-    shown_.clear();
-    int first = -1;
-    for (QTreeWidgetItem* item : rows) {
-        const int m = item->data(0, kRoleMotion).toInt();
-        if (item->data(0, kRoleAction).toInt() >= 0 || m < 0 || m >= static_cast<int>(takes_.size())) continue;
-        if (first < 0) first = m;
-        shown_.push_back(takes_[static_cast<std::size_t>(m)]);
-    }
-    app::stageTakes(shown_, stage_);
-    time_ = 0.0;
-    stage_.pose(0.0);
-    scrub_->blockSignals(true);
-    scrub_->setRange(0, std::max(0, stage_.longestFrameCount() - 1));
-    scrub_->setValue(0);
-    scrub_->blockSignals(false);
-    showMotion(first);
-    frameAll();
-}
-
-void MainWindow::showMotion(int motion) {
-    currentMotion_ = motion;
-    currentAction_ = -1;
-    if (analysis_ && motion >= 0 && motion < static_cast<int>(analysis_->motions.size())) {
-        timeline_->setData(analysis_->motions[static_cast<std::size_t>(motion)].timeline);
-        timelineDock_->setWindowTitle("Timeline: " + QString::fromStdString(analysis_->motions[static_cast<std::size_t>(motion)].id));
-    } else {
-        timeline_->setData({});
-        timelineDock_->setWindowTitle("Timeline");
-    }
-    timeline_->setSelectedAction(-1);
-    if (!analysis_ || motion < 0) {
-        inspector_->setHtml(projectFile_.isEmpty()
-                                ? "<p>Open a project (File &gt; Open) to see actions and their annotations.</p>"
-                                : "<p>Analysing the project...</p>");
-        return;
-    }
-    const prep::ProjectMotion& pm = analysis_->project.motions[static_cast<std::size_t>(motion)];
-    inspector_->setHtml(QString("<h3>%1</h3><p>%2 actions, %3 frames, %4 cuts<br>%5</p><p>Select an action in the "
-                                "library or the timeline.</p>")
-                            .arg(html(pm.id))
-                            .arg(pm.actions.actionCount())
-                            .arg(pm.actions.frameCount)
-                            .arg(pm.actions.cuts.size())
-                            .arg(html(pm.path)));
-}
-
-void MainWindow::showAction(int motion, int action) {
-    if (!analysis_ || motion < 0 || motion >= static_cast<int>(analysis_->project.motions.size())) return;
-    const prep::MotionActions& acts = analysis_->project.motions[static_cast<std::size_t>(motion)].actions;
-    if (action < 0 || action >= acts.actionCount()) return;
-    if (motion != currentMotion_ || shown_.size() != 1) {
-        shown_ = {takes_[static_cast<std::size_t>(motion)]};
-        app::stageTakes(shown_, stage_);
-        scrub_->blockSignals(true);
-        scrub_->setRange(0, std::max(0, stage_.longestFrameCount() - 1));
-        scrub_->blockSignals(false);
-        showMotion(motion);
-        frameAll();
-    }
-    currentAction_ = action;
-    timeline_->setSelectedAction(action);
-    const int first = acts.firstFrame(action);
-    timelinePlayhead(first);
-    timeline_->setPlayhead(first);
-
-    const prep::ActionInfo& info = acts.actions[static_cast<std::size_t>(action)];
-    const double fps = takes_[static_cast<std::size_t>(motion)].motion->fps();
-    QString body = QString("<h3>%1</h3><p>%2, action %3: frames %4-%5 (%6 s)</p>")
-                       .arg(info.name.empty() ? QString("<i>unnamed</i>") : html(info.name))
-                       .arg(html(analysis_->project.motions[static_cast<std::size_t>(motion)].id))
-                       .arg(action)
-                       .arg(first)
-                       .arg(acts.lastFrame(action))
-                       .arg((acts.lastFrame(action) - first + 1) / fps, 0, 'f', 2);
-    body += "<p><b>Annotations</b><br>" + chips(info.annotations, "#9cc3f0") + "</p>";
-    body += "<p><b>Proposals</b> (awaiting confirmation)<br>" + chips(info.proposed, "#f0d79c") + "</p>";
-    body += "<p><b>Joints used</b><br>" + joined(info.joints) + "</p>";
-    body += "<p><b>Attack direction</b>: " + (info.attackDirection ? html(*info.attackDirection) : QString("<i>none</i>")) +
-            "<br><b>Defended part</b>: " + (info.defendedPart ? html(*info.defendedPart) : QString("<i>none</i>")) + "</p>";
-    if (info.initialConditions) {
-        const prep::InitialConditions& ic = *info.initialConditions;
-        const double deg = 180.0 / 3.14159265358979323846;
-        body += QString("<p><b>Initial conditions</b><br>distance %1-%2 m<br>angle %3-%4 deg<br>facing %5-%6 deg<br>"
-                        "timing %7-%8 s</p>")
-                    .arg(ic.minDistance, 0, 'f', 2)
-                    .arg(ic.maxDistance, 0, 'f', 2)
-                    .arg(ic.minAngle * deg, 0, 'f', 0)
-                    .arg(ic.maxAngle * deg, 0, 'f', 0)
-                    .arg(ic.minFacing * deg, 0, 'f', 0)
-                    .arg(ic.maxFacing * deg, 0, 'f', 0)
-                    .arg(ic.minTiming, 0, 'f', 2)
-                    .arg(ic.maxTiming, 0, 'f', 2);
-    } else {
-        body += "<p><b>Initial conditions</b>: <i>any</i></p>";
-    }
-    // Where the action sits in the motion graph.
-    for (std::size_t g = 0; g < analysis_->graphActions.size(); ++g) {
-        if (analysis_->graphActions[g] != std::pair{motion, action}) continue;
-        if (g < analysis_->graph.startNode.size())
-            body += QString("<p><b>Motion graph</b>: node %1 to node %2%3</p>")
-                        .arg(analysis_->graph.startNode[g])
-                        .arg(analysis_->graph.endNode[g])
-                        .arg(g < analysis_->graph.inLargestScc.size() && !analysis_->graph.inLargestScc[g]
-                                 ? " (outside the largest strongly connected set)"
-                                 : "");
-        break;
-    }
-    inspector_->setHtml(body);
-}
-
-void MainWindow::fillCombos() {
-    combosModel_->removeRows(0, combosModel_->rowCount());
-    if (!analysis_) return;
-    for (const prep::ComboRecord& r : analysis_->project.combos.records()) {
-        auto* value = new QStandardItem;
-        value->setData(r.suitability, Qt::DisplayRole);
-        combosModel_->appendRow({new QStandardItem(QString::fromStdString(r.mine)),
-                                 new QStandardItem(QString::fromStdString(r.theirs)), value});
-    }
-    combosDock_->setWindowTitle(QString("Combination table (%1)").arg(combosModel_->rowCount()));
-}
-
-void MainWindow::graphNodeSelected(int node) {
-    nodeActions_->clear();
-    if (!analysis_) return;
-    for (std::size_t g = 0; g < analysis_->graph.startNode.size() && g < analysis_->graphActions.size(); ++g) {
-        if (analysis_->graph.startNode[g] != node) continue;
-        const auto [m, a] = analysis_->graphActions[g];
-        const prep::ProjectMotion& pm = analysis_->project.motions[static_cast<std::size_t>(m)];
-        auto* item = new QListWidgetItem(QString("%1  %2 #%3  -> node %4")
-                                             .arg(actionLabel(pm.actions.actions[static_cast<std::size_t>(a)]))
-                                             .arg(QString::fromStdString(pm.id))
-                                             .arg(a)
-                                             .arg(analysis_->graph.endNode[g]));
-        item->setData(kRoleMotion, m);
-        item->setData(kRoleAction, a);
-        nodeActions_->addItem(item);
-    }
 }
 
 void MainWindow::timelinePlayhead(int frame) {
@@ -592,7 +531,9 @@ void MainWindow::startAnalysis() {
     progress_->show();
     cancelButton_->show();
     const std::filesystem::path file = projectFile_.toStdString();
-    analysisThread_ = QThread::create([this, file] {
+    const prep::Project snapshot = project() ? *project() : prep::Project{};
+    analysisRevision_ = doc_ ? doc_->revision() : 0;
+    analysisThread_ = QThread::create([this, file, snapshot] {
         ProgressFn progress = [this](double f, std::string_view stage) {
             // At most one update per half percent reaches the UI thread.
             if (f - lastPosted_.load() >= 0.005 || f >= 1.0) {
@@ -602,13 +543,16 @@ void MainWindow::startAnalysis() {
             }
             return !cancelRequested_.load();
         };
-        analysisResult_.emplace(analyseProject(file, progress));
+        analysisResult_.emplace(analyseProject(snapshot, file, progress));
     });
     connect(analysisThread_, &QThread::finished, this, &MainWindow::analysisFinished);
     analysisThread_->start(QThread::LowPriority);
 }
 
-void MainWindow::cancelAnalysis() { cancelRequested_ = true; }
+void MainWindow::cancelAnalysis() {
+    cancelRequested_ = true;
+    segmentMotion_.clear();  // a running segmentation's result is dropped
+}
 
 void MainWindow::analysisProgress(double fraction, const QString& stage) {
     progress_->setValue(static_cast<int>(fraction * 1000));
@@ -628,15 +572,9 @@ void MainWindow::analysisFinished() {
     }
     analysis_ = std::move(analysisResult_->value());
     analysisResult_.reset();
-    const int keepMotion = currentMotion_;
-    library_->blockSignals(true);
-    fillLibrary();
-    for (int i = 0; i < library_->topLevelItemCount(); ++i)
-        if (library_->topLevelItem(i)->data(0, kRoleMotion).toInt() == keepMotion) library_->topLevelItem(i)->setSelected(true);
-    library_->blockSignals(false);
-    showMotion(keepMotion);
+    refreshAll();
     graph_->setData(analysis_->graph);
-    fillCombos();
+    graphStale_ = doc_ && doc_->revision() != analysisRevision_;
     statusBar()->showMessage(QString("%1: %2 motions, %3; motion graph %4")
                                  .arg(QFileInfo(projectFile_).fileName())
                                  .arg(analysis_->motions.size())
@@ -645,32 +583,6 @@ void MainWindow::analysisFinished() {
                              15000);
     std::printf("fray: analysed %zu motions, graph %d nodes\n", analysis_->motions.size(), analysis_->graphStats.nodes);
     std::fflush(stdout);
-}
-
-void MainWindow::openFile() {
-    const QString path = QFileDialog::getOpenFileName(
-        this, "Open", QFileInfo(projectFile_).absolutePath(),
-        "Fray projects and motions (*.frayproj *.bvh *.fbx *.gltf *.glb *.dae);;All files (*)");
-    if (path.isEmpty()) return;
-    auto loaded = app::loadTakes({path.toStdString()});
-    if (!loaded) {
-        QMessageBox::warning(this, "Open", QString::fromStdString(loaded.error().message));
-        return;
-    }
-    cancelAnalysis();
-    if (analysisThread_) analysisThread_->wait();
-    if (analysisThread_) analysisFinished();
-    takes_ = std::move(*loaded);
-    analysis_.reset();
-    projectFile_ = path.endsWith(".frayproj") ? path : QString();
-    setWindowTitle(QFileInfo(path).fileName() + " - Fray");
-    graph_->setData({});
-    nodeActions_->clear();
-    fillCombos();
-    fillLibrary();
-    if (library_->topLevelItemCount() > 0) library_->setCurrentItem(library_->topLevelItem(0));
-    librarySelectionChanged();
-    if (!projectFile_.isEmpty()) startAnalysis();
 }
 
 void MainWindow::frameAll() {

@@ -18,6 +18,7 @@
 #include <QString>
 #include <QTimer>
 #include <atomic>
+#include <cstdint>
 #include <chrono>
 #include <memory>
 #include <optional>
@@ -29,7 +30,10 @@
 #include "takes.h"
 
 class QDockWidget;
+class QMenu;
+class QSettings;
 class QComboBox;
+class QDoubleSpinBox;
 class QLabel;
 class QLineEdit;
 class QListWidget;
@@ -39,14 +43,26 @@ class QSlider;
 class QSortFilterProxyModel;
 class QStandardItemModel;
 class QTableView;
-class QTextBrowser;
 class QThread;
 class QToolButton;
 class QTreeWidget;
 class QTreeWidgetItem;
+class QUndoGroup;
+
+namespace fray::authoring {
+class Autosaver;
+class ProjectDocument;
+class RecentFiles;
+struct ChangeEvent;
+}  // namespace fray::authoring
 
 namespace fray::editor {
 
+// Item data of the library and graph lists: motion index and action index.
+inline constexpr int kRoleMotion = Qt::UserRole + 1;
+inline constexpr int kRoleAction = Qt::UserRole + 2;
+
+class InspectorPanel;
 class Viewport;
 class GraphView;
 class TimelineView;
@@ -57,6 +73,10 @@ struct EditorOptions {
     QString viewportScreenshot;     // the viewport alone (the renderer's image)
     bool waitForAnalysis = false;   // with quitAfter: quit only once the project analysis has finished
     bool restoreLayout = true;      // restore the dock layout saved by the last run
+    // An autosave newer than the project (a crash): ask, or recover / discard
+    // without asking (tests, scripts).
+    enum class Recovery { Ask, Recover, Discard } recovery = Recovery::Ask;
+    int autosaveSeconds = -1;       // -1: the setting (default 2 minutes); 0: off
 };
 
 class MainWindow : public QMainWindow {
@@ -75,9 +95,18 @@ public:
     QByteArray describeUi() const;
     // The analysis shown in the panels, once finished.
     const ProjectAnalysis* analysis() const { return analysis_ ? &*analysis_ : nullptr; }
+    // The open project's document (null when playing files or a scene).
+    authoring::ProjectDocument* document() const { return doc_.get(); }
+    authoring::Autosaver* autosaver() const { return autosaver_; }
+    // The project shown: the document's, else none.
+    const prep::Project* project() const;
+    // Opens a project, motion files or nothing; false (with a message) on error.
+    bool openPath(const QString& path);
 
 protected:
     void closeEvent(QCloseEvent* event) override;
+    void dragEnterEvent(QDragEnterEvent* event) override;
+    void dropEvent(QDropEvent* event) override;
 
 private Q_SLOTS:
     void tick();
@@ -88,6 +117,8 @@ private Q_SLOTS:
     void graphNodeSelected(int node);
     void analysisProgress(double fraction, const QString& stage);
     void analysisFinished();
+    void documentChanged(const fray::authoring::ChangeEvent& event);
+    void editFailed(const QString& message);
 
 private:
     void buildDocks();
@@ -100,6 +131,29 @@ private:
     void startAnalysis();
     void cancelAnalysis();
     void openFile();
+    void newProject();
+    bool save();
+    bool saveAs();
+    // Asks to save unsaved changes: false when the user cancelled.
+    bool maybeSave();
+    void importMotionFiles(const QStringList& files);
+    void importMotionsDialog();
+    // Automatic segmentation of the selected motion with proposals, in a
+    // worker thread; the result is one undo command.
+    void segmentCurrentMotion();
+    void segmentFinished();
+    bool openDocument(const QString& file);
+    void updateTitle();
+    void undoGroupChanged();
+    void fillRecentMenu();
+    void refreshAll();
+    void refreshTimeline();
+    void addComboRecord();
+    void removeComboRecords();
+    void importCombos();
+    void exportCombos();
+    QStringList jointNames(int motion) const;
+    int motionIndex(const std::string& id) const;
     void resetLayout();
     void showShortcuts();
     void frameAll();
@@ -129,7 +183,24 @@ private:
     QLineEdit* libraryFilter_ = nullptr;
     QTreeWidget* library_ = nullptr;
     TimelineView* timeline_ = nullptr;
-    QTextBrowser* inspector_ = nullptr;
+    InspectorPanel* inspector_ = nullptr;
+    QDockWidget* historyDock_ = nullptr;
+    QMenu* recentMenu_ = nullptr;
+    QAction* saveAction_ = nullptr;
+    QAction* saveAsAction_ = nullptr;
+    QAction* importAction_ = nullptr;
+    QAction* analyseAction_ = nullptr;
+    std::unique_ptr<QSettings> settings_;
+    std::unique_ptr<authoring::ProjectDocument> doc_;
+    authoring::Autosaver* autosaver_ = nullptr;
+    authoring::RecentFiles* recent_ = nullptr;
+    int cutDrag_ = 0;                 // the DragId of the cut being dragged
+    int draggedCutAt_ = 0;            // where that cut is now
+    QUndoGroup* undoGroup_ = nullptr;
+    std::uint64_t analysisRevision_ = 0;  // the document revision the analysis saw
+    bool graphStale_ = false;
+    bool fillingCombos_ = false;
+    bool fillingGraphControls_ = false;
     GraphView* graph_ = nullptr;
     QListWidget* nodeActions_ = nullptr;
     QTableView* combos_ = nullptr;
@@ -144,6 +215,12 @@ private:
     std::atomic<double> lastPosted_{-1.0};
     std::optional<Result<ProjectAnalysis>> analysisResult_;  // written by the worker, read after it finished
     std::optional<ProjectAnalysis> analysis_;
+    QThread* segmentThread_ = nullptr;
+    std::string segmentMotion_;
+    std::optional<Result<prep::MotionActions>> segmentResult_;
+    QAction* segmentAction_ = nullptr;
+    QComboBox* graphPreset_ = nullptr;
+    QDoubleSpinBox* graphThreshold_ = nullptr;
     QProgressBar* progress_ = nullptr;
     QPushButton* cancelButton_ = nullptr;
 

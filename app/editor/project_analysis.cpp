@@ -5,6 +5,8 @@
 #include "fray/prep/segmentation.h"
 #include "prep_session.h"
 
+#include <optional>
+
 namespace fray::editor {
 
 QString actionLabel(const prep::ActionInfo& info) {
@@ -14,15 +16,22 @@ QString actionLabel(const prep::ActionInfo& info) {
     return "?";
 }
 
-Result<ProjectAnalysis> analyseProject(const std::filesystem::path& file, const ProgressFn& progress) {
+Result<ProjectAnalysis> analyseProject(const prep::Project& project, const std::filesystem::path& file,
+                                       const ProgressFn& progress) {
     // Stages share the bar: loading 0-0.5, contacts 0.5-0.7, segmentation
     // profiles 0.7-0.8, graph 0.8-1.
     const auto stage = [&](double from, double to) -> ProgressFn {
         if (!progress) return {};
         return [=](double f, std::string_view name) { return progress(from + (to - from) * f, name); };
     };
-    auto session = cli::openSession(file, true, stage(0.0, 0.5));
-    if (!session) return session.error();
+    std::optional<cli::Session> session(std::in_place);
+    session->file = file;
+    session->project = project;
+    auto motions = prep::loadProjectMotions(project, file, cli::loadProjectMotion, stage(0.0, 0.5));
+    if (!motions) return motions.error();
+    session->motions = std::move(*motions);
+    std::string why;
+    session->cache = prep::readCache(file, &why);
     auto contacts = cli::computeContacts(*session, false, stage(0.5, 0.7));
     if (!contacts) return contacts.error();
 

@@ -41,6 +41,10 @@ struct ProjectAnalysis {
 // first proposal with '?', else "?".
 QString actionLabel(const prep::ActionInfo& info);
 
-Result<ProjectAnalysis> analyseProject(const std::filesystem::path& file, const ProgressFn& progress);
+// Analyses `project` as it is now (the document's, edits included); `file` is
+// where it lives (relative motion paths resolve from its folder, and the
+// derived-data cache beside it is read, never written).
+Result<ProjectAnalysis> analyseProject(const prep::Project& project, const std::filesystem::path& file,
+                                       const ProgressFn& progress);
 
 }  // namespace fray::editor

@@ -217,6 +217,28 @@ Status ProjectDocument::mergeActions(const std::string& motionId, int actionInde
                        0);
 }
 
+Status ProjectDocument::setMotionActions(const std::string& motionId, prep::MotionActions actions, const QString& text) {
+    auto m = motion(motionId);
+    if (!m) return m.error();
+    if (actions.frameCount != (*m)->actions.frameCount)
+        return makeError("motion " + inQuotes(motionId) + ": the new actions cover " + std::to_string(actions.frameCount) +
+                         " frames but the motion has " + std::to_string((*m)->actions.frameCount));
+    if (auto why = actions.validate()) return makeError("motion " + inQuotes(motionId) + ": " + *why);
+    for (int a = 0; a < actions.actionCount(); ++a)
+        if (auto why = prep::checkActionInfo(project_, actions.actions[static_cast<std::size_t>(a)], where(motionId, a)))
+            return makeError(*why);
+    if (actions == (*m)->actions) return {};
+    const std::string id = motionId;
+    undoStack_.push(new ChangeValue<prep::MotionActions>(
+        this, text, "motion/" + id + "/actions",
+        [id](prep::Project& p) -> prep::MotionActions* {
+            prep::ProjectMotion* pm = p.findMotion(id);
+            return pm ? &pm->actions : nullptr;
+        },
+        std::move(actions), {ChangeKind::Cuts, id, 0, 0}, 0));
+    return {};
+}
+
 // ---- action descriptions ----------------------------------------------------
 
 Status ProjectDocument::pushActionInfo(const std::string& motionId, int actionIndex, prep::ActionInfo info,

@@ -88,6 +88,17 @@ TEST(Document, EveryEditKindUndoesToTheSameBytes) {
     expectOneUndoableStep(d, "move cut", [&] { return d.moveCut(box, acts().cuts[0], acts().cuts[0] + 1); });
     expectOneUndoableStep(d, "split", [&] { return d.splitAction(box, 4, acts().firstFrame(4) + 2); });
     expectOneUndoableStep(d, "merge", [&] { return d.mergeActions(box, 1); });
+    {
+        // A re-segmentation: every cut and description of the motion at once.
+        const auto& c = acts().cuts;
+        prep::MotionActions resegmented = prep::recut(acts(), {c[0], c[2], c[5], c[7], c[9], c[11]});
+        resegmented.actions[1].proposed = {"kick"};
+        prep::MotionActions wrong = resegmented;
+        wrong.frameCount += 1;
+        EXPECT_FALSE(d.setMotionActions(box, wrong, "Segment")) << "a frame count that is not the motion's";
+        expectOneUndoableStep(d, "segment", [&] { return d.setMotionActions(box, resegmented, "Segment"); });
+        EXPECT_EQ(acts().cuts.size(), 6u);
+    }
     expectOneUndoableStep(d, "action name", [&] { return d.setActionName(box, 3, "spinning_backfist"); });
     expectOneUndoableStep(d, "add annotation", [&] { return d.addAnnotation(box, 3, "turn"); });
     expectOneUndoableStep(d, "remove annotation", [&] { return d.removeAnnotation(box, 3, "turn"); });

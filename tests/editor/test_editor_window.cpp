@@ -17,7 +17,7 @@
 #include <QStatusBar>
 #include <QTableView>
 #include <QTest>
-#include <QTextBrowser>
+#include <QLabel>
 #include <QTreeWidget>
 #include <algorithm>
 #include <cstdio>
@@ -41,6 +41,7 @@ std::unique_ptr<MainWindow> openDemo() {
     }
     EditorOptions options;
     options.restoreLayout = false;
+    options.autosaveSeconds = 0;
     auto w = std::make_unique<MainWindow>(nullptr, std::move(*takes), nullptr, FRAY_DEMO_PROJECT, "demo", options);
     w->resize(1400, 880);
     w->show();
@@ -127,7 +128,7 @@ TEST(EditorWindow, ClickingAnActionShowsItInTheInspectorAndTimeline) {
     ASSERT_NE(w->analysis(), nullptr);
     auto* library = child<QTreeWidget>(w, "library");
     auto* timeline = child<fray::editor::TimelineView>(w, "timeline");
-    auto* inspector = child<QTextBrowser>(w, "inspector");
+    auto* inspector = child<QLabel>(w, "inspectorContext");
     QTreeWidgetItem* motion = library->topLevelItem(0);
     library->expandItem(motion);
     QApplication::processEvents();
@@ -139,16 +140,16 @@ TEST(EditorWindow, ClickingAnActionShowsItInTheInspectorAndTimeline) {
     const auto& acts = w->analysis()->project.motions[0].actions;
     EXPECT_EQ(timeline->selectedAction(), 4);
     EXPECT_EQ(timeline->playhead(), acts.firstFrame(4));
-    const QString text = inspector->toPlainText();
+    const QString text = inspector->text();
     EXPECT_TRUE(text.contains(QString("frames %1-%2").arg(acts.firstFrame(4)).arg(acts.lastFrame(4))))
         << text.toStdString();
-    EXPECT_TRUE(text.contains("Annotations")) << text.toStdString();
+    EXPECT_TRUE(text.contains("motion graph: node")) << text.toStdString();
     // Clicking another action's block in the timeline selects it.
     const int frame = (acts.firstFrame(6) + acts.lastFrame(6)) / 2;
     timeline->showFrames(acts.firstFrame(3), acts.lastFrame(8));
     QTest::mouseClick(timeline, Qt::LeftButton, Qt::NoModifier, QPoint(timeline->xOfFrame(frame), timeline->actionsY()));
     EXPECT_EQ(timeline->selectedAction(), 6);
-    EXPECT_TRUE(inspector->toPlainText().contains(QString("frames %1-%2").arg(acts.firstFrame(6)).arg(acts.lastFrame(6))));
+    EXPECT_TRUE(inspector->text().contains(QString("frames %1-%2").arg(acts.firstFrame(6)).arg(acts.lastFrame(6))));
 }
 
 TEST(EditorWindow, FilterKeepsOnlyMatchingActions) {
@@ -230,8 +231,10 @@ TEST(EditorWindow, DescribeUiListsDocksAndMenus) {
     options.restoreLayout = false;
     MainWindow w(nullptr, {}, nullptr, {}, "describe", options);
     const QString json = QString::fromUtf8(w.describeUi());
-    for (const char* name : {"LibraryDock", "TimelineDock", "InspectorDock", "GraphDock", "CombosDock", "actionOpen",
-                             "actionQuit", "actionResetLayout", "toggleTimelineDock"})
+    for (const char* name : {"LibraryDock", "TimelineDock", "InspectorDock", "GraphDock", "CombosDock", "HistoryDock",
+                             "actionNew", "actionOpen", "actionOpenRecent", "actionSave", "actionSaveAs", "actionImport",
+                             "actionQuit", "actionUndo", "actionRedo", "actionUndoHistory", "actionAnalyse",
+                             "actionResetLayout", "toggleTimelineDock"})
         EXPECT_TRUE(json.contains(name)) << name;
 }
 

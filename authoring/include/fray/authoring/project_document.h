@@ -79,6 +79,10 @@ public:
     Status splitAction(const std::string& motionId, int action, int frame);
     // Merge `action` with the next one.
     Status mergeActions(const std::string& motionId, int action);
+    // Replaces every cut and action description of a motion at once (an
+    // automatic segmentation with its proposals): one undo step named `text`.
+    // The frame count must stay the motion's; every description is checked.
+    Status setMotionActions(const std::string& motionId, prep::MotionActions actions, const QString& text);
 
     // ---- action descriptions (SPEC 1.4)
     Status setActionInfo(const std::string& motionId, int action, prep::ActionInfo info, DragId drag = 0);
