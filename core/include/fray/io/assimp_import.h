@@ -17,6 +17,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "fray/core/motion.h"
 #include "fray/core/result.h"
@@ -42,5 +43,13 @@ struct AssimpImportOptions {
 // rotation channels (ZXY) plus 3 position channels when their translation
 // leaves the rest offset. Errors name the file and say what is wrong.
 Result<Motion> importWithAssimp(const std::filesystem::path& path, const AssimpImportOptions& options = {});
+
+// Every skeleton of the file, for files with several characters (Fray's own
+// glTF and FBX exports among them): when the animated nodes' common ancestor
+// is not animated and several of its child subtrees hold animated nodes, one
+// motion per such subtree (in file order), each as importWithAssimp would
+// give it with that subtree's root; otherwise the one importWithAssimp gives.
+Result<std::vector<Motion>> importAllWithAssimp(const std::filesystem::path& path,
+                                                const AssimpImportOptions& options = {});
 
 }  // namespace fray
