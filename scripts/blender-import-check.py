@@ -3,6 +3,8 @@
 # (NAME.FORMAT.scene.json, found next to the file by its "files" list):
 # - the import succeeds and brings one armature per character of the file
 #   (glTF, GLB, FBX: every character; BVH: the file's one character);
+# - the file's frame rate (FBX, BVH: Blender takes it) is the export's, and each
+#   action lasts the export's key range;
 # - each armature's animation covers the whole key range, and its root bone
 #   follows the summary's "root_path" (the root joint's scene position at every
 #   second and at the last frame) within 1 cm, matched one to one;
@@ -39,7 +41,8 @@ IMPORTERS = {
     ".gltf": lambda p: bpy.ops.import_scene.gltf(filepath=p),
     ".glb": lambda p: bpy.ops.import_scene.gltf(filepath=p),
     ".fbx": lambda p: bpy.ops.import_scene.fbx(filepath=p),
-    ".bvh": lambda p: bpy.ops.import_anim.bvh(filepath=p),
+    # The BVH importer keeps Blender's 24 fps unless asked to take the file's.
+    ".bvh": lambda p: bpy.ops.import_anim.bvh(filepath=p, update_scene_fps=True),
 }
 TOLERANCE_M = 0.01
 
@@ -101,6 +104,10 @@ def check(path):
     if summary is None:
         print(f"{path}: FAILED no export summary (*.scene.json) in its folder lists it")
         return False
+    if not chars or any("root_path" not in c for c in chars) or "last_frame_time" not in summary:
+        print(f"{path}: FAILED {os.path.basename(summary_path)} (version {summary.get('version')}) has no root_path "
+              f"for this file's characters; export again with this version of fray-cli")
+        return False
     try:
         IMPORTERS[ext](path)
     except Exception as e:  # Blender reports import errors as RuntimeError
@@ -128,13 +135,23 @@ def check(path):
         return max((g - w).length for g, w in zip(sampled[ai][0], want))
     best = min(itertools.permutations(range(len(chars))),
                key=lambda perm: sum(error(ai, ci) for ai, ci in enumerate(perm)))
-    details = []
+    # Frame rates: FBX and BVH declare theirs (Blender takes it); every
+    # action must last the export's key range in seconds at Blender's rate.
+    render = bpy.context.scene.render
+    fps = render.fps / render.fps_base
+    details = [f"scene {fps:g} fps"]
+    if ext in (".fbx", ".bvh") and abs(fps - summary["fps"]) > 0.01 * summary["fps"]:
+        problems.append(f"the file declares {fps:g} fps; the export was at {summary['fps']:g} fps")
     for ai, ci in enumerate(best):
         a, c = armatures[ai], chars[ci]
         err = error(ai, ci)
         f0, f1 = frame_range(a)
         details.append(f"{c['name']}: {a.name} frames {f0:g}-{f1:g}, root within {err * 100:.2f} cm over "
                        f"{len(times)} times to {times[-1]:g} s")
+        seconds = (f1 - f0) / fps
+        if abs(seconds - summary["last_frame_time"]) > 1.0 / summary["fps"] + 1e-6:
+            problems.append(f"{c['name']}: the action lasts {seconds:g} s at {fps:g} fps, the keys "
+                            f"{summary['last_frame_time']:g} s")
         if err > TOLERANCE_M:
             problems.append(f"{c['name']}: the root is {err * 100:.1f} cm from the summary's path")
         if not sampled[ai][1]:
