@@ -283,6 +283,13 @@ TEST(ExportSummaryFiles, FoldersOfVersionOneCanBeExportedAgain) {
     r = exporter::exportScene(exportDuel(), exportLibrary(), optionsFor(Format::Glb, dir.path()));
     ASSERT_FALSE(r);
     EXPECT_EQ(readBytes(dir / "duel.glb"), "mine");
+    // A file of that name that is not a summary of ours is neither read as one nor mentioned.
+    TempFolder other;
+    ASSERT_TRUE(writeFileAtomically(other / "duel.scene.json", "my notes"));
+    r = exporter::exportScene(exportDuel(), exportLibrary(), optionsFor(Format::Gltf, other.path()));
+    ASSERT_TRUE(r) << r.error().message;
+    EXPECT_TRUE(r->notes.empty());
+    EXPECT_EQ(readBytes(other / "duel.scene.json"), "my notes");
 }
 
 // Item 16: names that are not file-safe are refused, saying what to use.

@@ -140,8 +140,9 @@ Result<ExportReport> exportScene(const sim::Scene& scene, const sim::ActionLibra
     ExportReport report;
     report.frames = sampled->frames;
     std::error_code ec;
-    if (fs::exists(options.outDir / legacySummaryName(options), ec)) {
-        report.notes.push_back((options.outDir / legacySummaryName(options)).string() +
+    const fs::path legacy = options.outDir / legacySummaryName(options);
+    if (fs::exists(legacy, ec) && earlierExportFiles(legacy)) {
+        report.notes.push_back(legacy.string() +
                                " is an older summary (one per name, whatever the format) and was left as it is: it "
                                "describes an earlier export, not this one; this export's summary is " +
                                (options.outDir / planned.back()).string());
