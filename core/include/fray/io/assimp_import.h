@@ -4,6 +4,9 @@
 //
 // What the importer does (see docs/ASSIMP_NOTES.md for the format quirks):
 // - picks the animation by name (or the first one);
+// - binds channels to nodes by name; where several nodes share a name (glTF
+//   allows it), the k-th channel of that name drives the k-th such node in
+//   depth-first order;
 // - picks the skeleton root by name, or takes the lowest common ancestor of
 //   all animated nodes, and keeps the animated nodes below it plus the nodes
 //   between them (depth-first, parents before children);
