@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # fray-cli export on a small planned duel: glTF (default), GLB, BVH and FBX
-# files and the scene summary; the same scene gives the same bytes; the files
-# read back (BVH through our reader and Assimp, FBX and glTF through Assimp
-# via `info`); and bad input: a missing or corrupt scene, an unknown format, a
+# files and their scene summaries; the same scene gives the same bytes; the
+# files read back (BVH through our reader and Assimp, FBX and glTF through
+# Assimp via `info`, every character); BVH rotation channels continuous; and
+# bad input (a name that is not file-safe among them): a missing or corrupt scene, an unknown format, a
 # bad --fps, folders that cannot be created or written, a file that is not an
 # earlier export. Each is a one-line error naming the file.
 set -eu
@@ -22,15 +23,16 @@ check "help names the formats" "grep -q 'glb' '$tmp/help.txt' && grep -q -- '--f
 check "progress on stderr" "grep -q 'export: writing 100%' '$tmp/progress.txt'"
 check "summary on stdout" "grep -q '151 frames at 30 fps' '$tmp/out.txt' && grep -q 'duel.gltf' '$tmp/out.txt'"
 check "gltf written" "grep -q '\"version\": \"2.0\"' '$tmp/a/gltf/duel.gltf'"
-check "scene summary written" "grep -q '\"format\": \"fray-export\"' '$tmp/a/gltf/duel.scene.json'"
-check "summary names the actions" "grep -q '\"label\":' '$tmp/a/gltf/duel.scene.json'"
+check "scene summary written" "grep -q '\"format\": \"fray-export\"' '$tmp/a/gltf/duel.gltf.scene.json'"
+check "summary names the actions" "grep -q '\"label\":' '$tmp/a/gltf/duel.gltf.scene.json'"
 "$cli" export "$s" --format glb --out "$tmp/a/glb" -q > /dev/null
 check "glb magic" "[ \"\$(head -c 4 '$tmp/a/glb/duel.glb')\" = glTF ]"
 "$cli" export "$s" --format bvh --out "$tmp/a/bvh" -q > /dev/null
 check "one bvh per character" "[ -f '$tmp/a/bvh/duel_red.bvh' ] && [ -f '$tmp/a/bvh/duel_blue.bvh' ]"
 "$cli" export "$s" --format fbx --out "$tmp/a/fbx" --fps 24 -q > /dev/null
 check "fbx written" "head -c 18 '$tmp/a/fbx/duel.fbx' | grep -q 'Kaydara FBX Binary'"
-check "fps recorded" "grep -q '\"fps\": 24' '$tmp/a/fbx/duel.scene.json'"
+check "fps recorded" "grep -q '\"fps\": 24' '$tmp/a/fbx/duel.fbx.scene.json'"
+check "summary positions in metres" "grep -q '\"units\": \"m\"' '$tmp/a/fbx/duel.fbx.scene.json' && grep -q '\"file_units\": \"cm\"' '$tmp/a/fbx/duel.fbx.scene.json'"
 
 # Read back: BVH through our reader, and the rest through Assimp.
 "$cli" info "$tmp/a/bvh/duel_red.bvh" --json > "$tmp/info.json"
@@ -38,9 +40,18 @@ check "bvh frames" "grep -q '\"frames\": 151' '$tmp/info.json'"
 check "bvh joints" "grep -q '\"joints\": 24' '$tmp/info.json'"
 "$cli" info "$tmp/a/glb/duel.glb" --json > "$tmp/info_glb.json"
 check "glb read by Assimp" "grep -q '\"frames\": 151' '$tmp/info_glb.json'"
+# Every character of a multi-character file, each with its own 24 joints.
+check "glb: both characters" "grep -q '\"skeleton_count\": 2' '$tmp/info_glb.json' && [ \$(grep -c '\"joints\": 24' '$tmp/info_glb.json') -eq 3 ]"
 "$cli" info "$tmp/a/fbx/duel.fbx" --json > "$tmp/info_fbx.json"
-# Both characters' joints under the common root (RootNode, red, blue + 2 x 24), in centimetres.
-check "fbx read by Assimp" "grep -q '\"joints\": 51' '$tmp/info_fbx.json' && grep -q '\"units\": \"cm\"' '$tmp/info_fbx.json'"
+# Both characters, 24 joints each, at the export's 24 fps (121 frames over 5 s), in centimetres.
+check "fbx: both characters" "grep -q '\"skeleton_count\": 2' '$tmp/info_fbx.json' && [ \$(grep -c '\"joints\": 24' '$tmp/info_fbx.json') -eq 3 ]"
+check "fbx: frame rate" "grep -q '\"fps\": 24.0' '$tmp/info_fbx.json' && grep -q '\"frames\": 121' '$tmp/info_fbx.json'"
+check "fbx: units" "grep -q '\"units\": \"cm\"' '$tmp/info_fbx.json'"
+"$cli" info "$tmp/a/fbx/duel.fbx" > "$tmp/info_fbx.txt"
+check "fbx: text names each skeleton" "grep -q 'skeleton   2 of 2, root blue_Hips' '$tmp/info_fbx.txt'"
+# BVH rotation channels continuous: no value moves by more than 180 degrees between frames.
+bvh_jumps() { awk -f "$(dirname "$0")/export/bvh_jumps.awk" "$1"; }
+check "bvh channels continuous" "[ \$(bvh_jumps '$tmp/a/bvh/duel_red.bvh') -eq 0 ] && [ \$(bvh_jumps '$tmp/a/bvh/duel_blue.bvh') -eq 0 ]"
 
 # Same scene, same bytes (a second process, so no state is shared).
 for f in gltf glb bvh fbx; do
@@ -70,5 +81,12 @@ mkdir -p "$tmp/mine" && cp "$tmp/notes.txt" "$tmp/mine/duel.glb"
 expect_fail "never overwrite other files" "$tmp/mine/duel.glb: exists and is not a file of an earlier Fray export; refusing to overwrite it" \
   "$cli" export "$s" --format glb --out "$tmp/mine" -q
 check "notes untouched" "cmp -s '$tmp/notes.txt' '$tmp/mine/duel.glb'"
-check "no summary written" "[ ! -e '$tmp/mine/duel.scene.json' ]"
+check "no summary written" "[ ! -e '$tmp/mine/duel.glb.scene.json' ]"
+# Names: a space is refused with a suggestion; a scene file's stem is made file-safe.
+expect_fail "name with a space" "export: the name 'my duel' has the character ' '; use only letters, digits, '_', '-' and '.' (e.g. 'my_duel')" \
+  "$cli" export "$s" --name 'my duel' --out "$tmp/d" -q
+check "nothing written for a bad name" "[ ! -e '$tmp/d' ]"
+cp "$s" "$tmp/my duel.frayscene"
+"$cli" export "$tmp/my duel.frayscene" --out "$tmp/e" -q > /dev/null
+check "stem made file-safe" "[ -f '$tmp/e/my_duel.gltf' ] && [ -f '$tmp/e/my_duel.gltf.scene.json' ]"
 echo "PASS"

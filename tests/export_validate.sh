@@ -1,13 +1,31 @@
 #!/usr/bin/env bash
-# The Khronos glTF-Validator (scripts/validate-gltf.mjs) on the demo duel
-# (resources/demo/duel.json on the build's demo library) exported as .gltf and
-# .glb, and the demo rat scene (a one-joint creature among people) as .glb:
-# no error and no warning. Without node or the validator the test is
-# skipped (exit 77), unless REQUIRED is ON (the ci preset): then it fails.
+# The demo duel (resources/demo/duel.json on the build's demo library)
+# exported in every format: its BVH rotation channels continuous (no jump over
+# 180 degrees between frames); where `blender` is on PATH,
+# scripts/blender-import-check.py on every file (skipped with a message
+# otherwise); then the Khronos glTF-Validator (scripts/validate-gltf.mjs) on
+# the .gltf and .glb, and on the demo rat scene (a one-joint creature among
+# people) as .glb: no error and no warning. Without node or the validator the
+# validator part is skipped (exit 77), unless REQUIRED is ON (the ci preset):
+# then it fails.
 # Usage: export_validate.sh FRAY_CLI DEMO_PROJECT SOURCE_DIR REQUIRED
 set -eu
 cli=$1 project=$2 repo=$3 required=$4
 . "$(dirname "$0")/cli_lib.sh"
+
+"$cli" simulate "$project" --spec "$repo/resources/demo/duel.json" --out "$tmp/duel.frayscene" -q > /dev/null
+for f in gltf glb fbx bvh; do "$cli" export "$tmp/duel.frayscene" --format $f --out "$tmp/out" -q > /dev/null; done
+for f in "$tmp"/out/duel_*.bvh; do
+  check "$(basename "$f"): rotation channels continuous" "[ \$(awk -f '$repo/tests/export/bvh_jumps.awk' '$f') -eq 0 ]"
+done
+if command -v blender > /dev/null; then
+  blender -b --factory-startup --python "$repo/scripts/blender-import-check.py" -- \
+    "$tmp/out/duel.gltf" "$tmp/out/duel.glb" "$tmp/out/duel.fbx" "$tmp"/out/duel_*.bvh > "$tmp/blender.txt" 2>&1 ||
+    { grep -E 'FAILED|Error|error' "$tmp/blender.txt" | head -20; echo "FAIL: blender-import-check.py"; exit 1; }
+  grep -E '^/.*: ' "$tmp/blender.txt"
+else
+  echo "SKIP (Blender part only): blender is not installed; scripts/blender-import-check.py not run"
+fi
 
 validator=${GLTF_VALIDATOR_DIR:-$repo/build-tools/gltf-validator}
 if ! command -v node > /dev/null || [ ! -f "$validator/node_modules/gltf-validator/package.json" ]; then
@@ -16,9 +34,6 @@ if ! command -v node > /dev/null || [ ! -f "$validator/node_modules/gltf-validat
   echo "SKIP: $msg"; exit 77
 fi
 
-"$cli" simulate "$project" --spec "$repo/resources/demo/duel.json" --out "$tmp/duel.frayscene" -q > /dev/null
-"$cli" export "$tmp/duel.frayscene" --format gltf --out "$tmp/out" -q > /dev/null
-"$cli" export "$tmp/duel.frayscene" --format glb --out "$tmp/out" -q > /dev/null
 sed 's/"crowd": [0-9]*/"crowd": 20/' "$repo/resources/demo/rat.json" > "$tmp/rat.json"
 "$cli" compose "$project" --spec "$tmp/rat.json" --out "$tmp/rat.frayscene" -q > /dev/null
 "$cli" export "$tmp/rat.frayscene" --format glb --out "$tmp/out" -q > /dev/null

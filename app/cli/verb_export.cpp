@@ -3,7 +3,8 @@
 //   export SCENE.frayscene [--format gltf|glb|bvh|fbx] --out DIR [--fps N] [--name NAME]
 //
 // glTF/GLB/FBX: one file with every character skinned and animated; BVH: one
-// file per character; always DIR/NAME.scene.json (who does what, when, where).
+// file per character; always DIR/NAME.FORMAT.scene.json (who does what, when,
+// where).
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -33,7 +34,9 @@ void runExport(const ExportArgs& a) {
     options.format = *format;
     options.outDir = a.out;
     options.fps = a.fps;
-    options.name = a.name.empty() ? fs::path(a.scene).stem().string() : a.name;
+    // An explicit --name must be file-safe (refused otherwise); the scene
+    // file's stem is made file-safe ("my duel.frayscene" -> "my_duel").
+    options.name = a.name.empty() ? exporter::fileSafeName(fs::path(a.scene).stem().string()) : a.name;
     options.source = fs::path(a.scene).filename().string();
     if (auto st = exporter::validateOptions(options); !st) return fail(st.error().message);
     const auto progress = stderrProgress(a.quiet);
@@ -44,6 +47,7 @@ void runExport(const ExportArgs& a) {
     std::printf("%s: %zu characters, %d frames at %g fps (%.1f s) as %s:\n", a.scene.c_str(),
                 loaded->scene.characters.size(), report->frames, options.fps, loaded->scene.duration, a.format.c_str());
     for (const auto& f : report->files) std::printf("  %s\n", f.string().c_str());
+    for (const auto& n : report->notes) std::printf("note: %s\n", n.c_str());
 }
 
 }  // namespace
@@ -56,7 +60,8 @@ void registerExport(CLI::App& app) {
                                               "character) or fbx (centimetres)");
     cmd->add_option("-o,--out", args->out, "Output folder (created when missing)")->required();
     cmd->add_option("--fps", args->fps, "Samples per second of scene time (1-1000, default 30)");
-    cmd->add_option("--name", args->name, "File stem (default: the scene file's)");
+    cmd->add_option("--name", args->name,
+                    "File stem: letters, digits, '_', '-', '.' (default: the scene file's, other characters as '_')");
     cmd->add_flag("-q,--quiet", args->quiet, "No progress on stderr");
     cmd->callback([args] { runExport(*args); });
 }

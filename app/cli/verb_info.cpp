@@ -1,4 +1,5 @@
-// fray-cli info FILE [--json]: what is in a capture file.
+// fray-cli info FILE [--json]: what is in a capture file, skeleton by
+// skeleton when it holds several characters.
 #include <algorithm>
 #include <cstdio>
 #include <memory>
@@ -73,23 +74,14 @@ nlohmann::json describe(const Motion& m) {
     return j;
 }
 
-void run(const InfoArgs& a) {
-    auto opts = toLoadOptions(a.flags);
-    if (!opts) return fail(opts.error().message, 2);
-    auto motion = loadMotion(a.file, *opts);
-    if (!motion) return fail(motion.error().message);
-    const nlohmann::json j = describe(*motion);
-    if (a.json) {
-        std::printf("%s\n", j.dump(2).c_str());
-        return;
-    }
+void printText(const Motion& motion, const nlohmann::json& j) {
     const auto& ext = j["root_extent"];
     std::printf("file        %s (%s)\n", j["file"].get<std::string>().c_str(), j["format"].get<std::string>().c_str());
-    std::printf("frames      %d at %.3f fps (%.2f s)\n", motion->frameCount(), motion->fps(), motion->duration());
+    std::printf("frames      %d at %.3f fps (%.2f s)\n", motion.frameCount(), motion.fps(), motion.duration());
     std::printf("units       %s (x%g to metres), up axis %s%s\n", j["units"].get<std::string>().c_str(),
-                motion->source().unitScale, j["up_axis"].get<std::string>().c_str(),
-                motion->source().normalized ? ", normalised to metres Y-up" : ", raw");
-    std::printf("joints      %d, %d channels\n", motion->jointCount(), motion->skeleton().channelCount());
+                motion.source().unitScale, j["up_axis"].get<std::string>().c_str(),
+                motion.source().normalized ? ", normalised to metres Y-up" : ", raw");
+    std::printf("joints      %d, %d channels\n", motion.jointCount(), motion.skeleton().channelCount());
     for (const auto& l : j["channel_layout"])
         std::printf("  %-24s %d  %s\n", l["joint"].get<std::string>().c_str(), l["channels"].get<int>(),
                     l["layout"].get<std::string>().c_str());
@@ -101,7 +93,37 @@ void run(const InfoArgs& a) {
     for (auto& [k, v] : j["standard_joints"].items())
         sj += " " + k + "=" + (v.is_null() ? std::string("?") : v.get<std::string>());
     std::printf("standard   %s\n", sj.c_str());
-    for (const auto& w : motion->source().warnings) std::printf("warning     %s\n", w.c_str());
+    for (const auto& w : motion.source().warnings) std::printf("warning     %s\n", w.c_str());
+}
+
+void run(const InfoArgs& a) {
+    auto opts = toLoadOptions(a.flags);
+    if (!opts) return fail(opts.error().message, 2);
+    // Every skeleton: a file with several characters (Fray's own glTF and FBX
+    // exports) is described character by character.
+    auto motions = loadMotions(a.file, *opts);
+    if (!motions) return fail(motions.error().message);
+    const auto n = motions->size();
+    if (a.json) {
+        // The first skeleton's fields at the top, as for a one-skeleton file;
+        // with several, "skeletons" describes each.
+        nlohmann::json j = describe(motions->front());
+        j["skeleton_count"] = n;
+        if (n > 1) {
+            j["skeletons"] = nlohmann::json::array();
+            for (const Motion& m : *motions) j["skeletons"].push_back(describe(m));
+        }
+        std::printf("%s\n", j.dump(2).c_str());
+        return;
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        const Motion& m = (*motions)[i];
+        if (n > 1) {
+            std::printf("%sskeleton   %zu of %zu, root %s\n", i ? "\n" : "", i + 1, n,
+                        m.skeleton().names.empty() ? "?" : m.skeleton().names.front().c_str());
+        }
+        printText(m, describe(m));
+    }
 }
 
 }  // namespace
@@ -109,7 +131,8 @@ void run(const InfoArgs& a) {
 void registerInfo(CLI::App& app) {
     auto args = std::make_shared<InfoArgs>();
     auto* cmd = app.add_subcommand("info", "Describe a capture file: skeleton, frames, fps, units, up axis, channels");
-    cmd->add_option("file", args->file, "BVH, FBX, glTF/GLB or DAE file")->required();
+    cmd->add_option("file", args->file, "BVH, FBX, glTF/GLB or DAE file (every character of a multi-character file)")
+        ->required();
     cmd->add_flag("--json", args->json, "Print JSON");
     addImportFlags(cmd, args->flags);
     cmd->callback([args] { run(*args); });

@@ -108,25 +108,53 @@ public:
     Importer(const std::filesystem::path& path, const AssimpImportOptions& options) : path_(path), opt_(options) {}
 
     Result<Motion> run() {
+        if (auto st = load(); !st) return st.error();
+        int root = -1;
+        if (auto st = chooseRoot(root); !st) return st.error();
+        return skeletonAt(root);
+    }
+
+    // One motion per skeleton: with a named root, that one; otherwise, when
+    // the animated nodes' common ancestor is not animated itself and more than
+    // one of its child subtrees holds animated nodes (a file with several
+    // characters), one per such subtree, rooted at the common ancestor of its
+    // animated nodes; else the one skeleton run() gives.
+    Result<std::vector<Motion>> runAll() {
+        if (auto st = load(); !st) return st.error();
+        int root = -1;
+        if (auto st = chooseRoot(root); !st) return st.error();
+        std::vector<int> roots;
+        if (opt_.skeletonRoot.empty() && !nodes_[static_cast<std::size_t>(root)].animated) roots = subtreeRoots(root);
+        if (roots.size() < 2) roots = {root};
+        std::vector<Motion> out;
+        for (int r : roots) {
+            auto m = skeletonAt(r);
+            if (!m) return m.error();
+            out.push_back(std::move(*m));
+        }
+        return out;
+    }
+
+private:
+    Status load() {
         const std::string file = path_.string();
-        Assimp::Importer importer;
         bool preservePivots = opt_.preserveFbxPivots;
         const aiScene* scene = nullptr;
         for (int attempt = 0; attempt < 2; ++attempt) {
-            importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, preservePivots);
-            importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_MATERIALS, false);
-            importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_TEXTURES, false);
-            importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_CAMERAS, false);
-            importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_LIGHTS, false);
+            importer_.SetPropertyBool(AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, preservePivots);
+            importer_.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_MATERIALS, false);
+            importer_.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_TEXTURES, false);
+            importer_.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_CAMERAS, false);
+            importer_.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_LIGHTS, false);
             // The BVH loader would otherwise build a mesh of the skeleton we never use.
-            importer.SetPropertyBool(AI_CONFIG_IMPORT_NO_SKELETON_MESHES, true);
-            scene = importer.ReadFile(file, 0);
-            if (!scene) return makeError(file + ": Assimp cannot read the file: " + assimpErrorText(importer));
+            importer_.SetPropertyBool(AI_CONFIG_IMPORT_NO_SKELETON_MESHES, true);
+            scene = importer_.ReadFile(file, 0);
+            if (!scene) return makeError(file + ": Assimp cannot read the file: " + assimpErrorText(importer_));
             if (preservePivots || !needsPivotNodes(scene)) break;
             // Some channels animate pivot helpers that Assimp baked away; import
             // again with the helpers kept so those tracks have nodes to drive.
             preservePivots = true;
-            importer.FreeScene();
+            importer_.FreeScene();
         }
         scene_ = scene;
 
@@ -135,13 +163,45 @@ public:
         anim_ = anim;
         flatten();
         bindChannels();
-        int root = -1;
-        if (auto st = chooseRoot(root); !st) return st.error();
+        return {};
+    }
+
+    // The skeleton rooted at `root` and its motion (per-skeleton state reset).
+    Result<Motion> skeletonAt(int root) {
+        joints_.clear();
+        jointParents_.clear();
+        rootPrefix_.clear();
+        warnings_ = sceneWarnings_;
         selectJoints(root);
         return sample();
     }
 
-private:
+    // Per child subtree of `top` that holds animated real nodes, the common
+    // ancestor of those nodes, in file order.
+    std::vector<int> subtreeRoots(int top) const {
+        std::vector<int> roots;
+        std::vector<int> subtreeOf(nodes_.size(), -1);  // child of `top` each node descends from
+        for (std::size_t i = static_cast<std::size_t>(top) + 1; i < nodes_.size(); ++i) {
+            const int p = nodes_[i].parent;
+            if (p == top) subtreeOf[i] = static_cast<int>(i);
+            else if (p >= 0) subtreeOf[i] = subtreeOf[static_cast<std::size_t>(p)];
+        }
+        std::vector<int> subtrees;
+        for (std::size_t i = 0; i < nodes_.size(); ++i) {
+            if (nodes_[i].helper || !nodes_[i].animated || subtreeOf[i] < 0) continue;
+            const auto at = std::find(subtrees.begin(), subtrees.end(), subtreeOf[i]);
+            if (at == subtrees.end()) {
+                subtrees.push_back(subtreeOf[i]);
+                roots.push_back(static_cast<int>(i));
+            } else {
+                int& r = roots[static_cast<std::size_t>(at - subtrees.begin())];
+                r = lowestCommonAncestor(r, static_cast<int>(i));
+                if (r < 0) return {};
+            }
+        }
+        return roots;
+    }
+
     Error fail(const std::string& what) const { return makeError(path_.string() + ": " + what); }
 
     std::string animName(const aiAnimation* a) const {
@@ -220,26 +280,33 @@ private:
             }
             nodes_.push_back(std::move(n));
             byName_.emplace(it.node->mName.C_Str(), self);  // first in pre-order wins, as in aiNode::FindNode
+            allByName_[it.node->mName.C_Str()].push_back(self);
             for (unsigned c = it.node->mNumChildren; c-- > 0;) stack.push_back({it.node->mChildren[c], self});
         }
     }
 
+    // Channels name their nodes. Where several nodes share a name (glTF
+    // allows it: Fray's own glTF has a "Hips" per character), the k-th channel
+    // of that name drives the k-th node of that name in pre-order, the order
+    // Assimp keeps for both; a name with one channel drives its first node.
     void bindChannels() {
         int missing = 0;
         std::string firstMissing;
+        std::unordered_map<std::string, std::size_t> seen;
         for (unsigned c = 0; c < anim_->mNumChannels; ++c) {
             const aiNodeAnim* ch = anim_->mChannels[c];
             if (!ch) continue;
-            const auto it = byName_.find(ch->mNodeName.C_Str());
-            if (it == byName_.end()) {
+            const auto it = allByName_.find(ch->mNodeName.C_Str());
+            if (it == allByName_.end()) {
                 if (missing++ == 0) firstMissing = ch->mNodeName.C_Str();
                 continue;
             }
-            Node& n = nodes_[static_cast<std::size_t>(it->second)];
+            const std::size_t k = seen[it->first]++;
+            Node& n = nodes_[static_cast<std::size_t>(it->second[k < it->second.size() ? k : 0])];
             if (!n.anim) n.anim = ch;
         }
         if (missing > 0)
-            warnings_.push_back(std::to_string(missing) + " animation channel(s) name nodes that are not in the scene (first: " +
+            sceneWarnings_.push_back(std::to_string(missing) + " animation channel(s) name nodes that are not in the scene (first: " +
                                 inQuotes(firstMissing) + "); ignored");
         for (Node& n : nodes_) {
             if (n.helper) continue;
@@ -543,10 +610,13 @@ private:
 
     std::filesystem::path path_;
     const AssimpImportOptions& opt_;
+    Assimp::Importer importer_;
+    std::vector<std::string> sceneWarnings_;  // about the file, given with every skeleton
     const aiScene* scene_ = nullptr;
     const aiAnimation* anim_ = nullptr;
     std::vector<Node> nodes_;
     std::unordered_map<std::string, int> byName_;
+    std::unordered_map<std::string, std::vector<int>> allByName_;  // every node of each name, in pre-order
     std::vector<int> joints_;        // node index per joint
     std::vector<int> jointParents_;  // joint index of the parent, -1 for the root
     std::vector<int> rootPrefix_;    // nodes above the root (and its helper chain), top-down
@@ -558,6 +628,11 @@ private:
 Result<Motion> importWithAssimp(const std::filesystem::path& path, const AssimpImportOptions& options) {
     Importer importer(path, options);
     return importer.run();
+}
+
+Result<std::vector<Motion>> importAllWithAssimp(const std::filesystem::path& path, const AssimpImportOptions& options) {
+    Importer importer(path, options);
+    return importer.runAll();
 }
 
 }  // namespace fray

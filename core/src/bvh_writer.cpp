@@ -1,5 +1,6 @@
 #include <charconv>
 #include <string>
+#include <vector>
 
 #include "fray/core/atomic_file.h"
 #include "fray/core/rotation.h"
@@ -53,6 +54,7 @@ std::string writeBvhToString(const Motion& motion, const BvhWriteOptions& option
     appendNumber(out, 1.0 / motion.fps(), 17);
     out += "\n";
     const auto jc = static_cast<std::size_t>(sk.jointCount());
+    std::vector<glm::dvec3> previous(jc);
     out.reserve(out.size() + static_cast<std::size_t>(motion.frameCount()) * static_cast<std::size_t>(sk.channelCount()) * 12);
     for (int f = 0; f < motion.frameCount(); ++f) {
         const auto t = motion.translations(f);
@@ -60,7 +62,9 @@ std::string writeBvhToString(const Motion& motion, const BvhWriteOptions& option
         bool first = true;
         for (std::size_t j = 0; j < jc; ++j) {
             if (sk.channels[j].empty()) continue;
-            const glm::dvec3 e = quatToEuler(glm::dquat(r[j]), sk.rotationOrders[j]);
+            glm::dvec3 e = quatToEuler(glm::dquat(r[j]), sk.rotationOrders[j]);
+            if (options.continuousEuler && f > 0) e = nearestEquivalentEuler(e, previous[j], sk.rotationOrders[j]);
+            previous[j] = e;
             for (Channel c : sk.channels[j]) {
                 if (!first) out.push_back(' ');
                 first = false;

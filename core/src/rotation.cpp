@@ -91,4 +91,20 @@ glm::dvec3 quatToEuler(const glm::dquat& qIn, RotationOrder order) {
     return out;
 }
 
+glm::dvec3 nearestEquivalentEuler(const glm::dvec3& e, const glm::dvec3& previous, RotationOrder order) {
+    const int middle = axesOf(order).j;
+    auto near = [](double v, double target) { return v - 360.0 * std::round((v - target) / 360.0); };
+    glm::dvec3 plain, mirrored;
+    for (int a = 0; a < 3; ++a) {
+        plain[a] = near(e[a], previous[a]);
+        // Ri(a) Rj(b) Rk(c) = Ri(a + 180) Rj(180 - b) Rk(c + 180).
+        mirrored[a] = near(a == middle ? 180.0 - e[a] : e[a] + 180.0, previous[a]);
+    }
+    auto distance = [&](const glm::dvec3& v) {
+        const glm::dvec3 d = glm::abs(v - previous);
+        return d.x + d.y + d.z;
+    };
+    return distance(mirrored) < distance(plain) ? mirrored : plain;
+}
+
 }  // namespace fray

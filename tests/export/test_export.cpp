@@ -43,30 +43,36 @@ TEST(Export, RefusesToOverwriteFilesItDidNotWrite) {
     EXPECT_EQ(r.error().message,
               (dir / "duel.gltf").string() + ": exists and is not a file of an earlier Fray export; refusing to overwrite it");
     EXPECT_EQ(readBytes(dir / "duel.gltf"), "my notes");
-    EXPECT_FALSE(fs::exists(dir / "duel.scene.json")) << "nothing written";
+    EXPECT_FALSE(fs::exists(dir / "duel.gltf.scene.json")) << "nothing written";
 
     TempFolder other;
-    ASSERT_TRUE(writeFileAtomically(other / "duel.scene.json", "{\"my\": \"data\"}"));
+    ASSERT_TRUE(writeFileAtomically(other / "duel.bvh.scene.json", "{\"my\": \"data\"}"));
     r = exporter::exportScene(exportDuel(), exportLibrary(), optionsFor(Format::Bvh, other.path()));
     ASSERT_FALSE(r);
-    EXPECT_NE(r.error().message.find("duel.scene.json: exists and is not a Fray export summary"), std::string::npos);
+    EXPECT_NE(r.error().message.find("duel.bvh.scene.json: exists and is not a Fray export summary"), std::string::npos);
     EXPECT_FALSE(fs::exists(other / "duel_a.bvh"));
 }
 
-TEST(Export, ReplacesItsOwnFilesWhateverTheFormatBefore) {
+TEST(Export, ReplacesItsOwnFilesAndRemembersThoseItNoLongerWrites) {
     TempFolder dir;
     for (Format f : {Format::Gltf, Format::Bvh, Format::Gltf, Format::Fbx, Format::Bvh}) {
         auto r = exporter::exportScene(exportDuel(), exportLibrary(), optionsFor(f, dir.path()));
         ASSERT_TRUE(r) << exporter::toString(f) << ": " << r.error().message;
     }
-    const json summary = json::parse(readBytes(dir / "duel.scene.json"));
+    json summary = json::parse(readBytes(dir / "duel.bvh.scene.json"));
     EXPECT_EQ(summary["files"], json::array({"duel_a.bvh", "duel_b.bvh"}));
-    EXPECT_EQ(summary["earlier_files"], json::array({"duel.fbx", "duel.gltf"}));
+    EXPECT_EQ(summary["earlier_files"], json::array());
+    // Character b renamed: its old file is an earlier file of this export.
+    sim::Scene renamed = exportDuel();
+    renamed.characters[1].name = "c";
+    ASSERT_TRUE(exporter::exportScene(renamed, exportLibrary(), optionsFor(Format::Bvh, dir.path())));
+    summary = json::parse(readBytes(dir / "duel.bvh.scene.json"));
+    EXPECT_EQ(summary["files"], json::array({"duel_a.bvh", "duel_c.bvh"}));
+    EXPECT_EQ(summary["earlier_files"], json::array({"duel_b.bvh"}));
     // A file an earlier export wrote but that was removed since is forgotten.
-    fs::remove(dir / "duel.fbx");
-    ASSERT_TRUE(exporter::exportScene(exportDuel(), exportLibrary(), optionsFor(Format::Glb, dir.path())));
-    EXPECT_EQ(json::parse(readBytes(dir / "duel.scene.json"))["earlier_files"],
-              json::array({"duel.gltf", "duel_a.bvh", "duel_b.bvh"}));
+    fs::remove(dir / "duel_b.bvh");
+    ASSERT_TRUE(exporter::exportScene(renamed, exportLibrary(), optionsFor(Format::Bvh, dir.path())));
+    EXPECT_EQ(json::parse(readBytes(dir / "duel.bvh.scene.json"))["earlier_files"], json::array());
 }
 
 TEST(Export, InvalidOptionsAreRefusedWithTheReason) {
@@ -160,7 +166,7 @@ TEST(ExportSummary, WhoDoesWhichActionWhenAndWhere) {
     const auto& scene = exportDuel();
     const auto& lib = exportLibrary();
     ASSERT_TRUE(exporter::exportScene(scene, lib, optionsFor(Format::Glb, dir.path())));
-    const json s = json::parse(readBytes(dir / "duel.scene.json"));
+    const json s = json::parse(readBytes(dir / "duel.glb.scene.json"));
     EXPECT_EQ(s["format"], "fray-export");
     EXPECT_EQ(s["source"], "duel.frayscene");
     EXPECT_EQ(s["export_format"], "glb");

@@ -94,7 +94,7 @@ aiMesh* bodyMesh(const CharacterTake& c, unsigned material, float scale) {
     return mesh;
 }
 
-aiNodeAnim* jointChannel(const CharacterTake& c, int j, float scale, double secondsPerFrame) {
+aiNodeAnim* jointChannel(const SampledScene& s, const CharacterTake& c, int j, float scale) {
     const Motion& m = c.motion;
     const auto frames = static_cast<unsigned>(m.frameCount());
     auto* ch = new aiNodeAnim();
@@ -105,7 +105,7 @@ aiNodeAnim* jointChannel(const CharacterTake& c, int j, float scale, double seco
     ch->mRotationKeys = new aiQuatKey[frames];
     for (unsigned f = 0; f < frames; ++f) {
         const glm::quat q = m.rotations(static_cast<int>(f))[static_cast<std::size_t>(j)];
-        const double t = f * secondsPerFrame;
+        const double t = s.time(static_cast<int>(f));
         ch->mPositionKeys[f] = aiVectorKey(t, toAi(m.translations(static_cast<int>(f))[static_cast<std::size_t>(j)] * scale));
         ch->mRotationKeys[f] = aiQuatKey(t, aiQuaternion(q.w, q.x, q.y, q.z));
     }
@@ -122,10 +122,10 @@ aiAnimation* animation(const SampledScene& s, std::string_view name, float scale
     // writes a key's time as if its ticks were seconds (it ignores
     // mTicksPerSecond there, but not for the animation's length).
     anim->mTicksPerSecond = 1.0;
-    anim->mDuration = (s.frames - 1) / s.fps;
+    anim->mDuration = s.time(s.frames - 1);
     std::vector<aiNodeAnim*> channels;
     for (const auto& c : s.characters) {
-        for (int j = 0; j < c.motion.jointCount(); ++j) channels.push_back(jointChannel(c, j, scale, 1.0 / s.fps));
+        for (int j = 0; j < c.motion.jointCount(); ++j) channels.push_back(jointChannel(s, c, j, scale));
     }
     anim->mNumChannels = static_cast<unsigned>(channels.size());
     anim->mChannels = copyArray(channels);

@@ -21,7 +21,9 @@ namespace fs = std::filesystem;
 constexpr std::array<std::pair<Format, std::string_view>, 4> kFormats = {
     {{Format::Gltf, "gltf"}, {Format::Glb, "glb"}, {Format::Bvh, "bvh"}, {Format::Fbx, "fbx"}}};
 
-std::string summaryName(const ExportOptions& o) { return o.name + ".scene.json"; }
+std::string summaryName(const ExportOptions& o) { return o.name + "." + std::string(toString(o.format)) + ".scene.json"; }
+// Version 1 wrote one summary per name, whatever the format.
+std::string legacySummaryName(const ExportOptions& o) { return o.name + ".scene.json"; }
 
 // Output files in writing order, the summary last; BVH: one per character.
 std::vector<std::string> plannedFiles(const SampledScene& s, const ExportOptions& o) {
@@ -50,19 +52,24 @@ Status prepareFolder(const fs::path& dir) {
 }
 
 // Existing files among `planned` must come from an earlier export of this
-// name (its summary lists them). Returns the earlier files still there that
-// this export does not rewrite.
+// name and format (its summary lists them) or, for folders written by version
+// 1, of this name (the one summary it kept per name). Returns the earlier
+// files of this name and format still there that this export does not rewrite.
 Result<std::vector<std::string>> checkReplaceable(const fs::path& dir, const std::vector<std::string>& planned,
-                                                  const std::string& summary) {
+                                                  const std::string& summary, const std::string& legacySummary) {
     auto earlier = earlierExportFiles(dir / summary);
     if (!earlier) return earlier.error();
+    std::set<std::string> allowed(earlier->begin(), earlier->end());
+    // A legacy summary that is not ours is simply some other file: it is not
+    // written any more, so it only grants nothing.
+    if (auto legacy = earlierExportFiles(dir / legacySummary)) allowed.insert(legacy->begin(), legacy->end());
     const std::set<std::string> ours(earlier->begin(), earlier->end());
     std::error_code ec;
     for (const auto& f : planned) {
         const fs::path p = dir / f;
         if (!fs::exists(p, ec) || f == summary) continue;
         if (fs::is_directory(p, ec)) return makeError(p.string() + ": is a folder; cannot write the export there");
-        if (!ours.contains(f)) {
+        if (!allowed.contains(f)) {
             return makeError(p.string() + ": exists and is not a file of an earlier Fray export; refusing to overwrite it");
         }
     }
@@ -78,7 +85,7 @@ Result<std::string> encode(const SampledScene& s, const ExportOptions& o, std::s
         case Format::Gltf: return writeGltf(s, o.name, GltfContainer::Embedded);
         case Format::Glb: return writeGltf(s, o.name, GltfContainer::Binary);
         case Format::Fbx: return writeFbx(s, o.name);
-        case Format::Bvh: return writeBvhToString(s.characters[file].motion);
+        case Format::Bvh: return writeBvhToString(s.characters[file].motion, BvhWriteOptions{.continuousEuler = true});
     }
     return makeError("unknown export format");
 }
@@ -111,6 +118,11 @@ Status validateOptions(const ExportOptions& o) {
     const bool plain = !o.name.empty() && o.name != "." && o.name != ".." && o.name.front() != '.' &&
                        o.name.find('/') == std::string::npos && o.name.find('\0') == std::string::npos;
     if (!plain) return makeError("export: the name '" + o.name + "' must be a plain file name (no '/', no leading '.')");
+    const auto bad = std::find_if(o.name.begin(), o.name.end(), [](char c) { return !isFileSafe(c); });
+    if (bad != o.name.end()) {
+        return makeError("export: the name '" + o.name + "' has the character '" + std::string(1, *bad) +
+                         "'; use only letters, digits, '_', '-' and '.' (e.g. '" + fileSafeName(o.name) + "')");
+    }
     if (o.outDir.empty()) return makeError("export: no output folder given");
     return {};
 }
@@ -122,11 +134,19 @@ Result<ExportReport> exportScene(const sim::Scene& scene, const sim::ActionLibra
     if (!sampled) return sampled.error();
     const auto planned = plannedFiles(*sampled, options);
     if (auto st = prepareFolder(options.outDir); !st) return st.error();
-    auto earlier = checkReplaceable(options.outDir, planned, summaryName(options));
+    auto earlier = checkReplaceable(options.outDir, planned, summaryName(options), legacySummaryName(options));
     if (!earlier) return earlier.error();
 
     ExportReport report;
     report.frames = sampled->frames;
+    std::error_code ec;
+    const fs::path legacy = options.outDir / legacySummaryName(options);
+    if (fs::exists(legacy, ec) && earlierExportFiles(legacy)) {
+        report.notes.push_back(legacy.string() +
+                               " is an older summary (one per name, whatever the format) and was left as it is: it "
+                               "describes an earlier export, not this one; this export's summary is " +
+                               (options.outDir / planned.back()).string());
+    }
     for (std::size_t i = 0; i + 1 < planned.size(); ++i) {
         if (!reportProgress(progress, 0.5 + 0.5 * static_cast<double>(i) / static_cast<double>(planned.size()),
                             "export: writing")) {

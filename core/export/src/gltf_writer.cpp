@@ -193,9 +193,9 @@ void addCharacterAnimation(BufferBuilder& buf, json& samplers, json& channels, c
     }
 }
 
-int addTimeAccessor(BufferBuilder& buf, int frames, double fps) {
-    std::vector<float> times(static_cast<std::size_t>(frames));
-    for (int f = 0; f < frames; ++f) times[static_cast<std::size_t>(f)] = static_cast<float>(f / fps);
+int addTimeAccessor(BufferBuilder& buf, const SampledScene& scene) {
+    std::vector<float> times(static_cast<std::size_t>(scene.frames));
+    for (int f = 0; f < scene.frames; ++f) times[static_cast<std::size_t>(f)] = static_cast<float>(scene.time(f));
     const int a = buf.addAccessor(buf.addView(times, 0), 0, kFloat, times.size(), "SCALAR");
     buf.setBounds(a, times, 1);
     return a;
@@ -262,7 +262,7 @@ std::string writeGltf(const SampledScene& scene, std::string_view name, GltfCont
     json materials = materialsBySide(scene, materialOfSide);
     json nodes = json::array(), meshes = json::array(), skins = json::array(), sceneNodes = json::array();
     json samplers = json::array(), channels = json::array();
-    const int time = addTimeAccessor(buf, scene.frames, scene.fps);
+    const int time = addTimeAccessor(buf, scene);
     for (const auto& c : scene.characters) {
         int firstJoint = 0;
         const int skin = addCharacterNodes(nodes, skins, sceneNodes, c, addInverseBindMatrices(buf, c.motion.skeleton()),

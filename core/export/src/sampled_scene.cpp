@@ -10,15 +10,8 @@
 namespace fray::exporter {
 namespace {
 
-bool fileSafe(char c) {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' ||
-           c == '.';
-}
-
 std::string sanitize(const std::string& name, std::size_t index) {
-    std::string out = name;
-    for (char& c : out)
-        if (!fileSafe(c)) c = '_';
+    std::string out = fileSafeName(name);
     // A leading dot would hide the file.
     if (out.empty() || out.front() == '.') out = "character" + std::to_string(index) + out;
     return out;
@@ -29,10 +22,10 @@ bool finite(const glm::quat& q) { return std::isfinite(q.x) && std::isfinite(q.y
 
 // Fills every frame of `out`; fails at the first pose that is not finite
 // (written as it is, it would make invalid files in every format).
-Status sampleCharacter(const sim::ScenePoser& poser, int c, double fps, Motion& out) {
+Status sampleCharacter(const sim::ScenePoser& poser, int c, const SampledScene& s, Motion& out) {
     Pose pose;
     for (int f = 0; f < out.frameCount(); ++f) {
-        poser.pose(c, f / fps, pose);
+        poser.pose(c, s.time(f), pose);
         auto t = out.translations(f);
         auto r = out.rotations(f);
         for (std::size_t j = 0; j < t.size(); ++j) {
@@ -41,7 +34,7 @@ Status sampleCharacter(const sim::ScenePoser& poser, int c, double fps, Motion& 
             if (f > 0 && glm::dot(q, out.rotations(f - 1)[j]) < 0.0f) q = -q;
             r[j] = q;
             if (!finite(t[j]) || !finite(q)) {
-                return makeError("the pose of joint " + out.skeleton().names[j] + " at " + std::to_string(f / fps) +
+                return makeError("the pose of joint " + out.skeleton().names[j] + " at " + std::to_string(s.time(f)) +
                                  " s is not finite");
             }
         }
@@ -61,9 +54,30 @@ std::vector<std::string> fileSafeNames(const sim::Scene& scene) {
     return names;
 }
 
+bool isFileSafe(char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' ||
+           c == '.';
+}
+
+std::string fileSafeName(std::string_view name) {
+    std::string out(name);
+    for (char& c : out)
+        if (!isFileSafe(c)) c = '_';
+    return out;
+}
+
+double SampledScene::time(int f) const {
+    const double grid = f / fps;
+    const bool last = f > 0 && f + 1 == frames;
+    return last && duration > (f - 1) / fps && duration < grid ? duration : grid;
+}
+
 int exportFrameCount(double duration, double fps) {
     if (!(duration > 0) || !(fps > 0)) return 2;
-    return std::max(2, static_cast<int>(std::floor(duration * fps + 1e-6)) + 1);
+    // Enough grid steps to reach the duration; a grid time short of it by less
+    // than a thousandth of a frame counts as reaching it (so the last two
+    // times, stored as floats in glTF, stay apart).
+    return std::max(2, static_cast<int>(std::ceil(duration * fps - 1e-3)) + 1);
 }
 
 Result<SampledScene> sampleScene(const sim::Scene& scene, const sim::ActionLibrary& lib, double fps,
@@ -75,6 +89,7 @@ Result<SampledScene> sampleScene(const sim::Scene& scene, const sim::ActionLibra
     SampledScene out;
     out.fps = fps;
     out.frames = exportFrameCount(scene.duration, fps);
+    out.duration = scene.duration;
     const sim::ScenePoser poser(scene, lib);
     const auto names = fileSafeNames(scene);
     const int n = static_cast<int>(scene.characters.size());
@@ -83,7 +98,7 @@ Result<SampledScene> sampleScene(const sim::Scene& scene, const sim::ActionLibra
         const auto& sc = scene.characters[static_cast<std::size_t>(c)];
         CharacterTake take{sc.name, names[static_cast<std::size_t>(c)], sc.side, sc.group,
                            Motion(poser.skeleton(c), fps, out.frames)};
-        if (auto st = sampleCharacter(poser, c, fps, take.motion); !st) {
+        if (auto st = sampleCharacter(poser, c, out, take.motion); !st) {
             return makeError("character '" + sc.name + "': " + st.error().message);
         }
         out.characters.push_back(std::move(take));

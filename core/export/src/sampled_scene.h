@@ -23,6 +23,12 @@ struct SampledScene {
     std::vector<CharacterTake> characters;
     double fps = 30.0;
     int frames = 0;
+    double duration = 0.0;  // the scene's; 0 = frames on the 1/fps grid only
+
+    // Scene time of frame f: f / fps, except that the last frame is at the
+    // scene's duration when that falls between the last two grid times (so
+    // both ends of the scene are sampled whatever the rate).
+    double time(int f) const;
 };
 
 // Names usable in file and node names, one per character, in scene order:
@@ -30,7 +36,8 @@ struct SampledScene {
 // name already taken gets "_<i>" appended.
 std::vector<std::string> fileSafeNames(const sim::Scene& scene);
 
-// Poses every character every 1/fps s with sim::ScenePoser. Quaternions are
+// Poses every character at SampledScene::time of each frame (every 1/fps s,
+// the last frame at the scene's duration) with sim::ScenePoser. Quaternions are
 // kept in one hemisphere from frame to frame, so importers that interpolate
 // component-wise do not spin the long way round. Fails on a scene without
 // characters or with a character that has no action.

@@ -1,11 +1,13 @@
 #include "summary.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
 #include <nlohmann/json.hpp>
 
 #include "fray/core/atomic_file.h"
+#include "fray/prep/pipeline.h"
 
 namespace fray::exporter {
 namespace {
@@ -25,21 +27,43 @@ json placementJson(const sim::RootXf& xf) {
 
 json actionJson(const sim::ActionInstance& inst, const sim::ActionLibrary& lib) {
     const auto& a = lib.actions[static_cast<std::size_t>(inst.action)];
-    return {{"label", a.label()},
+    json out = {{"label", a.label()},
             {"name", a.name},
             {"annotations", a.annotations},
             {"motion", a.motionId},
             {"first_frame", a.firstFrame},
-            {"last_frame", a.lastFrame},
+            {"last_frame", a.lastFrame}};
+    // The frames are the source motion's, at its own rate.
+    if (a.motion >= 0 && static_cast<std::size_t>(a.motion) < lib.motions.size()) {
+        out["motion_fps"] = lib.motions[static_cast<std::size_t>(a.motion)].motion.fps();
+    }
+    out.update(json{
             {"start", inst.start},
             {"end", inst.end},
             {"offset", inst.offset},
             {"forced", inst.forced},
             {"fallback", inst.fallback},
-            {"root", placementJson(inst.root)}};
+            {"root", placementJson(inst.root)}});
+    return out;
 }
 
-json characterJson(const sim::SceneCharacter& c, const CharacterTake& take, const sim::ActionLibrary& lib) {
+// The root joint's scene position (m) at about every whole second and at the
+// last frame, [time, x, y, z] each, from the exported samples: what a reader
+// of the file should see (scripts/blender-import-check.py checks it).
+json rootPathJson(const SampledScene& sampled, const CharacterTake& take) {
+    json out = json::array();
+    const int last = sampled.frames - 1;
+    for (int s = 0;; ++s) {
+        const int f = std::min(last, static_cast<int>(std::lround(s * sampled.fps)));
+        const glm::vec3 p = take.motion.rootTranslation(f);
+        out.push_back({sampled.time(f), rounded(p.x), rounded(p.y), rounded(p.z)});
+        if (f == last) break;
+    }
+    return out;
+}
+
+json characterJson(const sim::SceneCharacter& c, const CharacterTake& take, const SampledScene& sampled,
+                   const sim::ActionLibrary& lib) {
     const Skeleton& sk = take.motion.skeleton();
     json actions = json::array();
     for (const auto& inst : c.track) actions.push_back(actionJson(inst, lib));
@@ -52,7 +76,8 @@ json characterJson(const sim::SceneCharacter& c, const CharacterTake& take, cons
             // Composed scenes bring newcomers in later; before this time the
             // files hold the character in its first pose where it enters.
             {"enter", c.track.empty() ? 0.0 : c.track.front().start},
-            {"actions", std::move(actions)}};
+            {"actions", std::move(actions)},
+            {"root_path", rootPathJson(sampled, take)}};
     // A one-joint body (a rat, a bag) plays no action: its root follows its keys.
     if (!c.body.empty()) out["body"] = c.body;
     return out;
@@ -97,16 +122,18 @@ std::string summaryJson(const sim::Scene& scene, const sim::ActionLibrary& lib, 
     j["name"] = options.name;
     if (!options.source.empty()) j["source"] = options.source;
     j["export_format"] = toString(options.format);
-    j["units"] = options.format == Format::Fbx ? "cm" : "m";
+    j["units"] = "m";  // of this summary's positions; the exported file's are in file_units
+    j["file_units"] = options.format == Format::Fbx ? "cm" : "m";
     j["up"] = "Y";
     j["duration"] = scene.duration;
     j["fps"] = sampled.fps;
     j["frames"] = sampled.frames;
+    j["last_frame_time"] = sampled.time(sampled.frames - 1);
     j["files"] = files.files;
     j["earlier_files"] = files.earlier;
     json chars = json::array();
     for (std::size_t c = 0; c < scene.characters.size(); ++c) {
-        chars.push_back(characterJson(scene.characters[c], sampled.characters[c], lib));
+        chars.push_back(characterJson(scene.characters[c], sampled.characters[c], sampled, lib));
     }
     j["characters"] = std::move(chars);
     j["hits"] = hitsJson(scene, lib);

@@ -15,5 +15,11 @@ glm::quat eulerToQuat(const glm::dvec3& degreesXYZ, RotationOrder order);
 glm::quat eulerToQuatFast(const glm::dvec3& degreesXYZ, RotationOrder order);
 // Inverse of eulerToQuat: returns degrees indexed by axis (x, y, z).
 glm::dvec3 quatToEuler(const glm::dquat& q, RotationOrder order);
+// Of the angle triples (degrees, indexed by axis) that give the same rotation
+// as `degreesXYZ` in `order` (the triple and its mirror, first and last angle
+// + 180 and the middle one 180 - itself, each angle plus any multiple of 360),
+// the one nearest `previousXYZ` (smallest sum of differences). Frame-to-frame
+// it keeps Euler channels continuous.
+glm::dvec3 nearestEquivalentEuler(const glm::dvec3& degreesXYZ, const glm::dvec3& previousXYZ, RotationOrder order);
 
 }  // namespace fray

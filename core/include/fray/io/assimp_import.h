@@ -4,6 +4,9 @@
 //
 // What the importer does (see docs/ASSIMP_NOTES.md for the format quirks):
 // - picks the animation by name (or the first one);
+// - binds channels to nodes by name; where several nodes share a name (glTF
+//   allows it), the k-th channel of that name drives the k-th such node in
+//   depth-first order;
 // - picks the skeleton root by name, or takes the lowest common ancestor of
 //   all animated nodes, and keeps the animated nodes below it plus the nodes
 //   between them (depth-first, parents before children);
@@ -17,6 +20,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "fray/core/motion.h"
 #include "fray/core/result.h"
@@ -42,5 +46,13 @@ struct AssimpImportOptions {
 // rotation channels (ZXY) plus 3 position channels when their translation
 // leaves the rest offset. Errors name the file and say what is wrong.
 Result<Motion> importWithAssimp(const std::filesystem::path& path, const AssimpImportOptions& options = {});
+
+// Every skeleton of the file, for files with several characters (Fray's own
+// glTF and FBX exports among them): when the animated nodes' common ancestor
+// is not animated and several of its child subtrees hold animated nodes, one
+// motion per such subtree (in file order), each as importWithAssimp would
+// give it with that subtree's root; otherwise the one importWithAssimp gives.
+Result<std::vector<Motion>> importAllWithAssimp(const std::filesystem::path& path,
+                                                const AssimpImportOptions& options = {});
 
 }  // namespace fray

@@ -32,6 +32,10 @@ Result<Motion> readBvhFromMemory(std::string_view data, std::string_view name,
 
 struct BvhWriteOptions {
     int precision = 9;  // significant digits for channel values
+    // Each joint's Euler triple is the equivalent one nearest the previous
+    // frame's (fray::nearestEquivalentEuler), so channels do not jump by 360
+    // degrees where an angle wraps; off: each frame in the principal range.
+    bool continuousEuler = false;
 };
 
 // Writes the motion with its skeleton's channel layout. Re-importing the output

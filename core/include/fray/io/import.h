@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "fray/core/motion.h"
 #include "fray/core/normalize.h"
@@ -19,5 +20,8 @@ struct LoadOptions {
 };
 
 Result<Motion> loadMotion(const std::filesystem::path& path, const LoadOptions& options = {});
+// Every skeleton of a file with several characters (fray::importAllWithAssimp;
+// a BVH file has one), each normalised as loadMotion does.
+Result<std::vector<Motion>> loadMotions(const std::filesystem::path& path, const LoadOptions& options = {});
 
 }  // namespace fray

@@ -7,7 +7,7 @@
 // - BVH: one file per character, in scene space (metres, Y up);
 // - FBX (binary, through Assimp's exporter): the content of the glTF file, in
 //   centimetres;
-// and with each, <name>.scene.json: who does which action when and where.
+// and with each, <name>.<format>.scene.json: who does which action when and where.
 // Deterministic: the same scene and options give byte-identical files.
 #include <filesystem>
 #include <optional>
@@ -30,13 +30,18 @@ inline constexpr std::string_view kFormatNames = "gltf, glb, bvh or fbx";
 
 // The summary's "format": how an export recognises an earlier one's files.
 inline constexpr std::string_view kSummaryFormat = "fray-export";
-inline constexpr int kSummaryVersion = 1;
+// 2: one summary per name and format (<name>.<format>.scene.json), "units"
+// is the summary's (m) and "file_units" the file's, "last_frame_time" and
+// per action "motion_fps" and per character "root_path" added.
+inline constexpr int kSummaryVersion = 2;
 
 struct ExportOptions {
     Format format = Format::Gltf;
     std::filesystem::path outDir;  // created when missing
     double fps = 30.0;             // samples per second of scene time, 1..1000
-    std::string name = "scene";    // file stem: <name>.gltf, <name>_<character>.bvh, <name>.scene.json
+    // File stem: <name>.gltf, <name>_<character>.bvh, <name>.<format>.scene.json;
+    // letters, digits, '_', '-' and '.' only, not starting with '.'.
+    std::string name = "scene";
     std::string source;            // the scene file, recorded in the summary ("" = not recorded)
 };
 
@@ -46,6 +51,7 @@ Status validateOptions(const ExportOptions& options);
 struct ExportReport {
     std::vector<std::filesystem::path> files;  // written, in order; the summary last
     int frames = 0;                            // samples per character
+    std::vector<std::string> notes;            // for the user: e.g. an older summary left in the folder
 };
 
 // Samples every character at options.fps over [0, scene.duration] and writes
@@ -57,7 +63,13 @@ struct ExportReport {
 Result<ExportReport> exportScene(const sim::Scene& scene, const sim::ActionLibrary& lib, const ExportOptions& options,
                                  const ProgressFn& progress = {});
 
-// Frames an export samples: every 1/fps s from 0 up to the duration, at least 2.
+// Frames an export samples: every 1/fps s from 0, the last one at the
+// duration (see SampledScene::time), at least 2.
 int exportFrameCount(double duration, double fps);
+
+// Characters allowed in file names: [A-Za-z0-9_.-].
+bool isFileSafe(char c);
+// `name` with every other character replaced by '_'.
+std::string fileSafeName(std::string_view name);
 
 }  // namespace fray::exporter
