@@ -63,7 +63,7 @@ InspectorPanel::InspectorPanel(QWidget* parent) : QWidget(parent) {
 
     chips_ = new QWidget;
     chips_->setObjectName("annotationChips");
-    auto* chipsLayout = new QHBoxLayout(chips_);
+    auto* chipsLayout = new QGridLayout(chips_);
     chipsLayout->setContentsMargins(0, 0, 0, 0);
     addAnnotation_ = new QComboBox;
     addAnnotation_->setObjectName("addAnnotation");
@@ -79,7 +79,7 @@ InspectorPanel::InspectorPanel(QWidget* parent) : QWidget(parent) {
 
     proposals_ = new QWidget;
     proposals_->setObjectName("proposals");
-    auto* proposalsLayout = new QHBoxLayout(proposals_);
+    auto* proposalsLayout = new QGridLayout(proposals_);
     proposalsLayout->setContentsMargins(0, 0, 0, 0);
     form->addRow("Proposals", proposals_);
 
@@ -99,7 +99,8 @@ InspectorPanel::InspectorPanel(QWidget* parent) : QWidget(parent) {
     form->addRow("Attack direction", direction_);
     form->addRow("Defended part", defended_);
 
-    hasConditions_ = new QCheckBox("valid initial conditions (Interaction Patches)");
+    hasConditions_ = new QCheckBox("limit (Interaction Patches)");
+    hasConditions_->setToolTip("Ranges of the opponent's distance, direction, facing and timing within which this action can succeed");
     hasConditions_->setObjectName("hasInitialConditions");
     auto* grid = new QWidget;
     auto* gridLayout = new QGridLayout(grid);
@@ -118,6 +119,7 @@ InspectorPanel::InspectorPanel(QWidget* parent) : QWidget(parent) {
             else if (r == 3) spin->setRange(-5.0, 5.0);
             else spin->setRange(-180.0, 180.0);
             spin->setKeyboardTracking(false);
+            spin->setMinimumWidth(70);
             ic_[r * 2 + k] = spin;
             gridLayout->addWidget(spin, r, 1 + k);
             connect(spin, &QDoubleSpinBox::valueChanged, this, [this] { applyInitialConditions(); });
@@ -134,6 +136,7 @@ InspectorPanel::InspectorPanel(QWidget* parent) : QWidget(parent) {
     auto* scroll = new QScrollArea;
     scroll->setWidget(body_);
     scroll->setWidgetResizable(true);
+    scroll->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
     scroll->setFrameShape(QFrame::NoFrame);
     outer->addWidget(scroll, 1);
 
@@ -261,7 +264,7 @@ void InspectorPanel::rebuild() {
 
     // Chips: one button per confirmed annotation; clicking removes it.
     clearLayout(chips_);
-    auto* chipsLayout = static_cast<QHBoxLayout*>(chips_->layout());
+    auto* chipsLayout = static_cast<QGridLayout*>(chips_->layout());
     while (chipsLayout->count() > 0) delete chipsLayout->takeAt(0);
     for (const std::string& word : info.annotations) {
         auto* chip = new QToolButton;
@@ -271,10 +274,11 @@ void InspectorPanel::rebuild() {
         chip->setStyleSheet("QToolButton { background: #9cc3f0; color: #111; border-radius: 8px; padding: 1px 6px; }");
         const std::string w = word;
         connect(chip, &QToolButton::clicked, this, [this, w] { report(document_->removeAnnotation(motionId_, action_, w)); });
-        chipsLayout->addWidget(chip);
+        const int n = chipsLayout->count();
+        chipsLayout->addWidget(chip, n / 3, n % 3);  // three chips a row
     }
-    if (info.annotations.empty()) chipsLayout->addWidget(new QLabel("<i>none</i>"));
-    chipsLayout->addStretch(1);
+    if (info.annotations.empty()) chipsLayout->addWidget(new QLabel("<i>none</i>"), 0, 0);
+    chipsLayout->setColumnStretch(3, 1);
     addAnnotation_->clear();
     for (const std::string& word : document_->project().vocabulary)
         if (std::find(info.annotations.begin(), info.annotations.end(), word) == info.annotations.end())
@@ -284,7 +288,7 @@ void InspectorPanel::rebuild() {
 
     // Proposals, apart: accept or reject each, or all.
     clearLayout(proposals_);
-    auto* proposalsLayout = static_cast<QHBoxLayout*>(proposals_->layout());
+    auto* proposalsLayout = static_cast<QGridLayout*>(proposals_->layout());
     while (proposalsLayout->count() > 0) delete proposalsLayout->takeAt(0);
     for (const std::string& word : info.proposed) {
         auto* label = new QLabel(qs(word) + "?");
@@ -298,9 +302,10 @@ void InspectorPanel::rebuild() {
         const std::string w = word;
         connect(accept, &QToolButton::clicked, this, [this, w] { report(document_->confirmProposal(motionId_, action_, w)); });
         connect(reject, &QToolButton::clicked, this, [this, w] { report(document_->rejectProposal(motionId_, action_, w)); });
-        proposalsLayout->addWidget(label);
-        proposalsLayout->addWidget(accept);
-        proposalsLayout->addWidget(reject);
+        const int row = proposalsLayout->rowCount();  // one proposal a row
+        proposalsLayout->addWidget(label, row, 0);
+        proposalsLayout->addWidget(accept, row, 1);
+        proposalsLayout->addWidget(reject, row, 2);
     }
     if (info.proposed.size() > 1) {
         auto* all = new QPushButton("Accept all");
@@ -324,11 +329,12 @@ void InspectorPanel::rebuild() {
             next.proposed.clear();
             report(document_->setActionInfo(motionId_, action_, next));
         });
-        proposalsLayout->addWidget(all);
-        proposalsLayout->addWidget(none);
+        const int row = proposalsLayout->rowCount();
+        proposalsLayout->addWidget(all, row, 1);
+        proposalsLayout->addWidget(none, row, 2);
     }
-    if (info.proposed.empty()) proposalsLayout->addWidget(new QLabel("<i>none</i>"));
-    proposalsLayout->addStretch(1);
+    if (info.proposed.empty()) proposalsLayout->addWidget(new QLabel("<i>none</i>"), 0, 0);
+    proposalsLayout->setColumnStretch(3, 1);
 
     // Joints used, checked from the skeleton's joint names.
     jointList_->clear();

@@ -8,6 +8,7 @@
 #include <QApplication>
 #include <QComboBox>
 #include <QDir>
+#include <QWidget>
 #include <QDockWidget>
 #include <QFile>
 #include <QLineEdit>
@@ -151,6 +152,11 @@ TEST_F(EditorEdits, SegmentingGivesProposalsToConfirmAndChipsInTheInspector) {
     selectAction(w.get(), 0, act);
     auto* accept = w->findChild<QToolButton*>(QString::fromStdString("accept:" + word));
     ASSERT_NE(accept, nullptr);
+    // The inspector and timeline as the user sees them now (docs/EDITOR.md).
+    QDir().mkpath(FRAY_EDITOR_SHOTS);
+    QApplication::processEvents();
+    w->findChild<QWidget*>("inspector")->grab().save(QString(FRAY_EDITOR_SHOTS) + "/inspector-proposals.png");
+    timeline->grab().save(QString(FRAY_EDITOR_SHOTS) + "/timeline-segmented.png");
     QTest::mouseClick(accept, Qt::LeftButton);
     const auto& info = doc->project().motions[0].actions.actions[static_cast<std::size_t>(act)];
     EXPECT_NE(std::find(info.annotations.begin(), info.annotations.end(), word), info.annotations.end());
