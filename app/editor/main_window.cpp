@@ -159,7 +159,9 @@ MainWindow::MainWindow(Viewport* viewport, std::vector<app::LoadedTake> takes, s
 
 MainWindow::~MainWindow() {
     cancelAnalysis();
+    // The workers write into this window: both must be done before it goes.
     if (analysisThread_) analysisThread_->wait();
+    if (segmentThread_) segmentThread_->wait();
 }
 
 void MainWindow::buildDocks() {

@@ -77,6 +77,7 @@ struct EditorOptions {
     // without asking (tests, scripts).
     enum class Recovery { Ask, Recover, Discard } recovery = Recovery::Ask;
     int autosaveSeconds = -1;       // -1: the setting (default 2 minutes); 0: off
+    bool noDialogs = false;         // errors go to the status bar and stderr only (tests)
 };
 
 class MainWindow : public QMainWindow {
@@ -102,11 +103,16 @@ public:
     const prep::Project* project() const;
     // Opens a project, motion files or nothing; false (with a message) on error.
     bool openPath(const QString& path);
+    // Imports motion files into the open project (one undo step).
+    void importMotionFiles(const QStringList& files);
+    // The last error shown to the user (dialog or status bar).
+    const QString& lastError() const { return lastError_; }
 
 protected:
     void closeEvent(QCloseEvent* event) override;
     void dragEnterEvent(QDragEnterEvent* event) override;
     void dropEvent(QDropEvent* event) override;
+    bool event(QEvent* event) override;
 
 private Q_SLOTS:
     void tick();
@@ -136,8 +142,8 @@ private:
     bool saveAs();
     // Asks to save unsaved changes: false when the user cancelled.
     bool maybeSave();
-    void importMotionFiles(const QStringList& files);
     void importMotionsDialog();
+    void showError(const QString& title, const QString& message);
     // Automatic segmentation of the selected motion with proposals, in a
     // worker thread; the result is one undo command.
     void segmentCurrentMotion();
@@ -201,6 +207,7 @@ private:
     bool graphStale_ = false;
     bool fillingCombos_ = false;
     bool fillingGraphControls_ = false;
+    QString lastError_;
     GraphView* graph_ = nullptr;
     QListWidget* nodeActions_ = nullptr;
     QTableView* combos_ = nullptr;

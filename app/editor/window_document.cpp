@@ -97,7 +97,7 @@ bool MainWindow::openDocument(const QString& file) {
         if (recover) {
             auto recovered = authoring::recoverDocument(*recovery);
             if (!recovered) {
-                QMessageBox::warning(this, "Recover", qs(recovered.error().message));
+                showError("Recover", qs(recovered.error().message));
             } else {
                 doc = std::move(*recovered);
                 statusBar()->showMessage("Recovered the autosave of " + QFileInfo(file).fileName(), 15000);
@@ -105,14 +105,13 @@ bool MainWindow::openDocument(const QString& file) {
                 std::fflush(stdout);
             }
         } else if (Status s = authoring::discardRecovery(*recovery); !s) {
-            QMessageBox::warning(this, "Recover", qs(s.error().message));
+            showError("Recover", qs(s.error().message));
         }
     }
     if (!doc) {
         auto opened = authoring::ProjectDocument::open(path);
         if (!opened) {
-            QMessageBox::warning(this, "Open", qs(opened.error().message));
-            std::fprintf(stderr, "fray: %s\n", opened.error().message.c_str());
+            showError("Open", qs(opened.error().message));
             return false;
         }
         doc = std::move(*opened);
@@ -120,8 +119,7 @@ bool MainWindow::openDocument(const QString& file) {
     // The takes shown come from the document (a recovered one may differ from the file).
     auto takes = app::loadProjectTakes(doc->project(), path);
     if (!takes) {
-        QMessageBox::warning(this, "Open", qs(takes.error().message));
-        std::fprintf(stderr, "fray: %s\n", takes.error().message.c_str());
+        showError("Open", qs(takes.error().message));
         return false;
     }
     takes_ = std::move(*takes);
@@ -159,7 +157,7 @@ bool MainWindow::openPath(const QString& path) {
     } else {
         auto loaded = app::loadTakes({path.toStdString()});
         if (!loaded) {
-            QMessageBox::warning(this, "Open", qs(loaded.error().message));
+            showError("Open", qs(loaded.error().message));
             return false;
         }
         delete autosaver_;
@@ -192,7 +190,7 @@ void MainWindow::newProject() {
     const QString file = path.endsWith(".frayproj") ? path : path + ".frayproj";
     const prep::Project fresh = prep::makeProject(QFileInfo(file).completeBaseName().toStdString());
     if (Status s = prep::saveProject(fresh, file.toStdString()); !s) {
-        QMessageBox::warning(this, "New project", qs(s.error().message));
+        showError("New project", qs(s.error().message));
         return;
     }
     openPath(file);
@@ -202,7 +200,7 @@ bool MainWindow::save() {
     if (!doc_) return false;
     if (doc_->filePath().empty()) return saveAs();
     if (Status s = doc_->save(); !s) {
-        QMessageBox::warning(this, "Save", qs(s.error().message));
+        showError("Save", qs(s.error().message));
         return false;
     }
     if (autosaver_) autosaver_->removeAutosave();
@@ -216,7 +214,7 @@ bool MainWindow::saveAs() {
     if (path.isEmpty()) return false;
     const QString file = path.endsWith(".frayproj") ? path : path + ".frayproj";
     if (Status s = doc_->saveAs(file.toStdString()); !s) {
-        QMessageBox::warning(this, "Save As", qs(s.error().message));
+        showError("Save As", qs(s.error().message));
         return false;
     }
     recent_->add(QFileInfo(file).absoluteFilePath());
@@ -277,11 +275,11 @@ void MainWindow::importMotionFiles(const QStringList& files) {
     for (const QString& file : files) {
         auto motion = loadMotion(file.toStdString());
         if (!motion) {
-            QMessageBox::warning(this, "Import motions", qs(motion.error().message));
+            showError("Import motions", qs(motion.error().message));
             return;
         }
         if (motion->frameCount() == 0) {
-            QMessageBox::warning(this, "Import motions", file + ": the motion has no frames");
+            showError("Import motions", file + ": the motion has no frames");
             return;
         }
         prep::ProjectMotion m;
@@ -292,7 +290,7 @@ void MainWindow::importMotionFiles(const QStringList& files) {
     }
     const std::size_t before = doc_->project().motions.size();
     if (Status s = doc_->importMotions(entries); !s) {
-        QMessageBox::warning(this, "Import motions", qs(s.error().message));
+        showError("Import motions", qs(s.error().message));
         return;
     }
     statusBar()->showMessage(QString("Imported %1 motion(s); Analyse (Ctrl+G) to see their profiles and the graph")
@@ -313,6 +311,19 @@ void MainWindow::dragEnterEvent(QDragEnterEvent* event) {
             event->acceptProposedAction();
             return;
         }
+}
+
+bool MainWindow::event(QEvent* event) {
+    // QMainWindow keeps drops for its dock layout; files dropped anywhere import.
+    if (event->type() == QEvent::DragEnter) {
+        dragEnterEvent(static_cast<QDragEnterEvent*>(event));
+        return true;
+    }
+    if (event->type() == QEvent::Drop) {
+        dropEvent(static_cast<QDropEvent*>(event));
+        return true;
+    }
+    return QMainWindow::event(event);
 }
 
 void MainWindow::dropEvent(QDropEvent* event) {
@@ -398,6 +409,15 @@ void MainWindow::segmentFinished() {
                              10000);
     std::printf("fray: segmented %s: %d actions\n", id.c_str(), after);
     std::fflush(stdout);
+}
+
+void MainWindow::showError(const QString& title, const QString& message) {
+    // One message naming the file and the problem: a dialog for a person,
+    // the status bar and stderr for scripted runs and tests.
+    statusBar()->showMessage(message, 30000);
+    std::fprintf(stderr, "fray: %s\n", message.toUtf8().constData());
+    lastError_ = message;
+    if (options_.quitAfter == 0 && !options_.noDialogs) QMessageBox::warning(this, title, message);
 }
 
 void MainWindow::editFailed(const QString& message) {

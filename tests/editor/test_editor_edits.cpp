@@ -8,6 +8,10 @@
 #include <QApplication>
 #include <QComboBox>
 #include <QDir>
+#include <QDoubleSpinBox>
+#include <QMimeData>
+#include <QRegularExpression>
+#include <QUrl>
 #include <QWidget>
 #include <QDockWidget>
 #include <QFile>
@@ -62,6 +66,7 @@ std::unique_ptr<MainWindow> openWindow(const QString& project, EditorOptions::Re
     options.restoreLayout = false;
     options.autosaveSeconds = 0;
     options.recovery = recovery;
+    options.noDialogs = true;
     auto w = std::make_unique<MainWindow>(nullptr, std::move(*takes), nullptr, project, "edits", options);
     w->resize(1400, 880);
     w->show();
@@ -242,6 +247,87 @@ TEST_F(EditorEdits, CombinationTableEditsAndSaveReopen) {
     ASSERT_TRUE(reopened) << reopened.error().message;
     EXPECT_EQ((*reopened)->serialized(), doc->serialized());
     EXPECT_EQ((*reopened)->project().combos.find(mine, theirs), std::optional<double>(-2.5));
+}
+
+TEST_F(EditorEdits, DroppingATakeImportsItAndTheGraphRebuildsWithANewThreshold) {
+    // A take dropped on the window: one undo step, a new motion in the library.
+    const QString take = demo.dir.filePath("walking.bvh");
+    QMimeData mime;
+    mime.setUrls({QUrl::fromLocalFile(take)});
+    // As a drag from a file manager arrives: enter (Qt records the target), then drop.
+    QDragEnterEvent enter(QPoint(200, 200), Qt::CopyAction, &mime, Qt::LeftButton, Qt::NoModifier);
+    QApplication::sendEvent(w.get(), &enter);
+    EXPECT_TRUE(enter.isAccepted()) << "the window accepts motion files";
+    QDropEvent drop(QPointF(200, 200), Qt::CopyAction, &mime, Qt::LeftButton, Qt::NoModifier);
+    QApplication::sendEvent(w.get(), &drop);
+    ASSERT_EQ(doc->project().motions.size(), 7u) << w->lastError().toStdString();
+    EXPECT_EQ(doc->project().motions.back().id, "walking_2");
+    auto* library = w->findChild<QTreeWidget*>("library");
+    EXPECT_EQ(library->topLevelItemCount(), 7);
+    // A new clustering threshold typed in the graph panel: saved in the
+    // project (undoable) and the graph rebuilt in the background.
+    ASSERT_TRUE(QTest::qWaitFor([&] { return w->analysis() != nullptr; }, 240000)) << w->lastError().toStdString();
+    const int nodesBefore = w->analysis()->graph.nodeCount;
+    auto* dock = w->findChild<QDockWidget*>("GraphDock");
+    dock->show();
+    dock->raise();
+    auto* threshold = w->findChild<QDoubleSpinBox*>("graphThreshold");
+    ASSERT_NE(threshold, nullptr);
+    threshold->setFocus();
+    threshold->selectAll();
+    QTest::keyClicks(threshold, "0.12");
+    QTest::keyClick(threshold, Qt::Key_Return);
+    EXPECT_EQ(doc->project().settings.graphThreshold, std::optional<double>(0.12));
+    ASSERT_TRUE(QTest::qWaitFor([&] { return w->analysis() && w->analysis()->graphThreshold == 0.12; }, 240000))
+        << w->lastError().toStdString();
+    EXPECT_GT(w->analysis()->graph.nodeCount, nodesBefore) << "a lower threshold gives more nodes";
+    EXPECT_EQ(w->analysis()->motions.size(), 7u) << "the imported take is analysed too";
+}
+
+TEST(EditorBadInput, CorruptProjectAndBrokenTakeGiveOneClearMessage) {
+    DemoCopy demo;
+    auto w = openWindow(demo.project, EditorOptions::Recovery::Discard);
+    ASSERT_NE(w, nullptr);
+    // A project with a bad field: refused, named by file and JSON path, untouched.
+    const QString bad = demo.dir.filePath("bad.frayproj");
+    {
+        QFile in(demo.project);
+        ASSERT_TRUE(in.open(QIODevice::ReadOnly));
+        QByteArray text = in.readAll();
+        const int at = text.indexOf("\"cuts\"");
+        ASSERT_GT(at, 0);
+        const int open = text.indexOf('[', at);
+        text.insert(open + 1, "\"seven\", ");
+        QFile out(bad);
+        ASSERT_TRUE(out.open(QIODevice::WriteOnly));
+        out.write(text);
+    }
+    QFile before(bad);
+    ASSERT_TRUE(before.open(QIODevice::ReadOnly));
+    const QByteArray badBytes = before.readAll();
+    EXPECT_FALSE(w->openPath(bad));
+    EXPECT_TRUE(w->lastError().contains("bad.frayproj")) << w->lastError().toStdString();
+    EXPECT_TRUE(w->lastError().contains("/motions/0/cuts")) << w->lastError().toStdString();
+    QFile after(bad);
+    ASSERT_TRUE(after.open(QIODevice::ReadOnly));
+    EXPECT_EQ(after.readAll(), badBytes);
+    EXPECT_NE(w->document(), nullptr) << "the open project stays open";
+    // A broken BVH dropped in: file:line, nothing imported.
+    const QString broken = demo.dir.filePath("broken.bvh");
+    {
+        QFile in(demo.dir.filePath("walking.bvh"));
+        ASSERT_TRUE(in.open(QIODevice::ReadOnly));
+        QByteArray text = in.readAll();
+        text.truncate(text.indexOf("MOTION") + 40);
+        text += "\n0.0 zero.5 1.0\n";
+        QFile out(broken);
+        ASSERT_TRUE(out.open(QIODevice::WriteOnly));
+        out.write(text);
+    }
+    const std::size_t motions = w->document()->project().motions.size();
+    w->importMotionFiles({broken});
+    EXPECT_EQ(w->document()->project().motions.size(), motions);
+    EXPECT_TRUE(w->lastError().contains(QRegularExpression("broken\\.bvh:[0-9]+"))) << w->lastError().toStdString();
 }
 
 // The child side of the crash test: edit, autosave, write what the autosave
