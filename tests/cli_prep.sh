@@ -103,8 +103,8 @@ check "mode kept" "[ \$(stat -c %a '$p') = 600 ]"
 chmod 644 "$p"
 # Item 12: flags that took 0, negatives and nan.
 for v in 0 -3 nan; do
-  expect_refused "segment --threshold-factor $v" "threshold-factor" "$cli" segment "$p" -q --threshold-factor=$v
-  expect_refused "graph --threshold $v" "threshold" "$cli" graph "$p" -q --threshold=$v
+  expect_refused "segment --threshold-factor $v" "--threshold-factor: $v must be a finite number" "$cli" segment "$p" -q --threshold-factor=$v
+  expect_refused "graph --threshold $v" "--threshold: $v must be a finite number" "$cli" graph "$p" -q --threshold=$v
 done
 # Item 10: frame rates that ran out of memory or wrote hundreds of MB.
 for v in nan 1e9 1e6 20000; do
@@ -120,4 +120,12 @@ check "BOM CSV imported" "$cli combos '$p' list | grep -q '@kick'"
 printf 'mine,theirs,suitability\n\x1b[2Jx\xff,@kick,3\n' > "$tmp/esc.csv"
 expect_fail "binary CSV" "esc.csv:2: mine" "$cli" combos "$p" import "$tmp/esc.csv"
 check "no terminal escapes echoed" "! grep -q \$'\\x1b' '$tmp/err.txt'"
+# Item 10: names that are not UTF-8 ended in type_error.316.
+python3 -c "import sys; b = open(sys.argv[1], 'rb').read().replace(b'JOINT Spine2', b'JOINT Spin\xe92'); open(sys.argv[2], 'wb').write(b)" \
+  "$tmp/lib/walking.bvh" "$tmp/latin1.bvh"
+"$cli" info "$tmp/latin1.bvh" --json > "$tmp/latin1.json"
+check "Latin-1 joint name as U+FFFD" "grep -q \$'Spin\\xef\\xbf\\xbd2' '$tmp/latin1.json'"
+cp "$tmp/lib/walking.bvh" "$tmp/caf"$'\xe9'".bvh"
+expect_fail "Latin-1 file name" "the file name is not UTF-8 text" "$cli" project new "$tmp/latin1.frayproj" --import "$tmp/caf"$'\xe9'".bvh"
+check "no project from a refused import" "[ ! -e '$tmp/latin1.frayproj' ]"
 echo "cli_prep: ok"

@@ -91,9 +91,9 @@ expect_fail "negative weight" "w_r: must be between 0 and 1e6" "$cli" presets "$
 # Item 10: a description that is not UTF-8 ended in type_error.316.
 expect_fail "non-UTF-8 description" "must be UTF-8 text" "$cli" presets "$p" set brawler --description $'caf\xe9'
 check "project untouched by refused presets" "cmp -s '$p' '$tmp/before.frayproj'"
-expect_refused "render --yaw nan" "yaw" "$cli" render "$tmp/duel.frayscene" --out "$tmp/frames" --yaw=nan
+expect_refused "render --yaw nan" "--yaw: nan must be a finite number" "$cli" render "$tmp/duel.frayscene" --out "$tmp/frames" --yaw=nan
 for v in 0 3; do
-  expect_refused "render --msaa $v" "msaa" "$cli" render "$tmp/duel.frayscene" --out "$tmp/frames" --msaa=$v
+  expect_refused "render --msaa $v" "--msaa: $v not in" "$cli" render "$tmp/duel.frayscene" --out "$tmp/frames" --msaa=$v
 done
 check "no frames from refused renders" "[ ! -e '$tmp/frames' ]"
 echo "PASS"

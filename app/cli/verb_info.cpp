@@ -80,7 +80,8 @@ void run(const InfoArgs& a) {
     if (!motion) return fail(motion.error().message);
     const nlohmann::json j = describe(*motion);
     if (a.json) {
-        std::printf("%s\n", j.dump(2).c_str());
+        // Joint and file names from a capture need not be UTF-8: U+FFFD, not an exception.
+        std::printf("%s\n", j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
         return;
     }
     const auto& ext = j["root_extent"];
