@@ -297,9 +297,9 @@ struct TimelineArgs {
 void runTimeline(const TimelineArgs& a) {
     auto s = openSession(a.project, true, stderrProgress(true));
     if (!s) return fail(s.error().message);
+    if (auto st = checkOutputIsNotInput(s->file, s->project, a.out); !st) return fail(st.error().message);
     auto summary = computeContacts(*s, false, {});
     if (!summary) return fail(summary.error().message);
-    if (auto st = checkOutputIsNotInput(s->file, s->project, a.out); !st) return fail(st.error().message);
     for (std::size_t i = 0; i < s->motions.size(); ++i) {
         if (s->motions[i].id != a.motion) continue;
         const auto& m = s->motions[i];

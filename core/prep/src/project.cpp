@@ -296,13 +296,21 @@ Result<Project> projectFromJson(std::string_view text, std::string_view fileName
             }
             p.settings.graphPreset = *preset;
         }
-        for (auto [key, out] : {std::pair{"graph_threshold", &p.settings.graphThreshold},
-                                std::pair{"segment_threshold_factor", &p.settings.segmentThresholdFactor}}) {
-            const auto f = it->find(key);
+        // The same bounds as fray-cli's --threshold and --threshold-factor.
+        struct Setting {
+            const char* key;
+            std::optional<double>* out;
+            double max;
+        };
+        for (const Setting& st : {Setting{"graph_threshold", &p.settings.graphThreshold, 1e6},
+                                  Setting{"segment_threshold_factor", &p.settings.segmentThresholdFactor, 1000.0}}) {
+            const auto f = it->find(st.key);
             if (f == it->end() || f->is_null()) continue;
-            FRAY_TRY(x, rd.number(*f, std::string("/settings/") + key));
-            if (!(x > 0)) return rd.error(std::string("/settings/") + key, "must be positive");
-            *out = x;
+            FRAY_TRY(x, rd.number(*f, std::string("/settings/") + st.key));
+            if (!(x > 0) || x > st.max) {
+                return rd.error(std::string("/settings/") + st.key, "must be positive and at most " + Reader::fmt(st.max));
+            }
+            *st.out = x;
         }
     }
     FRAY_TRY(motions, rd.field(j, "", "motions"));
