@@ -68,7 +68,7 @@ done
 expect_fail "missing scene" "$tmp/none.frayscene: cannot open the scene file: no such file" \
   "$cli" export "$tmp/none.frayscene" --out "$tmp/c"
 printf '{"format": "fray-scene", "version": 1, "project": ' > "$tmp/bad.frayscene"
-expect_fail "corrupt scene" "$tmp/bad.frayscene: /: not valid JSON" "$cli" export "$tmp/bad.frayscene" --out "$tmp/c"
+expect_fail "corrupt scene" "$tmp/bad.frayscene:1:[0-9]*: not valid JSON" "$cli" export "$tmp/bad.frayscene" --out "$tmp/c"
 expect_fail "unknown format" "export: unknown format 'obj' (expected gltf, glb, bvh or fbx)" \
   "$cli" export "$s" --format obj --out "$tmp/c"
 expect_fail "bad fps" "export: --fps must be between 1 and 1000" "$cli" export "$s" --fps 0 --out "$tmp/c"

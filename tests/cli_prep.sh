@@ -56,4 +56,76 @@ cp "$p" "$tmp/corrupt.frayproj"
 expect_fail "corrupt project" "p.frayproj:.*not valid JSON" "$cli" segment "$p" -q
 check "corrupt project untouched" "cmp -s '$p' '$tmp/corrupt.frayproj'"
 expect_fail "missing project" "cannot open the project file" "$cli" graph "$tmp/none.frayproj" -q
+
+# ---- Issue 21: file safety and validation (each check failed before) ------
+p=$tmp/run/p.frayproj
+cp "$tmp/before.frayproj" "$p"
+# A command refused by CLI11 or by fray-cli: non-zero exit (no crash) and TEXT on stderr.
+expect_refused() {
+  local name=$1 text=$2; shift 2
+  local rc=0
+  "$@" > /dev/null 2> "$tmp/err.txt" || rc=$?
+  if [[ $rc == 0 || $rc -ge 124 ]]; then echo "FAIL: $name: exit code $rc"; exit 1; fi
+  check "$name: message" "grep -q -- \"$text\" '$tmp/err.txt'"
+}
+# Item 1: a project nested 100,000 levels deep crashed every verb.
+python3 -c "import sys; sys.stdout.write('{\"format\": \"fray-project\", \"version\": 1, \"motions\": [], \"paintings\": ' + '['*100000 + ']'*100000 + '}')" > "$tmp/deep.frayproj"
+expect_fail "deep project" "deep.frayproj:1:.*nested deeper than 64 levels" "$cli" actions "$tmp/deep.frayproj"
+# Item 4: non-finite or missing suitabilities were stored (as null or 0).
+for v in nan inf 1e999; do
+  expect_fail "combos set $v" "VALUE .$v. must be a finite number" "$cli" combos "$p" set jab @block "$v"
+done
+expect_fail "combos set without a value" "the suitability is missing" "$cli" combos "$p" set jab @block
+# Item 12: records naming annotations outside the vocabulary.
+expect_fail "unknown annotation" "mine: @flyingkick is not in the project vocabulary" "$cli" combos "$p" set @flyingkick @block 1
+check "project untouched (bad combos)" "cmp -s '$p' '$tmp/before.frayproj'"
+"$cli" actions "$p" > /dev/null
+# Item 5: outputs that are the project or one of its captures.
+expect_fail "timeline onto the project" "is the project file; refusing to overwrite it" "$cli" timeline "$p" walking -o "$p"
+cp "$tmp/lib/walking.bvh" "$tmp/walking.before"
+expect_fail "combos export onto a capture" "is the capture of motion" "$cli" combos "$p" export "$tmp/lib/walking.bvh"
+check "project untouched (outputs)" "cmp -s '$p' '$tmp/before.frayproj'"
+check "capture untouched" "cmp -s '$tmp/lib/walking.bvh' '$tmp/walking.before'"
+# Item 6: a flipped bit in the cache was trusted ("(cached)").
+"$cli" graph "$p" -q > "$tmp/graph3.txt"
+python3 -c "import sys; b = bytearray(open(sys.argv[1], 'rb').read()); b[60] ^= 4; open(sys.argv[1], 'wb').write(b)" "$p.cache"
+"$cli" graph "$p" -q > "$tmp/graph4.txt" 2> "$tmp/graph4.err"
+check "damaged cache not trusted" "! grep -q '(cached)' '$tmp/graph4.txt'"
+check "damaged cache reported" "grep -q 'checksum mismatch.*rebuilding' '$tmp/graph4.err'"
+check "rebuilt graph equals the cached one" "[ \"\$(sed 's/ (cached)//' '$tmp/graph3.txt')\" = \"\$(cat '$tmp/graph4.txt')\" ]"
+# Item 7: saving through a link kept neither the link nor the mode.
+chmod 600 "$p"
+ln -s run/p.frayproj "$tmp/link.frayproj"
+"$cli" combos "$tmp/link.frayproj" set sway_back @punch 2.5
+check "link still a link" "[ -L '$tmp/link.frayproj' ]"
+check "edit reached the target" "grep -q '\"suitability\": 2.5' '$p'"
+check "mode kept" "[ \$(stat -c %a '$p') = 600 ]"
+chmod 644 "$p"
+# Item 12: flags that took 0, negatives and nan.
+for v in 0 -3 nan; do
+  expect_refused "segment --threshold-factor $v" "--threshold-factor: $v must be a finite number" "$cli" segment "$p" -q --threshold-factor=$v
+  expect_refused "graph --threshold $v" "--threshold: $v must be a finite number" "$cli" graph "$p" -q --threshold=$v
+done
+# Item 10: frame rates that ran out of memory or wrote hundreds of MB.
+for v in nan 1e9 1e6 20000; do
+  expect_refused "convert --fps $v" "must be a finite number in (0, 1000]" "$cli" convert "$tmp/lib/walking.bvh" "$tmp/c.bvh" --fps=$v
+done
+check "no output from refused converts" "[ ! -e '$tmp/c.bvh' ]"
+# Item 13: a device as a motion, a byte-order mark, binary CSV content.
+sed 's#"../lib/walking.bvh"#"/dev/zero"#' "$p" > "$tmp/run/zero.frayproj"
+expect_fail "device as a motion" "'/dev/zero' is not a regular file" "$cli" segment "$tmp/run/zero.frayproj" -q
+printf '\xef\xbb\xbfmine,theirs,suitability\nsway_back,@kick,3\n' > "$tmp/bom.csv"
+"$cli" combos "$p" import "$tmp/bom.csv" > /dev/null
+check "BOM CSV imported" "$cli combos '$p' list | grep -q '@kick'"
+printf 'mine,theirs,suitability\n\x1b[2Jx\xff,@kick,3\n' > "$tmp/esc.csv"
+expect_fail "binary CSV" "esc.csv:2: mine" "$cli" combos "$p" import "$tmp/esc.csv"
+check "no terminal escapes echoed" "! grep -q \$'\\x1b' '$tmp/err.txt'"
+# Item 10: names that are not UTF-8 ended in type_error.316.
+python3 -c "import sys; b = open(sys.argv[1], 'rb').read().replace(b'JOINT Spine2', b'JOINT Spin\xe92'); open(sys.argv[2], 'wb').write(b)" \
+  "$tmp/lib/walking.bvh" "$tmp/latin1.bvh"
+"$cli" info "$tmp/latin1.bvh" --json > "$tmp/latin1.json"
+check "Latin-1 joint name as U+FFFD" "grep -q \$'Spin\\xef\\xbf\\xbd2' '$tmp/latin1.json'"
+cp "$tmp/lib/walking.bvh" "$tmp/caf"$'\xe9'".bvh"
+expect_fail "Latin-1 file name" "the file name is not UTF-8 text" "$cli" project new "$tmp/latin1.frayproj" --import "$tmp/caf"$'\xe9'".bvh"
+check "no project from a refused import" "[ ! -e '$tmp/latin1.frayproj' ]"
 echo "cli_prep: ok"

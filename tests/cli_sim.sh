@@ -54,4 +54,46 @@ check "project untouched by failures" "cmp -s '$p' '$tmp/before.frayproj'"
 # A scene whose actions were re-cut is refused with the path of the action.
 sed 's/"first": \([0-9]*\)/"first": 9\1/' "$tmp/duel.frayscene" > "$tmp/stale.frayscene"
 expect_fail "stale scene" "is not in the project any more" "$cli" metrics "$tmp/stale.frayscene" -q
+
+# ---- Issue 21: validation of specs, scenes and flags (each failed before) --
+expect_refused() {
+  local name=$1 text=$2; shift 2
+  local rc=0
+  "$@" > /dev/null 2> "$tmp/err.txt" || rc=$?
+  if [[ $rc == 0 || $rc -ge 124 ]]; then echo "FAIL: $name: exit code $rc"; exit 1; fi
+  check "$name: message" "grep -q -- \"$text\" '$tmp/err.txt'"
+}
+# Item 1: a scene whose spec is nested 100,000 levels deep crashed metrics.
+python3 - "$tmp/duel.frayscene" "$tmp/deep.frayscene" <<'PY'
+import json, sys
+doc = json.load(open(sys.argv[1]))
+doc["spec"] = "DEEP"
+open(sys.argv[2], "w").write(json.dumps(doc).replace('"DEEP"', "[" * 100000 + "]" * 100000))
+PY
+expect_fail "deep scene" "deep.frayscene:1:.*nested deeper than 64 levels" "$cli" metrics "$tmp/deep.frayscene" -q
+# Item 8: unbounded scene durations ("-2147483647 frames").
+sed 's/"duration": [0-9.e+]*/"duration": 1e8/' "$tmp/duel.frayscene" > "$tmp/long.frayscene"
+expect_fail "scene duration" "long.frayscene: /duration: must be a positive number of seconds, at most 3600" \
+  "$cli" metrics "$tmp/long.frayscene" -q
+# Item 9: invalid compose JSON was reported as a missing patch library.
+printf '{"kind": "duel",\n "duration": }\n' > "$tmp/bad_compose.json"
+expect_fail "compose spec syntax" "bad_compose.json:2:[0-9]*: not valid JSON" \
+  "$cli" compose "$p" --spec "$tmp/bad_compose.json" --out "$tmp/c.frayscene" -q
+# Item 13: spec syntax errors give the line and column.
+printf '{"duration": 5,\n "characters": [{"name": "a",}]}\n' > "$tmp/bad5.json"
+expect_fail "spec syntax" "bad5.json:2:[0-9]*: not valid JSON" \
+  "$cli" simulate "$p" --spec "$tmp/bad5.json" --out "$tmp/bad5.frayscene" -q
+# Item 12: a checkpoint time of -1, a negative weight, render flags.
+echo '{"duration": 5, "characters": [{"name": "a", "path": [{"x": 1, "z": 0, "time": -1}]}]}' > "$tmp/bad6.json"
+expect_fail "checkpoint time" "bad6.json: /characters/0/path/0/time: must be between 0 and 3600" \
+  "$cli" simulate "$p" --spec "$tmp/bad6.json" --out "$tmp/bad6.frayscene" -q
+expect_fail "negative weight" "w_r: must be between 0 and 1e6" "$cli" presets "$p" set brawler w_r=-5
+# Item 10: a description that is not UTF-8 ended in type_error.316.
+expect_fail "non-UTF-8 description" "must be UTF-8 text" "$cli" presets "$p" set brawler --description $'caf\xe9'
+check "project untouched by refused presets" "cmp -s '$p' '$tmp/before.frayproj'"
+expect_refused "render --yaw nan" "--yaw: nan must be a finite number" "$cli" render "$tmp/duel.frayscene" --out "$tmp/frames" --yaw=nan
+for v in 0 3; do
+  expect_refused "render --msaa $v" "--msaa: $v not in" "$cli" render "$tmp/duel.frayscene" --out "$tmp/frames" --msaa=$v
+done
+check "no frames from refused renders" "[ ! -e '$tmp/frames' ]"
 echo "PASS"

@@ -2,6 +2,8 @@
 
 #include <CLI/CLI.hpp>
 #include <charconv>
+#include <cmath>
+#include <cstdio>
 
 #include "fray/core/normalize.h"
 
@@ -14,6 +16,30 @@ void addImportFlags(CLI::App* cmd, ImportFlags& flags) {
     cmd->add_flag("--raw", flags.raw, "Keep file units and axes (no normalisation)");
 }
 
+namespace {
+
+CLI::Validator numberCheck(double lo, double hi, bool openLow) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%c%g, %g]", openLow ? '(' : '[', lo, hi);
+    const std::string range = buf;
+    return CLI::Validator(
+        [lo, hi, openLow, range](std::string& text) -> std::string {
+            double v = 0;
+            const char* end = text.data() + text.size();
+            const auto [p, ec] = std::from_chars(text.data(), end, v);
+            if (ec != std::errc() || p != end || !std::isfinite(v) || v < lo || v > hi || (openLow && v == lo)) {
+                return text + " must be a finite number in " + range;
+            }
+            return {};
+        },
+        "NUMBER in " + range);
+}
+
+}  // namespace
+
+CLI::Validator finiteRange(double lo, double hi) { return numberCheck(lo, hi, false); }
+CLI::Validator finitePositive(double hi) { return numberCheck(0.0, hi, true); }
+
 Result<LoadOptions> toLoadOptions(const ImportFlags& flags) {
     LoadOptions o;
     o.animation = flags.animation;
@@ -24,7 +50,7 @@ Result<LoadOptions> toLoadOptions(const ImportFlags& flags) {
         else {
             double v = 0;
             auto [p, ec] = std::from_chars(u.data(), u.data() + u.size(), v);
-            if (ec != std::errc() || p != u.data() + u.size() || !(v > 0))
+            if (ec != std::errc() || p != u.data() + u.size() || !(v > 0) || !std::isfinite(v) || v > 1e6)
                 return makeError("--units: expected m, cm, mm, inch, cmu or a positive number, got '" + u + "'");
             o.normalize.unitScale = v;
         }

@@ -17,6 +17,16 @@ struct ImportFlags {
 };
 
 Result<LoadOptions> toLoadOptions(const ImportFlags& flags);
+
+// Checks of numeric flags, applied to the text as typed: a finite number
+// (nan, inf and overflowing values such as 1e999 are refused) within
+// [lo, hi], or within (0, hi] for finitePositive. CLI11 prints the failure
+// with the flag's name ("--fps: 1e9 must be a finite number in (0, 1000]").
+CLI::Validator finiteRange(double lo, double hi);
+CLI::Validator finitePositive(double hi);
+
+// Largest frame rate convert resamples to (docs/FILES.md).
+inline constexpr double kMaxFps = 1000.0;
 void addImportFlags(CLI::App* cmd, ImportFlags& flags);
 
 }  // namespace fray::cli

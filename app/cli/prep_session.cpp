@@ -43,13 +43,16 @@ Result<Session> openSession(const std::filesystem::path& file, bool loadMotions,
     auto project = prep::loadProject(file);
     if (!project) return project.error();
     s.project = std::move(*project);
+    s.asLoaded = s.project;
     if (loadMotions) {
         auto motions = prep::loadProjectMotions(s.project, file, loadProjectMotion, progress);
         if (!motions) return motions.error();
         s.motions = std::move(*motions);
+        std::string why;
+        bool damaged = false;
+        s.cache = prep::readCache(file, &why, &damaged);
+        if (damaged) std::fprintf(stderr, "fray-cli: note: %s; rebuilding it\n", why.c_str());
     }
-    std::string why;
-    s.cache = prep::readCache(file, &why);
     return s;
 }
 
@@ -171,10 +174,57 @@ Result<ProjectGraph> projectGraph(Session& s, const std::string& presetOverride,
 }
 
 Status saveSession(const Session& s) {
+    auto lock = FileLock::acquire(s.file);
+    if (!lock) return lock.error();
+    auto current = prep::loadProject(s.file);
+    if (!current) return current.error();
+    if (!(*current == s.asLoaded)) {
+        return makeError(s.file.string() +
+                         ": another program saved the project while this command ran; nothing was saved "
+                         "(run the command again to apply it to the new version)");
+    }
     if (auto st = prep::saveProject(s.project, s.file); !st) return st;
     if (auto st = prep::writeCache(s.file, s.cache); !st) {
         // The cache is derived data: losing it costs time, not work.
         std::fprintf(stderr, "fray-cli: warning: could not write the cache: %s\n", st.error().message.c_str());
+    }
+    return {};
+}
+
+}  // namespace fray::cli
+
+namespace fray::cli {
+
+Status editProject(const std::filesystem::path& file, const std::function<Status(prep::Project&)>& edit) {
+    // A file that is not a readable project gets its error without a lock
+    // file being left beside a mistyped path.
+    if (auto first = prep::loadProject(file); !first) return first.error();
+    auto lock = FileLock::acquire(file);
+    if (!lock) return lock.error();
+    auto project = prep::loadProject(file);
+    if (!project) return project.error();
+    if (auto st = edit(*project); !st) return st;
+    return prep::saveProject(*project, file);
+}
+
+Status checkOutputIsNotInput(const std::filesystem::path& projectFile, const prep::Project& project,
+                             const std::filesystem::path& out) {
+    namespace fs = std::filesystem;
+    auto same = [&](const fs::path& input) {
+        std::error_code ec;
+        if (fs::equivalent(out, input, ec)) return true;  // both exist and are one file (links included)
+        const auto a = fs::weakly_canonical(fs::absolute(out, ec), ec);
+        const auto b = fs::weakly_canonical(fs::absolute(input, ec), ec);
+        return !ec && a == b;
+    };
+    const std::string refuse = "; refusing to overwrite it (choose another output file)";
+    if (same(projectFile)) return makeError(out.string() + ": is the project file" + refuse);
+    if (same(prep::cachePath(projectFile))) return makeError(out.string() + ": is the project's cache" + refuse);
+    if (same(FileLock::lockPathFor(projectFile))) return makeError(out.string() + ": is the project's lock file" + refuse);
+    for (const auto& m : project.motions) {
+        if (same(prep::resolveMotionPath(projectFile, m))) {
+            return makeError(out.string() + ": is the capture of motion \"" + m.id + "\" in the project" + refuse);
+        }
     }
     return {};
 }

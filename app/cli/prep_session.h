@@ -3,6 +3,7 @@
 // motions, get foot contacts (from the cache when fresh), report progress on
 // stderr, save the project and the cache.
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,7 @@ Result<Motion> loadProjectMotion(const std::filesystem::path& file, const prep::
 struct Session {
     std::filesystem::path file;
     prep::Project project;
+    prep::Project asLoaded;  // the project as read, to see whether another program changed the file since
     std::vector<prep::LoadedMotion> motions;
     prep::DerivedCache cache;
 };
@@ -57,7 +59,21 @@ struct ProjectGraph {
 Result<ProjectGraph> projectGraph(Session& s, const std::string& presetOverride, double thresholdOverride,
                                   const ProgressFn& progress);
 
-// Saves the project (atomically) and the cache.
+// Saves the project and the cache. The project is saved under its lock
+// (FileLock) and only when the file still holds what openSession read:
+// if another program saved it meanwhile, nothing is saved and the error says
+// so (run the command again), so neither edit is lost.
 Status saveSession(const Session& s);
+
+// One read-modify-write of a project file under its lock: lock, read the
+// file afresh, apply `edit`, save atomically, unlock. Concurrent editors
+// (other fray-cli processes) wait for each other instead of losing edits.
+Status editProject(const std::filesystem::path& file, const std::function<Status(prep::Project&)>& edit);
+
+// Refuses an output path that is the project, its cache or lock file, or
+// one of the project's motion files ("OUT: is the project file; refusing to
+// overwrite it").
+Status checkOutputIsNotInput(const std::filesystem::path& projectFile, const prep::Project& project,
+                             const std::filesystem::path& out);
 
 }  // namespace fray::cli

@@ -41,7 +41,7 @@ void registerConvert(CLI::App& app) {
     auto* cmd = app.add_subcommand("convert", "Convert any importable file to BVH (metres, Y-up)");
     cmd->add_option("in", args->in, "Input file (BVH, FBX, glTF/GLB, DAE)")->required();
     cmd->add_option("out", args->out, "Output BVH file")->required();
-    cmd->add_option("--fps", args->fps, "Resample to this frame rate")->check(CLI::PositiveNumber);
+    cmd->add_option("--fps", args->fps, "Resample to this frame rate (at most 1000)")->check(finitePositive(kMaxFps));
     addImportFlags(cmd, args->flags);
     cmd->callback([args] { run(*args); });
 }

@@ -113,7 +113,8 @@ void run(const InfoArgs& a) {
             j["skeletons"] = nlohmann::json::array();
             for (const Motion& m : *motions) j["skeletons"].push_back(describe(m));
         }
-        std::printf("%s\n", j.dump(2).c_str());
+        // Joint and file names from a capture need not be UTF-8: U+FFFD, not an exception.
+        std::printf("%s\n", j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
         return;
     }
     for (std::size_t i = 0; i < n; ++i) {

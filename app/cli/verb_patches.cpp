@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "fray/core/atomic_file.h"
+#include "fray/prep/json_reader.h"
 #include "fray/render/image.h"
 #include "fray/sim/compose.h"
 #include "fray/sim/patches.h"
@@ -179,6 +180,8 @@ void runCompose(const ComposeArgs& a) {
     if (Status st = checkSceneOutput(outFile); !st) return fail(st.error().message);
     auto specText = readWholeFile(a.spec, "the compose spec");
     if (!specText) return fail(specText.error().message);
+    // Syntax first (line and column), before any project or library work.
+    if (auto j = prep::parseJson(*specText, a.spec); !j) return fail(j.error().message);
     auto ss = openSimSession(a.project, stderrProgress(a.quiet));
     if (!ss) return fail(ss.error().message);
     auto& s = **ss;

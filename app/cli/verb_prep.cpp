@@ -1,4 +1,6 @@
 // Data-preparation verbs: project new, contacts, segment, actions, graph, combos.
+#include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <set>
 
@@ -8,6 +10,7 @@
 #include "fray/io/import.h"
 #include "fray/prep/annotations.h"
 #include "fray/prep/contacts.h"
+#include "fray/prep/json_reader.h"
 #include "fray/prep/motion_graph.h"
 #include "fray/prep/segmentation.h"
 #include "options.h"
@@ -37,8 +40,14 @@ void runNew(const NewArgs& a) {
         return fail("--units: expected m, cm, mm, inch or cmu, got '" + a.units + "'");
     }
     if (!a.up.empty() && a.up != "y" && a.up != "z") return fail("--up: expected y or z, got '" + a.up + "'");
+    if (!prep::isValidUtf8(file.string())) return fail(a.project + ": the project's file name must be UTF-8 text");
     prep::Project p = prep::makeProject(file.stem().string());
     for (const auto& f : a.files) {
+        std::error_code ec;
+        if (fs::equivalent(f, file, ec)) return fail(a.project + ": is one of the imported captures; refusing to overwrite it");
+        if (!prep::isValidUtf8(f)) {
+            return fail(f + ": the file name is not UTF-8 text (the project stores paths as JSON text); rename the file");
+        }
         prep::ProjectMotion m;
         m.units = a.units;
         m.up = a.up;
@@ -214,49 +223,68 @@ void runGraph(const GraphArgs& a) {
 
 // ---- combos -----------------------------------------------------------------
 struct CombosArgs {
-    std::string project, action, file, mine, theirs;
-    double value = 0;
+    std::string project, action, file, mine, theirs, value;
+    bool valueGiven = false;
 };
 
-void runCombos(const CombosArgs& a) {
-    auto s = openSession(a.project, false, {});
-    if (!s) return fail(s.error().message);
-    auto& table = s->project.combos;
-    if (a.action == "list") {
-        std::printf("%-24s %-24s %s\n", "mine", "theirs", "suitability");
-        for (const auto& r : table.records()) {
-            std::printf("%-24s %-24s %g\n", r.mine.c_str(), r.theirs.c_str(), r.suitability);
-        }
-        return;
+Result<double> parseSuitability(const CombosArgs& a) {
+    if (!a.valueGiven) return makeError("combos set: give MINE THEIRS VALUE (the suitability is missing)");
+    double v = 0;
+    const auto* end = a.value.data() + a.value.size();
+    const auto [p, ec] = std::from_chars(a.value.data(), end, v);
+    if (ec != std::errc() || p != end || !std::isfinite(v) || std::abs(v) > prep::kMaxSuitability) {
+        return makeError("combos set: VALUE \"" + a.value + "\" must be a finite number between -1e6 and 1e6");
     }
-    if (a.action == "export") {
+    return v;
+}
+
+void runCombos(const CombosArgs& a) {
+    if (a.action == "list" || a.action == "export") {
+        auto s = openSession(a.project, false, {});
+        if (!s) return fail(s.error().message);
+        const auto& table = s->project.combos;
+        if (a.action == "list") {
+            std::printf("%-24s %-24s %s\n", "mine", "theirs", "suitability");
+            for (const auto& r : table.records()) {
+                std::printf("%-24s %-24s %g\n", r.mine.c_str(), r.theirs.c_str(), r.suitability);
+            }
+            return;
+        }
         if (a.file.empty()) return fail("combos export: give the CSV file to write");
+        if (auto st = checkOutputIsNotInput(s->file, s->project, a.file); !st) return fail(st.error().message);
         if (auto st = writeFileAtomically(a.file, table.toCsv()); !st) return fail(st.error().message);
         std::printf("%zu records -> %s\n", table.records().size(), a.file.c_str());
         return;
     }
-    if (a.action == "import") {
-        if (a.file.empty()) return fail("combos import: give the CSV file to read");
-        const auto text = readWholeFile(a.file, "the combination table");
-        if (!text) return fail(text.error().message);
-        auto t = prep::ComboTable::fromCsv(*text, a.file);
-        if (!t) return fail(t.error().message);
-        for (const auto& r : t->records()) table.set(r);
-        std::printf("%zu records imported\n", t->records().size());
-    } else if (a.action == "set") {
-        if (a.mine.empty() || a.theirs.empty()) return fail("combos set: give MINE THEIRS VALUE");
-        for (const std::string& key : {a.mine, a.theirs}) {
-            if (!prep::ComboTable::validKey(key)) {
-                return fail("combos set: \"" + key + "\" is not an action name or @annotation");
+    std::string done;
+    const Status st = editProject(a.project, [&](prep::Project& project) -> Status {
+        auto& table = project.combos;
+        if (a.action == "import") {
+            if (a.file.empty()) return makeError("combos import: give the CSV file to read");
+            const auto text = readWholeFile(a.file, "the combination table");
+            if (!text) return text.error();
+            auto t = prep::ComboTable::fromCsv(*text, a.file, &project.vocabulary);
+            if (!t) return t.error();
+            for (const auto& r : t->records()) table.set(r);
+            done = std::to_string(t->records().size()) + " records imported";
+        } else if (a.action == "set") {
+            if (a.mine.empty() || a.theirs.empty()) return makeError("combos set: give MINE THEIRS VALUE");
+            auto v = parseSuitability(a);
+            if (!v) return v.error();
+            const prep::ComboRecord record{a.mine, a.theirs, *v};
+            if (auto ok = prep::ComboTable::checkRecord(record, project.vocabulary); !ok) {
+                return makeError("combos set: " + ok.error().message);
             }
+            table.set(record);
+        } else if (a.action == "remove") {
+            if (!table.remove(a.mine, a.theirs)) return makeError("no record " + a.mine + " / " + a.theirs);
+        } else {
+            return makeError("combos: unknown action '" + a.action + "' (list, import, export, set, remove)");
         }
-        table.set({a.mine, a.theirs, a.value});
-    } else if (a.action == "remove") {
-        if (!table.remove(a.mine, a.theirs)) return fail("no record " + a.mine + " / " + a.theirs);
-    } else {
-        return fail("combos: unknown action '" + a.action + "' (list, import, export, set, remove)");
-    }
-    if (auto st = prep::saveProject(s->project, s->file); !st) return fail(st.error().message);
+        return {};
+    });
+    if (!st) return fail(st.error().message);
+    if (!done.empty()) std::printf("%s\n", done.c_str());
 }
 
 // ---- timeline ---------------------------------------------------------------
@@ -269,6 +297,7 @@ struct TimelineArgs {
 void runTimeline(const TimelineArgs& a) {
     auto s = openSession(a.project, true, stderrProgress(true));
     if (!s) return fail(s.error().message);
+    if (auto st = checkOutputIsNotInput(s->file, s->project, a.out); !st) return fail(st.error().message);
     auto summary = computeContacts(*s, false, {});
     if (!summary) return fail(summary.error().message);
     for (std::size_t i = 0; i < s->motions.size(); ++i) {
@@ -332,7 +361,8 @@ void registerPrep(CLI::App& app) {
         cmd->add_option("project", args->project, "Project file")->required();
         cmd->add_option("--labels", args->labels, "Contact labels CSV to import first (trains the SVM)");
         cmd->add_option("--threshold-factor", args->thresholdFactor,
-                        "High-acceleration threshold as a multiple of the median (default 12)");
+                        "High-acceleration threshold as a multiple of the median (default 12)")
+            ->check(finitePositive(1000));
         cmd->add_flag("--heuristic", args->heuristic, "Heuristic contacts even when labels exist");
         cmd->add_flag("-q,--quiet", args->quiet, "No progress on stderr");
         cmd->callback([args] { runSegment(*args); });
@@ -350,7 +380,7 @@ void registerPrep(CLI::App& app) {
         auto* cmd = app.add_subcommand("graph", "Build the action-level motion graph and print its statistics");
         cmd->add_option("project", args->project, "Project file")->required();
         cmd->add_option("--preset", args->preset, "Pose-distance weights: fighting or locomotion (default: project)");
-        cmd->add_option("--threshold", args->threshold, "Largest within-node pose distance");
+        cmd->add_option("--threshold", args->threshold, "Largest within-node pose distance")->check(finitePositive(1e6));
         cmd->add_flag("--json", args->json, "JSON output");
         cmd->add_flag("-q,--quiet", args->quiet, "No progress on stderr");
         cmd->callback([args] { runGraph(*args); });
@@ -363,9 +393,10 @@ void registerPrep(CLI::App& app) {
             ->required();
         cmd->add_option("args", args->file, "CSV file (import/export) or MINE (set/remove)");
         cmd->add_option("theirs", args->theirs, "THEIRS (set/remove)");
-        cmd->add_option("value", args->value, "Suitability (set)");
-        cmd->callback([args] {
+        auto* value = cmd->add_option("value", args->value, "Suitability (set): a finite number within +-1e6");
+        cmd->callback([args, value] {
             CombosArgs a = *args;
+            a.valueGiven = value->count() > 0;
             if (a.action == "set" || a.action == "remove") a.mine = a.file;
             runCombos(a);
         });

@@ -556,15 +556,18 @@ void registerRender(CLI::App& app) {
     cmd->add_option("--columns", a->columns, "Contact sheet columns (default: about square)");
     cmd->add_option("--max-cells", a->maxCells, "Contact sheet: at most this many cells")->capture_default_str();
     cmd->add_option("--action", a->action, "Contact sheet of a project: only actions with this name or annotation");
-    cmd->add_option("--yaw", a->yawDeg, "Camera heading in degrees (0: looking along -Z)")->capture_default_str();
-    cmd->add_option("--pitch", a->pitchDeg, "Camera elevation in degrees")->capture_default_str();
+    cmd->add_option("--yaw", a->yawDeg, "Camera heading in degrees (0: looking along -Z)")
+        ->capture_default_str()
+        ->check(finiteRange(-3600, 3600));
+    cmd->add_option("--pitch", a->pitchDeg, "Camera elevation in degrees")->capture_default_str()->check(finiteRange(-90, 90));
     cmd->add_option("--camera", a->camera, "fixed (frame the whole range), follow, or auto (follow when the path exceeds 6 m; a scene: the first character, when the scene spans over 30 m)")
         ->capture_default_str();
     cmd->add_flag("--trail", a->trail, "Draw each character's floor path over the range, with start and end markers");
     cmd->add_flag("--labels", a->labels, "Label characters with their take (or the current action of a project)");
     cmd->add_flag("--no-shadows", a->noShadows, "Disable the shadow map");
     cmd->add_flag("--no-grid", a->noGrid, "Plain floor");
-    cmd->add_option("--msaa", a->msaa, "Multisampling (1, 2, 4, 8; clamped to the device; default 4, or 1 with --fast)");
+    cmd->add_option("--msaa", a->msaa, "Multisampling (1, 2, 4, 8; clamped to the device; default 4, or 1 with --fast)")
+        ->check(CLI::IsMember({1, 2, 4, 8}));
     cmd->add_flag("--fast", a->fast, "Viewport quality: no MSAA, blob shadows instead of the shadow map, lower-poly bodies");
     cmd->add_flag("--validate", a->validate, "Vulkan validation layers on; any message fails the run (exit 3)");
     cmd->add_flag("--quiet", a->quiet, "No progress (or rig warnings) on stderr");

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "fray/core/atomic_file.h"
+#include "fray/prep/json_reader.h"
 #include "fray/sim/action_library.h"
 #include "fray/sim/metrics.h"
 #include "fray/sim/planner.h"
@@ -104,23 +105,33 @@ void runPresets(const PresetsArgs& a) {
         return;
     }
     if (a.name.empty()) return fail("presets " + a.action + ": give a preset name");
-    if (a.action == "set") {
-        sim::Preset p;
-        if (const auto* old = find(a.name)) p = *old;
-        p.name = a.name;
-        if (!a.description.empty()) p.description = a.description;
-        for (const auto& e : a.edits) {
-            if (auto st = sim::applyWeightEdit(p.weights, e); !st) return fail(st.error().message);
-        }
-        sim::setProjectPreset(s->project, p);
-    } else if (a.action == "remove") {
-        if (!sim::removeProjectPreset(s->project, a.name)) {
-            return fail(a.project + ": '" + a.name + "' is not a project preset (built-ins cannot be removed)");
-        }
-    } else {
+    if (a.action != "set" && a.action != "remove") {
         return fail("presets: expected list, show, set or remove, got '" + a.action + "'");
     }
-    if (auto st = prep::saveProject(s->project, s->file); !st) return fail(st.error().message);
+    if (!prep::isValidUtf8(a.name) || !prep::isValidUtf8(a.description)) {
+        return fail("presets " + a.action + ": the name and --description must be UTF-8 text");
+    }
+    // Read-modify-write under the project's lock: a concurrent edit waits.
+    const Status st = editProject(a.project, [&](prep::Project& project) -> Status {
+        auto current = sim::projectPresets(project, a.project);
+        if (!current) return current.error();
+        if (a.action == "set") {
+            sim::Preset p;
+            for (const auto& old : *current) {
+                if (old.name == a.name) p = old;
+            }
+            p.name = a.name;
+            if (!a.description.empty()) p.description = a.description;
+            for (const auto& e : a.edits) {
+                if (auto ok = sim::applyWeightEdit(p.weights, e); !ok) return makeError("presets set: " + ok.error().message);
+            }
+            sim::setProjectPreset(project, p);
+        } else if (!sim::removeProjectPreset(project, a.name)) {
+            return makeError(a.project + ": '" + a.name + "' is not a project preset (built-ins cannot be removed)");
+        }
+        return {};
+    });
+    if (!st) return fail(st.error().message);
     std::printf("%s: preset %s %s\n", a.project.c_str(), a.name.c_str(), a.action == "set" ? "saved" : "removed");
 }
 

@@ -21,6 +21,9 @@ std::string lowerExtension(const std::filesystem::path& path) {
 Result<Motion> loadMotion(const std::filesystem::path& path, const LoadOptions& options) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) return makeError(path.string() + ": file not found");
+    if (!std::filesystem::is_regular_file(path, ec)) {
+        return makeError(path.string() + ": not a regular file (a folder, device or pipe)");
+    }
     Result<Motion> motion = (lowerExtension(path) == ".bvh" && !options.forceAssimp)
                                 ? readBvh(path)
                                 : importWithAssimp(path, AssimpImportOptions{options.animation, {}, 0.0});

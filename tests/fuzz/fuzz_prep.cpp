@@ -18,7 +18,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     switch (data[0] % 4) {
         case 0: {
             auto p = fray::prep::projectFromJson(text, "fuzz.frayproj");
-            if (p) (void)fray::prep::projectToJson(*p);  // what loads must save
+            if (p) {  // what loads must save, and load again unchanged
+                auto again = fray::prep::projectFromJson(fray::prep::projectToJson(*p), "again.frayproj");
+                if (!again || !(*again == *p)) __builtin_trap();
+            }
             break;
         }
         case 1: {

@@ -2,12 +2,14 @@
 // simulate --spec), the scene file, the project's PatternList section, the
 // compose spec and the binary patch library, parsed against a small
 // hand-made action library. The first input byte picks the parser. They must
-// return an error, never crash, hang or leak; what loads must save.
+// return an error, never crash, hang or leak; what loads must save (and a
+// saved scene must load again to the same bytes).
 #include <cstddef>
 #include <cstdint>
 #include <string_view>
 
 #include <cstring>
+#include <string>
 
 #include "fray/sim/compose.h"
 #include "fray/sim/patches.h"
@@ -58,8 +60,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     switch (data[0] % 5) {
         case 0: (void)fray::sim::parseSceneSpec(text, "fuzz.json", lib, fray::sim::builtinPresets()); break;
         case 1: {
+            // Bounded depth and size (prep::parseJson), bounded durations and
+            // coordinates: what loads must save and load again, byte for byte.
+            (void)fray::sim::sceneProjectPath(text, "fuzz.frayscene");
             auto scene = fray::sim::sceneFromJson(text, "fuzz.frayscene", lib);
-            if (scene) (void)fray::sim::sceneToJson(*scene, lib);
+            if (scene) {
+                const std::string saved = fray::sim::sceneToJson(*scene, lib);
+                auto again = fray::sim::sceneFromJson(saved, "again.frayscene", lib);
+                if (!again || fray::sim::sceneToJson(*again, lib) != saved) __builtin_trap();
+            }
             break;
         }
         case 2: {

@@ -95,7 +95,7 @@ TEST(SimSpec, BadInputNamesTheField) {
         auto r = parseSpec(json);
         ASSERT_FALSE(r.ok()) << json;
         EXPECT_NE(r.error().message.find(fragment), std::string::npos) << r.error().message;
-        EXPECT_EQ(r.error().message.rfind("spec.json: ", 0), 0u) << r.error().message;
+        EXPECT_EQ(r.error().message.rfind("spec.json:", 0), 0u) << r.error().message;
     };
     expectError(R"({"duration": 5, "characters": [{"name": "a", "actions": ["@kik"]}]})",
                 "/characters/0/actions/0: unknown annotation 'kik'");
@@ -109,7 +109,7 @@ TEST(SimSpec, BadInputNamesTheField) {
     expectError(R"({"duration": 5, "characters": [{"name": "a", "motions": ["nope"]}]})", "no motion 'nope'");
     expectError(R"({"duration": 5, "characters": [{"name": "a", "opponent": "b"}]})", "no character is named 'b'");
     expectError(R"({"duration": 5, "characters": [{"name": "a", "depth": 0}]})", "/characters/0/depth");
-    expectError("{not json", "not valid JSON");
+    expectError("{not json", "spec.json:1:3: not valid JSON");  // line and column (issue 21)
     expectError(R"({"duration": 5, "characters": [{"name": "a", "path": [{"x": 1}]}]})", "/characters/0/path/0/z: missing");
     expectError(R"({"duration": 5, "arena": {"radius": 0.5}, "characters": [{"name": "a"}]})", "/arena/radius: must be at least 1 m");
     expectError(R"({"duration": 5, "arena": {"radius": 5, "r": 2}, "characters": [{"name": "a"}]})", "/arena/r: unknown field");

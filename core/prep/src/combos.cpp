@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <utility>
 #include <cmath>
 #include <sstream>
 
@@ -16,6 +17,24 @@ bool ComboTable::validKey(std::string_view s) {
         return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' ||
                c == '.';
     });
+}
+
+Status ComboTable::checkRecord(const ComboRecord& r, const std::vector<std::string>& vocabulary) {
+    using Field = std::pair<const char*, const std::string*>;
+    for (const auto& [field, key] : {Field{"mine", &r.mine}, Field{"theirs", &r.theirs}}) {
+        if (!validKey(*key)) {
+            return makeError(std::string(field) + ": \"" + csv::printable(*key) + "\" is not an action name or @annotation");
+        }
+        if (key->front() == '@' && std::find(vocabulary.begin(), vocabulary.end(), key->substr(1)) == vocabulary.end()) {
+            std::string words;
+            for (const auto& w : vocabulary) words += (words.empty() ? "" : ", ") + w;
+            return makeError(std::string(field) + ": " + *key + " is not in the project vocabulary (" + words + ")");
+        }
+    }
+    if (!std::isfinite(r.suitability) || std::abs(r.suitability) > kMaxSuitability) {
+        return makeError("suitability: must be a finite number between -1e6 and 1e6");
+    }
+    return {};
 }
 
 std::optional<double> ComboTable::set(const ComboRecord& record) {
@@ -75,8 +94,10 @@ std::string ComboTable::toCsv() const {
     return out.str();
 }
 
-Result<ComboTable> ComboTable::fromCsv(std::string_view text, std::string_view fileName) {
+Result<ComboTable> ComboTable::fromCsv(std::string_view text, std::string_view fileName,
+                                       const std::vector<std::string>* vocabulary) {
     ComboTable table;
+    if (const auto why = csv::notText(text); !why.empty()) return makeError(std::string(fileName) + ": " + why);
     bool header = false;
     csv::Reader reader(text);
     while (reader.next()) {
@@ -95,7 +116,7 @@ Result<ComboTable> ComboTable::fromCsv(std::string_view text, std::string_view f
         for (int i = 0; i < 2; ++i) {
             if (!validKey(cells[static_cast<std::size_t>(i)])) {
                 return makeError(where + (i == 0 ? "mine" : "theirs") + ": \"" +
-                                 std::string(cells[static_cast<std::size_t>(i)].substr(0, 64)) +
+                                 csv::printable(cells[static_cast<std::size_t>(i)]) +
                                  "\" is not an action name or @annotation");
             }
         }
@@ -103,13 +124,18 @@ Result<ComboTable> ComboTable::fromCsv(std::string_view text, std::string_view f
         const auto c = cells[2];
         const auto [p, ec] = std::from_chars(c.data(), c.data() + c.size(), v);
         if (ec != std::errc() || p != c.data() + c.size() || !std::isfinite(v)) {
-            return makeError(where + "suitability: \"" + std::string(c.substr(0, 32)) + "\" is not a number");
+            return makeError(where + "suitability: \"" + csv::printable(c, 32) + "\" is not a number");
+        }
+        const ComboRecord record{std::string(cells[0]), std::string(cells[1]), v};
+        if (std::abs(v) > kMaxSuitability) return makeError(where + "suitability: must be between -1e6 and 1e6");
+        if (vocabulary) {
+            if (auto st = checkRecord(record, *vocabulary); !st) return makeError(where + st.error().message);
         }
         if (table.find(cells[0], cells[1])) {
             return makeError(where + "row: the pair " + std::string(cells[0]) + " / " + std::string(cells[1]) +
                              " appears twice");
         }
-        table.records_.push_back({std::string(cells[0]), std::string(cells[1]), v});
+        table.records_.push_back(record);
     }
     if (!header) return makeError(std::string(fileName) + ": empty combination table (no header)");
     return table;

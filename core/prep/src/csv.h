@@ -2,9 +2,15 @@
 // The small CSV dialect of the labels and combination-table files: one record
 // per line, comma-separated cells with surrounding blanks trimmed, blank lines
 // and lines starting with '#' skipped, CRLF accepted. No quoting (no cell
-// needs a comma).
+// needs a comma). A UTF-8 byte-order mark at the start is skipped (some
+// spreadsheets write one). Cell text quoted in an error goes through
+// printable() so binary content never reaches the terminal raw.
+#include <cstddef>
+#include <string>
 #include <string_view>
 #include <vector>
+
+#include "fray/prep/json_reader.h"
 
 namespace fray::prep::csv {
 
@@ -14,10 +20,31 @@ inline std::string_view trim(std::string_view s) {
     return s;
 }
 
+// At most maxBytes of s for an error message: control characters (and, when s
+// is not UTF-8, every byte above 0x7F) become '?'.
+inline std::string printable(std::string_view s, std::size_t maxBytes = 64) {
+    s = s.substr(0, maxBytes);
+    const bool utf8 = isValidUtf8(s);
+    std::string out;
+    for (const char ch : s) {
+        const auto c = static_cast<unsigned char>(ch);
+        out += (c < 0x20 || c == 0x7F || (!utf8 && c >= 0x80)) ? '?' : ch;
+    }
+    return out;
+}
+
+// "" when text can be a CSV file; else why not (binary data).
+inline std::string notText(std::string_view text) {
+    if (text.find('\0') != std::string_view::npos) return "is not a text file (it contains NUL bytes)";
+    return "";
+}
+
 // Walks the records of a text; line() is the 1-based line of the current one.
 class Reader {
 public:
-    explicit Reader(std::string_view text) : text_(text) {}
+    explicit Reader(std::string_view text) : text_(text) {
+        if (text_.substr(0, 3) == "\xEF\xBB\xBF") text_.remove_prefix(3);
+    }
 
     // Moves to the next record; false at the end.
     bool next() {

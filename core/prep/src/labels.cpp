@@ -10,6 +10,7 @@ namespace fray::prep {
 Result<std::vector<LabelRow>> parseLabelsCsv(std::string_view text, std::string_view fileName) {
     static const char* const kFields[] = {"motion", "first_frame", "last_frame", "left", "right"};
     std::vector<LabelRow> rows;
+    if (const auto why = csv::notText(text); !why.empty()) return makeError(std::string(fileName) + ": " + why);
     bool header = false;
     csv::Reader reader(text);
     while (reader.next()) {
@@ -24,12 +25,12 @@ Result<std::vector<LabelRow>> parseLabelsCsv(std::string_view text, std::string_
             if (cells.size() != 5 || cells[0] != "motion") {
                 return makeError(where("header") +
                                  ": expected \"motion,first_frame,last_frame,left,right\", found \"" +
-                                 std::string(line.substr(0, 80)) + "\"");
+                                 csv::printable(line, 80) + "\"");
             }
             for (std::size_t i = 0; i < 5; ++i) {
                 if (cells[i] != kFields[i]) {
                     return makeError(where("header") + ": column " + std::to_string(i + 1) + " must be \"" +
-                                     kFields[i] + "\", found \"" + std::string(cells[i]) + "\"");
+                                     kFields[i] + "\", found \"" + csv::printable(cells[i]) + "\"");
                 }
             }
             continue;
@@ -42,12 +43,16 @@ Result<std::vector<LabelRow>> parseLabelsCsv(std::string_view text, std::string_
         row.line = lineNo;
         row.motion = std::string(cells[0]);
         if (row.motion.empty()) return makeError(where("motion") + ": empty motion name");
+        if (csv::printable(row.motion, row.motion.size()) != row.motion) {
+            return makeError(where("motion") + ": \"" + csv::printable(row.motion) +
+                             "\" is not a motion id (control characters or bytes that are not UTF-8)");
+        }
         for (int i = 1; i <= 2; ++i) {
             const auto c = cells[static_cast<std::size_t>(i)];
             int v = 0;
             const auto [p, ec] = std::from_chars(c.data(), c.data() + c.size(), v);
             if (ec != std::errc() || p != c.data() + c.size()) {
-                return makeError(where(kFields[i]) + ": \"" + std::string(c) + "\" is not a frame number");
+                return makeError(where(kFields[i]) + ": \"" + csv::printable(c) + "\" is not a frame number");
             }
             if (v < 0) return makeError(where(kFields[i]) + ": frame " + std::to_string(v) + " is negative");
             (i == 1 ? row.label.firstFrame : row.label.lastFrame) = v;
@@ -62,7 +67,7 @@ Result<std::vector<LabelRow>> parseLabelsCsv(std::string_view text, std::string_
             if (c == "1") v = true;
             else if (c == "0") v = false;
             else if (c != "-" && !c.empty()) {
-                return makeError(where(kFields[i]) + ": \"" + std::string(c) + "\" must be 1, 0 or -");
+                return makeError(where(kFields[i]) + ": \"" + csv::printable(c) + "\" must be 1, 0 or -");
             }
             (i == 3 ? row.label.left : row.label.right) = v;
         }

@@ -89,9 +89,13 @@ Result<std::vector<LoadedMotion>> loadProjectMotions(const Project& project, con
         m.id = entry.id;
         m.file = resolveMotionPath(projectFile, entry);
         std::error_code ec;
-        if (!std::filesystem::is_regular_file(m.file, ec)) {
+        if (!std::filesystem::exists(m.file, ec)) {
             return makeError(where + "/path: motion file '" + m.file.string() + "' does not exist (motion \"" +
                              entry.id + "\"; fix the path or remove the motion)");
+        }
+        if (!std::filesystem::is_regular_file(m.file, ec)) {
+            return makeError(where + "/path: '" + m.file.string() + "' is not a regular file (a folder, device or pipe; motion \"" +
+                             entry.id + "\")");
         }
         auto motion = loader(m.file, entry);
         if (!motion) return makeError(where + "/path: " + motion.error().message);
@@ -176,6 +180,8 @@ std::vector<std::uint8_t> serializeCache(const DerivedCache& cache) {
             w.put(static_cast<std::int32_t>(cache.graph->endNode[i]));
         }
     }
+    // Trailer: FNV-1a 64 of every byte before it (magic and version included).
+    w.put(hashBytes(w.bytes.data(), w.bytes.size()));
     return std::move(w.bytes);
 }
 
@@ -183,11 +189,22 @@ Result<DerivedCache> deserializeCache(const std::vector<std::uint8_t>& bytes) {
     if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0) {
         return makeError("not a Fray cache file");
     }
-    std::vector<std::uint8_t> body(bytes.begin() + sizeof kMagic, bytes.end());
+    std::uint32_t version = 0;
+    if (bytes.size() < sizeof kMagic + sizeof version) return makeError("truncated cache");
+    std::memcpy(&version, bytes.data() + sizeof kMagic, sizeof version);
+    if (version != DerivedCache::kVersion) {
+        return makeError("cache version " + std::to_string(version) + " is stale (this build writes " +
+                         std::to_string(DerivedCache::kVersion) + ")");
+    }
+    std::uint64_t stored = 0;
+    if (bytes.size() < sizeof kMagic + sizeof version + sizeof stored) return makeError("truncated cache");
+    const std::size_t checked = bytes.size() - sizeof stored;
+    std::memcpy(&stored, bytes.data() + checked, sizeof stored);
+    if (hashBytes(bytes.data(), checked) != stored) return makeError("damaged cache (checksum mismatch)");
+    std::vector<std::uint8_t> body(bytes.begin() + sizeof kMagic + sizeof version,
+                                   bytes.begin() + static_cast<std::ptrdiff_t>(checked));
     ByteReader r(body);
-    std::uint32_t version = 0, count = 0;
-    if (!r.get(version)) return makeError("truncated cache");
-    if (version != DerivedCache::kVersion) return makeError("cache version " + std::to_string(version) + " is stale");
+    std::uint32_t count = 0;
     if (!r.get(count)) return makeError("truncated cache");
     DerivedCache cache;
     for (std::uint32_t i = 0; i < count; ++i) {
@@ -226,7 +243,14 @@ Result<DerivedCache> deserializeCache(const std::vector<std::uint8_t>& bytes) {
     return cache;
 }
 
-DerivedCache readCache(const std::filesystem::path& projectFile, std::string* why) {
+DerivedCache readCache(const std::filesystem::path& projectFile, std::string* why, bool* damaged) {
+    if (damaged) *damaged = false;
+    std::error_code ec;
+    if (!std::filesystem::exists(cachePath(projectFile), ec)) {
+        if (why) *why = cachePath(projectFile).string() + ": no cache yet";
+        return {};
+    }
+    if (damaged) *damaged = true;
     const auto text = readWholeFile(cachePath(projectFile), "the cache");
     if (!text) {
         if (why) *why = text.error().message;
@@ -234,9 +258,10 @@ DerivedCache readCache(const std::filesystem::path& projectFile, std::string* wh
     }
     auto cache = deserializeCache(std::vector<std::uint8_t>(text->begin(), text->end()));
     if (!cache) {
-        if (why) *why = cache.error().message;
+        if (why) *why = cachePath(projectFile).string() + ": " + cache.error().message;
         return {};
     }
+    if (damaged) *damaged = false;
     return std::move(*cache);
 }
 

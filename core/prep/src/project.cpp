@@ -184,16 +184,6 @@ Result<ProjectMotion> motionFromJson(const Reader& rd, const json& v, const std:
     return m;
 }
 
-// Line and column of a byte offset, for parse errors.
-std::string lineColumn(std::string_view text, std::size_t offset) {
-    int line = 1, col = 1;
-    for (std::size_t i = 0; i < std::min(offset, text.size()); ++i) {
-        if (text[i] == '\n') ++line, col = 1;
-        else ++col;
-    }
-    return std::to_string(line) + ":" + std::to_string(col);
-}
-
 }  // namespace
 
 ProjectMotion* Project::findMotion(std::string_view id) {
@@ -256,21 +246,19 @@ std::string projectToJson(const Project& project) {
     j["combos"] = combos;
     for (const char* key : kLaterSections) {
         const auto it = project.laterSections.find(key);
-        if (it != project.laterSections.end()) j[key] = json::parse(it->second);
+        if (it == project.laterSections.end()) continue;
+        // Sections hold what projectFromJson (or a later issue's writer) made:
+        // valid JSON. Should one not be, it is kept as a string, not dropped.
+        json section = json::parse(it->second, nullptr, false);
+        j[key] = section.is_discarded() ? json(it->second) : std::move(section);
     }
-    return j.dump(2) + "\n";
+    return dumpJson(j, 2) + "\n";
 }
 
 Result<Project> projectFromJson(std::string_view text, std::string_view fileName) {
-    json j;
-    try {
-        j = json::parse(text.begin(), text.end());
-    } catch (const json::parse_error& e) {
-        return makeError(std::string(fileName) + ":" + lineColumn(text, e.byte == 0 ? 0 : e.byte - 1) +
-                         ": not valid JSON (" + std::string(e.what()).substr(0, 160) + ")");
-    } catch (const json::exception& e) {  // e.g. a number too large for a double
-        return makeError(std::string(fileName) + ": not valid JSON (" + std::string(e.what()).substr(0, 160) + ")");
-    }
+    auto parsed = parseJson(text, fileName);
+    if (!parsed) return parsed.error();
+    const json& j = *parsed;
     const Reader rd(fileName);
     if (!j.is_object()) return rd.error("", "the project must be a JSON object");
     FRAY_TRY(format, rd.field(j, "", "format"));
@@ -308,13 +296,21 @@ Result<Project> projectFromJson(std::string_view text, std::string_view fileName
             }
             p.settings.graphPreset = *preset;
         }
-        for (auto [key, out] : {std::pair{"graph_threshold", &p.settings.graphThreshold},
-                                std::pair{"segment_threshold_factor", &p.settings.segmentThresholdFactor}}) {
-            const auto f = it->find(key);
+        // The same bounds as fray-cli's --threshold and --threshold-factor.
+        struct Setting {
+            const char* key;
+            std::optional<double>* out;
+            double max;
+        };
+        for (const Setting& st : {Setting{"graph_threshold", &p.settings.graphThreshold, 1e6},
+                                  Setting{"segment_threshold_factor", &p.settings.segmentThresholdFactor, 1000.0}}) {
+            const auto f = it->find(st.key);
             if (f == it->end() || f->is_null()) continue;
-            FRAY_TRY(x, rd.number(*f, std::string("/settings/") + key));
-            if (!(x > 0)) return rd.error(std::string("/settings/") + key, "must be positive");
-            *out = x;
+            FRAY_TRY(x, rd.number(*f, std::string("/settings/") + st.key));
+            if (!(x > 0) || x > st.max) {
+                return rd.error(std::string("/settings/") + st.key, "must be positive and at most " + Reader::fmt(st.max));
+            }
+            *st.out = x;
         }
     }
     FRAY_TRY(motions, rd.field(j, "", "motions"));
@@ -334,14 +330,15 @@ Result<Project> projectFromJson(std::string_view text, std::string_view fileName
             ComboRecord r;
             FRAY_TRY(mineS, rd.stringAt(c, cp, "mine"));
             FRAY_TRY(theirsS, rd.stringAt(c, cp, "theirs"));
-            FRAY_TRY(suitV, rd.numberAt(c, cp, "suitability"));
+            FRAY_TRY(sf, rd.field(c, cp, "suitability"));
+            FRAY_TRY(suitV, rd.numberIn(*sf, cp + "/suitability", -kMaxSuitability, kMaxSuitability));
             if (mineS.empty() || theirsS.empty()) return rd.error(cp, "mine and theirs must not be empty");
             if (p.combos.find(mineS, theirsS)) return rd.error(cp, "the pair appears twice");
             p.combos.set({mineS, theirsS, suitV});
         }
     }
     for (const char* key : kLaterSections) {
-        if (auto it = j.find(key); it != j.end()) p.laterSections[key] = it->dump();
+        if (auto it = j.find(key); it != j.end()) p.laterSections[key] = dumpJson(*it);
     }
     return p;
 }

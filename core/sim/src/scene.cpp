@@ -67,12 +67,15 @@ Result<std::vector<Checkpoint>> checkpointsFromJson(const JsonReader& rd, const 
         const std::string p = path + "/" + std::to_string(i);
         if (!v[i].is_object()) return rd.error(p, "must be an object {x, z[, time][, action]}");
         Checkpoint c;
-        FRAY_TRY(x, rd.numberAt(v[i], p, "x"));
-        FRAY_TRY(z, rd.numberAt(v[i], p, "z"));
+        FRAY_TRY(xf, rd.field(v[i], p, "x"));
+        FRAY_TRY(x, rd.numberIn(*xf, p + "/x", -kMaxCoordinate, kMaxCoordinate));
+        FRAY_TRY(zf, rd.field(v[i], p, "z"));
+        FRAY_TRY(z, rd.numberIn(*zf, p + "/z", -kMaxCoordinate, kMaxCoordinate));
         c.pos = {static_cast<float>(x), static_cast<float>(z)};
         FRAY_TRY(tf, rd.field(v[i], p, "time", false));
         if (tf) {
-            FRAY_TRY(t, rd.number(*tf, p + "/time"));
+            // Seconds from the start of the scene.
+            FRAY_TRY(t, rd.numberIn(*tf, p + "/time", 0.0, kMaxSceneSeconds));
             c.time = t;
         }
         FRAY_TRY(af, rd.field(v[i], p, "action", false));
@@ -351,9 +354,9 @@ std::string sceneToJson(const Scene& scene, const ActionLibrary& lib) {
                       {"choices", s.choices},     {"pruned", s.pruned},     {"cutoffs", s.cutoffs},
                       {"fallbacks", s.fallbacks}, {"forced", s.forced},
                       {"shallower", s.shallower}};
-    const json spec = json::parse(scene.spec, nullptr, false);
-    j["spec"] = spec.is_discarded() ? json(scene.spec) : spec;
-    return j.dump(1) + "\n";
+    auto spec = prep::parseJson(scene.spec, "spec");
+    j["spec"] = spec ? std::move(*spec) : json(scene.spec);
+    return prep::dumpJson(j, 1) + "\n";
 }
 
 namespace {
@@ -370,12 +373,13 @@ Result<std::string> projectOf(const JsonReader& rd, const json& j) {
 }  // namespace
 
 Result<std::string> sceneProjectPath(std::string_view text, std::string_view fileName) {
-    return projectOf(JsonReader(fileName), json::parse(text, nullptr, false));
+    FRAY_TRY(j, prep::parseJson(text, fileName));
+    return projectOf(JsonReader(fileName), j);
 }
 
 Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, const ActionLibrary& lib) {
     const JsonReader rd(fileName);
-    const json j = json::parse(text, nullptr, false);
+    FRAY_TRY(j, prep::parseJson(text, fileName));
     FRAY_TRY(projectPath, projectOf(rd, j));
     FRAY_TRY(version, rd.integerAt(j, "", "version"));
     if (version != kSceneVersion) {
@@ -386,7 +390,9 @@ Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, co
     Scene scene;
     scene.project = projectPath;
     FRAY_TRY(duration, rd.numberAt(j, "", "duration"));
-    if (!(duration > 0)) return rd.error("/duration", "must be positive");
+    if (!(duration > 0) || duration > kMaxSceneSeconds) {
+        return rd.error("/duration", "must be a positive number of seconds, at most 3600");
+    }
     scene.duration = duration;
     FRAY_TRY(sf, rd.field(j, "", "seed"));
     if (!sf->is_number_unsigned() && !sf->is_number_integer()) return rd.error("/seed", "must be an integer");
@@ -581,7 +587,7 @@ Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, co
         scene.stats.forced = get("forced");
         scene.stats.shallower = get("shallower");
     }
-    if (const auto sp = j.find("spec"); sp != j.end()) scene.spec = sp->is_string() ? sp->get<std::string>() : sp->dump();
+    if (const auto sp = j.find("spec"); sp != j.end()) scene.spec = sp->is_string() ? sp->get<std::string>() : prep::dumpJson(*sp);
     return scene;
 }
 

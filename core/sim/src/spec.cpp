@@ -63,6 +63,17 @@ std::string keyList() {
     return s;
 }
 
+// Every numeric weight is finite and at least 0 (the costs add weighted
+// terms; a negative weight would reward what the term penalises). Distances
+// (r_d, attack_range, defence_range) are at most 100 m, the rest at most 1e6.
+std::string weightProblem(std::string_view key, double x) {
+    if (!std::isfinite(x)) return "must be a finite number";
+    const bool distance = key == "r_d" || key == "attack_range" || key == "defence_range";
+    const double hi = distance ? 100.0 : 1e6;
+    if (x < 0 || x > hi) return distance ? "must be between 0 and 100 (metres)" : "must be between 0 and 1e6";
+    return "";
+}
+
 json weightsJson(const StyleWeights& w) {
     json j;
     for (const auto& f : kWeightFields) {
@@ -80,14 +91,13 @@ Result<StyleWeights> weightsFrom(StyleWeights w, const JsonReader& rd, const jso
         if (!f) return rd.error(p, "unknown weight (expected one of " + keyList() + ")");
         if (f->number) {
             FRAY_TRY(x, rd.number(it.value(), p));
-            if (!std::isfinite(x)) return rd.error(p, "must be finite");
+            if (const auto why = weightProblem(it.key(), x); !why.empty()) return rd.error(p, why);
             w.*(f->number) = x;
         } else {
             FRAY_TRY(b, rd.boolean(it.value(), p));
             w.*(f->flag) = b;
         }
     }
-    if (w.rD < 0) return rd.error(path + "/r_d", "must not be negative");
     return w;
 }
 
@@ -144,7 +154,7 @@ Result<std::vector<Preset>> projectPresets(const prep::Project& project, std::st
     const auto it = project.laterSections.find(kPresetSection);
     if (it == project.laterSections.end()) return out;
     const JsonReader rd(fileName);
-    const json j = json::parse(it->second, nullptr, false);
+    const json j = json::parse(it->second, nullptr, false);  // a section of a parsed (size- and depth-checked) project
     const std::string base = std::string("/") + kPresetSection;
     if (j.is_discarded() || !j.is_object()) return rd.error(base, "must be an object of presets");
     std::vector<Preset> extra;
@@ -193,7 +203,7 @@ std::optional<Preset> setProjectPreset(prep::Project& project, const Preset& pre
     json entry = weightsJson(preset.weights);
     if (!preset.description.empty()) entry["description"] = preset.description;
     section[preset.name] = entry;
-    project.laterSections[kPresetSection] = section.dump();
+    project.laterSections[kPresetSection] = prep::dumpJson(section);
     return previous;
 }
 
@@ -210,7 +220,7 @@ std::optional<Preset> removeProjectPreset(prep::Project& project, std::string_vi
     }
     section.erase(std::string(name));
     if (section.empty()) project.laterSections.erase(it);
-    else it->second = section.dump();
+    else it->second = prep::dumpJson(section);
     return removed;
 }
 
@@ -218,8 +228,7 @@ std::string weightsToJson(const StyleWeights& w) { return weightsJson(w).dump();
 
 Result<StyleWeights> applyWeightsJson(StyleWeights base, std::string_view text, std::string_view what) {
     const JsonReader rd(what);
-    const json j = json::parse(text, nullptr, false);
-    if (j.is_discarded()) return rd.error("", "not valid JSON");
+    FRAY_TRY(j, prep::parseJson(text, what));
     return weightsFrom(base, rd, j, "");
 }
 
@@ -240,7 +249,7 @@ Status applyWeightEdit(StyleWeights& w, std::string_view edit) {
     if (ec != std::errc() || end != value.data() + value.size() || !std::isfinite(x)) {
         return makeError(key + ": expected a number, got '" + value + "'");
     }
-    if (key == "r_d" && x < 0) return makeError("r_d: must not be negative");
+    if (const auto why = weightProblem(key, x); !why.empty()) return makeError(key + ": " + why + ", got '" + value + "'");
     w.*(f->number) = x;
     return {};
 }
@@ -248,8 +257,7 @@ Status applyWeightEdit(StyleWeights& w, std::string_view edit) {
 Result<SceneSpec> parseSceneSpec(std::string_view text, std::string_view fileName, const ActionLibrary& lib,
                                  const std::vector<Preset>& presets) {
     const JsonReader rd(fileName);
-    const json j = json::parse(text, nullptr, false);
-    if (j.is_discarded()) return rd.error("", "not valid JSON");
+    FRAY_TRY(j, prep::parseJson(text, fileName));
     if (!j.is_object()) return rd.error("", "must be a JSON object");
     static const char* const kTopKeys[] = {"version",   "duration",     "seed",         "pruning",      "alpha_beta",
                                            "parallel",  "catch_radius", "stop_on_catch", "fall_impulse", "start_jitter",
@@ -269,7 +277,7 @@ Result<SceneSpec> parseSceneSpec(std::string_view text, std::string_view fileNam
     }
     FRAY_TRY(duration, rd.numberAt(j, "", "duration"));
     if (!(duration > 0) || !std::isfinite(duration)) return rd.error("/duration", "must be a positive number of seconds");
-    if (duration > 3600) return rd.error("/duration", "must be at most 3600 s");
+    if (duration > kMaxSceneSeconds) return rd.error("/duration", "must be at most 3600 s");
     o.duration = duration;
     if (auto v = j.find("seed"); v != j.end()) {
         if (!v->is_number_unsigned()) return rd.error("/seed", "must be a non-negative integer");
@@ -287,7 +295,7 @@ Result<SceneSpec> parseSceneSpec(std::string_view text, std::string_view fileNam
         if (auto v = j.find(key); v != j.end()) {
             auto x = rd.number(*v, std::string("/") + key);
             if (!x) return x.error();
-            if (!(*x > 0) || !std::isfinite(*x)) return rd.error(std::string("/") + key, "must be positive");
+            if (!(*x > 0) || *x > 1e4) return rd.error(std::string("/") + key, "must be positive and at most 1e4");
             out = *x;
         }
         return {};
@@ -308,12 +316,12 @@ Result<SceneSpec> parseSceneSpec(std::string_view text, std::string_view fileNam
         if (!v->is_object()) return rd.error("/start_jitter", "must be {distance, angle_deg}");
         if (auto d = v->find("distance"); d != v->end()) {
             FRAY_TRY(x, rd.number(*d, "/start_jitter/distance"));
-            if (x < 0) return rd.error("/start_jitter/distance", "must not be negative");
+            if (x < 0 || x > 1e4) return rd.error("/start_jitter/distance", "must be between 0 and 1e4 (metres)");
             o.startJitter = x;
         }
         if (auto d = v->find("angle_deg"); d != v->end()) {
             FRAY_TRY(x, rd.number(*d, "/start_jitter/angle_deg"));
-            if (x < 0) return rd.error("/start_jitter/angle_deg", "must not be negative");
+            if (x < 0 || x > 360) return rd.error("/start_jitter/angle_deg", "must be between 0 and 360");
             o.startJitterDegrees = x;
         }
     }
@@ -462,8 +470,8 @@ Result<SceneSpec> parseSceneSpec(std::string_view text, std::string_view fileNam
             double x = 0, z = 0, h = 0;
             for (auto [key, out] : {std::pair<const char*, double*>{"x", &x}, {"z", &z}, {"heading_deg", &h}}) {
                 if (auto f = v->find(key); f != v->end()) {
-                    FRAY_TRY(num, rd.number(*f, p + "/start/" + key));
-                    if (!std::isfinite(num)) return rd.error(p + "/start/" + key, "must be finite");
+                    const double bound = std::string_view(key) == "heading_deg" ? 1e6 : kMaxCoordinate;
+                    FRAY_TRY(num, rd.numberIn(*f, p + "/start/" + key, -bound, bound));
                     *out = num;
                 }
             }

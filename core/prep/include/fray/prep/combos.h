@@ -12,6 +12,9 @@
 
 namespace fray::prep {
 
+// Suitabilities are finite and within +-kMaxSuitability.
+inline constexpr double kMaxSuitability = 1e6;
+
 struct ComboRecord {
     std::string mine;    // action name, or "@annotation"
     std::string theirs;  // action name, or "@annotation"
@@ -37,9 +40,17 @@ public:
     // An action name or "@annotation": letters, digits, '_', '-', '.'; 1..64 characters.
     static bool validKey(std::string_view key);
 
+    // A record about to enter a project: both keys valid, every @annotation
+    // in the vocabulary, the suitability finite and within +-kMaxSuitability.
+    // The error names the field ("theirs: @pnuch is not in the project
+    // vocabulary (...)") for the caller to prefix with its file or command.
+    static Status checkRecord(const ComboRecord& record, const std::vector<std::string>& vocabulary);
+
     std::string toCsv() const;
-    // Errors name the file, the line and the field.
-    static Result<ComboTable> fromCsv(std::string_view text, std::string_view fileName);
+    // Errors name the file, the line and the field. With a vocabulary, every
+    // record is also checked as checkRecord does.
+    static Result<ComboTable> fromCsv(std::string_view text, std::string_view fileName,
+                                      const std::vector<std::string>* vocabulary = nullptr);
     friend bool operator==(const ComboTable&, const ComboTable&) = default;
 
 private:

@@ -3,7 +3,14 @@
 // of the bad field ("demo.frayproj: /motions/2/cuts/5: must be an integer").
 // Shared by the project file, scene specs and scene files. Consumers link
 // nlohmann_json themselves.
+//
+// parseJson is the one way in: it bounds the size and the nesting depth of a
+// document (so no later recursive copy, dump or destruction can exhaust the
+// stack) and reports syntax errors with line and column.
+#include <cmath>
+#include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -13,6 +20,24 @@
 #include "fray/core/result.h"
 
 namespace fray::prep {
+
+// Limits of every JSON document Fray reads (docs/FILES.md).
+inline constexpr int kMaxJsonDepth = 64;
+inline constexpr std::size_t kMaxJsonBytes = std::size_t{256} << 20;  // 256 MiB
+
+// "line:column" (1-based) of a byte offset in text.
+std::string lineColumn(std::string_view text, std::size_t offset);
+
+// Parses a whole document. Errors: "FILE:LINE:COL: not valid JSON (...)",
+// "FILE:LINE:COL: nested deeper than 64 levels", "FILE: ... larger than ...".
+Result<nlohmann::ordered_json> parseJson(std::string_view text, std::string_view fileName);
+
+// Serialises without throwing: bytes that are not UTF-8 (a joint name from a
+// Latin-1 capture) become U+FFFD instead of an exception.
+std::string dumpJson(const nlohmann::ordered_json& j, int indent = -1);
+
+// True when s is well-formed UTF-8.
+bool isValidUtf8(std::string_view s);
 
 // Reading with JSON-pointer error paths. Every accessor checks the type and
 // returns an Error naming the path.
@@ -45,7 +70,16 @@ public:
     }
     Result<double> number(const json& v, const std::string& path) const {
         if (!v.is_number()) return error(path, "must be a number");
-        return v.get<double>();
+        const double x = v.get<double>();
+        if (!std::isfinite(x)) return error(path, "must be a finite number");
+        return x;
+    }
+    // A number within [lo, hi]; the error names both bounds.
+    Result<double> numberIn(const json& v, const std::string& path, double lo, double hi) const {
+        auto x = number(v, path);
+        if (!x) return x;
+        if (*x < lo || *x > hi) return error(path, "must be between " + fmt(lo) + " and " + fmt(hi) + " (is " + fmt(*x) + ")");
+        return x;
     }
     Result<bool> boolean(const json& v, const std::string& path) const {
         if (!v.is_boolean()) return error(path, "must be true or false");
@@ -73,6 +107,12 @@ public:
             out.push_back(std::move(*s));
         }
         return out;
+    }
+
+    static std::string fmt(double x) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%g", x);
+        return buf;
     }
 
 private:

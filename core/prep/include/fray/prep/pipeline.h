@@ -57,7 +57,9 @@ struct CachedGraph {
     std::vector<int> startNode, endNode;  // per action, project order
 };
 struct DerivedCache {
-    static constexpr std::uint32_t kVersion = 1;
+    // 2: FNV-1a 64 checksum trailer. A version 1 cache reads as stale and is
+    // rebuilt (it is derived data).
+    static constexpr std::uint32_t kVersion = 2;
     std::vector<std::pair<std::string, CachedContacts>> contacts;  // by motion id
     std::optional<CachedGraph> graph;
     const CachedContacts* findContacts(const std::string& id, std::uint64_t key) const;
@@ -65,10 +67,12 @@ struct DerivedCache {
 
 std::filesystem::path cachePath(const std::filesystem::path& projectFile);
 std::vector<std::uint8_t> serializeCache(const DerivedCache& cache);
-// Garbage, truncation or another version give an error (callers rebuild).
+// Garbage, truncation, a checksum mismatch (any change confined to one byte
+// is always caught) or another version give an error (callers rebuild).
 Result<DerivedCache> deserializeCache(const std::vector<std::uint8_t>& bytes);
-// A missing or unreadable cache reads as empty (with the reason in *why).
-DerivedCache readCache(const std::filesystem::path& projectFile, std::string* why = nullptr);
+// A missing or unreadable cache reads as empty (with the reason in *why;
+// *damaged is set when the file exists but cannot be trusted).
+DerivedCache readCache(const std::filesystem::path& projectFile, std::string* why = nullptr, bool* damaged = nullptr);
 Status writeCache(const std::filesystem::path& projectFile, const DerivedCache& cache);
 
 // FNV-1a 64 over bytes; used for the cache keys.

@@ -24,6 +24,10 @@
 namespace fray::sim {
 
 inline constexpr int kSceneVersion = 1;
+// Limits of scene specs and scene files (docs/FILES.md): a scene lasts at
+// most an hour; positions on the floor stay within 10 km of the origin.
+inline constexpr double kMaxSceneSeconds = 3600.0;
+inline constexpr double kMaxCoordinate = 1e4;
 
 struct ActionInstance {
     int action = 0;       // library index
