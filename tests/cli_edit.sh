@@ -68,7 +68,8 @@ expect_change "confirm all" "A(4)['annotations'] += ['kick', 'step']; A(4)['prop
   "$cli" annotate "$p" $m 4 --confirm-all
 check "one command per proposal" "grep -q 'Confirm kick; Confirm step' '$tmp/out.txt'"
 expect_change "reject all" "A(5)['proposed'] = []" "$cli" annotate "$p" $m 5 --reject-all
-expect_change "joints" "A(3)['joints'] = ['LeftHand', 'RightHand']" "$cli" annotate "$p" $m 3 --joints LeftHand,RightHand
+expect_change "joints" "A(3)['joints'] = ['LeftHand', 'RightHand', 'Spine1']" \
+  "$cli" annotate "$p" $m 3 --joints 'LeftHand,RightHand , Spine1'
 expect_change "clear joints" "A(3)['joints'] = []" "$cli" annotate "$p" $m 3 --joints ''
 expect_change "direction" "A(3)['attack_direction'] = 'from_left'" "$cli" annotate "$p" $m 3 --direction from_left
 expect_change "no direction" "A(3)['attack_direction'] = None" "$cli" annotate "$p" $m 3 --no-direction
@@ -96,7 +97,7 @@ refused "not a proposal" "--confirm: motion \\\"$m\\\", action 3: \\\"walk\\\" i
   "$cli" annotate "$p" $m 3 --confirm walk
 refused "not annotated" "--remove: .*not annotated \\\"run\\\"" "$cli" annotate "$p" $m 3 --remove run
 refused "already annotated" "--add: .*already annotated \\\"avoid\\\"" "$cli" annotate "$p" $m 3 --add avoid
-refused "empty joint" "--joints: .*joint 1 has no name" "$cli" annotate "$p" $m 3 --joints LeftHand,,RightHand
+refused "empty joint" "--joints: .*joint 1 has no name" "$cli" annotate "$p" $m 3 --joints 'LeftHand, ,RightHand'
 refused "range order" "--distance: MAX 1 is below MIN 2" "$cli" annotate "$p" $m 3 --name x --distance 2:1
 refused "range not finite" "--timing MAX: inf is not a finite number" "$cli" annotate "$p" $m 3 --timing 0:inf
 refused "range nan" "--angle MIN: nan is not a finite number" "$cli" annotate "$p" $m 3 --angle nan:1

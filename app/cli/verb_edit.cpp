@@ -147,7 +147,11 @@ std::vector<std::string> splitJoints(const std::string& text) {
     std::size_t start = 0;
     while (true) {
         const auto comma = text.find(',', start);
-        joints.push_back(text.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+        std::string joint = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        // "LeftHand, RightHand": spaces around a name are not part of it.
+        joint.erase(0, joint.find_first_not_of(' '));
+        joint.erase(joint.find_last_not_of(' ') + 1);
+        joints.push_back(std::move(joint));
         if (comma == std::string::npos) break;
         start = comma + 1;
     }
@@ -386,7 +390,7 @@ void registerEdit(CLI::App& app) {
         confirm->excludes(confirmAll);
         reject->excludes(rejectAll);
         confirmAll->excludes(rejectAll);
-        option("--joints", "Joints used, comma-separated skeleton names ('' clears them)", "A,B");
+        option("--joints", "Joints used, comma-separated skeleton names, spaces around them ignored ('' clears them)", "A,B");
         auto* direction = option("--direction", "Attack direction (attacks)", "D");
         direction->excludes(flag("--no-direction", "Clear the attack direction"));
         auto* defended = option("--defended", "Defended body part (blocks, avoids)", "PART");
