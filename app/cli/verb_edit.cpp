@@ -390,7 +390,7 @@ void registerEdit(CLI::App& app) {
         confirm->excludes(confirmAll);
         reject->excludes(rejectAll);
         confirmAll->excludes(rejectAll);
-        option("--joints", "Joints used, comma-separated skeleton names, spaces around them ignored ('' clears them)", "A,B");
+        option("--joints", "Joints used: skeleton names, comma-separated ('' clears them)", "A,B");
         auto* direction = option("--direction", "Attack direction (attacks)", "D");
         direction->excludes(flag("--no-direction", "Clear the attack direction"));
         auto* defended = option("--defended", "Defended body part (blocks, avoids)", "PART");
