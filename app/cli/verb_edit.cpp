@@ -358,13 +358,11 @@ void runCuts(const CutsArgs& a) {
 void registerEdit(CLI::App& app) {
     {
         auto args = std::make_shared<AnnotateArgs>();
-        auto* cmd = app.add_subcommand("annotate",
-                                       "Edit one action's description: name, annotations, proposals, joints, "
-                                       "direction, defended part, ranges.\n"
-                                       "ACTION is an index, or a name that exactly one action of the motion "
-                                       "has (an all-digit ACTION is an "
-                                       "index).\nThe edits run in command-line order; the project is saved "
-                                       "once, and only if all succeed.");
+        auto* cmd = app.add_subcommand(
+            "annotate", "Edit an action's name, annotations, proposals, joints, direction, defended part, ranges");
+        cmd->footer(
+            "ACTION is an index, or a name that exactly one action of the motion has (an all-digit ACTION is an\n"
+            "index). The edits run in command-line order; the project is saved once, and only if all succeed.");
         args->cmd = cmd;
         // Options without a variable: runAnnotate reads them in parse order.
         const auto flag = [cmd](const std::string& name, const std::string& help) {
@@ -411,12 +409,12 @@ void registerEdit(CLI::App& app) {
     }
     {
         auto args = std::make_shared<CutsArgs>();
-        auto* cmd = app.add_subcommand(
-            "cuts",
-            "List or edit a motion's cuts (actions follow their cuts).\n"
-            "  list [--json] | add FRAME | move FRAME TO | delete FRAME | merge ACTION (with the next) | "
-            "split ACTION FRAME\nACTION is an index, or a name that exactly one action of the motion has (an "
-            "all-digit ACTION is an index).");
+        auto* cmd = app.add_subcommand("cuts", "List or edit a motion's cuts: add, move, delete, merge, split");
+        cmd->footer(
+            "  list [--json] | add FRAME | move FRAME TO | delete FRAME | merge ACTION (with the next) |\n"
+            "  split ACTION FRAME. Actions follow their cuts.\n"
+            "ACTION is an index, or a name that exactly one action of the motion has (an all-digit ACTION is an\n"
+            "index).");
         cmd->add_option("project", args->project, "Project file")->required();
         cmd->add_option("motion", args->motion, "Motion id")->required();
         cmd->add_option("operation", args->op, "list | add | move | delete | merge | split")->required();
