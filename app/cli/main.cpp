@@ -31,6 +31,9 @@ int main(int argc, char** argv) {
     fray::cli::registerPatches(app);
     fray::cli::registerRender(app);
     fray::cli::registerExport(app);
+#ifdef FRAY_CLI_EDIT
+    fray::cli::registerEdit(app);
+#endif
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

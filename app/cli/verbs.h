@@ -17,6 +17,7 @@ void registerSim(CLI::App& app);
 void registerPatches(CLI::App& app);
 void registerRender(CLI::App& app);
 void registerExport(CLI::App& app);
+void registerEdit(CLI::App& app);  // annotate, cuts: built when fray_authoring is (FRAY_CLI_EDIT)
 
 // Prints "fray-cli: <message>" on stderr and sets a failing exit code.
 void fail(const std::string& message, int code = 1);
