@@ -11,14 +11,14 @@ Status writeFileAtomically(const std::filesystem::path& path, std::string_view c
     tmp += ".tmp";
     {
         std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-        if (!f) return makeError(path.string() + ": cannot open for writing");
+        if (!f) return makeError(ErrorKind::Io, path.string() + ": cannot open for writing");
         f.write(contents.data(), static_cast<std::streamsize>(contents.size()));
         f.flush();
         if (!f) {
             f.close();
             std::error_code ec;
             std::filesystem::remove(tmp, ec);
-            return makeError(path.string() + ": write failed (disk full?)");
+            return makeError(ErrorKind::Io, path.string() + ": write failed (disk full?)");
         }
     }
     std::error_code ec;
@@ -26,7 +26,7 @@ Status writeFileAtomically(const std::filesystem::path& path, std::string_view c
     if (ec) {
         std::error_code ignored;
         std::filesystem::remove(tmp, ignored);
-        return makeError(path.string() + ": cannot replace the file: " + ec.message());
+        return makeError(ErrorKind::Io, path.string() + ": cannot replace the file: " + ec.message());
     }
     return {};
 }
@@ -34,12 +34,12 @@ Status writeFileAtomically(const std::filesystem::path& path, std::string_view c
 Result<std::string> readWholeFile(const std::filesystem::path& path, std::string_view what) {
     const std::string prefix = path.string() + ": cannot open " + std::string(what);
     std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) return makeError(prefix + ": no such file");
-    if (std::filesystem::is_directory(path, ec)) return makeError(prefix + ": it is a folder");
+    if (!std::filesystem::exists(path, ec)) return makeError(ErrorKind::Io, prefix + ": no such file");
+    if (std::filesystem::is_directory(path, ec)) return makeError(ErrorKind::Io, prefix + ": it is a folder");
     std::ifstream f(path, std::ios::binary);
-    if (!f) return makeError(prefix + ": permission denied?");
+    if (!f) return makeError(ErrorKind::Io, prefix + ": permission denied?");
     std::string out((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-    if (f.bad()) return makeError(path.string() + ": read error in " + std::string(what));
+    if (f.bad()) return makeError(ErrorKind::Io, path.string() + ": read error in " + std::string(what));
     return out;
 }
 
