@@ -1,15 +1,20 @@
 // Interaction Patches benchmarks (SPEC 4; targets in docs/BENCHMARKS.md):
-// patch-library generation per PatternList, and scene composition + pose
-// sampling without rendering for 100, 1,000 and 10,000 characters.
+// patch-library generation per PatternList, opening the demo patch library
+// file (tables stored) against rebuilding its tables (what every open cost
+// before file version 4), and scene composition + pose sampling without
+// rendering for 100, 1,000 and 10,000 characters.
 #include <benchmark/benchmark.h>
 
 #include <chrono>
+#include <filesystem>
 #include <memory>
+#include <stdexcept>
 #include <vector>
 
 #include "fray/core/motion.h"
 #include "fray/sim/compose.h"
 #include "fray/sim/patches.h"
+#include "fray/sim/patterns.h"
 #include "sim/demo_world.h"
 
 namespace {
@@ -50,6 +55,70 @@ BENCHMARK(BM_GeneratePatches)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1)
     ->UseRealTime();
+
+// The demo patch library as `fray-cli patches generate` makes it from the
+// demo project (its PatternLists, else the defaults its actions can play),
+// saved once to a file in the temporary folder.
+const std::filesystem::path& demoPatchFile() {
+    static const std::filesystem::path file = [] {
+        const auto& world = demoWorld();
+        auto set = projectPatterns(world.project, "demo.frayproj");
+        if (!set) throw std::runtime_error(set.error().message);
+        if (set->patterns.empty()) {
+            for (auto& p : defaultPatterns()) {
+                if (checkPattern(p, *set, world.library)) set->patterns.push_back(std::move(p));
+            }
+        }
+        PatchLibrary out;
+        for (const auto& p : set->patterns) {
+            if (auto st = generatePatches(world.library, p, *set, out); !st) throw std::runtime_error(st.error().message);
+        }
+        buildConnections(world.library, out);
+        const auto path = std::filesystem::temp_directory_path() / "fray_bench_demo.patches";
+        if (auto st = savePatchLibrary(out, path); !st) throw std::runtime_error(st.error().message);
+        return path;
+    }();
+    return file;
+}
+
+// Opening the demo patch library: read, checksum, patches and stored tables.
+void BM_OpenPatchLibrary(benchmark::State& state) {
+    const auto& lib = demoWorld().library;
+    const auto& file = demoPatchFile();
+    std::size_t links = 0;
+    for (auto _ : state) {
+        auto patches = loadPatchLibrary(file, lib);
+        if (!patches) {
+            state.SkipWithError(patches.error().message.c_str());
+            return;
+        }
+        links = 0;
+        for (const auto& row : patches->temporal) links += row.size();
+        benchmark::DoNotOptimize(links);
+    }
+    state.counters["patches"] = static_cast<double>(loadPatchLibrary(file, lib)->patches.size());
+    state.counters["temporal_links"] = static_cast<double>(links);
+    state.counters["file_MB"] = static_cast<double>(std::filesystem::file_size(file)) / 1e6;
+}
+BENCHMARK(BM_OpenPatchLibrary)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// What opening cost before the file stored the tables: rebuilding them.
+void BM_RebuildPatchTables(benchmark::State& state) {
+    const auto& lib = demoWorld().library;
+    auto loaded = loadPatchLibrary(demoPatchFile(), lib);
+    if (!loaded) {
+        state.SkipWithError(loaded.error().message.c_str());
+        return;
+    }
+    PatchLibrary bare = std::move(*loaded);
+    bare.temporal.clear(), bare.spatial.clear(), bare.standardPoses.clear(), bare.initialPose.clear(), bare.finalPose.clear();
+    for (auto _ : state) {
+        PatchLibrary copy = bare;
+        buildConnections(lib, copy);
+        benchmark::DoNotOptimize(copy.temporal.size());
+    }
+}
+BENCHMARK(BM_RebuildPatchTables)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The fighting library the composition benchmark uses (generated once).
 const PatchLibrary& fightLibrary() {

@@ -80,8 +80,9 @@ void runGenerate(const PatchesArgs& a, SimSession& s) {
             return fail(file.string() + ": exists and is not a Fray patch library; refusing to overwrite it");
         }
     }
-    if (auto st = sim::savePatchLibrary(out, file); !st) return fail(st.error().message);
+    // The file stores the connection tables: loading it needs no rebuild.
     sim::buildConnections(s.library, out);
+    if (auto st = sim::savePatchLibrary(out, file); !st) return fail(st.error().message);
     std::size_t temporal = 0, spatial = 0;
     for (const auto& t : out.temporal) temporal += t.size();
     for (const auto& t : out.spatial) spatial += t.size();
@@ -94,10 +95,9 @@ Result<sim::PatchLibrary> openPatches(const std::string& project, const std::str
     if (!fs::exists(f)) {
         return makeError(f.string() + ": no patch library (make it with: fray-cli patches generate " + project + ")");
     }
-    auto patches = sim::loadPatchLibrary(f, sim::libraryFingerprint(lib), lib.size());
-    if (!patches) return patches.error();
-    sim::buildConnections(lib, *patches);
-    return patches;
+    sim::PatchFileOptions options;
+    options.notice = [](const std::string& note) { std::fprintf(stderr, "%s\n", note.c_str()); };
+    return sim::loadPatchLibrary(f, lib, options);
 }
 
 void runList(const PatchesArgs& a, SimSession& s) {

@@ -65,7 +65,7 @@ Status writeFileAtomically(const fs::path& path, std::string_view contents) {
     struct stat old {};
     const bool existed = ::stat(target.c_str(), &old) == 0;
     if (existed && !S_ISREG(old.st_mode)) {
-        return makeError(name + ": is not a regular file (a folder, device or pipe); refusing to replace it");
+        return makeError(ErrorKind::Io, name + ": is not a regular file (a folder, device or pipe); refusing to replace it");
     }
 
     // A fresh name per save (process id + counter), created exclusively: two
@@ -77,15 +77,15 @@ Status writeFileAtomically(const fs::path& path, std::string_view contents) {
                      std::to_string(g_tempCounter.fetch_add(1)) + ".tmp");
         fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
         if (fd < 0 && errno != EEXIST) {
-            return makeError(name + ": cannot create a temporary file in " + dir.string() + ": " + errnoText(errno));
+            return makeError(ErrorKind::Io, name + ": cannot create a temporary file in " + dir.string() + ": " + errnoText(errno));
         }
     }
-    if (fd < 0) return makeError(name + ": cannot create a temporary file in " + dir.string());
+    if (fd < 0) return makeError(ErrorKind::Io, name + ": cannot create a temporary file in " + dir.string());
 
     auto abandon = [&](const std::string& why) {
         ::close(fd);
         ::unlink(tmp.c_str());
-        return makeError(name + ": " + why);
+        return makeError(ErrorKind::Io, name + ": " + why);
     };
     if (!writeAll(fd, contents)) {
         const int err = errno;
@@ -104,12 +104,12 @@ Status writeFileAtomically(const fs::path& path, std::string_view contents) {
     if (::close(fd) != 0) {
         const int err = errno;
         ::unlink(tmp.c_str());
-        return makeError(name + ": write failed: " + errnoText(err));
+        return makeError(ErrorKind::Io, name + ": write failed: " + errnoText(err));
     }
     if (::rename(tmp.c_str(), target.c_str()) != 0) {
         const int err = errno;
         ::unlink(tmp.c_str());
-        return makeError(name + ": cannot replace the file: " + errnoText(err));
+        return makeError(ErrorKind::Io, name + ": cannot replace the file: " + errnoText(err));
     }
     syncFolder(dir);
     return {};
@@ -120,19 +120,19 @@ Result<std::string> readWholeFile(const fs::path& path, std::string_view what, s
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
     if (fd < 0) {
         const int err = errno;
-        if (err == ENOENT) return makeError(prefix + ": no such file");
-        if (err == EACCES) return makeError(prefix + ": permission denied");
-        return makeError(prefix + ": " + errnoText(err));
+        if (err == ENOENT) return makeError(ErrorKind::Io, prefix + ": no such file");
+        if (err == EACCES) return makeError(ErrorKind::Io, prefix + ": permission denied");
+        return makeError(ErrorKind::Io, prefix + ": " + errnoText(err));
     }
     struct stat st {};
     if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
         const bool folder = S_ISDIR(st.st_mode);
         ::close(fd);
-        return makeError(prefix + (folder ? ": it is a folder" : ": not a regular file (a device, pipe or socket)"));
+        return makeError(ErrorKind::Io, prefix + (folder ? ": it is a folder" : ": not a regular file (a device, pipe or socket)"));
     }
     if (static_cast<std::uintmax_t>(st.st_size) > maxBytes) {
         ::close(fd);
-        return makeError(path.string() + ": " + std::string(what) + " is " + std::to_string(st.st_size) +
+        return makeError(ErrorKind::Io, path.string() + ": " + std::string(what) + " is " + std::to_string(st.st_size) +
                          " bytes, more than the limit of " + std::to_string(maxBytes));
     }
     std::string out;
@@ -146,7 +146,7 @@ Result<std::string> readWholeFile(const fs::path& path, std::string_view what, s
                 const ssize_t n = ::read(fd, &probe, 1);
                 if (n == 0) break;
                 ::close(fd);
-                return makeError(path.string() + ": " + std::string(what) + " is more than the limit of " +
+                return makeError(ErrorKind::Io, path.string() + ": " + std::string(what) + " is more than the limit of " +
                                  std::to_string(maxBytes) + " bytes");
             }
             out.resize(std::min<std::uintmax_t>(maxBytes, out.size() + 65536));
@@ -156,7 +156,7 @@ Result<std::string> readWholeFile(const fs::path& path, std::string_view what, s
             if (errno == EINTR) continue;
             const int err = errno;
             ::close(fd);
-            return makeError(path.string() + ": read error in " + std::string(what) + ": " + errnoText(err));
+            return makeError(ErrorKind::Io, path.string() + ": read error in " + std::string(what) + ": " + errnoText(err));
         }
         if (n == 0) break;
         got += static_cast<std::size_t>(n);
@@ -176,7 +176,7 @@ Result<FileLock> FileLock::acquire(const fs::path& file, std::chrono::millisecon
     const fs::path lockPath = lockPathFor(file);
     const int fd = ::open(lockPath.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
     if (fd < 0) {
-        return makeError(file.string() + ": cannot create the lock file " + lockPath.string() + ": " + errnoText(errno));
+        return makeError(ErrorKind::Io, file.string() + ": cannot create the lock file " + lockPath.string() + ": " + errnoText(errno));
     }
     const auto deadline = std::chrono::steady_clock::now() + wait;
     for (;;) {
@@ -184,7 +184,7 @@ Result<FileLock> FileLock::acquire(const fs::path& file, std::chrono::millisecon
         const int err = errno;
         if (err != EWOULDBLOCK && err != EINTR) {
             ::close(fd);
-            return makeError(file.string() + ": cannot lock " + lockPath.string() + ": " + errnoText(err));
+            return makeError(ErrorKind::Io, file.string() + ": cannot lock " + lockPath.string() + ": " + errnoText(err));
         }
         if (std::chrono::steady_clock::now() >= deadline) {
             ::close(fd);

@@ -150,7 +150,7 @@ Result<ExportReport> exportScene(const sim::Scene& scene, const sim::ActionLibra
     for (std::size_t i = 0; i + 1 < planned.size(); ++i) {
         if (!reportProgress(progress, 0.5 + 0.5 * static_cast<double>(i) / static_cast<double>(planned.size()),
                             "export: writing")) {
-            return makeError("cancelled");
+            return cancelled();
         }
         auto bytes = encode(*sampled, options, i);
         const fs::path file = options.outDir / planned[i];

@@ -94,7 +94,7 @@ Result<SampledScene> sampleScene(const sim::Scene& scene, const sim::ActionLibra
     const auto names = fileSafeNames(scene);
     const int n = static_cast<int>(scene.characters.size());
     for (int c = 0; c < n; ++c) {
-        if (!reportProgress(progress, static_cast<double>(c) / n, "export: sampling")) return makeError("cancelled");
+        if (!reportProgress(progress, static_cast<double>(c) / n, "export: sampling")) return cancelled();
         const auto& sc = scene.characters[static_cast<std::size_t>(c)];
         CharacterTake take{sc.name, names[static_cast<std::size_t>(c)], sc.side, sc.group,
                            Motion(poser.skeleton(c), fps, out.frames)};

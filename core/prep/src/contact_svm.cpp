@@ -664,7 +664,7 @@ Result<ContactSvm> ContactSvm::train(const std::vector<TrainingSample>& samples,
             if (!cancelled && !reportProgress(progress, fraction, kStage)) cancelled = true;
         });
     }
-    if (cancelled) return makeError("cancelled");
+    if (cancelled) return fray::cancelled();
 
     // Best cell: the most correct leave-one-out predictions; ties go to the
     // smaller C, then the smaller gamma (the smoother boundary).

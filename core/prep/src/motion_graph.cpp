@@ -686,7 +686,7 @@ Result<MotionGraph> buildMotionGraph(std::span<const Motion* const> motions, std
                              std::to_string(r.lastFrame) + " are not a range inside motion " +
                              std::to_string(r.motion) + " (frames 0.." + std::to_string(frames - 1) + ")");
     }
-    const auto cancelled = [] { return makeError("motion graph: cancelled"); };
+    const auto cancelled = [] { return fray::cancelled("motion graph"); };
     if (!reportProgress(progress, 0.0, "pose features")) return cancelled();
 
     // Start pose of action a is row 2a, its end pose row 2a+1.

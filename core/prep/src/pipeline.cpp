@@ -84,7 +84,7 @@ Result<std::vector<LoadedMotion>> loadProjectMotions(const Project& project, con
     for (std::size_t i = 0; i < project.motions.size(); ++i) {
         const ProjectMotion& entry = project.motions[i];
         const std::string where = projectFile.string() + ": /motions/" + std::to_string(i);
-        if (!reportProgress(progress, double(i) / total, "load " + entry.id)) return makeError("cancelled");
+        if (!reportProgress(progress, double(i) / total, "load " + entry.id)) return cancelled();
         LoadedMotion m;
         m.id = entry.id;
         m.file = resolveMotionPath(projectFile, entry);

@@ -219,7 +219,7 @@ Result<ActionLibrary> buildActionLibrary(const prep::Project& project, std::span
         for (int k = 0; k < doc.actionCount(); ++k) {
             if (!reportProgress(progress, static_cast<double>(lib.actions.size()) / static_cast<double>(refs.size()),
                                 "action library")) {
-                return makeError("cancelled");
+                return cancelled();
             }
             const auto& info = doc.actions[static_cast<std::size_t>(k)];
             LibraryAction a;

@@ -505,7 +505,7 @@ struct Composer {
             placeHits(p, {mainC, enemy}, t);
             used(static_cast<std::size_t>(bestI));
             prev = bestI;
-            if (!reportProgress(progress, static_cast<double>(k + 1) / spec.enemies, "compose")) return makeError("cancelled");
+            if (!reportProgress(progress, static_cast<double>(k + 1) / spec.enemies, "compose")) return cancelled();
         }
         return {};
     }
@@ -749,7 +749,7 @@ struct Composer {
             }
             getUpAndStand(tackler);
             if (spec.doubles && k + 1 < spec.tacklers && secondTackler(chosen.patch, chosen.time, chosen.xf, k + 2)) ++k;
-            if (!reportProgress(progress, static_cast<double>(k + 1) / spec.tacklers, "compose")) return makeError("cancelled");
+            if (!reportProgress(progress, static_cast<double>(k + 1) / spec.tacklers, "compose")) return cancelled();
         }
         // Then on to the goal line.
         for (int guard = 0; guard < 400 && forward(leaves(carrier)) < spec.goal + 1.0 && freeAt(carrier) < spec.duration; ++guard) {
@@ -869,7 +869,7 @@ struct Composer {
             used(ch.patch);
             prev = static_cast<int>(ch.patch);
             roleOf = ch.roles == 0 ? std::array<int, 2>{0, 1} : std::array<int, 2>{1, 0};
-            if (!reportProgress(progress, std::min(t / spec.duration, 1.0), "compose")) return makeError("cancelled");
+            if (!reportProgress(progress, std::min(t / spec.duration, 1.0), "compose")) return cancelled();
             if (stats.patchesUsed > 10000) break;
         }
         return {};
@@ -1287,7 +1287,7 @@ struct Composer {
         for (std::size_t i : order) {
             Bystander& b = crowd[i];
             if (!reportProgress(progress, static_cast<double>(done++) / static_cast<double>(crowd.size()), "compose")) {
-                return makeError("cancelled");
+                return cancelled();
             }
             if (!b.near || !b.plan.empty()) continue;  // far off, or already pushed out of the way
             // The {run, AVOID} patches of the nearest configurations, placed
@@ -1584,7 +1584,7 @@ struct Composer {
                 std::push_heap(queue.begin(), queue.end(), byTime);
             }
             if (!reportProgress(progress, std::min(1.0, static_cast<double>(scene.characters.size()) / spec.maxCharacters), "compose")) {
-                return makeError("cancelled");
+                return cancelled();
             }
         }
         stats.paintedCoverage = coverage(spots);
@@ -1867,7 +1867,7 @@ struct Composer {
                     if (track(c).empty()) return makeError("luggage: no room for porter " + std::to_string(c + 1) + " to wait");
                 }
             }
-            if (!reportProgress(progress, static_cast<double>(k + 1) / spec.handoffs, "compose")) return makeError("cancelled");
+            if (!reportProgress(progress, static_cast<double>(k + 1) / spec.handoffs, "compose")) return cancelled();
         }
         // The last giver steps aside too (it would stand in the last carrier's way).
         if (aside >= 0 && aside != carrier) stepAside(aside, carrier);

@@ -1,19 +1,18 @@
-// Connection tables, standard poses (SPEC 4.3, 4.4) and the patch cache.
+// Connection tables and standard poses (SPEC 4.3, 4.4). Which links they hold
+// is the link rule: bump kPatchLinkRule (patches.h) whenever it changes; the
+// library file (patch_file.cpp) stores them.
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <limits>
 #include <numbers>
 #include <optional>
-#include <type_traits>
 #include <unordered_map>
 #include <vector>
 
 #include <tbb/parallel_for.h>
 
-#include "fray/core/atomic_file.h"
 #include "fray/sim/patches.h"
 #include "interaction.h"
 
@@ -286,209 +285,12 @@ void standardPoses(PatchLibrary& out) {
     }
 }
 
-// ---------------------------------------------------------------------------
-// Binary cache: little-endian fixed-size fields, bounds-checked on read.
-
-constexpr char kMagic[8] = {'F', 'R', 'A', 'Y', 'P', 'T', 'C', 'H'};
-
-struct Writer {
-    std::string out;
-    template <class T>
-    void put(T v) {
-        char b[sizeof(T)];
-        std::memcpy(b, &v, sizeof(T));
-        out.append(b, sizeof(T));
-    }
-    void str(const std::string& s) {
-        put(static_cast<std::uint32_t>(s.size()));
-        out += s;
-    }
-    void xf(const RootXf& r) { put(r.pos.x), put(r.pos.y), put(r.heading); }
-    void cfg(const PatchConfig& c) { put(c.r), put(c.theta1), put(c.theta2), put(c.delay); }
-};
-
-struct Reader {
-    std::string_view in;
-    std::size_t at = 0;
-    bool bad = false;
-    template <class T>
-    T get() {
-        T v{};
-        if (bad || in.size() - at < sizeof(T)) {
-            bad = true;
-            return v;
-        }
-        std::memcpy(&v, in.data() + at, sizeof(T));
-        at += sizeof(T);
-        return v;
-    }
-    // A count of items that each take at least minBytes: refuses counts the file cannot hold.
-    std::size_t count(std::size_t minBytes) {
-        const auto n = get<std::uint32_t>();
-        if (bad || static_cast<std::size_t>(n) * minBytes > in.size() - at) {
-            bad = true;
-            return 0;
-        }
-        return n;
-    }
-    std::string str() {
-        const std::size_t n = count(1);
-        if (bad) return {};
-        std::string s(in.substr(at, n));
-        at += n;
-        return s;
-    }
-    RootXf xf() {
-        RootXf r;
-        r.pos.x = get<float>(), r.pos.y = get<float>(), r.heading = get<double>();
-        return r;
-    }
-    PatchConfig cfg() {
-        PatchConfig c;
-        c.r = get<double>(), c.theta1 = get<double>(), c.theta2 = get<double>(), c.delay = get<double>();
-        return c;
-    }
-};
-
 }  // namespace
 
 void buildConnections(const ActionLibrary& lib, PatchLibrary& out) {
     temporalTable(lib, out);
     spatialTable(lib, out);
     standardPoses(out);
-}
-
-Status savePatchLibrary(const PatchLibrary& lib, const std::filesystem::path& file) {
-    Writer w;
-    w.out.append(kMagic, sizeof(kMagic));
-    w.put(kPatchCacheVersion);
-    w.put(lib.libraryKey);
-    w.put(static_cast<std::uint32_t>(lib.patterns.size()));
-    for (const auto& p : lib.patterns) {
-        w.str(p.name);
-        w.put(static_cast<std::uint32_t>(p.entries.size()));
-        for (const auto& e : p.entries) w.put(static_cast<std::int32_t>(e.character)), w.str(e.annotation);
-        w.put(p.weights.contact), w.put(p.weights.distance), w.put(p.weights.timing), w.put(p.threshold);
-        w.put(static_cast<std::int32_t>(p.keepPerPath));
-        w.put(static_cast<std::uint8_t>(p.spread ? 1 : 0));
-    }
-    w.put(static_cast<std::uint32_t>(lib.patches.size()));
-    for (const auto& p : lib.patches) {
-        w.put(static_cast<std::int32_t>(p.pattern));
-        w.put(p.duration), w.put(p.score), w.put(p.contact), w.put(p.distance), w.put(p.timing);
-        w.cfg(p.initial), w.cfg(p.final);
-        w.put(static_cast<std::uint8_t>(p.handMade));
-        for (const auto& t : p.tracks) {
-            w.put(static_cast<std::uint32_t>(t.size()));
-            for (const auto& i : t) {
-                w.put(static_cast<std::int32_t>(i.action)), w.put(i.start), w.put(i.offset), w.put(i.end);
-                w.xf(i.root);
-                w.put(static_cast<std::uint8_t>((i.forced ? 1 : 0) | (i.fallback ? 2 : 0)));
-            }
-        }
-        w.put(static_cast<std::uint32_t>(p.hits.size()));
-        for (const auto& h : p.hits) {
-            w.put(h.time), w.put(static_cast<std::int32_t>(h.attacker)), w.put(static_cast<std::int32_t>(h.defender));
-            w.put(static_cast<std::int32_t>(h.attackAction)), w.put(static_cast<std::int32_t>(h.effector));
-            w.put(static_cast<std::int32_t>(h.target)), w.put(h.speed), w.put(h.impulse), w.put(static_cast<std::uint8_t>(h.blocked));
-        }
-        for (const auto& s : p.swept) {
-            w.put(static_cast<std::uint32_t>(s.size()));
-            for (const auto& b : s) w.put(b.lo.x), w.put(b.lo.y), w.put(b.hi.x), w.put(b.hi.y);
-        }
-    }
-    GenerateStats::zip(lib.stats, lib.stats, [&](const auto& v, const auto&) { w.put(v); });
-    return writeFileAtomically(file, w.out);
-}
-
-Result<PatchLibrary> readPatchLibrary(std::string_view bytes, std::string_view fileName, std::uint64_t expectedKey, int actionCount) {
-    const std::string name(fileName);
-    if (bytes.size() < sizeof(kMagic) || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) {
-        return makeError(name + ": not a Fray patch library");
-    }
-    Reader r{bytes.substr(sizeof(kMagic))};
-    const auto version = r.get<std::uint32_t>();
-    if (!r.bad && version != kPatchCacheVersion) {
-        return makeError(name + ": patch library version " + std::to_string(version) + ", this build reads version " +
-                         std::to_string(kPatchCacheVersion) + " (generate the patches again)");
-    }
-    PatchLibrary lib;
-    lib.libraryKey = r.get<std::uint64_t>();
-    if (!r.bad && lib.libraryKey != expectedKey) {
-        return makeError(name + ": made from other actions than the project has now (generate the patches again)");
-    }
-    const std::size_t np = r.count(12);
-    for (std::size_t i = 0; i < np && !r.bad; ++i) {
-        PatternList p;
-        p.name = r.str();
-        const std::size_t ne = r.count(8);
-        for (std::size_t e = 0; e < ne && !r.bad; ++e) {
-            PatternEntry pe;
-            pe.character = r.get<std::int32_t>();
-            pe.annotation = r.str();
-            if (pe.character != 0 && pe.character != 1) r.bad = true;
-            p.entries.push_back(pe);
-        }
-        p.weights.contact = r.get<double>(), p.weights.distance = r.get<double>(), p.weights.timing = r.get<double>();
-        p.threshold = r.get<double>();
-        p.keepPerPath = r.get<std::int32_t>();
-        p.spread = r.get<std::uint8_t>() != 0;
-        lib.patterns.push_back(std::move(p));
-    }
-    const std::size_t nq = r.count(64);
-    for (std::size_t i = 0; i < nq && !r.bad; ++i) {
-        Patch p;
-        p.pattern = r.get<std::int32_t>();
-        if (p.pattern < 0 || static_cast<std::size_t>(p.pattern) >= lib.patterns.size()) r.bad = true;
-        p.duration = r.get<double>(), p.score = r.get<double>();
-        p.contact = r.get<double>(), p.distance = r.get<double>(), p.timing = r.get<double>();
-        p.initial = r.cfg(), p.final = r.cfg();
-        p.handMade = r.get<std::uint8_t>() != 0;
-        for (auto& t : p.tracks) {
-            const std::size_t n = r.count(45);  // bytes per action
-            if (n == 0) r.bad = true;
-            for (std::size_t k = 0; k < n && !r.bad; ++k) {
-                ActionInstance inst;
-                inst.action = r.get<std::int32_t>();
-                inst.start = r.get<double>(), inst.offset = r.get<double>(), inst.end = r.get<double>();
-                inst.root = r.xf();
-                const auto flags = r.get<std::uint8_t>();
-                inst.forced = (flags & 1) != 0, inst.fallback = (flags & 2) != 0;
-                if (inst.action < 0 || inst.action >= actionCount || !(inst.end >= inst.start)) r.bad = true;
-                t.push_back(inst);
-            }
-        }
-        const std::size_t nh = r.count(45);  // bytes per hit
-        for (std::size_t k = 0; k < nh && !r.bad; ++k) {
-            HitEvent h;
-            h.time = r.get<double>();
-            h.attacker = r.get<std::int32_t>(), h.defender = r.get<std::int32_t>();
-            h.attackAction = r.get<std::int32_t>(), h.effector = r.get<std::int32_t>(), h.target = r.get<std::int32_t>();
-            h.speed = r.get<double>(), h.impulse = r.get<double>();
-            h.blocked = r.get<std::uint8_t>() != 0;
-            p.hits.push_back(h);
-        }
-        for (auto& s : p.swept) {
-            const std::size_t n = r.count(16);
-            if (n == 0) r.bad = true;
-            for (std::size_t k = 0; k < n && !r.bad; ++k) {
-                SweptBox b;
-                b.lo.x = r.get<float>(), b.lo.y = r.get<float>(), b.hi.x = r.get<float>(), b.hi.y = r.get<float>();
-                s.push_back(b);
-            }
-        }
-        lib.patches.push_back(std::move(p));
-    }
-    GenerateStats::zip(lib.stats, lib.stats, [&](auto& v, const auto&) { v = r.get<std::remove_reference_t<decltype(v)>>(); });
-    if (r.bad) return makeError(name + ": the patch library is truncated or corrupt at byte " + std::to_string(r.at + sizeof(kMagic)));
-    if (r.at != r.in.size()) return makeError(name + ": unexpected data after the patch library");
-    return lib;
-}
-
-Result<PatchLibrary> loadPatchLibrary(const std::filesystem::path& file, std::uint64_t expectedKey, int actionCount) {
-    auto bytes = readWholeFile(file, "the patch library");
-    if (!bytes) return bytes.error();
-    return readPatchLibrary(*bytes, file.string(), expectedKey, actionCount);
 }
 
 }  // namespace fray::sim

@@ -798,11 +798,9 @@ Status generatePatches(const ActionLibrary& lib, const PatternList& pattern, con
     std::atomic<std::size_t> done{0};
     std::atomic<bool> stop{false};
     std::mutex progressMutex;  // the callback is called from one thread at a time
+    if (!reportProgress(progress, 0.0, "patches")) return cancelled();
     auto work = [&](std::size_t i) {
-        if (stop.load(std::memory_order_relaxed) || (options.cancel && options.cancel->load())) {
-            stop = true;
-            return;
-        }
+        if (stop.load(std::memory_order_relaxed)) return;
         results[i].start();
         const std::size_t n = ++done;
         if (n % 16 != 0) return;
@@ -816,7 +814,7 @@ Status generatePatches(const ActionLibrary& lib, const PatternList& pattern, con
     } else {
         for (std::size_t i = 0; i < ics.size(); ++i) work(i);
     }
-    if (stop.load() || (options.cancel && options.cancel->load())) return makeError("cancelled");
+    if (stop.load()) return cancelled();
     out.patterns.push_back(pattern);
     std::vector<Patch> candidates;
     for (auto& r : results) {

@@ -1144,7 +1144,7 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
             advance(ctx, g, ev, &rec);
             const double overall = (static_cast<double>(gi) + std::min(g.time / opt.duration, 1.0)) /
                                    static_cast<double>(groupIds.size());
-            if (!reportProgress(progress, overall, "simulate")) return makeError("cancelled");
+            if (!reportProgress(progress, overall, "simulate")) return cancelled();
         }
         if (rec.stop) {
             for (const auto& m : ctx.members) {

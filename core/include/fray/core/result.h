@@ -1,15 +1,43 @@
 #pragma once
 // Recoverable errors are values: Result<T> holds either a T or an Error whose
-// message a user can act on ("walk.bvh:212: expected 96 channel values, found 93").
+// message a user can act on ("walk.bvh:212: expected 96 channel values, found 93")
+// and whose kind lets a caller react without reading the message (a cancelled
+// step is not a failure to report; a stale cache can be rebuilt).
 #include <cassert>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <variant>
 
 namespace fray {
 
+enum class ErrorKind {
+    InvalidInput,  // the input (a file, a spec, an argument) is wrong; the message says where and how
+    Io,            // reading or writing failed (missing file, full disk, permissions)
+    Stale,         // made by or for something that has changed since (other actions, an older rule)
+    Unsupported,   // well formed but not handled by this build (a newer or retired file version)
+    Cancelled,     // the user asked to stop (the progress callback returned false)
+    Internal,      // a broken invariant: a bug, not the user's input
+};
+
+// A short lower-case name of a kind ("invalid input", "cancelled").
+inline const char* errorKindName(ErrorKind kind) {
+    switch (kind) {
+        case ErrorKind::InvalidInput: return "invalid input";
+        case ErrorKind::Io: return "I/O";
+        case ErrorKind::Stale: return "stale";
+        case ErrorKind::Unsupported: return "unsupported";
+        case ErrorKind::Cancelled: return "cancelled";
+        case ErrorKind::Internal: return "internal";
+    }
+    return "unknown";
+}
+
 struct Error {
     std::string message;
+    ErrorKind kind = ErrorKind::InvalidInput;
+    bool is(ErrorKind k) const { return kind == k; }
+    bool isCancelled() const { return kind == ErrorKind::Cancelled; }
 };
 
 template <class T>
@@ -49,6 +77,14 @@ private:
     bool ok_ = true;
 };
 
-inline Error makeError(std::string message) { return Error{std::move(message)}; }
+// An error of kind InvalidInput: the default, for the many errors that name
+// a bad file, field or argument. Say the kind when it is anything else.
+inline Error makeError(std::string message) { return Error{std::move(message), ErrorKind::InvalidInput}; }
+inline Error makeError(ErrorKind kind, std::string message) { return Error{std::move(message), kind}; }
+// The error a step returns when its progress callback asks it to stop: kind
+// Cancelled, message "cancelled" (or "STAGE: cancelled").
+inline Error cancelled(std::string_view stage = {}) {
+    return Error{stage.empty() ? std::string("cancelled") : std::string(stage) + ": cancelled", ErrorKind::Cancelled};
+}
 
 }  // namespace fray

@@ -5,11 +5,12 @@
 // sampled on a grid; the connection tables that say which patches can follow
 // or overlap which; and the standard poses that let characters be recycled.
 #include <array>
-#include <atomic>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <glm/common.hpp>
@@ -91,7 +92,9 @@ struct GenerateOptions {
     // all; -1: the pattern's own setting).
     int keepPerPath = -1;
     bool parallel = true;
-    const std::atomic<bool>* cancel = nullptr;
+    // Cancel through the progress callback (fray/core/progress.h: return
+    // false, or wrap a flag with cancelWhen): generatePatches then returns
+    // fray::cancelled().
 };
 
 struct GenerateStats {
@@ -101,12 +104,18 @@ struct GenerateStats {
     double seconds = 0;
 
     // Every counter of a and the same counter of b, in declaration order
-    // (the patch cache stores them in this order).
+    // (the patch library file stores them in this order); zip adds the
+    // wall-clock seconds, which the file does not store (same project, same bytes).
     template <class A, class B, class F>
-    static void zip(A& a, B& b, F&& f) {
+    static void zipCounts(A& a, B& b, F&& f) {
         f(a.initialConditions, b.initialConditions), f(a.paths, b.paths), f(a.tooClose, b.tooClose);
         f(a.wrongOrder, b.wrongOrder), f(a.unintendedHit, b.unintendedHit), f(a.missedContact, b.missedContact);
-        f(a.belowThreshold, b.belowThreshold), f(a.duplicates, b.duplicates), f(a.kept, b.kept), f(a.seconds, b.seconds);
+        f(a.belowThreshold, b.belowThreshold), f(a.duplicates, b.duplicates), f(a.kept, b.kept);
+    }
+    template <class A, class B, class F>
+    static void zip(A& a, B& b, F&& f) {
+        zipCounts(a, b, f);
+        f(a.seconds, b.seconds);
     }
     void add(const GenerateStats& o) {
         zip(*this, o, [](auto& x, const auto& y) { x += y; });
@@ -140,6 +149,9 @@ struct SpatialLink {
     float from = 0;
 };
 
+// A library is complete when it has its connection tables and standard poses
+// (buildConnections after generating): what compose needs, and what a library
+// file stores and loads. Loading always gives a complete library.
 struct PatchLibrary {
     std::vector<PatternList> patterns;
     std::vector<Patch> patches;
@@ -150,6 +162,7 @@ struct PatchLibrary {
     GenerateStats stats;
     std::uint64_t libraryKey = 0;                     // fingerprint of the action library it was made from
     int nearestPose(const PatchConfig& c) const;
+    bool complete() const;  // tables and poses for every patch
 };
 
 // Generates the patches of one pattern (appended to lib.patterns/patches).
@@ -163,20 +176,43 @@ Status generatePatches(const ActionLibrary& lib, const PatternList& pattern, con
 Status addHandMadePatch(const ActionLibrary& lib, const PatternList& pattern, const PatchConfig& initial,
                         const std::array<std::vector<int>, 2>& actions, PatchLibrary& out, const GenerateOptions& options = {});
 
-// Fills the temporal and spatial tables and the standard poses.
+// Fills the temporal and spatial tables and the standard poses (makes the
+// library complete). Which links exist is the link rule: bump kPatchLinkRule
+// whenever it changes.
 void buildConnections(const ActionLibrary& lib, PatchLibrary& out);
 
-// Fingerprint of a library's actions (identity of the patch cache).
+// Fingerprint of a library's actions (identity of the patch library file).
 std::uint64_t libraryFingerprint(const ActionLibrary& lib);
 
-// Versioned binary cache. Loading refuses a foreign, truncated or stale file
-// (made from other actions) with a message naming the file.
-inline constexpr std::uint32_t kPatchCacheVersion = 3;  // 3: PatternList::spread
+// The patch library file (docs/PATCHES.md, "Library file"): the patches, their
+// connection tables and standard poses, and a CRC-32 of everything before it.
+// Version 4 is the first with tables and a checksum; earlier versions are
+// refused (damage in them cannot be detected) with a message to generate again.
+inline constexpr std::uint32_t kPatchFileVersion = 4;
+// Version of the rule that decides which temporal and spatial links exist
+// (patch_tables.cpp) and how standard poses are clustered. Tables stored under
+// another rule are stale: rebuilt or refused, never used.
+inline constexpr std::uint32_t kPatchLinkRule = 1;
+
+enum class StaleTables { Rebuild, Refuse };
+struct PatchFileOptions {
+    StaleTables staleTables = StaleTables::Rebuild;  // tables made under another link rule
+    ProgressFn progress;                             // while rebuilding them (cancel: fray::cancelled())
+    std::function<void(const std::string&)> notice;  // told when tables were rebuilt, naming the file
+};
+
+// The bytes of a complete library's file; an Internal error for an incomplete one.
+Result<std::string> patchLibraryBytes(const PatchLibrary& lib);
 Status savePatchLibrary(const PatchLibrary& lib, const std::filesystem::path& file);
-// The connection tables and standard poses are not stored: buildConnections
-// after loading (they follow from the patches).
-Result<PatchLibrary> loadPatchLibrary(const std::filesystem::path& file, std::uint64_t expectedKey, int actionCount);
-Result<PatchLibrary> readPatchLibrary(std::string_view bytes, std::string_view fileName, std::uint64_t expectedKey,
-                                      int actionCount);
+// A complete library, or an error naming the file: not a patch library, an
+// older version (Unsupported), damaged (checksum), made from other actions
+// than `actions` (Stale), tables under another link rule (Stale when
+// options.staleTables is Refuse; otherwise rebuilt and options.notice told).
+Result<PatchLibrary> loadPatchLibrary(const std::filesystem::path& file, const ActionLibrary& actions,
+                                      const PatchFileOptions& options = {});
+Result<PatchLibrary> readPatchLibrary(std::string_view bytes, std::string_view fileName, const ActionLibrary& actions,
+                                      const PatchFileOptions& options = {});
+// The CRC-32 (zlib's) a file's last 4 bytes hold, of all the bytes before them.
+std::uint32_t patchFileChecksum(std::string_view bytes);
 
 }  // namespace fray::sim
