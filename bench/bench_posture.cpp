@@ -17,27 +17,7 @@ using fray::test::demoWorld;
 
 fray::sim::Scene crowd(int characters) {
     static const fray::sim::Scene duel = fray::test::plannedScene(FRAY_SOURCE_DIR "/resources/demo/duel.json");
-    fray::sim::Scene out = duel;
-    out.characters.clear();
-    out.hits.clear();
-    const int pairs = (characters + 1) / 2;
-    const int side = static_cast<int>(std::ceil(std::sqrt(pairs)));
-    for (int p = 0; p < pairs; ++p) {
-        const glm::vec2 at(5.0f * static_cast<float>(p % side), 5.0f * static_cast<float>(p / side));
-        const int base = static_cast<int>(out.characters.size());
-        for (int k = 0; k < 2 && base + k < characters; ++k) {
-            auto c = duel.characters[static_cast<std::size_t>(k)];
-            c.name += std::to_string(p);
-            for (auto& inst : c.track) inst.root.pos += at;
-            out.characters.push_back(std::move(c));
-        }
-        for (auto h : duel.hits) {
-            if (base + 1 >= characters) break;
-            h.attacker += base, h.defender += base;
-            out.hits.push_back(h);
-        }
-    }
-    return out;
+    return fray::test::pairCrowd(duel, characters);
 }
 
 // Args: characters, frames simulated per iteration.

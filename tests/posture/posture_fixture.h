@@ -1,6 +1,7 @@
 #pragma once
 // Scenes the posture tests and benchmark run: the README duel and the
 // one-vs-many fight composed from the demo PatternLists, built in memory.
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -57,6 +58,33 @@ inline sim::Scene composedScene(const std::string& specPath, const sim::PatchLib
     auto scene = sim::compose(demoWorld().library, patches, *spec);
     if (!scene) throw std::runtime_error(scene.error().message);
     return std::move(*scene);
+}
+
+// A crowd: copies of a two-character scene on a grid `spacing` m apart
+// (each pair its own island when far enough), `characters` in all.
+inline sim::Scene pairCrowd(const sim::Scene& pair, int characters, float spacing = 5.0f) {
+    sim::Scene out = pair;
+    out.characters.clear();
+    out.hits.clear();
+    out.catches.clear();
+    const int pairs = (characters + 1) / 2;
+    const int side = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(pairs))));
+    for (int p = 0; p < pairs; ++p) {
+        const glm::vec2 at(spacing * static_cast<float>(p % side), spacing * static_cast<float>(p / side));
+        const int base = static_cast<int>(out.characters.size());
+        for (int k = 0; k < 2 && base + k < characters; ++k) {
+            auto c = pair.characters[static_cast<std::size_t>(k)];
+            c.name += std::to_string(p);
+            for (auto& inst : c.track) inst.root.pos += at;
+            out.characters.push_back(std::move(c));
+        }
+        if (base + 1 >= characters) continue;
+        for (auto h : pair.hits) {
+            h.attacker += base, h.defender += base;
+            out.hits.push_back(h);
+        }
+    }
+    return out;
 }
 
 }  // namespace fray::test

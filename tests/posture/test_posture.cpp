@@ -5,7 +5,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <limits>
 
@@ -33,6 +32,8 @@ const sim::Scene& oneVsMany() {
     return scene;
 }
 
+void expectSameBytes(const sim::Scene& scene);
+
 bool allFinite(const sim::JointTracks& t) {
     for (const auto& c : t.joints) {
         for (const auto& p : c) {
@@ -57,54 +58,8 @@ Both measure(const sim::Scene& scene, const posture::Options& options = {}) {
     b.physics = sim::computePostureMetrics(scene, lib, frames->world, captured);
     b.report = frames->report;
     EXPECT_TRUE(allFinite(frames->world));
-    if (std::getenv("XSK")) {
-        const sim::ScenePoser poser(scene, lib);
-        for (std::size_t c = 0; c < scene.characters.size(); ++c) {
-            if (!captured.has(static_cast<int>(c))) continue;
-            const auto& jn = lib.motions[static_cast<std::size_t>(lib.actions[static_cast<std::size_t>(scene.characters[c].track[0].action)].motion)].joints;
-            const int feet[2] = {jn.leftFoot, jn.rightFoot};
-            for (int f = 1; f < captured.frames; ++f) {
-                const auto k0 = poser.contacts(static_cast<int>(c), (f - 1) / 60.0), k1 = poser.contacts(static_cast<int>(c), f / 60.0);
-                for (int ft = 0; ft < 2; ++ft) {
-                    if (!k0[static_cast<std::size_t>(ft)] || !k1[static_cast<std::size_t>(ft)]) continue;
-                    const auto j = static_cast<std::size_t>(feet[ft]);
-                    const glm::vec3 dp = frames->world.at(static_cast<int>(c), f)[j] - frames->world.at(static_cast<int>(c), f - 1)[j];
-                    const glm::vec3 dk = captured.at(static_cast<int>(c), f)[j] - captured.at(static_cast<int>(c), f - 1)[j];
-                    const double sp = 100 * std::hypot(dp.x, dp.z), sk = 100 * std::hypot(dk.x, dk.z);
-                    if (sp > 1.0) std::printf("skate c%zu f%d t%.3f foot%d phys %.2f kin %.2f inst %d\n", c, f, f / 60.0, ft, sp, sk, scene.instanceAt(static_cast<int>(c), f / 60.0));
-                }
-            }
-        }
-    }
-    if (const char* dbg = std::getenv("XDBG")) {
-        const int f0 = std::atoi(dbg);
-        const auto j0 = lib.motions[0].joints;
-        for (int f = f0; f < f0 + 30 && f < frames->world.frames; ++f) {
-            const auto A = sim::segmentBoxes(frames->world.at(0, f), j0);
-            const auto B = sim::segmentBoxes(frames->world.at(1, f), j0);
-            const auto K = sim::segmentBoxes(captured.at(0, f), j0);
-            const auto L = sim::segmentBoxes(captured.at(1, f), j0);
-            double d = 0, k = 0;
-            int sa = 0, sb = 0;
-            for (int x = 0; x < sim::kSegmentCount; ++x) {
-                for (int y = 0; y < sim::kSegmentCount; ++y) {
-                    const double e = sim::boxPenetration(A[static_cast<std::size_t>(x)], B[static_cast<std::size_t>(y)]);
-                    if (e > d) d = e, sa = x, sb = y;
-                    k = std::max(k, sim::boxPenetration(K[static_cast<std::size_t>(x)], L[static_cast<std::size_t>(y)]));
-                }
-            }
-            double hp = 1e9, hk = 1e9;
-            const int eff = std::getenv("XEFF") ? std::atoi(std::getenv("XEFF")) : sim::kLeftShin;
-            for (int x = 0; x < sim::kSegmentCount; ++x) {
-                hp = std::min(hp, sim::boxSignedDistance(B[static_cast<std::size_t>(eff)], A[static_cast<std::size_t>(x)]));
-                hk = std::min(hk, sim::boxSignedDistance(L[static_cast<std::size_t>(eff)], K[static_cast<std::size_t>(x)]));
-            }
-            std::printf("f %d t %.3f phys %.2f cm (%s/%s) kin %.2f  hit phys %.2f kin %.2f\n", f, f / 60.0, 100 * d, sim::segmentName(sa), sim::segmentName(sb), 100 * k, 100 * hp, 100 * hk);
-        }
-    }
     std::printf("kinematic\n%sphysics\n%s", sim::postureMetricsToText(b.kinematic).c_str(),
                 sim::postureMetricsToText(b.physics).c_str());
-    if (std::getenv("FRAY_POSTURE_DUMP")) std::printf("%s%s", sim::postureMetricsToJson(b.kinematic).c_str(), sim::postureMetricsToJson(b.physics).c_str());
     std::printf("report: %d non-finite, %d pins refused, %d released, %d capped, %d resets, %d overlaps\n",
                 b.report.nonFiniteTargets, b.report.refusedPins, b.report.releasedPins, b.report.cappedForces, b.report.resets,
                 b.report.initialOverlaps);
@@ -149,13 +104,7 @@ TEST(PostureGeometry, BoxDistanceAndPenetration) {
 }
 
 TEST(PostureSolver, DuelMeetsTheIssueThresholds) {
-    posture::Options o;
-    if (std::getenv("XNC")) o.collisions = false;
-    if (std::getenv("XF")) o.frequency = std::atof(std::getenv("XF"));
-    if (std::getenv("XI")) o.iterations = std::atoi(std::getenv("XI"));
-    if (std::getenv("XS")) o.substeps = std::atoi(std::getenv("XS"));
-    if (std::getenv("XA")) o.maxAcceleration = std::atof(std::getenv("XA"));
-    const auto both = measure(duel(), o);
+    const auto both = measure(duel());
     record("kinematic", both.kinematic);
     record("physics", both.physics);
     ASSERT_GT(both.physics.landed, 0);
@@ -174,8 +123,22 @@ TEST(PostureSolver, OneVsManyMeetsTheIssueThresholds) {
 }
 
 TEST(PostureSolver, SameBytesOnOneThreadOrMany) {
-    sim::Scene scene = oneVsMany();
-    scene.duration = std::min(scene.duration, 8.0);
+    // Three duels apart (three islands, in parallel) and the one-vs-many
+    // fight (one island of nine), the first seconds of each.
+    sim::Scene crowd = test::pairCrowd(duel(), 6, 6.0f);
+    crowd.duration = 6.0;
+    {
+        const posture::Simulator probe(crowd, demoWorld().library, {});
+        EXPECT_EQ(probe.islands(), 3);
+    }
+    sim::Scene fight = oneVsMany();
+    fight.duration = 6.0;
+    for (const sim::Scene* scene : {&crowd, &fight}) {
+        expectSameBytes(*scene);
+    }
+}
+
+void expectSameBytes(const sim::Scene& scene) {
     posture::Options serial;
     serial.parallel = false;
     const auto a = posture::simulate(scene, demoWorld().library);

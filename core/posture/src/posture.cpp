@@ -35,15 +35,15 @@ namespace {
 
 using sim::Obb;
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
-constexpr double kMaxCorrectingSpeed = 1.0;  // m/s: contacts push overlapping bodies apart no faster
-constexpr double kPinSlack = 0.15;           // m: a supported foot farther than this from its target waits to be pinned
+constexpr double kMaxCorrectingSpeed = 2.0;  // m/s: contacts push overlapping bodies apart no faster
 constexpr double kPinReach = 1.5;            // a pin is let go when the hip's target is this many legs away
 constexpr double kContactYield = 0.25;       // control gain left to a body touching another character
+constexpr double kBodyYield = 0.6;           // and to the rest of that character's bodies
 constexpr double kPinComfort = 0.97;         // share of the leg's length the hip's target is kept within from a pin
 constexpr double kPinTolerance = 0.02;       // m: a pin stays put while its foot's target is this close
-constexpr double kPinSlide = 0.003;          // m per frame: a pin follows a sliding target no faster
-constexpr double kPinSlideFast = 0.006;      // m per frame: the same while the hip's target is out of the leg's reach
-constexpr double kHitDepth = 0.04;           // m: a blow is aimed this far inside the target's box
+constexpr double kPinSlide = 0.002;          // m per frame: a pin follows a sliding target no faster
+constexpr double kPinSlideFast = 0.003;      // m per frame: the same while the hip's target is out of the leg's reach
+constexpr double kHitDepth = 0.01;           // m: a blow is aimed this far inside the target's box
 constexpr double kPinMaxHeight = 0.3;        // m: a supported ankle higher than this is not pinned
 
 void initOde() {
@@ -144,6 +144,7 @@ struct Character {
     std::vector<glm::vec3> pinShift;  // per joint: targets moved onto the pins (pinned feet, their knees half)
     std::vector<std::uint8_t> pinHeld; // per joint: held by a pin (no velocity target)
     std::vector<std::uint8_t> touched; // per joint: its body touches another character this step
+    bool touching = false;             // any of them does
     std::vector<float> torqueScale;  // per joint: twist control eased off where a pull moves the limb
     // Targets at the last frame and this one.
     std::vector<glm::vec3> p0, p1, p2;  // targets at the last frame, this one and the next
@@ -167,7 +168,13 @@ bool isSpine(const Character& c, int j) {
     return false;
 }
 
+std::mutex& stepMutex() {
+    static std::mutex m;
+    return m;
+}
+
 struct Island {
+    int index = 0;
     dWorldID world = nullptr;
     dJointGroupID contacts = nullptr;
     dGeomID floor = nullptr;
@@ -189,6 +196,7 @@ struct Simulator::Impl {
     std::vector<Blow> blows;
     Report report;
     mutable Report mergedReport;
+    std::vector<std::uint8_t> pinRefused;  // per Options::pins entry: already reported
     int frame = -1, frames = 0;
     double h = 0;
 
@@ -196,6 +204,7 @@ struct Simulator::Impl {
         initOde();
         frames = static_cast<int>(std::floor(scene.duration * opt.fps)) + 1;
         h = 1.0 / (opt.fps * opt.substeps);
+        pinRefused.assign(opt.pins.size(), 0);
         setupCharacters();
         setupPulls();
         setupIslands();
@@ -457,6 +466,7 @@ struct Simulator::Impl {
             islands[static_cast<std::size_t>(it->second)].members.push_back(c);
         }
         for (auto& is : islands) {
+            is.index = static_cast<int>(&is - islands.data());
             is.world = dWorldCreate();
             dWorldSetGravity(is.world, 0, -9.81, 0);
             dWorldSetERP(is.world, 0.3);
@@ -604,9 +614,11 @@ struct Simulator::Impl {
     void updatePins(Island& is, Character& c, double t) {
         const auto contact = poser.contacts(c.index, t);
         const int feet[2] = {c.roles.leftFoot, c.roles.rightFoot};
-        for (const auto& req : opt.pins) {
+        for (std::size_t r = 0; r < opt.pins.size(); ++r) {
+            const auto& req = opt.pins[r];
             if (req.character != c.index || req.foot < 0 || req.foot > 1 || t < req.from || t > req.to) continue;
-            if (!contact[static_cast<std::size_t>(req.foot)] && t < req.from + 0.5 / opt.fps) {
+            if (!contact[static_cast<std::size_t>(req.foot)] && !pinRefused[r]) {
+                pinRefused[r] = 1;  // one character's request: only its island writes it
                 ++is.report.refusedPins;
                 is.report.note("character " + nameOf(c.index) + ": " + (req.foot == 0 ? "left" : "right") + " foot pin at " +
                                std::to_string(t) + " s refused: the contacts say that foot is not supported");
@@ -643,9 +655,10 @@ struct Simulator::Impl {
                 }
                 continue;
             }
+            // Pinned where it is (a lagging foot then slides to its target
+            // like a pin does), unless it is clearly off the floor.
             const glm::dvec3 now = jointPos(c, foot);
-            if (glm::length(now - target) > kPinSlack) continue;  // still on its way: pinned when it lands
-            if (target.y > kPinMaxHeight) {
+            if (target.y > kPinMaxHeight || now.y > kPinMaxHeight) {
                 ++is.report.refusedPins;
                 continue;
             }
@@ -659,8 +672,10 @@ struct Simulator::Impl {
             pin = dJointCreateBall(is.world, nullptr);
             dJointAttach(pin, c.bodies[static_cast<std::size_t>(foot)], nullptr);
             dJointSetBallAnchor(pin, now.x, now.y, now.z);
-            dJointSetBallParam(pin, dParamERP, 0.8);
+            dJointSetBallParam(pin, dParamERP, 0.95);
             dJointSetBallParam(pin, dParamCFM, 1e-9);
+            // The foot lands: it stops there (else the pin catches it a step late).
+            dBodySetLinearVel(c.bodies[static_cast<std::size_t>(foot)], 0, 0, 0);
             c.pinAt[static_cast<std::size_t>(f)] = now;
         }
         // The pinned feet's targets are the pins: the control does not pull against them.
@@ -715,7 +730,7 @@ struct Simulator::Impl {
             } else {
                 target += glm::dvec3(c.pinShift[j]);
             }
-            const double m = c.mass[j] * (c.touched[j] ? kContactYield : 1.0);
+            const double m = c.mass[j] * (c.touched[j] ? kContactYield : (c.touching ? kBodyYield : 1.0));
             glm::dvec3 f = m * (w * w * (target - vecOf(dBodyGetPosition(b))) + kd * (targetVel - vecOf(dBodyGetLinearVel(b))) +
                                 targetAcc);
             const double fmax = c.mass[j] * opt.maxAcceleration;
@@ -759,6 +774,7 @@ struct Simulator::Impl {
             if (!c.created) continue;
             syncGeoms(c);
             std::fill(c.touched.begin(), c.touched.end(), std::uint8_t{0});
+            c.touching = false;
         }
         dContactGeom found[4];
         // Bodies of touching segments yield: their control is softened so the
@@ -775,8 +791,8 @@ struct Simulator::Impl {
                 dJointID joint = dJointCreateContact(is.world, is.contacts, &contact);
                 dJointAttach(joint, dGeomGetBody(a), dGeomGetBody(b));
             }
-            if (k > 0 && ca) ca->touched[static_cast<std::size_t>(segmentBody(sa, ca->roles))] = 1;
-            if (k > 0 && cb) cb->touched[static_cast<std::size_t>(segmentBody(sb, cb->roles))] = 1;
+            if (k > 0 && ca) ca->touched[static_cast<std::size_t>(segmentBody(sa, ca->roles))] = 1, ca->touching = true;
+            if (k > 0 && cb) cb->touched[static_cast<std::size_t>(segmentBody(sb, cb->roles))] = 1, cb->touching = true;
         };
         for (std::size_t x = 0; x < is.members.size(); ++x) {
             auto& a = chars[static_cast<std::size_t>(is.members[x])];
@@ -862,7 +878,16 @@ struct Simulator::Impl {
                 }
                 const double ts = (f - 1) / opt.fps + s * h;
                 pushBlows(is, ts, ts + h);
-                dWorldQuickStep(is.world, h);
+                {
+                    // ODE's QuickStep reorders constraints with one global
+                    // random generator: each step gets its own seed, one
+                    // island at a time, so the result does not depend on
+                    // threads or on what ran before.
+                    const std::lock_guard<std::mutex> lock(stepMutex());
+                    dRandSetSeed(static_cast<unsigned long>(is.index) * 1000003ul +
+                                 static_cast<unsigned long>(f) * 64ul + static_cast<unsigned long>(s));
+                    dWorldQuickStep(is.world, h);
+                }
                 dJointGroupEmpty(is.contacts);
             }
         }
