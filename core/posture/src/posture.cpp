@@ -36,7 +36,7 @@ namespace {
 using sim::Obb;
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kMaxCorrectingSpeed = 2.0;  // m/s: contacts push overlapping bodies apart no faster
-constexpr double kPinReach = 1.5;            // a pin is let go when the hip's target is this many legs away
+constexpr double kPinReach = 3.0;            // a pin is let go when the hip's target is this many legs away (a jump cut)
 constexpr double kContactYield = 0.25;       // control gain left to a body touching another character
 constexpr double kBodyYield = 0.6;           // and to the rest of that character's bodies
 constexpr double kPinComfort = 0.97;         // share of the leg's length the hip's target is kept within from a pin
