@@ -179,6 +179,7 @@ struct Island {
     dJointGroupID contacts = nullptr;
     dGeomID floor = nullptr;
     std::vector<int> members;
+    int contactsThisStep = 0;  // contacts between characters in the current step
     Report report;
 };
 
@@ -769,6 +770,7 @@ struct Simulator::Impl {
     }
 
     void collide(Island& is) {
+        is.contactsThisStep = 0;
         for (int m : is.members) {
             auto& c = chars[static_cast<std::size_t>(m)];
             if (!c.created) continue;
@@ -789,6 +791,7 @@ struct Simulator::Impl {
                 contact.surface.soft_cfm = 1e-7;
                 contact.geom = found[i];
                 dJointID joint = dJointCreateContact(is.world, is.contacts, &contact);
+                if (ca) ++is.contactsThisStep;
                 dJointAttach(joint, dGeomGetBody(a), dGeomGetBody(b));
             }
             if (k > 0 && ca) ca->touched[static_cast<std::size_t>(segmentBody(sa, ca->roles))] = 1, ca->touching = true;
@@ -886,6 +889,7 @@ struct Simulator::Impl {
                     const std::lock_guard<std::mutex> lock(stepMutex());
                     dRandSetSeed(static_cast<unsigned long>(is.index) * 1000003ul +
                                  static_cast<unsigned long>(f) * 64ul + static_cast<unsigned long>(s));
+                    dWorldSetQuickStepNumIterations(is.world, is.contactsThisStep > 0 ? opt.iterations : opt.freeIterations);
                     dWorldQuickStep(is.world, h);
                 }
                 dJointGroupEmpty(is.contacts);
@@ -960,6 +964,7 @@ Status checkOptions(const sim::Scene& scene, const Options& o) {
     if (!(o.fps >= 1 && o.fps <= 1000)) return bad("fps", "must be in [1, 1000]");
     if (o.substeps < 1 || o.substeps > 64) return bad("substeps", "must be in [1, 64]");
     if (o.iterations < 1 || o.iterations > 500) return bad("iterations", "must be in [1, 500]");
+    if (o.freeIterations < 1 || o.freeIterations > 500) return bad("freeIterations", "must be in [1, 500]");
     if (!(o.frequency > 0 && o.frequency * kTwoPi / (o.fps * o.substeps) < 1.0)) {
         return bad("frequency", "must be positive and below fps * substeps / (2 pi) (an unstable step otherwise)");
     }
