@@ -555,16 +555,10 @@ struct Simulator::Impl {
             const Obb& box = boxes[static_cast<std::size_t>(s)];
             dGeomID g = dCreateBox(nullptr, 2.0 * static_cast<double>(box.half.x), 2.0 * static_cast<double>(box.half.y), 2.0 * static_cast<double>(box.half.z));
             dGeomSetBody(g, c.bodies[static_cast<std::size_t>(segmentBody(s, c.roles))]);
-            dGeomSetOffsetWorldPosition(g, box.centre.x, box.centre.y, box.centre.z);
-            dMatrix3 R;
-            for (int r = 0; r < 3; ++r) {
-                for (int k = 0; k < 3; ++k) R[r * 4 + k] = box.axes[k][r];
-                R[r * 4 + 3] = 0;
-            }
-            dGeomSetOffsetWorldRotation(g, R);
             c.geoms[static_cast<std::size_t>(s)] = g;
             c.geomRadius[static_cast<std::size_t>(s)] = box.radius();
         }
+        syncGeoms(c);
         c.created = true;
         // Bodies that start inside one another are pushed apart gently.
         for (int o : is.members) {
