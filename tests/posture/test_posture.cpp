@@ -60,8 +60,9 @@ Both measure(const sim::Scene& scene, const posture::Options& options = {}) {
     EXPECT_TRUE(allFinite(frames->world));
     std::printf("kinematic\n%sphysics\n%s", sim::postureMetricsToText(b.kinematic).c_str(),
                 sim::postureMetricsToText(b.physics).c_str());
-    std::printf("report: %d non-finite, %d pins refused, %d released, %d capped, %d resets, %d overlaps\n",
-                b.report.nonFiniteTargets, b.report.refusedPins, b.report.releasedPins, b.report.cappedForces, b.report.resets,
+    std::printf("report: %d non-finite, %d pins refused, %d released, %lld capped, %d resets, %d overlaps\n",
+                b.report.nonFiniteTargets, b.report.refusedPins, b.report.releasedPins,
+                static_cast<long long>(b.report.cappedForces), b.report.resets,
                 b.report.initialOverlaps);
     for (const auto& n : b.report.notes) std::printf("  %s\n", n.c_str());
     return b;

@@ -75,7 +75,7 @@ struct Report {
     int nonFiniteTargets = 0;   // joint targets that were NaN/inf (held at the last finite value)
     int refusedPins = 0;        // pins not set: foot not supported, too high, or incompatible
     int releasedPins = 0;       // pins let go because the pose moved the foot away
-    int cappedForces = 0;       // particle forces or torques at their cap (steps x particles)
+    std::int64_t cappedForces = 0;  // particle forces or torques at their cap (steps x particles)
     int resets = 0;             // characters put back on their targets after a non-finite state
     int initialOverlaps = 0;    // pairs of characters starting inside each other
     std::vector<std::string> notes;  // one line each, the first kMaxNotes
