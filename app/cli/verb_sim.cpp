@@ -7,6 +7,7 @@
 
 #include "fray/core/atomic_file.h"
 #include "fray/prep/json_reader.h"
+#include "fray/posture/posture.h"
 #include "fray/sim/action_library.h"
 #include "fray/sim/metrics.h"
 #include "fray/sim/planner.h"
@@ -57,15 +58,25 @@ void runSimulate(const SimulateArgs& a) {
 
 // ---- metrics ------------------------------------------------------------------
 struct MetricsArgs {
-    std::string scene;
+    std::string scene, posture;
     bool json = false, quiet = false;
 };
 
 void runMetrics(const MetricsArgs& a) {
+    const auto mode = posture::parseMode(a.posture.empty() ? "kinematic" : a.posture);
+    if (!mode) return fail("--posture: '" + a.posture + "' is not kinematic or physics");
     auto loaded = openScene(a.scene, stderrProgress(a.quiet));
     if (!loaded) return fail(loaded.error().message);
-    const auto m = sim::computeMetrics(loaded->scene, loaded->session->library);
-    std::fputs((a.json ? sim::metricsToJson(m) : sim::metricsToText(m)).c_str(), stdout);
+    const auto& lib = loaded->session->library;
+    const auto m = sim::computeMetrics(loaded->scene, lib);
+    // --posture: the posture metrics of that mode (docs/POSTURE.md); alone with --json.
+    if (!a.json || a.posture.empty()) std::fputs((a.json ? sim::metricsToJson(m) : sim::metricsToText(m)).c_str(), stdout);
+    if (a.posture.empty()) return;
+    const auto captured = sim::kinematicTracks(loaded->scene, lib);
+    auto shown = posture::tracks(*mode, loaded->scene, lib);
+    if (!shown) return fail(shown.error().message);
+    const auto p = sim::computePostureMetrics(loaded->scene, lib, *shown, captured);
+    std::fputs((a.json ? sim::postureMetricsToJson(p) : sim::postureMetricsToText(p)).c_str(), stdout);
 }
 
 // ---- presets ------------------------------------------------------------------
@@ -153,6 +164,7 @@ void registerSim(CLI::App& app) {
         auto* cmd = app.add_subcommand("metrics", "Scene quality and outcome metrics per character");
         cmd->add_option("scene", args->scene, "Scene file")->required();
         cmd->add_flag("--json", args->json, "JSON output");
+        cmd->add_option("--posture", args->posture, "Also the posture metrics of this mode: kinematic | physics (with --json: only them)");
         cmd->add_flag("-q,--quiet", args->quiet, "No progress on stderr");
         cmd->callback([args] { runMetrics(*args); });
     }

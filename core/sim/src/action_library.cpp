@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include "fray/core/kinematics.h"
+#include "fray/sim/segment_boxes.h"
 
 namespace fray::sim {
 
@@ -33,6 +34,27 @@ glm::vec3 segmentTip(const Obb& box, int segment) {
     return box.centre + box.axes[0] * (box.half.x - kSegmentDefs[segment].pad);
 }
 
+std::pair<int, int> segmentJoints(int segment, const StandardJoints& j);
+
+std::array<Obb, kSegmentCount> segmentBoxes(std::span<const glm::vec3> world, const StandardJoints& j) {
+    auto at = [&](int joint) { return world[static_cast<std::size_t>(joint)]; };
+    const glm::vec3 right = at(j.rightHip) - at(j.leftHip);
+    std::array<Obb, kSegmentCount> boxes;
+    for (int seg = 0; seg < kSegmentCount; ++seg) {
+        const auto [j0, j1] = segmentJoints(seg, j);
+        const auto& d = kSegmentDefs[seg];
+        if (j0 >= 0 && j1 >= 0) {
+            boxes[static_cast<std::size_t>(seg)] = segmentBox(at(j0), at(j1), d.halfSide, d.halfDepth, d.pad, right);
+        } else {
+            // A missing joint (e.g. no toe): a small box at the near joint.
+            const int jj = j0 >= 0 ? j0 : (j1 >= 0 ? j1 : j.pelvis);
+            boxes[static_cast<std::size_t>(seg)] =
+                segmentBox(at(jj), at(jj) + glm::vec3(0, 0.01f, 0), d.halfSide, d.halfDepth, d.pad, right);
+        }
+    }
+    return boxes;
+}
+
 namespace {
 
 std::uint32_t flagsOf(const std::vector<std::string>& annotations) {
@@ -55,6 +77,8 @@ std::uint32_t flagsOf(const std::vector<std::string>& annotations) {
     return f;
 }
 
+}  // namespace
+
 // The two joints a segment's box spans (-1 when the skeleton lacks one).
 std::pair<int, int> segmentJoints(int segment, const StandardJoints& j) {
     switch (segment) {
@@ -74,6 +98,8 @@ std::pair<int, int> segmentJoints(int segment, const StandardJoints& j) {
         default: return {-1, -1};
     }
 }
+
+namespace {
 
 // The segment an attack lands with, from a "joints used" name.
 int effectorFromJoint(int joint, const StandardJoints& j) {
@@ -284,19 +310,7 @@ Result<ActionLibrary> buildActionLibrary(const prep::Project& project, std::span
                                          a.lastFrame);
                 lib.roots.push_back(localOf(f));
                 const glm::vec3 origin(start.pos.x, 0.0f, start.pos.y);
-                const glm::vec3 right = at(f, j.rightHip) - at(f, j.leftHip);
-                for (int seg = 0; seg < kSegmentCount; ++seg) {
-                    const auto [j0, j1] = segmentJoints(seg, j);
-                    const auto& d = kSegmentDefs[seg];
-                    Obb box;
-                    if (j0 >= 0 && j1 >= 0) {
-                        const glm::vec3 p0 = at(f, j0), p1 = at(f, j1);
-                        box = segmentBox(p0, p1, d.halfSide, d.halfDepth, d.pad, right);
-                    } else {
-                        // A missing joint (e.g. no toe): a small box at the near joint.
-                        const int jj = j0 >= 0 ? j0 : (j1 >= 0 ? j1 : j.pelvis);
-                        box = segmentBox(at(f, jj), at(f, jj) + glm::vec3(0, 0.01f, 0), d.halfSide, d.halfDepth, d.pad, right);
-                    }
+                for (Obb box : segmentBoxes(span(f), j)) {
                     box.centre -= origin;
                     lib.boxes.push_back(box.placed(RootXf{{0.0f, 0.0f}, toLocal.heading}));
                 }

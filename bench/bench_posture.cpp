@@ -1,0 +1,43 @@
+// Posture synthesis speed (issue 25; targets in docs/BENCHMARKS.md): N
+// characters with physics on, simulation only (no metrics, no rendering).
+// The crowd is the README duel repeated on a grid 5 m apart, so every pair
+// is its own island. Counter fps = frames (1/60 s of scene each) produced per
+// wall-clock second.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <string>
+
+#include "fray/posture/posture.h"
+#include "posture/posture_fixture.h"
+
+namespace {
+
+using fray::test::demoWorld;
+
+fray::sim::Scene crowd(int characters) {
+    static const fray::sim::Scene duel = fray::test::plannedScene(FRAY_SOURCE_DIR "/resources/demo/duel.json");
+    return fray::test::pairCrowd(duel, characters);
+}
+
+// Args: characters, frames simulated per iteration.
+void BM_PosturePhysics(benchmark::State& state) {
+    const auto scene = crowd(static_cast<int>(state.range(0)));
+    const int frames = static_cast<int>(state.range(1));
+    double produced = 0;
+    for (auto _ : state) {
+        fray::posture::Simulator sim(scene, demoWorld().library, {});
+        state.PauseTiming();
+        sim.step();  // frame 0 places the bodies: not a simulated frame
+        state.ResumeTiming();
+        for (int f = 0; f < frames; ++f) sim.step();
+        produced += frames;
+        benchmark::DoNotOptimize(sim.positions(0).data());
+    }
+    state.counters["fps"] = benchmark::Counter(produced, benchmark::Counter::kIsRate);
+    state.counters["characters"] = static_cast<double>(state.range(0));
+}
+
+BENCHMARK(BM_PosturePhysics)->Args({2, 120})->Args({200, 60})->Args({1000, 30})->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace

@@ -1,0 +1,129 @@
+#pragma once
+// Run-time posture synthesis (SPEC 5, thesis appendix A): the displayed poses
+// of a planned scene made by a physics particle system on ODE. Each joint of a
+// character is a particle carried by a rigid segment (box geometry), segments
+// are linked by ball joints, gravity pulls and an infinite floor plane holds
+// the rag dolls. PD forces and torques (capped) pull every particle to the
+// captured pose (soft constraints, adjusted so blows meet the victim's body
+// and catching hands reach the runaway); supported feet are pinned where they
+// land (hard constraints); segments of different characters collide.
+//
+// Deterministic: a fixed step, characters that may touch simulated together
+// in one world in index order (an island), islands run in parallel (TBB) and
+// write only their own characters: the same scene gives the same bytes on
+// any number of threads.
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <glm/gtc/quaternion.hpp>
+#include <glm/vec3.hpp>
+
+#include "fray/core/motion.h"
+#include "fray/core/result.h"
+#include "fray/sim/action_library.h"
+#include "fray/sim/metrics.h"
+#include "fray/sim/scene.h"
+#include "fray/sim/segment_boxes.h"
+
+namespace fray::posture {
+
+// How the displayed poses are made: today's playback, or the solver.
+enum class Mode { Kinematic, Physics };
+std::optional<Mode> parseMode(std::string_view name);  // "kinematic" | "physics"
+const char* modeName(Mode mode);
+
+// A foot pin asked for by the user over a time span: kept only where the
+// scene's contacts say the foot is supported (else refused and reported).
+struct FootPin {
+    int character = 0;
+    int foot = 0;  // 0 left, 1 right
+    double from = 0, to = 0;
+};
+
+struct Options {
+    double fps = 60;             // frames produced per second of scene
+    int substeps = 4;            // physics steps per frame (fixed step = 1 / (fps * substeps))
+    int iterations = 40;         // ODE QuickStep iterations in steps with contacts between characters (strong PD
+                                 // forces push bodies through contacts with fewer)
+    int freeIterations = 40;     // and in steps without (25 lets pinned feet slip 1.2 cm in the luggage chain)
+    double frequency = 8;        // Hz: PD natural frequency of the particles (Ke = m w^2); the
+                                 // captured velocity and acceleration are fed forward
+    double dampingRatio = 1;     // Kd = 2 zeta m w
+    double maxAcceleration = 1000;  // m/s^2: force cap per particle (|F| <= m a)
+    double angularFrequency = 8;    // Hz: the twist-keeping torques
+    double maxAngularAcceleration = 4000;  // rad/s^2: torque cap (|T| <= I a)
+    double hitLead = 0.25, hitTail = 0.2;  // s: ease in before a hit, out after it
+    double hitForce = 0.3;       // share of the striker's momentum pushed into the victim
+    double catchLead = 0.4;      // s: hands reach out before a catch
+    double catchReach = 0.7;     // m: farthest a catching hand is pulled
+    bool collisions = true;      // segments of different characters collide
+    bool footPins = true;        // pin supported feet
+    bool hitTargets = true;      // pull blows onto the victim's surface
+    std::vector<std::uint8_t> ragdoll;  // per character, 1: no control (falls as a rag doll); missing = controlled
+    std::vector<FootPin> pins;   // extra pins from the user
+    bool parallel = true;        // islands on TBB threads
+    double islandReach = 2.5;    // m: characters whose pelvises come this close share a world
+};
+
+// What the solver clamped, refused or reset, for the user.
+struct Report {
+    int nonFiniteTargets = 0;   // joint targets that were NaN/inf (held at the last finite value)
+    int refusedPins = 0;        // pins not set: foot not supported, too high, or incompatible
+    int releasedPins = 0;       // pins let go because the pose moved the foot away
+    std::int64_t cappedForces = 0;  // particle forces or torques at their cap (steps x particles)
+    int resets = 0;             // characters put back on their targets after a non-finite state
+    int initialOverlaps = 0;    // pairs of characters starting inside each other
+    std::vector<std::string> notes;  // one line each, the first kMaxNotes
+    static constexpr std::size_t kMaxNotes = 50;
+    void note(std::string line);
+};
+
+// The physics poses of a scene, frame by frame.
+struct Frames {
+    sim::JointTracks world;                      // world joint positions (also what metrics read)
+    std::vector<std::vector<glm::quat>> rotations;  // per character: frames x joints world rotations
+    Report report;
+    int islands = 0;
+};
+
+// Steps a scene one frame at a time (benchmarks, viewers); see simulate().
+class Simulator {
+public:
+    Simulator(const sim::Scene& scene, const sim::ActionLibrary& lib, const Options& options);
+    ~Simulator();
+    Simulator(const Simulator&) = delete;
+    Simulator& operator=(const Simulator&) = delete;
+    // Advances to the next frame (the first call produces frame 0).
+    void step();
+    int frame() const;  // the last frame produced, -1 before the first step
+    int frameCount() const;
+    // The character's world joint positions and rotations at the last frame
+    // (the captured pose while it is not in the scene yet; empty for creatures).
+    std::span<const glm::vec3> positions(int character) const;
+    std::span<const glm::quat> rotations(int character) const;
+    const Report& report() const;
+    int islands() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+// Checks the scene and options (errors name the field) and runs the whole
+// scene. Same input, same bytes.
+Result<Frames> simulate(const sim::Scene& scene, const sim::ActionLibrary& lib, const Options& options = {});
+
+// The displayed joint positions in either mode at options.fps.
+Result<sim::JointTracks> tracks(Mode mode, const sim::Scene& scene, const sim::ActionLibrary& lib, const Options& options = {});
+
+// The local pose (root joint in scene coordinates) of a skeleton from its
+// world joint positions and rotations, for exporters and renderers.
+void localPose(const Skeleton& skeleton, std::span<const glm::vec3> world, std::span<const glm::quat> worldRotations,
+               Pose& out);
+
+}  // namespace fray::posture

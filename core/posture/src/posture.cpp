@@ -1,0 +1,1035 @@
+#include "fray/posture/posture.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <mutex>
+#include <numbers>
+#include <limits>
+#include <numeric>
+#include <unordered_map>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <ode/ode.h>
+#include <tbb/parallel_for.h>
+
+#include "fray/core/kinematics.h"
+
+namespace fray::posture {
+
+std::optional<Mode> parseMode(std::string_view name) {
+    if (name == "kinematic") return Mode::Kinematic;
+    if (name == "physics") return Mode::Physics;
+    return std::nullopt;
+}
+
+const char* modeName(Mode mode) { return mode == Mode::Physics ? "physics" : "kinematic"; }
+
+void Report::note(std::string line) {
+    if (notes.size() < kMaxNotes) notes.push_back(std::move(line));
+}
+
+namespace {
+
+using sim::Obb;
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+constexpr double kMaxCorrectingSpeed = 2.0;  // m/s: contacts push overlapping bodies apart no faster
+constexpr double kPinReach = 3.0;            // a pin is let go when the hip's target is this many legs away (a jump cut)
+constexpr double kContactYield = 0.25;       // control gain left to a body touching another character
+constexpr double kBodyYield = 0.6;           // and to the rest of that character's bodies
+constexpr double kPinComfort = 0.97;         // share of the leg's length the hip's target is kept within from a pin
+constexpr double kPinTolerance = 0.02;       // m: a pin stays put while its foot's target is this close
+constexpr double kPinSlide = 0.002;          // m per frame: a pin follows a sliding target no faster
+constexpr double kPinSlideFast = 0.003;      // m per frame: the same while the hip's target is out of the leg's reach
+constexpr double kHitDepth = 0.01;           // m: a blow is aimed this far inside the target's box
+constexpr double kPinMaxHeight = 0.3;        // m: a supported ankle higher than this is not pinned
+
+void initOde() {
+    static std::once_flag once;
+    std::call_once(once, [] { dInitODE2(0); });
+}
+
+bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite(const glm::quat& q) { return std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z) && std::isfinite(q.w); }
+
+glm::dvec3 vecOf(const dReal* v) { return {v[0], v[1], v[2]}; }
+glm::dquat quatOf(const dReal* q) {
+    glm::dquat r;
+    r.w = q[0], r.x = q[1], r.y = q[2], r.z = q[3];
+    return r;
+}
+void setQuat(dBodyID b, const glm::dquat& q) {
+    const dQuaternion o = {q.w, q.x, q.y, q.z};
+    dBodySetQuaternion(b, o);
+}
+
+// Rotation vector (axis * angle) of a rotation, the short way round.
+glm::dvec3 rotationVector(glm::dquat q) {
+    if (q.w < 0) q = -q;
+    const glm::dvec3 v(q.x, q.y, q.z);
+    const double s = glm::length(v);
+    if (s < 1e-12) return 2.0 * v;
+    return v * (2.0 * std::atan2(s, q.w) / s);
+}
+
+double smooth(double x) {
+    x = std::clamp(x, 0.0, 1.0);
+    return x * x * (3.0 - 2.0 * x);
+}
+
+// The joint whose body carries a segment's box.
+int segmentBody(int segment, const StandardJoints& j) {
+    switch (segment) {
+        case sim::kPelvis: return j.pelvis;
+        case sim::kTorso: return j.spine >= 0 ? j.spine : j.pelvis;
+        case sim::kHead: return j.neck >= 0 ? j.neck : j.head;
+        case sim::kLeftUpperArm: return j.leftShoulder;
+        case sim::kLeftForearm: return j.leftElbow;
+        case sim::kRightUpperArm: return j.rightShoulder;
+        case sim::kRightForearm: return j.rightElbow;
+        case sim::kLeftThigh: return j.leftHip;
+        case sim::kLeftShin: return j.leftKnee;
+        case sim::kLeftFoot: return j.leftFoot;
+        case sim::kRightThigh: return j.rightHip;
+        case sim::kRightShin: return j.rightKnee;
+        case sim::kRightFoot: return j.rightFoot;
+        default: return j.pelvis;
+    }
+}
+
+// A target adjustment: joints of one character moved by weight * offset,
+// eased in over [peak - lead, peak] and out over [peak, peak + tail].
+struct Pull {
+    int character = 0;
+    double peak = 0, lead = 0, tail = 0;
+    glm::vec3 offset{0.0f};
+    std::vector<std::pair<int, float>> joints;
+    // The body it reaches for: the offset follows that joint's deviation from
+    // its captured place (-1: a fixed offset).
+    int other = -1, otherJoint = -1;
+    double weight(double t) const {
+        if (t < peak - lead || t > peak + tail) return 0.0;
+        return t <= peak ? smooth((t - (peak - lead)) / lead) : smooth(1.0 - (t - peak) / tail);
+    }
+};
+
+// A blow: the victim's body pushed by the striker's momentum once.
+struct Blow {
+    double time = 0;
+    int attacker = 0, defender = 0;
+    int tipJoint = 0, targetJoint = 0;
+    double mass = 0;   // kg behind the blow (the striking limb)
+    double scale = 1;  // blocked blows push less
+};
+
+struct Character {
+    int index = 0;
+    const Skeleton* skeleton = nullptr;
+    StandardJoints roles;
+    int jointCount = 0;
+    bool controlled = true;
+    bool created = false;
+    std::vector<glm::dvec3> centre;  // body centre (mass) in its joint's frame
+    std::vector<double> mass, inertia;
+    std::vector<double> reach;       // m: ankle to hip along the leg (pin compatibility)
+    std::vector<dBodyID> bodies;
+    std::array<dGeomID, sim::kSegmentCount> geoms{};
+    std::array<float, sim::kSegmentCount> geomRadius{};
+    std::array<dJointID, 2> pin{nullptr, nullptr};
+    std::array<glm::dvec3, 2> pinAt{};
+    double maxFootSpan = 2.0;
+    std::array<double, 2> legLength{1.0, 1.0};  // m: ankle to hip joint
+    std::vector<glm::vec3> pinShift;  // per joint: targets moved onto the pins (pinned feet, their knees half)
+    std::vector<std::uint8_t> pinHeld; // per joint: held by a pin (no velocity target)
+    std::vector<std::uint8_t> touched; // per joint: its body touches another character this step
+    bool touching = false;             // any of them does
+    std::vector<float> torqueScale;  // per joint: twist control eased off where a pull moves the limb
+    // Targets at the last frame and this one.
+    std::vector<glm::vec3> p0, p1, p2;  // targets at the last frame, this one and the next
+    std::vector<glm::quat> r0, r1, r2;
+    std::vector<glm::vec3> lastPos;
+    std::vector<glm::quat> lastRot;
+    bool haveFinite = false;
+    bool reportedNonFinite = false;
+    // Output.
+    std::vector<glm::vec3> outPos;
+    std::vector<glm::quat> outRot;
+    std::vector<glm::vec3> scratch;
+    std::vector<glm::vec3> deviation;  // output minus target at the last frame (where it really is)
+};
+
+// Is joint j on the spine (from the chest down to, not including, the pelvis)?
+bool isSpine(const Character& c, int j) {
+    for (int k = c.roles.chest; k >= 0 && k != c.roles.pelvis; k = c.skeleton->parents[static_cast<std::size_t>(k)]) {
+        if (k == j) return true;
+    }
+    return false;
+}
+
+std::mutex& stepMutex() {
+    static std::mutex m;
+    return m;
+}
+
+struct Island {
+    int index = 0;
+    dWorldID world = nullptr;
+    dJointGroupID contacts = nullptr;
+    dGeomID floor = nullptr;
+    std::vector<int> members;
+    int contactsThisStep = 0;  // contacts between characters in the current step
+    Report report;
+};
+
+}  // namespace
+
+struct Simulator::Impl {
+    const sim::Scene& scene;
+    const sim::ActionLibrary& lib;
+    Options opt;
+    sim::ScenePoser poser;
+    std::vector<Character> chars;
+    std::vector<Island> islands;
+    std::vector<Pull> pulls;
+    std::vector<std::vector<int>> pullsOf;  // per character
+    std::vector<Blow> blows;
+    Report report;
+    mutable Report mergedReport;
+    std::vector<std::uint8_t> pinRefused;  // per Options::pins entry: already reported
+    int frame = -1, frames = 0;
+    double h = 0;
+
+    Impl(const sim::Scene& s, const sim::ActionLibrary& l, const Options& o) : scene(s), lib(l), opt(o), poser(s, l) {
+        initOde();
+        frames = static_cast<int>(std::floor(scene.duration * opt.fps)) + 1;
+        h = 1.0 / (opt.fps * opt.substeps);
+        pinRefused.assign(opt.pins.size(), 0);
+        setupCharacters();
+        setupPulls();
+        setupIslands();
+    }
+
+    ~Impl() {
+        for (auto& c : chars) {
+            for (dGeomID g : c.geoms) {
+                if (g) dGeomDestroy(g);
+            }
+        }
+        for (auto& is : islands) {
+            if (is.floor) dGeomDestroy(is.floor);
+            if (is.contacts) dJointGroupDestroy(is.contacts);
+            if (is.world) dWorldDestroy(is.world);
+        }
+    }
+
+    std::string nameOf(int c) const { return "'" + scene.characters[static_cast<std::size_t>(c)].name + "'"; }
+
+    void setupCharacters() {
+        chars.resize(scene.characters.size());
+        for (std::size_t i = 0; i < chars.size(); ++i) {
+            auto& c = chars[i];
+            c.index = static_cast<int>(i);
+            if (scene.isCreature(c.index) || scene.characters[i].track.empty()) continue;
+            c.skeleton = &poser.skeleton(c.index);
+            const auto& first = lib.actions[static_cast<std::size_t>(scene.characters[i].track.front().action)];
+            c.roles = lib.motions[static_cast<std::size_t>(first.motion)].joints;
+            c.controlled = !(i < opt.ragdoll.size() && opt.ragdoll[i] != 0);
+            const auto& sk = *c.skeleton;
+            c.jointCount = sk.jointCount();
+            const auto n = static_cast<std::size_t>(c.jointCount);
+            c.centre.assign(n, glm::dvec3(0.0));
+            c.mass.assign(n, 0.5);
+            c.inertia.assign(n, 0.0);
+            for (int j = 0; j < c.jointCount; ++j) {
+                const auto kids = sk.children(j);
+                glm::dvec3 sum(0.0);
+                double length = 0;
+                for (int k : kids) sum += glm::dvec3(sk.offsets[static_cast<std::size_t>(k)]);
+                if (!kids.empty()) {
+                    sum /= static_cast<double>(kids.size());
+                } else if (sk.endSites[static_cast<std::size_t>(j)]) {
+                    sum = glm::dvec3(*sk.endSites[static_cast<std::size_t>(j)]);
+                }
+                length = glm::length(sum);
+                c.centre[static_cast<std::size_t>(j)] = 0.5 * sum;
+                // A lean adult of about 70 kg: the big segments by role, the
+                // rest about 12 kg per metre of segment, never under 0.3 kg.
+                c.mass[static_cast<std::size_t>(j)] = std::max(0.3, 12.0 * length);
+                const auto& r0 = c.roles;
+                if (j == r0.pelvis) c.mass[static_cast<std::size_t>(j)] = 10;
+                else if (j == r0.head) c.mass[static_cast<std::size_t>(j)] = 5;
+                else if (j == r0.leftHip || j == r0.rightHip) c.mass[static_cast<std::size_t>(j)] = 8;
+                else if (j == r0.leftKnee || j == r0.rightKnee) c.mass[static_cast<std::size_t>(j)] = 3.5;
+                else if (j == r0.leftShoulder || j == r0.rightShoulder) c.mass[static_cast<std::size_t>(j)] = 2;
+                else if (j == r0.leftElbow || j == r0.rightElbow) c.mass[static_cast<std::size_t>(j)] = 1.5;
+                else if (j == r0.leftFoot || j == r0.rightFoot) c.mass[static_cast<std::size_t>(j)] = 1;
+                else if (j == r0.leftHand || j == r0.rightHand) c.mass[static_cast<std::size_t>(j)] = 0.5;
+                else if (isSpine(c, j)) c.mass[static_cast<std::size_t>(j)] = 8;
+                const double r = std::max(0.05, 0.5 * length);
+                c.inertia[static_cast<std::size_t>(j)] = 0.4 * c.mass[static_cast<std::size_t>(j)] * r * r;
+            }
+            auto chain = [&](int from, int to) {
+                double len = 0;
+                for (int j = from; j >= 0 && j != to; j = sk.parents[static_cast<std::size_t>(j)]) {
+                    len += static_cast<double>(glm::length(sk.offsets[static_cast<std::size_t>(j)]));
+                }
+                return len;
+            };
+            const double leg = std::max(chain(c.roles.leftFoot, c.roles.pelvis), chain(c.roles.rightFoot, c.roles.pelvis));
+            c.maxFootSpan = 2.0 * leg;
+            c.legLength = {chain(c.roles.leftFoot, c.roles.leftHip), chain(c.roles.rightFoot, c.roles.rightHip)};
+            c.torqueScale.assign(n, 1.0f);
+            c.pinShift.assign(n, glm::vec3(0.0f));
+            c.pinHeld.assign(n, 0);
+            c.touched.assign(n, 0);
+            c.p0.assign(n, glm::vec3(0.0f));
+            c.p1 = c.p2 = c.p0;
+            c.r0.assign(n, glm::quat(1, 0, 0, 0));
+            c.r1 = c.r2 = c.r0;
+            c.outPos = c.p0;
+            c.outRot = c.r0;
+        }
+    }
+
+    // Kinematic targets of character c at time t (world positions, rotations).
+    void kinematic(int c, double t, std::vector<glm::vec3>& pos, std::vector<glm::quat>& rot) const {
+        Pose pose;
+        poser.pose(c, t, pose);
+        const auto& ch = chars[static_cast<std::size_t>(c)];
+        pos.resize(static_cast<std::size_t>(ch.jointCount));
+        rot.resize(static_cast<std::size_t>(ch.jointCount));
+        if (pose.translations.size() != pos.size()) {
+            std::fill(pos.begin(), pos.end(), glm::vec3(std::numeric_limits<float>::quiet_NaN()));
+            return;
+        }
+        forwardKinematics(*ch.skeleton, pose.translations, pose.rotations, pos, rot);
+    }
+
+    // The joints that move with a limb segment (its near joint and everything
+    // below it fully, the joint above it half).
+    std::vector<std::pair<int, float>> limbJoints(const Character& c, int nearJoint, float aboveWeight) const {
+        std::vector<std::pair<int, float>> out;
+        const auto& sk = *c.skeleton;
+        for (int j = 0; j < c.jointCount; ++j) {
+            for (int k = j; k >= 0; k = sk.parents[static_cast<std::size_t>(k)]) {
+                if (k == nearJoint) {
+                    out.emplace_back(j, 1.0f);
+                    break;
+                }
+            }
+        }
+        const int above = sk.parents[static_cast<std::size_t>(nearJoint)];
+        if (above >= 0) out.emplace_back(above, aboveWeight);
+        return out;
+    }
+
+    void setupPulls() {
+        pullsOf.resize(chars.size());
+        std::vector<glm::vec3> pa, pb;
+        std::vector<glm::quat> ra, rb;
+        auto person = [&](int c) {
+            return c >= 0 && c < static_cast<int>(chars.size()) && chars[static_cast<std::size_t>(c)].skeleton != nullptr;
+        };
+        for (const auto& hit : scene.hits) {
+            if (!person(hit.attacker) || !person(hit.defender) || hit.effector < 0 || hit.effector >= sim::kSegmentCount ||
+                hit.target < 0 || hit.target >= sim::kSegmentCount) {
+                continue;
+            }
+            const auto& att = chars[static_cast<std::size_t>(hit.attacker)];
+            const auto& def = chars[static_cast<std::size_t>(hit.defender)];
+            Blow blow{hit.time, hit.attacker, hit.defender, segmentBody(hit.effector, att.roles),
+                      segmentBody(hit.target, def.roles), 0.0, hit.blocked ? 0.5 : 1.0};
+            const auto limb = limbJoints(att, segmentBody(hit.effector, att.roles), 0.5f);
+            for (const auto& [j, w] : limb) blow.mass += static_cast<double>(w) * att.mass[static_cast<std::size_t>(j)];
+            blows.push_back(blow);
+            if (!opt.hitTargets) continue;
+            kinematic(hit.attacker, hit.time, pa, ra);
+            kinematic(hit.defender, hit.time, pb, rb);
+            if (!std::all_of(pa.begin(), pa.end(), [](const glm::vec3& v) { return finite(v); }) ||
+                !std::all_of(pb.begin(), pb.end(), [](const glm::vec3& v) { return finite(v); })) {
+                continue;
+            }
+            const auto A = sim::segmentBoxes(pa, att.roles)[static_cast<std::size_t>(hit.effector)];
+            const auto B = sim::segmentBoxes(pb, def.roles)[static_cast<std::size_t>(hit.target)];
+            glm::vec3 normal;
+            const double d = sim::boxSignedDistance(A, B, &normal);
+            // Aim a little into the surface: the collision holds the striker on it.
+            const glm::vec3 offset = normal * static_cast<float>(d + kHitDepth);
+            if (glm::length(offset) > 0.6f) {
+                report.note("hit at " + std::to_string(hit.time) + " s: " + nameOf(hit.attacker) + "'s " +
+                            sim::segmentName(hit.effector) + " is " + std::to_string(d) +
+                            " m from the target; not pulled");
+                continue;
+            }
+            Pull p;
+            p.character = hit.attacker;
+            p.peak = hit.time;
+            p.lead = opt.hitLead;
+            p.tail = opt.hitTail;
+            p.offset = offset;
+            p.joints = limb;
+            p.other = hit.defender;
+            p.otherJoint = segmentBody(hit.target, def.roles);
+            pullsOf[static_cast<std::size_t>(hit.attacker)].push_back(static_cast<int>(pulls.size()));
+            pulls.push_back(std::move(p));
+        }
+        for (const auto& k : scene.catches) {
+            if (!person(k.chaser) || !person(k.runaway)) continue;
+            const auto& ch = chars[static_cast<std::size_t>(k.chaser)];
+            kinematic(k.chaser, k.time, pa, ra);
+            kinematic(k.runaway, k.time, pb, rb);
+            const auto torso = sim::segmentBoxes(pb, chars[static_cast<std::size_t>(k.runaway)].roles)[sim::kTorso];
+            for (const auto& [hand, elbow] : {std::pair{ch.roles.leftHand, ch.roles.leftElbow},
+                                             std::pair{ch.roles.rightHand, ch.roles.rightElbow}}) {
+                if (hand < 0 || elbow < 0 || !finite(pa[static_cast<std::size_t>(hand)])) continue;
+                // The nearest point of the runaway's torso box to the hand.
+                const glm::vec3 q = pa[static_cast<std::size_t>(hand)];
+                const glm::vec3 rel = q - torso.centre;
+                glm::vec3 on = torso.centre;
+                for (int a = 0; a < 3; ++a) on += torso.axes[a] * std::clamp(glm::dot(rel, torso.axes[a]), -torso.half[a], torso.half[a]);
+                const glm::vec3 offset = on - q;
+                if (!finite(offset) || static_cast<double>(glm::length(offset)) > opt.catchReach) continue;
+                Pull p;
+                p.character = k.chaser;
+                p.peak = k.time;
+                p.lead = opt.catchLead;
+                p.tail = 0.3;
+                p.offset = offset;
+                p.joints = limbJoints(ch, elbow, 0.5f);
+                p.other = k.runaway;
+                p.otherJoint = chars[static_cast<std::size_t>(k.runaway)].roles.spine;
+                for (auto& [j, w] : p.joints) {
+                    if (j == elbow) w = 0.6f;  // the hand reaches, the elbow follows part way
+                }
+                pullsOf[static_cast<std::size_t>(k.chaser)].push_back(static_cast<int>(pulls.size()));
+                pulls.push_back(std::move(p));
+            }
+        }
+        for (const auto& pin : opt.pins) {
+            if (!person(pin.character) || pin.foot < 0 || pin.foot > 1) {
+                ++report.refusedPins;
+                report.note("foot pin on character " + std::to_string(pin.character) + ", foot " + std::to_string(pin.foot) +
+                            ": no such person or foot; refused");
+            }
+        }
+    }
+
+    // Islands: characters whose pelvises come within islandReach of each
+    // other at some time (sampled at 10 Hz) share a world.
+    void setupIslands() {
+        const int n = static_cast<int>(chars.size());
+        std::vector<int> parent(static_cast<std::size_t>(n));
+        std::iota(parent.begin(), parent.end(), 0);
+        auto find = [&](int x) {
+            while (parent[static_cast<std::size_t>(x)] != x) {
+                parent[static_cast<std::size_t>(x)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(x)])];
+                x = parent[static_cast<std::size_t>(x)];
+            }
+            return x;
+        };
+        const double cell = opt.islandReach;
+        const int samples = static_cast<int>(std::floor(scene.duration * 10.0)) + 1;
+        std::unordered_map<std::int64_t, std::vector<int>> grid;
+        std::vector<glm::vec2> at(static_cast<std::size_t>(n));
+        auto key = [](std::int64_t x, std::int64_t z) { return (x << 32) ^ (z & 0xffffffff); };
+        for (int s = 0; s < samples; ++s) {
+            const double t = s / 10.0;
+            grid.clear();
+            for (int c = 0; c < n; ++c) {
+                if (!chars[static_cast<std::size_t>(c)].skeleton) continue;
+                const auto& track = scene.characters[static_cast<std::size_t>(c)].track;
+                const auto& inst = track[static_cast<std::size_t>(std::max(0, scene.instanceAt(c, t)))];
+                const glm::vec2 p = inst.placementAt(lib, inst.clipTimeAt(t)).pos;
+                at[static_cast<std::size_t>(c)] = p;
+                if (!std::isfinite(p.x) || !std::isfinite(p.y)) continue;
+                const auto gx = static_cast<std::int64_t>(std::floor(static_cast<double>(p.x) / cell));
+                const auto gz = static_cast<std::int64_t>(std::floor(static_cast<double>(p.y) / cell));
+                for (std::int64_t dx = -1; dx <= 1; ++dx) {
+                    for (std::int64_t dz = -1; dz <= 1; ++dz) {
+                        const auto it = grid.find(key(gx + dx, gz + dz));
+                        if (it == grid.end()) continue;
+                        for (int o : it->second) {
+                            if (static_cast<double>(glm::length(at[static_cast<std::size_t>(o)] - p)) <= cell) parent[static_cast<std::size_t>(find(c))] = find(o);
+                        }
+                    }
+                }
+                grid[key(gx, gz)].push_back(c);
+            }
+        }
+        std::map<int, int> islandOf;  // root -> island, in order of each island's first member
+        for (int c = 0; c < n; ++c) {
+            if (!chars[static_cast<std::size_t>(c)].skeleton) continue;
+            const int root = find(c);
+            auto [it, fresh] = islandOf.try_emplace(root, static_cast<int>(islands.size()));
+            if (fresh) islands.emplace_back();
+            islands[static_cast<std::size_t>(it->second)].members.push_back(c);
+        }
+        for (auto& is : islands) {
+            is.index = static_cast<int>(&is - islands.data());
+            is.world = dWorldCreate();
+            dWorldSetGravity(is.world, 0, -9.81, 0);
+            dWorldSetERP(is.world, 0.3);
+            dWorldSetCFM(is.world, 1e-7);
+            dWorldSetQuickStepNumIterations(is.world, opt.iterations);
+            dWorldSetContactMaxCorrectingVel(is.world, kMaxCorrectingSpeed);
+            dWorldSetContactSurfaceLayer(is.world, 0.002);
+            is.contacts = dJointGroupCreate(0);
+            is.floor = dCreatePlane(nullptr, 0, 1, 0, 0);
+        }
+    }
+
+    // Targets of character c at time t, adjusted, with non-finite values held.
+    void targets(Island& is, Character& c, double t, std::vector<glm::vec3>& pos, std::vector<glm::quat>& rot) {
+        kinematic(c.index, t, pos, rot);
+        bool bad = false;
+        for (std::size_t j = 0; j < pos.size(); ++j) {
+            if (finite(pos[j]) && finite(rot[j])) continue;
+            bad = true;
+            pos[j] = c.haveFinite ? c.lastPos[j] : glm::vec3(0.0f);
+            rot[j] = c.haveFinite ? c.lastRot[j] : glm::quat(1, 0, 0, 0);
+        }
+        if (bad) {
+            ++is.report.nonFiniteTargets;
+            if (!c.reportedNonFinite) {
+                c.reportedNonFinite = true;
+                is.report.note("character " + nameOf(c.index) + ": non-finite pose at " + std::to_string(t) +
+                               " s; held at its last finite pose");
+            }
+        } else {
+            c.lastPos = pos, c.lastRot = rot, c.haveFinite = true;
+        }
+        std::fill(c.torqueScale.begin(), c.torqueScale.end(), 1.0f);
+        for (int p : pullsOf[static_cast<std::size_t>(c.index)]) {
+            const Pull& pull = pulls[static_cast<std::size_t>(p)];
+            const double w = pull.weight(t);
+            if (w <= 0) continue;
+            glm::vec3 offset = pull.offset;
+            if (pull.other >= 0 && pull.otherJoint >= 0) {
+                const auto& o = chars[static_cast<std::size_t>(pull.other)];
+                if (o.created && !o.deviation.empty()) offset += o.deviation[static_cast<std::size_t>(pull.otherJoint)];
+            }
+            for (const auto& [j, jw] : pull.joints) {
+                pos[static_cast<std::size_t>(j)] += offset * static_cast<float>(w * static_cast<double>(jw));
+                // The limb's twist follows the pull rather than the capture.
+                auto& ts = c.torqueScale[static_cast<std::size_t>(j)];
+                ts = std::min(ts, static_cast<float>(1.0 - w * static_cast<double>(jw)));
+            }
+        }
+    }
+
+    glm::dvec3 jointPos(const Character& c, int j) const {
+        const dBodyID b = c.bodies[static_cast<std::size_t>(j)];
+        return vecOf(dBodyGetPosition(b)) - quatOf(dBodyGetQuaternion(b)) * c.centre[static_cast<std::size_t>(j)];
+    }
+
+    void create(Island& is, Character& c) {
+        const auto n = static_cast<std::size_t>(c.jointCount);
+        c.bodies.resize(n);
+        for (std::size_t j = 0; j < n; ++j) {
+            dBodyID b = dBodyCreate(is.world);
+            dMass m;
+            dMassSetZero(&m);
+            m.mass = c.mass[j];
+            m.I[0] = m.I[5] = m.I[10] = c.inertia[j];
+            dBodySetMass(b, &m);
+            const glm::dquat q(c.r1[j]);
+            const glm::dvec3 centre = glm::dvec3(c.p1[j]) + q * c.centre[j];
+            dBodySetPosition(b, centre.x, centre.y, centre.z);
+            setQuat(b, q);
+            const glm::dvec3 v = (glm::dvec3(c.p1[j]) - glm::dvec3(c.p0[j])) * opt.fps;
+            dBodySetLinearVel(b, v.x, v.y, v.z);
+            c.bodies[j] = b;
+        }
+        const auto& sk = *c.skeleton;
+        for (std::size_t j = 1; j < n; ++j) {
+            const int p = sk.parents[j];
+            if (p < 0) continue;
+            dJointID joint = dJointCreateBall(is.world, nullptr);
+            dJointAttach(joint, c.bodies[static_cast<std::size_t>(p)], c.bodies[j]);
+            dJointSetBallAnchor(joint, c.p1[j].x, c.p1[j].y, c.p1[j].z);
+        }
+        const auto boxes = sim::segmentBoxes(c.p1, c.roles);
+        for (int s = 0; s < sim::kSegmentCount; ++s) {
+            const Obb& box = boxes[static_cast<std::size_t>(s)];
+            dGeomID g = dCreateBox(nullptr, 2.0 * static_cast<double>(box.half.x), 2.0 * static_cast<double>(box.half.y), 2.0 * static_cast<double>(box.half.z));
+            dGeomSetBody(g, c.bodies[static_cast<std::size_t>(segmentBody(s, c.roles))]);
+            c.geoms[static_cast<std::size_t>(s)] = g;
+            c.geomRadius[static_cast<std::size_t>(s)] = box.radius();
+        }
+        syncGeoms(c);
+        c.created = true;
+        // Bodies that start inside one another are pushed apart gently.
+        for (int o : is.members) {
+            const auto& other = chars[static_cast<std::size_t>(o)];
+            if (o == c.index || !other.created) continue;
+            const auto mine = boxes;
+            const auto theirs = sim::segmentBoxes(other.outPos, other.roles);
+            double depth = 0;
+            for (const auto& a : mine) {
+                for (const auto& b : theirs) depth = std::max(depth, sim::boxPenetration(a, b));
+            }
+            if (depth > 0.01) {
+                ++is.report.initialOverlaps;
+                char line[256];
+                std::snprintf(line, sizeof line, "characters %s and %s start %.1f cm inside each other: pushed apart at <= %.1f m/s",
+                              nameOf(other.index).c_str(), nameOf(c.index).c_str(), 100.0 * depth, kMaxCorrectingSpeed);
+                is.report.note(line);
+            }
+        }
+    }
+
+    void readOut(Character& c) {
+        c.deviation.resize(static_cast<std::size_t>(c.jointCount));
+        for (std::size_t j = 0; j < static_cast<std::size_t>(c.jointCount); ++j) {
+            c.outPos[j] = glm::vec3(jointPos(c, static_cast<int>(j)));
+            c.outRot[j] = glm::quat(quatOf(dBodyGetQuaternion(c.bodies[j])));
+            c.deviation[j] = c.outPos[j] - c.p1[j];
+        }
+    }
+
+    void reset(Island& is, Character& c, double t) {
+        for (auto& pin : c.pin) {
+            if (pin) dJointDestroy(pin), pin = nullptr;
+        }
+        for (std::size_t j = 0; j < static_cast<std::size_t>(c.jointCount); ++j) {
+            const glm::dquat q(c.r1[j]);
+            const glm::dvec3 centre = glm::dvec3(c.p1[j]) + q * c.centre[j];
+            dBodySetPosition(c.bodies[j], centre.x, centre.y, centre.z);
+            setQuat(c.bodies[j], q);
+            dBodySetLinearVel(c.bodies[j], 0, 0, 0);
+            dBodySetAngularVel(c.bodies[j], 0, 0, 0);
+        }
+        ++is.report.resets;
+        is.report.note("character " + nameOf(c.index) + ": non-finite physics state at " + std::to_string(t) +
+                       " s; put back on its targets");
+    }
+
+    void updatePins(Island& is, Character& c, double t) {
+        const auto contact = poser.contacts(c.index, t);
+        const int feet[2] = {c.roles.leftFoot, c.roles.rightFoot};
+        for (std::size_t r = 0; r < opt.pins.size(); ++r) {
+            const auto& req = opt.pins[r];
+            if (req.character != c.index || req.foot < 0 || req.foot > 1 || t < req.from || t > req.to) continue;
+            if (!contact[static_cast<std::size_t>(req.foot)] && !pinRefused[r]) {
+                pinRefused[r] = 1;  // one character's request: only its island writes it
+                ++is.report.refusedPins;
+                is.report.note("character " + nameOf(c.index) + ": " + (req.foot == 0 ? "left" : "right") + " foot pin at " +
+                               std::to_string(t) + " s refused: the contacts say that foot is not supported");
+            }
+        }
+        for (int f = 0; f < 2; ++f) {
+            auto& pin = c.pin[static_cast<std::size_t>(f)];
+            const int foot = feet[f];
+            if (foot < 0) continue;
+            const glm::dvec3 target(c.p1[static_cast<std::size_t>(foot)]);
+            if (!c.controlled || !opt.footPins || !contact[static_cast<std::size_t>(f)]) {
+                if (pin) dJointDestroy(pin), pin = nullptr;
+                continue;
+            }
+            if (pin) {
+                // Where the capture slides a supported foot (blends, placements)
+                // the pin follows it, no faster than kPinSlide per frame.
+                // Faster (still under 1 cm) where the hip's target is out of the leg's reach.
+                auto& at = c.pinAt[static_cast<std::size_t>(f)];
+                const int hip = f == 0 ? c.roles.leftHip : c.roles.rightHip;
+                const glm::dvec3 hipTarget(c.p1[static_cast<std::size_t>(hip)]);
+                const double leg = c.legLength[static_cast<std::size_t>(f)];
+                const glm::dvec3 d = target - at;
+                const double off = glm::length(d);
+                if (off > kPinTolerance) {
+                    const double cap = glm::length(hipTarget - at) > leg ? kPinSlideFast : kPinSlide;
+                    at += d * (std::min(off - kPinTolerance, cap) / off);
+                    dJointSetBallAnchor2(pin, at.x, at.y, at.z);
+                }
+                // Let go where the pose and the pin are far beyond compatible.
+                if (glm::length(hipTarget - at) > leg * kPinReach) {
+                    dJointDestroy(pin), pin = nullptr;
+                    ++is.report.releasedPins;
+                }
+                continue;
+            }
+            // Pinned where it is (a lagging foot then slides to its target
+            // like a pin does), unless it is clearly off the floor.
+            const glm::dvec3 now = jointPos(c, foot);
+            if (target.y > kPinMaxHeight || now.y > kPinMaxHeight) {
+                ++is.report.refusedPins;
+                continue;
+            }
+            const auto& other = c.pin[static_cast<std::size_t>(1 - f)];
+            if (other && glm::length(now - c.pinAt[static_cast<std::size_t>(1 - f)]) > c.maxFootSpan) {
+                ++is.report.refusedPins;
+                is.report.note("character " + nameOf(c.index) + ": feet pins " + std::to_string(glm::length(now - c.pinAt[static_cast<std::size_t>(1 - f)])) +
+                               " m apart are beyond the legs' reach; the second is not set");
+                continue;
+            }
+            pin = dJointCreateBall(is.world, nullptr);
+            dJointAttach(pin, c.bodies[static_cast<std::size_t>(foot)], nullptr);
+            dJointSetBallAnchor(pin, now.x, now.y, now.z);
+            dJointSetBallParam(pin, dParamERP, 0.95);
+            dJointSetBallParam(pin, dParamCFM, 1e-9);
+            // The foot lands: it stops there (else the pin catches it a step late).
+            dBodySetLinearVel(c.bodies[static_cast<std::size_t>(foot)], 0, 0, 0);
+            c.pinAt[static_cast<std::size_t>(f)] = now;
+        }
+        // The pinned feet's targets are the pins: the control does not pull against them.
+        std::fill(c.pinShift.begin(), c.pinShift.end(), glm::vec3(0.0f));
+        std::fill(c.pinHeld.begin(), c.pinHeld.end(), std::uint8_t{0});
+        for (int f = 0; f < 2; ++f) {
+            if (!c.pin[static_cast<std::size_t>(f)]) continue;
+            const int foot = feet[f];
+            const glm::vec3 shift = glm::vec3(c.pinAt[static_cast<std::size_t>(f)]) - c.p1[static_cast<std::size_t>(foot)];
+            for (const auto& [j, w] : limbJoints(c, foot, 0.5f)) {
+                c.pinShift[static_cast<std::size_t>(j)] = shift * w;
+                c.pinHeld[static_cast<std::size_t>(j)] = w >= 1.0f ? 1 : 0;
+            }
+        }
+        // Where the captured body leaves a pinned foot behind (a blend moving
+        // the root), the rest of the body's targets are kept within the leg's
+        // reach, so control and pin do not fight.
+        glm::dvec3 bodyShift(0.0);
+        for (int f = 0; f < 2; ++f) {
+            if (!c.pin[static_cast<std::size_t>(f)]) continue;
+            const int hip = f == 0 ? c.roles.leftHip : c.roles.rightHip;
+            const glm::dvec3 v = glm::dvec3(c.p1[static_cast<std::size_t>(hip)]) + bodyShift - c.pinAt[static_cast<std::size_t>(f)];
+            const double len = glm::length(v);
+            const double excess = len - kPinComfort * c.legLength[static_cast<std::size_t>(f)];
+            if (excess > 0) bodyShift -= v * (excess / len);
+        }
+        if (glm::length(bodyShift) > 0) {
+            for (std::size_t j = 0; j < c.pinShift.size(); ++j) {
+                if (!c.pinHeld[j]) c.pinShift[j] += glm::vec3(bodyShift);
+            }
+        }
+    }
+
+    void control(Island& is, Character& c, double alpha) {
+        const double w = kTwoPi * opt.frequency, kd = 2.0 * opt.dampingRatio * w;
+        const double wr = kTwoPi * opt.angularFrequency, kdr = 2.0 * opt.dampingRatio * wr;
+        for (std::size_t j = 0; j < static_cast<std::size_t>(c.jointCount); ++j) {
+            const dBodyID b = c.bodies[j];
+            const glm::dquat q0(c.r0[j]), q1(c.r1[j]);
+            const glm::dvec3 c0 = glm::dvec3(c.p0[j]) + q0 * c.centre[j];
+            const glm::dvec3 c1 = glm::dvec3(c.p1[j]) + q1 * c.centre[j];
+            const glm::dvec3 c2 = glm::dvec3(c.p2[j]) + glm::dquat(c.r2[j]) * c.centre[j];
+            glm::dvec3 target = c0 + (c1 - c0) * alpha;
+            // The captured motion's velocity and acceleration, fed forward so
+            // the PD terms only correct the error (no lag on fast blows).
+            const glm::dvec3 v01 = (c1 - c0) * opt.fps, v12 = (c2 - c1) * opt.fps;
+            glm::dvec3 targetVel = v01 + (v12 - v01) * (alpha - 0.5);
+            glm::dvec3 targetAcc = (v12 - v01) * opt.fps;
+            if (c.pinHeld[j]) {
+                target = c1 + glm::dvec3(c.pinShift[j]);
+                targetVel = targetAcc = glm::dvec3(0.0);
+            } else {
+                target += glm::dvec3(c.pinShift[j]);
+            }
+            const double m = c.mass[j] * (c.touched[j] ? kContactYield : (c.touching ? kBodyYield : 1.0));
+            glm::dvec3 f = m * (w * w * (target - vecOf(dBodyGetPosition(b))) + kd * (targetVel - vecOf(dBodyGetLinearVel(b))) +
+                                targetAcc);
+            const double fmax = c.mass[j] * opt.maxAcceleration;
+            if (const double len = glm::length(f); len > fmax) f *= fmax / len, ++is.report.cappedForces;
+            dBodyAddForce(b, f.x, f.y, f.z);
+
+            const glm::dquat qt = glm::slerp(q0, q1, alpha);
+            const glm::dvec3 err = rotationVector(qt * glm::conjugate(quatOf(dBodyGetQuaternion(b))));
+            const glm::dvec3 targetSpin = rotationVector(q1 * glm::conjugate(q0)) * opt.fps;
+            const double I = c.inertia[j] * static_cast<double>(c.torqueScale[j]);
+            glm::dvec3 torque = I * (wr * wr * err + kdr * (targetSpin - vecOf(dBodyGetAngularVel(b))));
+            const double tmax = c.inertia[j] * opt.maxAngularAcceleration;
+            if (const double len = glm::length(torque); len > tmax) torque *= tmax / len, ++is.report.cappedForces;
+            dBodyAddTorque(b, torque.x, torque.y, torque.z);
+        }
+    }
+
+    // Collision boxes where the metrics see them: the segment boxes of the
+    // current joint positions, carried by their bodies.
+    void syncGeoms(Character& c) {
+        std::vector<glm::vec3>& at = c.scratch;
+        at.resize(static_cast<std::size_t>(c.jointCount));
+        for (int j = 0; j < c.jointCount; ++j) at[static_cast<std::size_t>(j)] = glm::vec3(jointPos(c, j));
+        const auto boxes = sim::segmentBoxes(at, c.roles);
+        for (int s = 0; s < sim::kSegmentCount; ++s) {
+            const Obb& box = boxes[static_cast<std::size_t>(s)];
+            const dGeomID g = c.geoms[static_cast<std::size_t>(s)];
+            dGeomSetOffsetWorldPosition(g, box.centre.x, box.centre.y, box.centre.z);
+            dMatrix3 R;
+            for (int r = 0; r < 3; ++r) {
+                for (int k = 0; k < 3; ++k) R[r * 4 + k] = static_cast<double>(box.axes[k][r]);
+                R[r * 4 + 3] = 0;
+            }
+            dGeomSetOffsetWorldRotation(g, R);
+        }
+    }
+
+    void collide(Island& is) {
+        is.contactsThisStep = 0;
+        for (int m : is.members) {
+            auto& c = chars[static_cast<std::size_t>(m)];
+            if (!c.created) continue;
+            syncGeoms(c);
+            std::fill(c.touched.begin(), c.touched.end(), std::uint8_t{0});
+            c.touching = false;
+        }
+        dContactGeom found[4];
+        // Bodies of touching segments yield: their control is softened so the
+        // contact, not the captured pose, decides where they meet.
+        auto add = [&](dGeomID a, dGeomID b, Character* ca, int sa, Character* cb, int sb) {
+            const int k = dCollide(a, b, 4, found, sizeof(dContactGeom));
+            for (int i = 0; i < k; ++i) {
+                dContact contact{};
+                contact.surface.mode = dContactSoftCFM | dContactSoftERP | dContactApprox1;
+                contact.surface.mu = 0.6;
+                contact.surface.soft_erp = 0.5;
+                contact.surface.soft_cfm = 1e-7;
+                contact.geom = found[i];
+                dJointID joint = dJointCreateContact(is.world, is.contacts, &contact);
+                if (ca) ++is.contactsThisStep;
+                dJointAttach(joint, dGeomGetBody(a), dGeomGetBody(b));
+            }
+            if (k > 0 && ca) ca->touched[static_cast<std::size_t>(segmentBody(sa, ca->roles))] = 1, ca->touching = true;
+            if (k > 0 && cb) cb->touched[static_cast<std::size_t>(segmentBody(sb, cb->roles))] = 1, cb->touching = true;
+        };
+        for (std::size_t x = 0; x < is.members.size(); ++x) {
+            auto& a = chars[static_cast<std::size_t>(is.members[x])];
+            if (!a.created) continue;
+            if (!a.controlled) {
+                for (dGeomID g : a.geoms) add(g, is.floor, nullptr, 0, nullptr, 0);
+            }
+            if (!opt.collisions) continue;
+            const glm::dvec3 pa = vecOf(dBodyGetPosition(a.bodies[static_cast<std::size_t>(a.roles.pelvis)]));
+            for (std::size_t y = x + 1; y < is.members.size(); ++y) {
+                auto& b = chars[static_cast<std::size_t>(is.members[y])];
+                if (!b.created) continue;
+                const glm::dvec3 pb = vecOf(dBodyGetPosition(b.bodies[static_cast<std::size_t>(b.roles.pelvis)]));
+                if (glm::length(pa - pb) > 2.5) continue;
+                for (int i = 0; i < sim::kSegmentCount; ++i) {
+                    const glm::dvec3 ca = vecOf(dGeomGetPosition(a.geoms[static_cast<std::size_t>(i)]));
+                    for (int k = 0; k < sim::kSegmentCount; ++k) {
+                        const glm::dvec3 cb = vecOf(dGeomGetPosition(b.geoms[static_cast<std::size_t>(k)]));
+                        if (glm::length(ca - cb) > static_cast<double>(a.geomRadius[static_cast<std::size_t>(i)] + b.geomRadius[static_cast<std::size_t>(k)])) continue;
+                        add(a.geoms[static_cast<std::size_t>(i)], b.geoms[static_cast<std::size_t>(k)], &a, i, &b, k);
+                    }
+                }
+            }
+        }
+    }
+
+    void pushBlows(Island& is, double t0, double t1) {
+        for (const auto& blow : blows) {
+            if (blow.time < t0 || blow.time >= t1) continue;
+            auto& a = chars[static_cast<std::size_t>(blow.attacker)];
+            auto& d = chars[static_cast<std::size_t>(blow.defender)];
+            if (!a.created || !d.created || std::find(is.members.begin(), is.members.end(), blow.defender) == is.members.end()) continue;
+            const glm::dvec3 v = vecOf(dBodyGetLinearVel(a.bodies[static_cast<std::size_t>(blow.tipJoint)]));
+            const glm::dvec3 impulse = opt.hitForce * blow.scale * blow.mass * v;
+            if (!std::isfinite(impulse.x + impulse.y + impulse.z)) continue;
+            const glm::dvec3 f = impulse / h;  // over one step
+            dBodyAddForce(d.bodies[static_cast<std::size_t>(blow.targetJoint)], f.x, f.y, f.z);
+        }
+    }
+
+    bool finiteState(const Character& c) const {
+        for (dBodyID b : c.bodies) {
+            const dReal* p = dBodyGetPosition(b);
+            const dReal* q = dBodyGetQuaternion(b);
+            const dReal* v = dBodyGetLinearVel(b);
+            const dReal* w = dBodyGetAngularVel(b);
+            for (int k = 0; k < 3; ++k) {
+                if (!std::isfinite(p[k]) || !std::isfinite(v[k]) || !std::isfinite(w[k])) return false;
+            }
+            if (!std::isfinite(q[0] + q[1] + q[2] + q[3])) return false;
+        }
+        return true;
+    }
+
+    void stepIsland(Island& is, int f) {
+        dAllocateODEDataForThread(dAllocateMaskAll);
+        const double t = f / opt.fps;
+        for (int m : is.members) {
+            auto& c = chars[static_cast<std::size_t>(m)];
+            if (f == 0) {
+                targets(is, c, t, c.p1, c.r1);
+                c.p0 = c.p1, c.r0 = c.r1;
+            } else {
+                c.p0.swap(c.p1), c.r0.swap(c.r1);
+                c.p1.swap(c.p2), c.r1.swap(c.r2);
+            }
+            targets(is, c, (f + 1) / opt.fps, c.p2, c.r2);
+        }
+        bool any = false;
+        for (int m : is.members) {
+            auto& c = chars[static_cast<std::size_t>(m)];
+            if (!c.created) continue;
+            any = true;
+            updatePins(is, c, t);
+        }
+        if (any && f > 0) {
+            for (int s = 0; s < opt.substeps; ++s) {
+                const double alpha = static_cast<double>(s + 1) / opt.substeps;
+                collide(is);
+                for (int m : is.members) {
+                    auto& c = chars[static_cast<std::size_t>(m)];
+                    if (c.created && c.controlled) control(is, c, alpha);
+                }
+                const double ts = (f - 1) / opt.fps + s * h;
+                pushBlows(is, ts, ts + h);
+                {
+                    // ODE's QuickStep reorders constraints with one global
+                    // random generator: each step gets its own seed, one
+                    // island at a time, so the result does not depend on
+                    // threads or on what ran before.
+                    const std::lock_guard<std::mutex> lock(stepMutex());
+                    dRandSetSeed(static_cast<unsigned long>(is.index) * 1000003ul +
+                                 static_cast<unsigned long>(f) * 64ul + static_cast<unsigned long>(s));
+                    dWorldSetQuickStepNumIterations(is.world, is.contactsThisStep > 0 ? opt.iterations : opt.freeIterations);
+                    dWorldQuickStep(is.world, h);
+                }
+                dJointGroupEmpty(is.contacts);
+            }
+        }
+        for (int m : is.members) {
+            auto& c = chars[static_cast<std::size_t>(m)];
+            if (c.created) {
+                if (!finiteState(c)) reset(is, c, t);
+                readOut(c);
+            } else if (scene.present(c.index, t)) {
+                create(is, c);
+                readOut(c);
+            } else {
+                c.outPos = c.p1, c.outRot = c.r1;
+            }
+        }
+    }
+
+    void step() {
+        ++frame;
+        if (opt.parallel && islands.size() > 1) {
+            tbb::parallel_for(std::size_t{0}, islands.size(), [&](std::size_t i) { stepIsland(islands[i], frame); });
+        } else {
+            for (auto& is : islands) stepIsland(is, frame);
+        }
+    }
+
+    Report merged() const {
+        Report r = report;
+        for (const auto& is : islands) {
+            r.nonFiniteTargets += is.report.nonFiniteTargets;
+            r.refusedPins += is.report.refusedPins;
+            r.releasedPins += is.report.releasedPins;
+            r.cappedForces += is.report.cappedForces;
+            r.resets += is.report.resets;
+            r.initialOverlaps += is.report.initialOverlaps;
+            for (const auto& n : is.report.notes) r.note(n);
+        }
+        return r;
+    }
+};
+
+Simulator::Simulator(const sim::Scene& scene, const sim::ActionLibrary& lib, const Options& options)
+    : impl_(std::make_unique<Impl>(scene, lib, options)) {}
+Simulator::~Simulator() = default;
+void Simulator::step() {
+    if (impl_->frame + 1 < impl_->frames) impl_->step();
+}
+int Simulator::frame() const { return impl_->frame; }
+int Simulator::frameCount() const { return impl_->frames; }
+std::span<const glm::vec3> Simulator::positions(int character) const {
+    const auto& c = impl_->chars[static_cast<std::size_t>(character)];
+    if (!c.skeleton) return {};
+    return c.outPos;
+}
+std::span<const glm::quat> Simulator::rotations(int character) const {
+    const auto& c = impl_->chars[static_cast<std::size_t>(character)];
+    if (!c.skeleton) return {};
+    return c.outRot;
+}
+const Report& Simulator::report() const {
+    impl_->mergedReport = impl_->merged();
+    return impl_->mergedReport;
+}
+int Simulator::islands() const { return static_cast<int>(impl_->islands.size()); }
+
+namespace {
+
+Status checkOptions(const sim::Scene& scene, const Options& o) {
+    auto bad = [](const std::string& field, const std::string& why) { return makeError("posture options: " + field + " " + why); };
+    if (!(o.fps >= 1 && o.fps <= 1000)) return bad("fps", "must be in [1, 1000]");
+    if (o.substeps < 1 || o.substeps > 64) return bad("substeps", "must be in [1, 64]");
+    if (o.iterations < 1 || o.iterations > 500) return bad("iterations", "must be in [1, 500]");
+    if (o.freeIterations < 1 || o.freeIterations > 500) return bad("freeIterations", "must be in [1, 500]");
+    if (!(o.frequency > 0 && o.frequency * kTwoPi / (o.fps * o.substeps) < 1.0)) {
+        return bad("frequency", "must be positive and below fps * substeps / (2 pi) (an unstable step otherwise)");
+    }
+    if (!(o.angularFrequency > 0 && o.angularFrequency * kTwoPi / (o.fps * o.substeps) < 1.0)) {
+        return bad("angularFrequency", "must be positive and below fps * substeps / (2 pi)");
+    }
+    if (!(o.dampingRatio >= 0 && o.dampingRatio <= 4)) return bad("dampingRatio", "must be in [0, 4]");
+    if (!(o.maxAcceleration > 0) || !(o.maxAngularAcceleration > 0)) return bad("maxAcceleration", "caps must be positive");
+    if (!(o.hitLead > 0) || !(o.hitTail > 0) || !(o.catchLead > 0)) return bad("hitLead", "ease times must be positive");
+    if (!(o.islandReach > 0)) return bad("islandReach", "must be positive");
+    if (o.ragdoll.size() > scene.characters.size()) return bad("ragdoll", "names more characters than the scene has");
+    if (!(scene.duration >= 0) || !std::isfinite(scene.duration)) return makeError("posture: the scene's duration is not a finite time");
+    if (scene.duration * o.fps > 10'000'000) return makeError("posture: the scene is too long for this frame rate");
+    return {};
+}
+
+}  // namespace
+
+Result<Frames> simulate(const sim::Scene& scene, const sim::ActionLibrary& lib, const Options& options) {
+    if (auto st = checkOptions(scene, options); !st) return st.error();
+    Simulator s(scene, lib, options);
+    Frames out;
+    const auto n = scene.characters.size();
+    out.world.fps = options.fps;
+    out.world.frames = s.frameCount();
+    out.world.joints.resize(n);
+    out.world.jointCount.assign(n, 0);
+    out.rotations.resize(n);
+    for (std::size_t c = 0; c < n; ++c) {
+        const auto jc = s.positions(static_cast<int>(c)).size();
+        out.world.jointCount[c] = static_cast<int>(jc);
+        out.world.joints[c].reserve(jc * static_cast<std::size_t>(s.frameCount()));
+        out.rotations[c].reserve(jc * static_cast<std::size_t>(s.frameCount()));
+    }
+    for (int f = 0; f < s.frameCount(); ++f) {
+        s.step();
+        for (std::size_t c = 0; c < n; ++c) {
+            const auto p = s.positions(static_cast<int>(c));
+            const auto r = s.rotations(static_cast<int>(c));
+            out.world.joints[c].insert(out.world.joints[c].end(), p.begin(), p.end());
+            out.rotations[c].insert(out.rotations[c].end(), r.begin(), r.end());
+        }
+    }
+    out.report = s.report();
+    out.islands = s.islands();
+    return out;
+}
+
+Result<sim::JointTracks> tracks(Mode mode, const sim::Scene& scene, const sim::ActionLibrary& lib, const Options& options) {
+    if (mode == Mode::Kinematic) return sim::kinematicTracks(scene, lib, options.fps);
+    auto frames = simulate(scene, lib, options);
+    if (!frames) return frames.error();
+    return std::move(frames->world);
+}
+
+void localPose(const Skeleton& skeleton, std::span<const glm::vec3> world, std::span<const glm::quat> worldRotations,
+               Pose& out) {
+    const auto n = static_cast<std::size_t>(skeleton.jointCount());
+    out.translations.assign(n, glm::vec3(0.0f));
+    out.rotations.assign(n, glm::quat(1, 0, 0, 0));
+    if (world.size() < n || worldRotations.size() < n) return;
+    for (std::size_t j = 0; j < n; ++j) {
+        const int p = skeleton.parents[j];
+        if (p < 0) {
+            out.translations[j] = world[j];
+            out.rotations[j] = worldRotations[j];
+        } else {
+            out.translations[j] = skeleton.offsets[j];
+            out.rotations[j] = glm::normalize(glm::inverse(worldRotations[static_cast<std::size_t>(p)]) * worldRotations[j]);
+        }
+    }
+}
+
+}  // namespace fray::posture

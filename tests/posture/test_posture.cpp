@@ -1,0 +1,265 @@
+// Run-time posture synthesis (SPEC 5, issue 25): the physics poses of the
+// README scenes meet the issue's thresholds where the kinematic ones do not,
+// the solver is deterministic, rag dolls fall, and bad input stays finite.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+
+#include "fray/posture/posture.h"
+#include "fray/sim/metrics.h"
+#include "posture/posture_fixture.h"
+
+namespace {
+
+using namespace fray;
+using test::demoWorld;
+
+const std::string kDemo = FRAY_SOURCE_DIR "/resources/demo/";
+
+const sim::Scene& duel() {
+    static const sim::Scene scene = test::plannedScene(kDemo + "duel.json");
+    return scene;
+}
+
+const sim::Scene& oneVsMany() {
+    static const sim::Scene scene = [] {
+        static const auto patches = test::demoPatches({"attack-defence-attack-fall", "attack-fall", "attack-attack-fall"});
+        return test::composedScene(kDemo + "one_vs_many.json", patches);
+    }();
+    return scene;
+}
+
+void expectSameBytes(const sim::Scene& scene);
+
+bool allFinite(const sim::JointTracks& t) {
+    for (const auto& c : t.joints) {
+        for (const auto& p : c) {
+            if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return false;
+        }
+    }
+    return true;
+}
+
+struct Both {
+    sim::PostureMetrics kinematic, physics;
+    posture::Report report;
+};
+
+Both measure(const sim::Scene& scene, const posture::Options& options = {}) {
+    const auto& lib = demoWorld().library;
+    const auto captured = sim::kinematicTracks(scene, lib, options.fps);
+    auto frames = posture::simulate(scene, lib, options);
+    EXPECT_TRUE(frames) << frames.error().message;
+    Both b;
+    b.kinematic = sim::computePostureMetrics(scene, lib, captured, captured);
+    b.physics = sim::computePostureMetrics(scene, lib, frames->world, captured);
+    b.report = frames->report;
+    EXPECT_TRUE(allFinite(frames->world));
+    std::printf("kinematic\n%sphysics\n%s", sim::postureMetricsToText(b.kinematic).c_str(),
+                sim::postureMetricsToText(b.physics).c_str());
+    std::printf("report: %d non-finite, %d pins refused, %d released, %lld capped, %d resets, %d overlaps\n",
+                b.report.nonFiniteTargets, b.report.refusedPins, b.report.releasedPins,
+                static_cast<long long>(b.report.cappedForces), b.report.resets,
+                b.report.initialOverlaps);
+    for (const auto& n : b.report.notes) std::printf("  %s\n", n.c_str());
+    return b;
+}
+
+// The issue's thresholds, each reported.
+void expectThresholds(const sim::PostureMetrics& m, const char* scene) {
+    EXPECT_LT(m.footSkateMaxCm, 1.0) << scene;
+    EXPECT_LT(m.footSkateMeanCm, 0.2) << scene;
+    EXPECT_LT(m.penetrationMaxCm, 2.0) << scene;
+    EXPECT_GE(m.hitsOnSurfaceShare(), 0.95) << scene << ": " << m.hitsOnSurface << " of " << m.landed;
+    EXPECT_LT(m.deviationMeanCm, 3.0) << scene;
+}
+
+void record(const char* prefix, const sim::PostureMetrics& m) {
+    const std::string p = prefix;
+    testing::Test::RecordProperty(p + "_skate_max_cm", std::to_string(m.footSkateMaxCm));
+    testing::Test::RecordProperty(p + "_skate_mean_cm", std::to_string(m.footSkateMeanCm));
+    testing::Test::RecordProperty(p + "_penetration_max_cm", std::to_string(m.penetrationMaxCm));
+    testing::Test::RecordProperty(p + "_hits_on_surface", std::to_string(m.hitsOnSurface) + "/" + std::to_string(m.landed));
+    testing::Test::RecordProperty(p + "_deviation_mean_cm", std::to_string(m.deviationMeanCm));
+}
+
+TEST(PostureGeometry, BoxDistanceAndPenetration) {
+    sim::Obb a;
+    a.half = {0.1f, 0.1f, 0.1f};
+    sim::Obb b = a;
+    b.centre = {0.3f, 0.0f, 0.0f};  // 10 cm apart
+    glm::vec3 n;
+    EXPECT_NEAR(sim::boxSignedDistance(a, b, &n), 0.1, 1e-5);
+    EXPECT_NEAR(n.x, 1.0, 1e-5);
+    EXPECT_EQ(sim::boxPenetration(a, b), 0.0);
+    b.centre = {0.15f, 0.0f, 0.0f};  // 5 cm inside
+    EXPECT_NEAR(sim::boxPenetration(a, b), 0.05, 1e-5);
+    EXPECT_NEAR(sim::boxSignedDistance(a, b, &n), -0.05, 1e-5);
+    EXPECT_NEAR(n.x, 1.0, 1e-5);
+    // Corner to corner: the gap is the diagonal.
+    b.centre = {0.3f, 0.3f, 0.0f};
+    EXPECT_NEAR(sim::boxSignedDistance(a, b), std::sqrt(0.02), 1e-4);
+}
+
+TEST(PostureSolver, DuelMeetsTheIssueThresholds) {
+    const auto both = measure(duel());
+    record("kinematic", both.kinematic);
+    record("physics", both.physics);
+    ASSERT_GT(both.physics.landed, 0);
+    expectThresholds(both.physics, "duel");
+    // The kinematic playback is what the issue complains about: blows pass
+    // through bodies.
+    EXPECT_LT(both.kinematic.hitsOnSurfaceShare(), 0.95);
+}
+
+TEST(PostureSolver, OneVsManyMeetsTheIssueThresholds) {
+    const auto both = measure(oneVsMany());
+    record("kinematic", both.kinematic);
+    record("physics", both.physics);
+    expectThresholds(both.physics, "one-vs-many");
+    EXPECT_GT(both.kinematic.footSkateMaxCm, 1.0);  // the issue's 17.5 cm slide
+}
+
+TEST(PostureSolver, SameBytesOnOneThreadOrMany) {
+    // Three duels apart (three islands, in parallel) and the one-vs-many
+    // fight (one island of nine), the first seconds of each.
+    sim::Scene crowd = test::pairCrowd(duel(), 6, 6.0f);
+    crowd.duration = 6.0;
+    {
+        const posture::Simulator probe(crowd, demoWorld().library, {});
+        EXPECT_EQ(probe.islands(), 3);
+    }
+    sim::Scene fight = oneVsMany();
+    fight.duration = 6.0;
+    for (const sim::Scene* scene : {&crowd, &fight}) {
+        expectSameBytes(*scene);
+    }
+}
+
+void expectSameBytes(const sim::Scene& scene) {
+    posture::Options serial;
+    serial.parallel = false;
+    const auto a = posture::simulate(scene, demoWorld().library);
+    const auto b = posture::simulate(scene, demoWorld().library);
+    const auto c = posture::simulate(scene, demoWorld().library, serial);
+    ASSERT_TRUE(a && b && c);
+    ASSERT_EQ(a->world.joints.size(), c->world.joints.size());
+    for (std::size_t k = 0; k < a->world.joints.size(); ++k) {
+        const auto& x = a->world.joints[k];
+        ASSERT_EQ(x.size(), b->world.joints[k].size());
+        ASSERT_EQ(x.size(), c->world.joints[k].size());
+        EXPECT_EQ(0, std::memcmp(x.data(), b->world.joints[k].data(), x.size() * sizeof(glm::vec3))) << "character " << k;
+        EXPECT_EQ(0, std::memcmp(x.data(), c->world.joints[k].data(), x.size() * sizeof(glm::vec3))) << "character " << k;
+    }
+}
+
+TEST(PostureSolver, WithoutControlACharacterFallsAsARagDoll) {
+    sim::Scene scene = duel();
+    scene.duration = 3.0;
+    posture::Options options;
+    options.ragdoll = {1, 0};
+    const auto frames = posture::simulate(scene, demoWorld().library, options);
+    ASSERT_TRUE(frames);
+    const auto& lib = demoWorld().library;
+    const auto captured = sim::kinematicTracks(scene, lib, options.fps);
+    const int pelvis = lib.motions[static_cast<std::size_t>(lib.actions[static_cast<std::size_t>(scene.characters[0].track[0].action)].motion)].joints.pelvis;
+    const int last = frames->world.frames - 1;
+    const float fallen = frames->world.at(0, last)[static_cast<std::size_t>(pelvis)].y;
+    const float standing = frames->world.at(1, last)[static_cast<std::size_t>(pelvis)].y;
+    EXPECT_LT(fallen, 0.35f) << "the rag doll lies on the floor";
+    EXPECT_GT(fallen, -0.05f) << "the floor holds it";
+    EXPECT_NEAR(standing, captured.at(1, last)[static_cast<std::size_t>(pelvis)].y, 0.05f) << "the controlled one stands";
+    EXPECT_TRUE(allFinite(frames->world));
+}
+
+TEST(PostureSolver, BadInputStaysFiniteAndIsReported) {
+    const auto& lib = demoWorld().library;
+    sim::Scene scene = duel();
+    scene.duration = 4.0;
+    // Both boxers start on the same spot, one inside the other.
+    const glm::vec2 shift = scene.characters[0].track[0].root.pos - scene.characters[1].track[0].root.pos;
+    for (auto& inst : scene.characters[1].track) inst.root.pos += shift;
+    // A NaN pose from the second action of the first character on.
+    ASSERT_GT(scene.characters[0].track.size(), 2u);
+    scene.characters[0].track[1].root.pos.x = std::numeric_limits<float>::quiet_NaN();
+    // A foot pin where the foot is not supported.
+    const sim::ScenePoser poser(scene, lib);
+    double airborne = -1;
+    int foot = 0;
+    for (double t = 0; t < scene.duration && airborne < 0; t += 1.0 / 60) {
+        const auto c = poser.contacts(1, t);
+        if (!c[0]) airborne = t, foot = 0;
+        else if (!c[1]) airborne = t, foot = 1;
+    }
+    ASSERT_GE(airborne, 0) << "a frame with a foot in the air";
+    posture::Options options;
+    options.pins.push_back({1, foot, airborne, airborne + 0.1});
+    options.pins.push_back({7, 0, 0, 1});  // no such character
+    const auto frames = posture::simulate(scene, lib, options);
+    ASSERT_TRUE(frames) << frames.error().message;
+    EXPECT_TRUE(allFinite(frames->world));
+    const auto& r = frames->report;
+    EXPECT_GT(r.nonFiniteTargets, 0);
+    EXPECT_GE(r.initialOverlaps, 1);
+    EXPECT_GE(r.refusedPins, 2);
+    std::string all;
+    for (const auto& n : r.notes) all += n + "\n";
+    EXPECT_NE(all.find("non-finite pose"), std::string::npos) << all;
+    EXPECT_NE(all.find("inside each other"), std::string::npos) << all;
+    EXPECT_NE(all.find("not supported"), std::string::npos) << all;
+    EXPECT_NE(all.find("no such person"), std::string::npos) << all;
+}
+
+TEST(PostureSolver, OptionErrorsNameTheField) {
+    posture::Options bad;
+    bad.frequency = 200;  // unstable at 240 Hz
+    const auto r = posture::simulate(duel(), demoWorld().library, bad);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message.find("frequency"), std::string::npos) << r.error().message;
+    posture::Options fps;
+    fps.fps = std::numeric_limits<double>::quiet_NaN();
+    const auto r2 = posture::simulate(duel(), demoWorld().library, fps);
+    ASSERT_FALSE(r2);
+    EXPECT_NE(r2.error().message.find("fps"), std::string::npos);
+    EXPECT_EQ(posture::parseMode("physics"), posture::Mode::Physics);
+    EXPECT_EQ(posture::parseMode("kinematic"), posture::Mode::Kinematic);
+    EXPECT_FALSE(posture::parseMode("ragdoll"));
+}
+
+}  // namespace
+
+namespace {
+
+// The chase (a planned scene) and the luggage chain (composed): feet and
+// pose meet the issue's thresholds. Penetration between runners and porters
+// does not yet (docs/POSTURE.md has the numbers); it is printed, not asserted.
+TEST(PostureSolver, ChaseAndLuggageKeepFeetAndPose) {
+    const auto chase = measure(test::plannedScene(kDemo + "chase.json"));
+    record("chase_physics", chase.physics);
+    EXPECT_LT(chase.physics.footSkateMaxCm, 1.0);
+    EXPECT_LT(chase.physics.footSkateMeanCm, 0.2);
+    EXPECT_LT(chase.physics.deviationMeanCm, 3.0);
+    EXPECT_LT(chase.physics.penetrationMaxCm, chase.kinematic.penetrationMaxCm);
+
+    static const auto patches = test::demoPatches({"carry-walk-hand-receive-turn-carry", "carry-hand-receive-carry"});
+    sim::ComposeSpec spec;
+    spec.kind = sim::SceneKind::Luggage;
+    spec.seed = 1;
+    spec.porters = 4;
+    spec.handoffs = 9;
+    spec.duration = 300;
+    auto scene = sim::compose(demoWorld().library, patches, spec);
+    ASSERT_TRUE(scene) << scene.error().message;
+    const auto luggage = measure(*scene);
+    record("luggage_physics", luggage.physics);
+    EXPECT_GT(luggage.kinematic.footSkateMaxCm, 1.0);
+    EXPECT_LT(luggage.physics.footSkateMaxCm, 1.0);
+    EXPECT_LT(luggage.physics.footSkateMeanCm, 0.2);
+    EXPECT_LT(luggage.physics.deviationMeanCm, 3.0);
+    EXPECT_LT(luggage.physics.penetrationMaxCm, luggage.kinematic.penetrationMaxCm);
+}
+
+}  // namespace
