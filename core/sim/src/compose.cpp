@@ -1189,14 +1189,9 @@ struct Composer {
         // have stood in the rat's way).
         if (by != SIZE_MAX && b.near && t >= b.passTime + 0.6) return std::nullopt;
         const detail::BodyPose body = bodyIn(b.plan, b.at, t);
-        const detail::Playing victim{body.action, t, body.tau, body.root};
-        const RootXf placement = body.root * lib.rootAt(body.action, body.tau);
-        const auto [reaction, sample] =
-            detail::chooseReaction(lib, reactionDir, victim, t, detail::pushDirection(placement, pusher), false, pushedPool);
-        if (reaction < 0) return std::nullopt;
-        const double offset = sample / kSampleRate;
-        const RootXf root = placement * lib.rootAt(reaction, offset).inverse();
-        auto plan = planMove(b.at, t, {reaction}, offset, root, true, until);
+        const auto reaction = rules->react({body.action, t, body.tau, body.root}, pusher, t, false, pushedPool);
+        if (reaction.action < 0) return std::nullopt;
+        auto plan = planMove(b.at, t, {reaction.action}, reaction.offset, reaction.root, true, until);
         // Pushed by someone else, it must not reel into the rat's way (pushed by the rat, it is in it).
         if (by != SIZE_MAX && b.near && t < b.passTime + 0.6 && ratClearance(b, plan) < kRatClear) return std::nullopt;
         std::vector<Push> changes;
@@ -1229,8 +1224,8 @@ struct Composer {
 
     static constexpr double kRatClear = 0.08;
     static constexpr double kContactWindow = 0.2;  // s a bump may keep two bodies touching (MetricsOptions::hitWindow)  // m between the rat and an avoider's feet and shins
-    std::vector<glm::vec2> reactionDir;
-    std::vector<int> pushedPool;
+    std::optional<detail::InteractionEngine> rules;  // forced reactions of the pushed
+    int pushedPool = 0;
     SceneCharacter ratBody;  // the rat's keys
 
     Status rat(const ProgressFn& progress) {
@@ -1239,15 +1234,16 @@ struct Composer {
         const auto& keys = ratBody.keys;
         const double ratEnd = keys.back().time;
         const double until = ratEnd + 2.0;  // reactions and steps settle
-        reactionDir = detail::reactionDirections(lib);
+        std::vector<int> pushed;
         for (int a = 0; a < lib.size(); ++a) {
-            if (act(a).is(kPushed) && !act(a).is(kFalling)) pushedPool.push_back(a);
+            if (act(a).is(kPushed) && !act(a).is(kFalling)) pushed.push_back(a);
         }
-        if (pushedPool.empty()) {
+        if (pushed.empty()) {
             for (int a = 0; a < lib.size(); ++a) {
-                if (act(a).is(kPushed)) pushedPool.push_back(a);
+                if (act(a).is(kPushed)) pushed.push_back(a);
             }
         }
+        pushedPool = rules.emplace(lib).addPool(pushed);
         if (!findWays()) return makeError(kNoWays);
         makeRatPatches();
 
@@ -1382,7 +1378,7 @@ struct Composer {
             h.attackAction = pusher.action;
             h.effector = kTorso, h.target = kTorso;  // body against body
             h.speed = 1.0;                           // a walking-pace shove (m/s)
-            h.impulse = h.speed * detail::effectiveMass(kTorso);
+            h.impulse = detail::InteractionEngine::impulse(h.speed, kTorso);
             scene.hits.push_back(h);
         }
         scene.marks.push_back({"trail", spec.ratPath});

@@ -64,17 +64,16 @@ struct Engine {
     const ActionLibrary& lib;
     const PatternList& pattern;
     const GenerateOptions& opt;
-    std::vector<glm::vec2> reactionDir;
+    detail::InteractionEngine rules;                // hits and forced reactions
     std::array<std::vector<int>, 2> entriesOf;     // per character: its entry indices in order
     std::vector<std::vector<int>> choices;         // per entry: candidate actions (representatives)
-    std::vector<std::vector<int>> pools;           // per entry: reactive pool (ascending)
+    std::vector<int> pools;                        // per entry: its reactive pool in `rules`
     int hold = -1;                                 // idle action played while waiting for a blow
     std::vector<int> holdBefore;                   // per entry: the idle to wait in before it (motion-graph continuity)
 
-    Engine(const ActionLibrary& l, const PatternList& p, const GenerateOptions& o) : lib(l), pattern(p), opt(o) {
-        reactionDir = detail::reactionDirections(lib);
+    Engine(const ActionLibrary& l, const PatternList& p, const GenerateOptions& o) : lib(l), pattern(p), opt(o), rules(l) {
         choices.resize(p.entries.size());
-        pools.resize(p.entries.size());
+        std::vector<std::vector<int>> pool(p.entries.size());  // per entry: reactive clips (ascending)
         for (std::size_t e = 0; e < p.entries.size(); ++e) {
             const auto& pe = p.entries[e];
             entriesOf[static_cast<std::size_t>(pe.character)].push_back(static_cast<int>(e));
@@ -86,7 +85,7 @@ struct Engine {
                 const auto& act = lib.actions[static_cast<std::size_t>(i)];
                 if (!matchesAnnotation(act, pe.annotation)) continue;
                 if (isResponse(p, e)) {
-                    pools[e].push_back(i);
+                    pool[e].push_back(i);
                     continue;
                 }
                 if (isReactiveAnnotation(pe.annotation)) {
@@ -99,6 +98,7 @@ struct Engine {
                                              act.is(kRun) ? lib.endNode[static_cast<std::size_t>(i)] : -1),
                              i);
             }
+            pools.push_back(rules.addPool(pool[e]));
             for (const auto& [key, i] : reps) choices[e].push_back(i);
             std::sort(choices[e].begin(), choices[e].end());
             if (opt.maxChoicesPerEntry > 0 && static_cast<int>(choices[e].size()) > opt.maxChoicesPerEntry) {
@@ -233,13 +233,13 @@ struct Engine {
                 const auto& x = s.a[static_cast<std::size_t>(c)];
                 const auto& y = s.a[static_cast<std::size_t>(1 - c)];
                 if (y.reacting) continue;
-                if (!x.attackDone && x.entry >= 0 && act(x.cur.action).is(kAttack) && act(x.cur.action).effector >= 0) {
-                    const auto h = detail::findHit(lib, x.cur, y.cur, s.time, t1);
-                    if (h.time >= 0 && (best.time < 0 || h.time < best.time)) best = h, att = c, collision = false;
+                // Only a pattern entry's attack lands (not a guard played while waiting).
+                if (const auto h = rules.strike(x.cur, x.attackDone || x.entry < 0, y.cur, y.reacting, s.time, t1); h.before(best)) {
+                    best = h, att = c, collision = false;
                 }
                 if (x.reacting && !x.attackDone) {
                     const auto h = findCollision(s, c, s.time, best.time >= 0 ? best.time : t1);
-                    if (h.time >= 0 && (best.time < 0 || h.time < best.time)) best = h, att = c, collision = true;
+                    if (h.before(best)) best = h, att = c, collision = true;
                 }
             }
             const double until = best.time >= 0 ? best.time : t1;
@@ -305,7 +305,7 @@ struct Engine {
             const double te = best.time;
             s.time = te;
             x.attackDone = true;
-            const double impulse = best.speed * (collision ? kCollisionMass : detail::effectiveMass(best.effector));
+            const double impulse = collision ? best.speed * kCollisionMass : detail::InteractionEngine::impulse(best);
             s.hits.push_back({te, att, 1 - att, x.cur.action, best.effector, best.target, best.speed, impulse, best.blocked});
             if (best.blocked) {
                 x.reactUntil = y.reactUntil = te + kHitGrace;
@@ -321,29 +321,23 @@ struct Engine {
                 verdict = Verdict::WrongOrder;
                 return -1;
             }
-            const RootXf pd = y.cur.placement(lib, te);
-            const RootXf pa = x.cur.placement(lib, te);
-            const auto [reaction, sample] = detail::chooseReaction(lib, reactionDir, y.cur, te, detail::pushDirection(pd, pa),
-                                                                   impulse > opt.fallImpulse, pools[static_cast<std::size_t>(e)]);
-            if (reaction < 0) {
+            const auto reaction = rules.react(y.cur, x.cur.placement(lib, te), te, impulse > opt.fallImpulse,
+                                              pools[static_cast<std::size_t>(e)]);
+            if (reaction.action < 0) {
                 verdict = Verdict::MissedContact;
                 return -1;
             }
-            auto& track = s.tracks[static_cast<std::size_t>(1 - att)];
-            if (!track.empty()) track.back().end = te;
-            const double offset = sample / kSampleRate;
-            y.cur = {reaction, te, offset, pd * lib.rootAt(reaction, offset).inverse()};
-            y.end = te + std::max(act(reaction).duration - offset, 1.0 / kSampleRate);
+            detail::cutIntoReaction(s.tracks[static_cast<std::size_t>(1 - att)], te, reaction);
+            y.cur = {reaction.action, te, reaction.offset, reaction.root};
+            y.end = reaction.end;
             y.entry = e;
-            y.last = reaction;
+            y.last = reaction.action;
             y.reacting = true;
             y.attackDone = false;  // a falling body can push in turn
             x.reactUntil = y.reactUntil = te + kHitGrace;
             ++y.pos;
             s.entryStart[static_cast<std::size_t>(e)] = te;
             s.started[static_cast<std::size_t>(e)] = true;
-            ActionInstance inst{reaction, te, offset, y.end, y.cur.root, true, false};
-            track.push_back(inst);
         }
         verdict = Verdict::MissedContact;  // too many events: not a clean interaction
         return -1;

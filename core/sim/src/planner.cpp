@@ -73,6 +73,7 @@ struct Member {
     // The same with one representative (the first) per variant class, for
     // inside the tree (SimOptions::variants).
     std::vector<std::vector<int>> folded;
+    int pool = 0;  // its reactive clips (spec->reactions) in the interaction engine
 };
 
 std::vector<std::vector<int>> legalChoices(const ActionLibrary& lib, const CharacterSpec& spec) {
@@ -107,7 +108,7 @@ struct Context {
     const SimOptions* opt = nullptr;
     std::vector<Member> members;
     bool cooperative = false;  // any cooperative weight: alpha-beta does not apply
-    std::vector<glm::vec2> reactionDir;  // per library action: initial travel direction of reactive clips
+    const detail::InteractionEngine* engine = nullptr;  // hits and forced reactions
     std::vector<int> nameId;             // per library action: its name's number (unnamed: a number of its own)
     std::vector<RootXf> endAt;           // per library action: rootAt(action, duration)
     std::vector<glm::vec2> endFacing;    // per library action: headingVector of endAt's heading
@@ -245,11 +246,11 @@ void advance(const Context& ctx, GroupState& g, Events& ev, Recorder* rec) {
         bool isCatch = false;
         for (int a = 0; a < g.n; ++a) {
             const auto& as = g.c[static_cast<std::size_t>(a)];
-            if (as.attackDone || !act(ctx, as.action).is(kAttack) || act(ctx, as.action).effector < 0) continue;
             for (int d = 0; d < g.n; ++d) {
-                if (d == a || !enemies(ctx, a, d) || g.c[static_cast<std::size_t>(d)].reacting) continue;
-                const auto h = detail::findHit(*ctx.lib, playing(as), playing(g.c[static_cast<std::size_t>(d)]), t0, t1);
-                if (h.time >= 0 && (best.time < 0 || h.time < best.time)) best = h, bestAtt = a, bestDef = d, isCatch = false;
+                if (d == a || !enemies(ctx, a, d)) continue;
+                const auto& ds = g.c[static_cast<std::size_t>(d)];
+                const auto h = ctx.engine->strike(playing(as), as.attackDone, playing(ds), ds.reacting, t0, t1);
+                if (h.before(best)) best = h, bestAtt = a, bestDef = d, isCatch = false;
             }
         }
         for (int a = 0; a < g.n; ++a) {
@@ -296,7 +297,7 @@ void advance(const Context& ctx, GroupState& g, Events& ev, Recorder* rec) {
         }
         att.attackDone = true;
         const auto& attack = act(ctx, att.action);
-        const double impulse = best.speed * detail::effectiveMass(best.effector);
+        const double impulse = detail::InteractionEngine::impulse(best);
         if (!best.blocked) {
             (attack.is(kKick) ? ev.givenLong : ev.givenShort)[static_cast<std::size_t>(bestAtt)] += best.speed;
             ev.received[static_cast<std::size_t>(bestDef)] += best.speed;
@@ -306,36 +307,23 @@ void advance(const Context& ctx, GroupState& g, Events& ev, Recorder* rec) {
                                         rec->global[static_cast<std::size_t>(bestDef)], att.action, best.effector,
                                         best.target, best.speed, impulse, best.blocked});
         }
-        const auto& pool = specOf(ctx, bestDef).reactions;
-        if (!best.blocked && !pool.empty()) {
-            const RootXf pd = placement(ctx, def, te);
-            const RootXf pa = placement(ctx, att, te);
-            const auto [reaction, sample] = detail::chooseReaction(*ctx.lib, ctx.reactionDir, playing(def), te,
-                                                                   detail::pushDirection(pd, pa),
-                                                                   impulse > ctx.opt->fallImpulse, pool);
-            if (reaction >= 0) {
-                const double offset = sample / kSampleRate;
+        const auto& member = ctx.members[static_cast<std::size_t>(bestDef)];
+        if (!best.blocked && !member.spec->reactions.empty()) {
+            const auto reaction = ctx.engine->react(playing(def), placement(ctx, att, te), te, impulse > ctx.opt->fallImpulse, member.pool);
+            if (reaction.action >= 0) {
                 CharState ns = def;
-                ns.action = reaction;
+                ns.action = reaction.action;
                 ns.start = te;
-                ns.offset = offset;
-                ns.end = te + std::max(act(ctx, reaction).duration - offset, 1.0 / kSampleRate);
-                ns.root = pd * ctx.lib->rootAt(reaction, offset).inverse();
+                ns.offset = reaction.offset;
+                ns.end = reaction.end;
+                ns.root = reaction.root;
                 ns.attackDone = true;
                 ns.caught = false;
                 ns.reacting = true;
-                pushRecent(ctx, ns, reaction);
+                pushRecent(ctx, ns, reaction.action);
                 if (rec) {
-                    auto& track = rec->scene->characters[static_cast<std::size_t>(rec->global[static_cast<std::size_t>(bestDef)])].track;
-                    if (!track.empty()) track.back().end = te;
-                    ActionInstance inst;
-                    inst.action = reaction;
-                    inst.start = te;
-                    inst.offset = offset;
-                    inst.end = ns.end;
-                    inst.root = ns.root;
-                    inst.forced = true;
-                    track.push_back(inst);
+                    detail::cutIntoReaction(rec->scene->characters[static_cast<std::size_t>(rec->global[static_cast<std::size_t>(bestDef)])].track,
+                                            te, reaction);
                     ++rec->scene->stats.forced;
                 }
                 def = ns;
@@ -1024,7 +1012,8 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
     base.combo = &combo;
     base.comboN = n;
     base.opt = &opt;
-    base.reactionDir = detail::reactionDirections(lib);
+    detail::InteractionEngine engine(lib);
+    base.engine = &engine;
     {
         std::map<std::string, int> names;
         base.nameId.resize(static_cast<std::size_t>(n));
@@ -1079,7 +1068,7 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
             }
             auto legal = legalChoices(lib, c);
             auto folded = foldVariants(lib, legal);
-            ctx.members.push_back({i, &c, std::move(legal), std::move(folded)});
+            ctx.members.push_back({i, &c, std::move(legal), std::move(folded), engine.addPool(c.reactions)});
             rec.global[static_cast<std::size_t>(g.n)] = i;
             if (c.weights.wPath > 0 || c.weights.wPsi > 0 || c.weights.wReq > 0) ctx.cooperative = true;
             if (c.weights.catches) catches = true;
