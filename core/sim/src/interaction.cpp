@@ -109,6 +109,12 @@ glm::vec2 pushDirection(const RootXf& victim, const RootXf& attacker) {
     return rotateFloor(glm::normalize(push), -victim.heading);
 }
 
+void sortHits(std::vector<HitEvent>& hits) {
+    std::sort(hits.begin(), hits.end(), [](const HitEvent& a, const HitEvent& b) {
+        return a.time != b.time ? a.time < b.time : a.attacker < b.attacker;
+    });
+}
+
 void cutIntoReaction(std::vector<ActionInstance>& track, double t, const ForcedReaction& reaction) {
     if (!track.empty()) track.back().end = t;
     track.push_back(reaction.instance(t));

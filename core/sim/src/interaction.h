@@ -104,6 +104,9 @@ struct ForcedReaction {
     ActionInstance instance(double start) const { return {action, start, offset, end, root, true, false}; }
 };
 
+// A scene's hits in time order (attacker order within one moment).
+void sortHits(std::vector<HitEvent>& hits);
+
 // Ends a track's last action at t and appends a forced reaction starting then.
 void cutIntoReaction(std::vector<ActionInstance>& track, double t, const ForcedReaction& reaction);
 

@@ -1142,9 +1142,7 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
             }
         }
     }
-    std::sort(scene.hits.begin(), scene.hits.end(), [](const HitEvent& a, const HitEvent& b) {
-        return a.time != b.time ? a.time < b.time : a.attacker < b.attacker;
-    });
+    detail::sortHits(scene.hits);
     std::sort(scene.catches.begin(), scene.catches.end(), [](const CatchEvent& a, const CatchEvent& b) {
         return a.time != b.time ? a.time < b.time : a.chaser < b.chaser;
     });
