@@ -42,6 +42,62 @@ struct LuggageComposer : Composer {
 
     // ---- luggage: an item passed along a chain of porters; whoever has handed
     // it on is recycled as a later receiver.
+    // Receiver rc walks over to the hand-over's goal, planned backward from
+    // it: it sets off as late as it can (never before it is free) and arrives
+    // when the carrier is ready at t0; re-planned until the timing settles.
+    // Straight there, or round the others by a point 2 m off to either side
+    // of the goal. False when no way gets there untouched.
+    bool walkOver(int rc, int carrier, const RootXf& goal, double t0, std::vector<ActionInstance>& walk, double& arrive) {
+        const RootXf from = leaves(rc);
+        const glm::vec2 back = glm::length(from.pos - goal.pos) > 1e-3f ? glm::normalize(from.pos - goal.pos) : glm::vec2(0, 1);
+        for (double turn : {0.0, 1.0, -1.0, 2.0, -2.0}) {
+            RootXf end;
+            double when = 0, shift = std::max(freeAt(rc), t0 - 3.0);
+            RootXf via;
+            via.pos = goal.pos + rotateFloor(back, turn) * 2.0f;
+            via.heading = angleOf(goal.pos - via.pos);
+            for (int pass = 0; pass < 4; ++pass) {
+                walk.clear();
+                RootXf mid = from;
+                double midTime = 0;
+                if (turn != 0.0) std::tie(mid, midTime) = locomote(rc, carrier, from, 0.0, track(rc).back().action, via, shift, walk);
+                std::tie(end, when) = locomote(rc, carrier, mid, midTime, walk.empty() ? track(rc).back().action : walk.back().action,
+                                               goal, shift, walk);
+                const double next = std::max(freeAt(rc), t0 - when);
+                if (std::fabs(next - shift) < 1e-9) break;
+                shift = next;
+            }
+            for (auto& w : walk) w.start += shift, w.end += shift;
+            if (glm::length(end.pos - goal.pos) > 0.3f || penetrates(walk, rc)) continue;
+            arrive = shift + when;
+            stats.maxJunctionError = std::max(stats.maxJunctionError, static_cast<double>(glm::length(end.pos - goal.pos)));
+            return true;
+        }
+        return false;
+    }
+
+    // The waiting porters stand in a row beside the first receiver rc, each
+    // where its body touches nobody for the first hand-over.
+    Status lineUp(const std::vector<int>& porters, int rc) {
+        const RootXf r = leaves(rc);
+        int row = 1;
+        for (int c : porters) {
+            if (!track(c).empty()) continue;
+            for (int tries = 0; tries < 40; ++tries, ++row) {
+                RootXf spot = r;
+                spot.pos = r.pos - headingVector(r.heading) * (1.2f * static_cast<float>(row)) +
+                           rotateFloor(glm::vec2(1.5f, 0.0f), r.heading);
+                const ActionInstance wait{hold, 0.0, 0.0, freeAt(rc), spot * lib.rootAt(hold, 0).inverse(), false, false};
+                if (penetrates({wait}, c)) continue;
+                track(c).push_back(wait);
+                ++row;
+                break;
+            }
+            if (track(c).empty()) return makeError("luggage: no room for porter " + std::to_string(c + 1) + " to wait");
+        }
+        return {};
+    }
+
     Status run(const ProgressFn& progress) {
         std::vector<std::size_t> handoffs;  // patches where character 1 hands and character 2 receives
         for (std::size_t i = 0; i < patches.patches.size(); ++i) {
@@ -125,39 +181,7 @@ struct LuggageComposer : Composer {
                 std::vector<ActionInstance> walk;
                 double arrive = t0;
                 if (!track(rc).empty()) {
-                    // Planned backward from the hand-over: it sets off as late as
-                    // it can (never before it is free) and arrives when the
-                    // carrier is ready; re-planned until the timing settles.
-                    // Straight there, or round the others by a point 2 m off
-                    // to either side of the goal.
-                    bool reached = false;
-                    const RootXf from = leaves(rc);
-                    const glm::vec2 back = glm::length(from.pos - goal.pos) > 1e-3f ? glm::normalize(from.pos - goal.pos) : glm::vec2(0, 1);
-                    for (double turn : {0.0, 1.0, -1.0, 2.0, -2.0}) {
-                        RootXf end;
-                        double when = 0, shift = std::max(freeAt(rc), t0 - 3.0);
-                        RootXf via;
-                        via.pos = goal.pos + rotateFloor(back, turn) * 2.0f;
-                        via.heading = angleOf(goal.pos - via.pos);
-                        for (int pass = 0; pass < 4; ++pass) {
-                            walk.clear();
-                            RootXf mid = from;
-                            double midTime = 0;
-                            if (turn != 0.0) std::tie(mid, midTime) = locomote(rc, carrier, from, 0.0, track(rc).back().action, via, shift, walk);
-                            std::tie(end, when) = locomote(rc, carrier, mid, midTime, walk.empty() ? track(rc).back().action : walk.back().action,
-                                                           goal, shift, walk);
-                            const double next = std::max(freeAt(rc), t0 - when);
-                            if (std::fabs(next - shift) < 1e-9) break;
-                            shift = next;
-                        }
-                        for (auto& w : walk) w.start += shift, w.end += shift;
-                        if (glm::length(end.pos - goal.pos) > 0.3f || penetrates(walk, rc)) continue;
-                        arrive = shift + when;
-                        stats.maxJunctionError = std::max(stats.maxJunctionError, static_cast<double>(glm::length(end.pos - goal.pos)));
-                        reached = true;
-                        break;
-                    }
-                    if (!reached) continue;
+                    if (!walkOver(rc, carrier, goal, t0, walk, arrive)) continue;
                     if (!walk.empty()) waitUntil(rc, walk.front().start);
                 }
                 const double start = std::max(t0, arrive);
@@ -240,24 +264,7 @@ struct LuggageComposer : Composer {
             aside = carrier;
             carrier = rc;
             if (k == 0) {
-                // The waiting porters stand in a row beside the first receiver,
-                // each where its body touches nobody for the first hand-over.
-                const RootXf r = leaves(rc);
-                int row = 1;
-                for (int c : porters) {
-                    if (!track(c).empty()) continue;
-                    for (int tries = 0; tries < 40; ++tries, ++row) {
-                        RootXf spot = r;
-                        spot.pos = r.pos - headingVector(r.heading) * (1.2f * static_cast<float>(row)) +
-                                   rotateFloor(glm::vec2(1.5f, 0.0f), r.heading);
-                        const ActionInstance wait{hold, 0.0, 0.0, freeAt(rc), spot * lib.rootAt(hold, 0).inverse(), false, false};
-                        if (penetrates({wait}, c)) continue;
-                        track(c).push_back(wait);
-                        ++row;
-                        break;
-                    }
-                    if (track(c).empty()) return makeError("luggage: no room for porter " + std::to_string(c + 1) + " to wait");
-                }
+                if (auto st = lineUp(porters, rc); !st) return st.error();
             }
             if (!reportProgress(progress, static_cast<double>(k + 1) / own.handoffs, "compose")) return makeError("cancelled");
         }
