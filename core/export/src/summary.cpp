@@ -24,7 +24,7 @@ json placementJson(const sim::RootXf& xf) {
 }
 
 json actionJson(const sim::ActionInstance& inst, const sim::ActionLibrary& lib) {
-    const auto& a = lib.actions[static_cast<std::size_t>(inst.action)];
+    const auto& a = lib.actions()[static_cast<std::size_t>(inst.action)];
     return {{"label", a.label()},
             {"name", a.name},
             {"annotations", a.annotations},
@@ -75,7 +75,7 @@ json hitsJson(const sim::Scene& scene, const sim::ActionLibrary& lib) {
         json j = {{"time", h.time},
                   {"attacker", name(h.attacker)},
                   {"defender", name(h.defender)},
-                  {"action", lib.actions[static_cast<std::size_t>(h.attackAction)].label()},
+                  {"action", lib.actions()[static_cast<std::size_t>(h.attackAction)].label()},
                   {"effector", sim::segmentName(h.effector)},
                   {"target", sim::segmentName(h.target)},
                   {"speed", h.speed},

@@ -51,10 +51,10 @@ struct Composer {
         std::map<std::pair<int, int>, int> reps;
         double best = -1;
         for (int i = 0; i < lib.size(); ++i) {
-            const auto& a = lib.actions[static_cast<std::size_t>(i)];
+            const auto& a = lib.actions()[static_cast<std::size_t>(i)];
             if (a.is(kIdle) && a.duration > best) best = a.duration, hold = i;
             if (!a.is(kWalk | kStep | kTurn | kRun) || a.has("carry") || a.is(kReactive) || a.is(kAttack)) continue;
-            reps.emplace(std::make_pair(lib.variantClass[static_cast<std::size_t>(i)], lib.startNode[static_cast<std::size_t>(i)]), i);
+            reps.emplace(std::make_pair(lib.variantClass()[static_cast<std::size_t>(i)], lib.startNode()[static_cast<std::size_t>(i)]), i);
         }
         for (const auto& [key, i] : reps) locomotion.push_back(i);
         usage.assign(patches.patches.size(), 0.0);
@@ -74,7 +74,7 @@ struct Composer {
         return {};
     }
 
-    const LibraryAction& act(int a) const { return lib.actions[static_cast<std::size_t>(a)]; }
+    const LibraryAction& act(int a) const { return lib.actions()[static_cast<std::size_t>(a)]; }
 
     int addCharacter(std::string name, int side) {
         SceneCharacter c;
@@ -117,7 +117,7 @@ struct Composer {
     int idleAfter(int action) const {
         int best = -1;
         for (int i = 0; i < lib.size(); ++i) {
-            if (!act(i).is(kIdle) || lib.startNode[static_cast<std::size_t>(i)] != lib.endNode[static_cast<std::size_t>(action)]) continue;
+            if (!act(i).is(kIdle) || lib.startNode()[static_cast<std::size_t>(i)] != lib.endNode()[static_cast<std::size_t>(action)]) continue;
             if (best < 0 || act(i).duration > act(best).duration) best = i;
         }
         return best >= 0 ? best : hold;
@@ -225,7 +225,7 @@ struct Composer {
                 const RootXf end = at * A.end;
                 const RootXf mid = at * lib.rootAt(a, 0.5 * A.duration);
                 double c = cost(end);
-                if (last >= 0 && lib.startNode[static_cast<std::size_t>(a)] != lib.endNode[static_cast<std::size_t>(last)]) c += 0.05;
+                if (last >= 0 && lib.startNode()[static_cast<std::size_t>(a)] != lib.endNode()[static_cast<std::size_t>(last)]) c += 0.05;
                 if (c >= bestCost) continue;
                 if (!blocked(self, partner, at.pos, mid.pos, t + 0.5 * A.duration + timeShift) &&
                     !blocked(self, partner, at.pos, end.pos, t + A.duration + timeShift)) {

@@ -263,9 +263,7 @@ constexpr const char* kFields[] = {"floor", "starts", "background", "max_charact
 }  // namespace
 
 const SceneKindModule& dominoKind() {
-    static const SceneKindModule kind{SceneKind::Domino, "domino", true, kFields,
-                                      [](const prep::JsonReader& rd, const Json& j, ComposeSpec& s) { return parseDomino(rd, j, s); },
-                                      [](const prep::JsonReader& rd, const ComposeSpec& s) { return checkDomino(rd, s); }, composeKind<DominoComposer>};
+    static const SceneKindModule kind = kindModule<DominoComposer, DominoSpec, parseDomino, checkDomino>(SceneKind::Domino, "domino", true, kFields);
     return kind;
 }
 

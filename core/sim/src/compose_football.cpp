@@ -127,7 +127,7 @@ struct FootballComposer : Composer {
     // A tackler gets up where it landed (the capture's own continuation) and stays.
     void getUpAndStand(int tackler) {
         const int down = track(tackler).back().action;
-        for (int n : lib.next[static_cast<std::size_t>(down)]) {
+        for (int n : lib.next()[static_cast<std::size_t>(down)]) {
             if (!act(n).is(kTransition)) continue;
             append(tackler, n, freeAt(tackler), leaves(tackler));
             break;
@@ -327,9 +327,7 @@ constexpr const char* kFields[] = {"tacklers", "goal", "directions", "doubles"};
 }  // namespace
 
 const SceneKindModule& footballKind() {
-    static const SceneKindModule kind{SceneKind::Football, "football", true, kFields,
-                                      [](const prep::JsonReader& rd, const Json& j, ComposeSpec& s) { return parseFootball(rd, j, s); },
-                                      noCheck, composeKind<FootballComposer>};
+    static const SceneKindModule kind = kindModule<FootballComposer, FootballSpec, parseFootball, noCheck<FootballSpec>>(SceneKind::Football, "football", true, kFields);
     return kind;
 }
 

@@ -42,8 +42,11 @@ const SceneKindModule& luggageKind();
 const SceneKindModule& footballKind();
 const SceneKindModule& ratKind();
 
-// Nothing to check.
-inline Status noCheck(const prep::JsonReader&, const ComposeSpec&) { return {}; }
+// Nothing to read (one-vs-one has no fields of its own) or to check.
+template <class Part>
+Status noFields(const prep::JsonReader&, const Json&, Part&) { return {}; }
+template <class Part>
+Status noCheck(const prep::JsonReader&, const Part&) { return {}; }
 
 // Runs kind K (a Composer) on a spec.
 template <class K>
@@ -53,6 +56,20 @@ Result<Scene> composeKind(const ActionLibrary& lib, const PatchLibrary& patches,
     if (auto st = c.ready(); !st) return st.error();
     if (auto st = c.run(progress); !st) return st.error();
     return std::move(c.scene);
+}
+
+// The module of scene kind K (a Composer with run()), whose spec part Part
+// is read by Parse and checked by Check (once every field is read).
+template <class K, class Part, Status (*Parse)(const prep::JsonReader&, const Json&, Part&),
+          Status (*Check)(const prep::JsonReader&, const Part&)>
+SceneKindModule kindModule(SceneKind kind, const char* name, bool needsPatches, std::span<const char* const> fields) {
+    return {kind,
+            name,
+            needsPatches,
+            fields,
+            [](const prep::JsonReader& rd, const Json& j, ComposeSpec& s) { return Parse(rd, j, s); },
+            [](const prep::JsonReader& rd, const ComposeSpec& s) { return Check(rd, s); },
+            composeKind<K>};
 }
 
 // Optional members of a compose spec: absent leaves `out` as it is; present

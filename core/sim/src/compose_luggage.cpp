@@ -152,8 +152,8 @@ struct LuggageComposer : Composer {
             std::vector<Option> options;
             for (std::size_t i : cands) {
                 const Patch& p = patches.patches[i];
-                options.push_back({score(i, 0, 0) + (track(carrier).empty() || lib.startNode[static_cast<std::size_t>(p.tracks[0].front().action)] ==
-                                                                               lib.endNode[static_cast<std::size_t>(track(carrier).back().action)]
+                options.push_back({score(i, 0, 0) + (track(carrier).empty() || lib.startNode()[static_cast<std::size_t>(p.tracks[0].front().action)] ==
+                                                                               lib.endNode()[static_cast<std::size_t>(track(carrier).back().action)]
                                                           ? 1.0
                                                           : 0.0),
                                    i});
@@ -238,7 +238,7 @@ struct LuggageComposer : Composer {
                     for (int i = 0; i < lib.size(); ++i) {
                         const auto& a = act(i);
                         if (!a.has("carry") || (moving && !(a.is(kWalk) || a.is(kTurn))) || a.has("hand") || a.has("receive")) continue;
-                        if (lib.startNode[static_cast<std::size_t>(i)] != lib.endNode[static_cast<std::size_t>(track(carrier).back().action)]) continue;
+                        if (lib.startNode()[static_cast<std::size_t>(i)] != lib.endNode()[static_cast<std::size_t>(track(carrier).back().action)]) continue;
                         if (step < 0 || (rng() & 1)) step = i;
                     }
                     if (step >= 0) break;
@@ -292,7 +292,7 @@ struct LuggageComposer : Composer {
         const ScenePoser poser(scene, lib);
         std::vector<glm::vec3> world;
         auto hands = [&](int c, double t) {
-            const auto& joints = lib.motions[static_cast<std::size_t>(act(track(c).front().action).motion)].joints;
+            const auto& joints = lib.motion(act(track(c).front().action).motion).joints;
             poser.worldPositions(c, t, world);
             if (!joints.hasHands()) return world[0];
             return 0.5f * (world[static_cast<std::size_t>(joints.leftHand)] + world[static_cast<std::size_t>(joints.rightHand)]);
@@ -350,9 +350,7 @@ constexpr const char* kFields[] = {"porters", "handoffs"};
 }  // namespace
 
 const SceneKindModule& luggageKind() {
-    static const SceneKindModule kind{SceneKind::Luggage, "luggage", true, kFields,
-                                      [](const prep::JsonReader& rd, const Json& j, ComposeSpec& s) { return parseLuggage(rd, j, s); },
-                                      noCheck, composeKind<LuggageComposer>};
+    static const SceneKindModule kind = kindModule<LuggageComposer, LuggageSpec, parseLuggage, noCheck<LuggageSpec>>(SceneKind::Luggage, "luggage", true, kFields);
     return kind;
 }
 

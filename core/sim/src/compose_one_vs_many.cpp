@@ -63,8 +63,8 @@ struct OneVsManyComposer : Composer {
                     const RootXf xf = from * p.tracks[0].front().root.inverse();
                     if (collides(p, xf, obstacleBoxes)) continue;
                     const double s = score(i, densityAround(xf.apply(p.tracks[1].front().root.pos), tm), userPreference(p, 0, tm)) +
-                                     (lib.startNode[static_cast<std::size_t>(p.tracks[0].front().action)] ==
-                                              lib.endNode[static_cast<std::size_t>(lastA)] ? 1.0 : 0.0) -
+                                     (lib.startNode()[static_cast<std::size_t>(p.tracks[0].front().action)] ==
+                                              lib.endNode()[static_cast<std::size_t>(lastA)] ? 1.0 : 0.0) -
                                      (mv >= 0 ? 5.0 : 0.0);
                     options.push_back({s, i, mv});
                 }
@@ -149,9 +149,7 @@ constexpr const char* kFields[] = {"enemies"};
 }  // namespace
 
 const SceneKindModule& oneVsManyKind() {
-    static const SceneKindModule kind{SceneKind::OneVsMany, "one-vs-many", true, kFields,
-                                      [](const prep::JsonReader& rd, const Json& j, ComposeSpec& s) { return parseOneVsMany(rd, j, s); },
-                                      noCheck, composeKind<OneVsManyComposer>};
+    static const SceneKindModule kind = kindModule<OneVsManyComposer, OneVsManySpec, parseOneVsMany, noCheck<OneVsManySpec>>(SceneKind::OneVsMany, "one-vs-many", true, kFields);
     return kind;
 }
 

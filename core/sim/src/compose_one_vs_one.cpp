@@ -97,9 +97,7 @@ struct OneVsOneComposer : Composer {
 }  // namespace
 
 const SceneKindModule& oneVsOneKind() {
-    static const SceneKindModule kind{SceneKind::OneVsOne, "one-vs-one", true, {},
-                                      [](const prep::JsonReader&, const Json&, ComposeSpec&) { return Status{}; },
-                                      noCheck, composeKind<OneVsOneComposer>};
+    static const SceneKindModule kind = kindModule<OneVsOneComposer, ComposeCommonSpec, noFields<ComposeCommonSpec>, noCheck<ComposeCommonSpec>>(SceneKind::OneVsOne, "one-vs-one", true, {});
     return kind;
 }
 

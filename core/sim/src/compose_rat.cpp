@@ -132,7 +132,7 @@ struct RatComposer : Composer {
         for (int a = 0; a < lib.size(); ++a) {
             const auto& A = act(a);
             if (!A.is(kAvoid | kStep) || A.is(kReactive | kAttack | kRun | kWalk) || A.has("carry")) continue;
-            reps.emplace(std::make_pair(lib.variantClass[static_cast<std::size_t>(a)], lib.startNode[static_cast<std::size_t>(a)]), a);
+            reps.emplace(std::make_pair(lib.variantClass()[static_cast<std::size_t>(a)], lib.startNode()[static_cast<std::size_t>(a)]), a);
         }
         ways.clear();
         for (int pass = 0; pass < 2 && ways.empty(); ++pass) {
@@ -579,9 +579,7 @@ constexpr const char* kFields[] = {"rat", "crowd", "band", "spacing", "reach", "
 }  // namespace
 
 const SceneKindModule& ratKind() {
-    static const SceneKindModule kind{SceneKind::Rat, "rat", false, kFields,
-                                      [](const prep::JsonReader& rd, const Json& j, ComposeSpec& s) { return parseRat(rd, j, s); },
-                                      [](const prep::JsonReader& rd, const ComposeSpec& s) { return checkRat(rd, s); }, composeKind<RatComposer>};
+    static const SceneKindModule kind = kindModule<RatComposer, RatSpec, parseRat, checkRat>(SceneKind::Rat, "rat", false, kFields);
     return kind;
 }
 

@@ -7,6 +7,9 @@
 // beside it. Internal to fray_sim.
 #include <array>
 #include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <unordered_map>
 #include <utility>
@@ -110,12 +113,41 @@ void sortHits(std::vector<HitEvent>& hits);
 // Ends a track's last action at t and appends a forced reaction starting then.
 void cutIntoReaction(std::vector<ActionInstance>& track, double t, const ForcedReaction& reaction);
 
-// The interaction rules over one library, and all their state: per action the
-// initial travel of reactive clips, the reaction pools in use (each
-// character's or pattern entry's), and the reaction choices made so far
-// (keyed by value: pool, victim clip and sample, push sector, strength; each
-// thread fills its own). Pools are added before planning starts; the rest is
-// safe to use from many threads at once.
+// The reaction choices made over one library, for as long as it lives: the
+// reaction pools met so far, by value (equal pools share an id), and per
+// thread the choices keyed by pool id, victim clip and sample, push sector
+// and strength. A choice is a function of the library and its key alone, so
+// a remembered one is exact. Owned by the ActionLibrary (its copies share
+// it); used through InteractionEngine.
+class ReactionMemo {
+public:
+    struct Key {
+        int pool = 0, action = 0, sample = 0, sector = 0;
+        bool strong = false;
+        bool operator==(const Key&) const = default;
+    };
+    struct Hash {
+        std::size_t operator()(const Key& k) const;
+    };
+    using Table = std::unordered_map<Key, std::pair<int, int>, Hash>;
+
+    // The id of a pool (ascending clips), added when new, and its clips
+    // (which stay where they are for the memo's life).
+    std::pair<int, const std::vector<int>*> pool(const std::vector<int>& clips);
+    // This thread's choices.
+    Table& table() { return tables_.local(); }
+
+private:
+    std::mutex mutex_;
+    std::deque<std::vector<int>> pools_;
+    tbb::enumerable_thread_specific<Table> tables_;
+};
+
+// The interaction rules over one library, with their state explicit: per
+// action the initial travel of reactive clips, the reaction pools this engine
+// uses (each character's or pattern entry's) and the library's ReactionMemo
+// of choices. Pools are added before planning starts; the rest is safe to use
+// from many threads at once.
 class InteractionEngine {
 public:
     explicit InteractionEngine(const ActionLibrary& lib);
@@ -127,7 +159,7 @@ public:
     // Adds a pool of reactive clips (ascending action indices) and returns its
     // id; pools with the same clips share one id (and their choices).
     int addPool(const std::vector<int>& pool);
-    const std::vector<int>& pool(int id) const { return pools_[static_cast<std::size_t>(id)]; }
+    const std::vector<int>& pool(int id) const { return *pools_[static_cast<std::size_t>(id)]; }
 
     // The earliest blow in [t0, t1] of att's action on def: none unless att
     // plays an attack with an effector that has not landed yet (`spent`) and
@@ -147,20 +179,10 @@ public:
 private:
     std::pair<int, int> chooseReaction(const Playing& victim, double t, glm::vec2 pushLocal, bool strong, int poolId) const;
 
-    struct ChoiceKey {
-        int pool = 0, action = 0, sample = 0, sector = 0;
-        bool strong = false;
-        bool operator==(const ChoiceKey&) const = default;
-    };
-    struct ChoiceHash {
-        std::size_t operator()(const ChoiceKey& k) const;
-    };
-    using ChoiceCache = std::unordered_map<ChoiceKey, std::pair<int, int>, ChoiceHash>;
-
     const ActionLibrary* lib_;
     std::vector<glm::vec2> reactionDir_;  // per action: initial floor travel of reactive clips (unit), else zero
-    std::vector<std::vector<int>> pools_;
-    mutable tbb::enumerable_thread_specific<ChoiceCache> choices_;
+    std::shared_ptr<ReactionMemo> memo_;  // the library's
+    std::vector<const std::vector<int>*> pools_;  // by pool id: the clips of the pools added here (else null)
 };
 
 }  // namespace fray::sim::detail

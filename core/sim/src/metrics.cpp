@@ -64,7 +64,7 @@ SceneMetrics computeMetrics(const Scene& scene, const ActionLibrary& lib, const 
         cm.fallbacks = sc.fallbacks;
         for (const auto& inst : sc.track) {
             if (inst.forced) ++cm.forcedReactions;
-            if (!inst.forced && lib.actions[static_cast<std::size_t>(inst.action)].is(kAttack)) ++m.attacks;
+            if (!inst.forced && lib.actions()[static_cast<std::size_t>(inst.action)].is(kAttack)) ++m.attacks;
         }
     }
     for (const auto& h : scene.hits) {
@@ -145,7 +145,7 @@ SceneMetrics computeMetrics(const Scene& scene, const ActionLibrary& lib, const 
         auto& cm = m.characters[static_cast<std::size_t>(c)];
         const auto& track = scene.characters[static_cast<std::size_t>(c)].track;
         if (track.empty()) continue;
-        const auto& joints = lib.motions[static_cast<std::size_t>(lib.actions[static_cast<std::size_t>(track.front().action)].motion)].joints;
+        const auto& joints = lib.motion(lib.actions()[static_cast<std::size_t>(track.front().action)].motion).joints;
         const int feet[2] = {joints.leftFoot, joints.rightFoot};
         double sum = 0;
         int count = 0;

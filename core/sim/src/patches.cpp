@@ -82,7 +82,7 @@ struct Engine {
             // which cut can follow depends on it.
             std::map<std::tuple<int, int, int>, int> reps;
             for (int i = 0; i < lib.size(); ++i) {
-                const auto& act = lib.actions[static_cast<std::size_t>(i)];
+                const auto& act = lib.actions()[static_cast<std::size_t>(i)];
                 if (!matchesAnnotation(act, pe.annotation)) continue;
                 if (isResponse(p, e)) {
                     pool[e].push_back(i);
@@ -94,8 +94,8 @@ struct Engine {
                     choices[e].push_back(i);
                     continue;
                 }
-                reps.emplace(std::make_tuple(lib.variantClass[static_cast<std::size_t>(i)], lib.startNode[static_cast<std::size_t>(i)],
-                                             act.is(kRun) ? lib.endNode[static_cast<std::size_t>(i)] : -1),
+                reps.emplace(std::make_tuple(lib.variantClass()[static_cast<std::size_t>(i)], lib.startNode()[static_cast<std::size_t>(i)],
+                                             act.is(kRun) ? lib.endNode()[static_cast<std::size_t>(i)] : -1),
                              i);
             }
             pools.push_back(rules.addPool(pool[e]));
@@ -111,7 +111,7 @@ struct Engine {
         }
         double best = -1;
         for (int i = 0; i < lib.size(); ++i) {
-            const auto& act = lib.actions[static_cast<std::size_t>(i)];
+            const auto& act = lib.actions()[static_cast<std::size_t>(i)];
             if (act.is(kIdle) && act.duration > best) best = act.duration, hold = i;
         }
         // Before a chosen entry, the idle most of its choices can follow.
@@ -120,7 +120,7 @@ struct Engine {
             int bestCount = 0;
             double bestLength = -1;
             for (int i = 0; i < lib.size(); ++i) {
-                const auto& idle = lib.actions[static_cast<std::size_t>(i)];
+                const auto& idle = lib.actions()[static_cast<std::size_t>(i)];
                 if (!idle.is(kIdle)) continue;
                 int count = 0;
                 for (int a : choices[e]) count += lib.continuesInto(i, a) ? 1 : 0;
@@ -131,7 +131,7 @@ struct Engine {
         }
     }
 
-    const LibraryAction& act(int a) const { return lib.actions[static_cast<std::size_t>(a)]; }
+    const LibraryAction& act(int a) const { return lib.actions()[static_cast<std::size_t>(a)]; }
     const PatternEntry& entry(int e) const { return pattern.entries[static_cast<std::size_t>(e)]; }
     int pendingEntry(const Actor& x, int c) const {
         const auto& list = entriesOf[static_cast<std::size_t>(c)];
@@ -418,7 +418,7 @@ Scores evaluate(const Engine& eng, const State& s) {
         const ActionInstance* def = instanceAt(mine, t0);
         double closest = std::numeric_limits<double>::max();
         for (const auto& att : theirs) {
-            const auto& A = lib.actions[static_cast<std::size_t>(att.action)];
+            const auto& A = lib.actions()[static_cast<std::size_t>(att.action)];
             if (!A.is(kAttack) || A.effector < 0) continue;
             for (int smp = A.activeBegin; smp < A.activeEnd; ++smp) {
                 const double t = att.start + smp / kSampleRate - att.offset;
@@ -639,7 +639,7 @@ void keepBestPerPath(const ActionLibrary& lib, std::vector<Patch>& patches, int 
     for (std::size_t i = 0; i < patches.size(); ++i) {
         std::string key;
         for (const auto& t : patches[i].tracks) {
-            for (const auto& inst : t) key += lib.actions[static_cast<std::size_t>(inst.action)].label() + (inst.forced ? "!" : "") + ",";
+            for (const auto& inst : t) key += lib.actions()[static_cast<std::size_t>(inst.action)].label() + (inst.forced ? "!" : "") + ",";
             key += "|";
         }
         groups[key].push_back(i);
@@ -839,8 +839,8 @@ Status addHandMadePatch(const ActionLibrary& lib, const PatternList& pattern, co
             }
             const int a = list[k++];
             if (a < 0 || a >= lib.size()) return makeError("hand-made patch: action index " + std::to_string(a) + " is out of range");
-            if (!matchesAnnotation(lib.actions[static_cast<std::size_t>(a)], eng.entry(e).annotation)) {
-                return makeError("hand-made patch: " + lib.actions[static_cast<std::size_t>(a)].label() + " is not '" +
+            if (!matchesAnnotation(lib.actions()[static_cast<std::size_t>(a)], eng.entry(e).annotation)) {
+                return makeError("hand-made patch: " + lib.actions()[static_cast<std::size_t>(a)].label() + " is not '" +
                                  eng.entry(e).annotation + "' (entry " + std::to_string(e + 1) + ")");
             }
         }
@@ -890,7 +890,7 @@ std::uint64_t libraryFingerprint(const ActionLibrary& lib) {
         h ^= v;
         h *= 1099511628211ull;
     };
-    for (const auto& a : lib.actions) {
+    for (const auto& a : lib.actions()) {
         for (char ch : a.motionId) mix(static_cast<unsigned char>(ch));
         mix(static_cast<std::uint64_t>(a.firstFrame));
         mix(static_cast<std::uint64_t>(a.lastFrame));

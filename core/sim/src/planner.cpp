@@ -20,10 +20,10 @@ namespace planner {
 std::vector<std::vector<int>> legalChoices(const ActionLibrary& lib, const CharacterSpec& spec) {
     std::vector<std::vector<int>> legal(static_cast<std::size_t>(lib.size()));
     for (int a = 0; a < lib.size(); ++a) {
-        const auto& next = lib.next[static_cast<std::size_t>(a)];
+        const auto& next = lib.next()[static_cast<std::size_t>(a)];
         auto& out = legal[static_cast<std::size_t>(a)];
         std::set_intersection(next.begin(), next.end(), spec.allowed.begin(), spec.allowed.end(), std::back_inserter(out));
-        std::erase_if(out, [&](int b) { return lib.actions[static_cast<std::size_t>(b)].is(kReactive); });
+        std::erase_if(out, [&](int b) { return lib.actions()[static_cast<std::size_t>(b)].is(kReactive); });
     }
     return legal;
 }
@@ -33,7 +33,7 @@ std::vector<std::vector<int>> foldVariants(const ActionLibrary& lib, const std::
     for (std::size_t a = 0; a < legal.size(); ++a) {
         std::vector<int> seen;
         for (int b : legal[a]) {
-            const int c = lib.variantClass[static_cast<std::size_t>(b)];
+            const int c = lib.variantClass()[static_cast<std::size_t>(b)];
             if (std::find(seen.begin(), seen.end(), c) != seen.end()) continue;
             seen.push_back(c);
             folded[a].push_back(b);
@@ -83,9 +83,9 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
     std::vector<float> combo(static_cast<std::size_t>(n) * static_cast<std::size_t>(n), 0.0f);
     if (!combos.records().empty()) {
         for (int a : inPlay) {
-            const auto& x = lib.actions[static_cast<std::size_t>(a)];
+            const auto& x = lib.actions()[static_cast<std::size_t>(a)];
             for (int b : inPlay) {
-                const auto& y = lib.actions[static_cast<std::size_t>(b)];
+                const auto& y = lib.actions()[static_cast<std::size_t>(b)];
                 combo[static_cast<std::size_t>(a) * static_cast<std::size_t>(n) + static_cast<std::size_t>(b)] =
                     static_cast<float>(combos.query(x.name, x.annotations, y.name, y.annotations));
             }
@@ -103,28 +103,28 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
         std::map<std::string, int> names;
         base.nameId.resize(static_cast<std::size_t>(n));
         for (int a = 0; a < n; ++a) {
-            const auto& name = lib.actions[static_cast<std::size_t>(a)].name;
+            const auto& name = lib.actions()[static_cast<std::size_t>(a)].name;
             base.nameId[static_cast<std::size_t>(a)] =
                 name.empty() ? -1 - a : names.emplace(name, static_cast<int>(names.size())).first->second;
         }
     }
     for (int a = 0; a < n; ++a) {
-        base.endAt.push_back(lib.rootAt(a, lib.actions[static_cast<std::size_t>(a)].duration));
+        base.endAt.push_back(lib.rootAt(a, lib.actions()[static_cast<std::size_t>(a)].duration));
         base.endFacing.push_back(headingVector(base.endAt.back().heading));
     }
     base.maxHitSpeed.assign(static_cast<std::size_t>(n), 0.0);
     for (int a = 0; a < n; ++a) {
-        const auto& x = lib.actions[static_cast<std::size_t>(a)];
+        const auto& x = lib.actions()[static_cast<std::size_t>(a)];
         if (!x.is(kAttack)) continue;
         double fastest = 0;
         for (int k = x.activeBegin; k <= std::min(x.activeEnd, x.sampleCount - 1); ++k) {
-            fastest = std::max(fastest, static_cast<double>(lib.effectorSpeed[static_cast<std::size_t>(x.sampleBegin + k)]));
+            fastest = std::max(fastest, static_cast<double>(lib.effectorSpeed()[static_cast<std::size_t>(x.sampleBegin + k)]));
         }
         base.maxHitSpeed[static_cast<std::size_t>(a)] = fastest;
     }
     for (int a = 0; a < n; ++a) {
         base.testPelvisBegin.push_back(base.testPelvis.size());
-        const double duration = lib.actions[static_cast<std::size_t>(a)].duration;
+        const double duration = lib.actions()[static_cast<std::size_t>(a)].duration;
         for (double tau = 0; tau <= duration + 1e-9; tau += kPenetrationStep) {
             base.testPelvis.push_back(lib.rootAt(a, tau).pos);
         }
@@ -163,12 +163,12 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
             if (a0 < 0) {
                 std::vector<int> idle;
                 for (int a : c.allowed) {
-                    if (lib.actions[static_cast<std::size_t>(a)].is(kIdle)) idle.push_back(a);
+                    if (lib.actions()[static_cast<std::size_t>(a)].is(kIdle)) idle.push_back(a);
                 }
                 const auto& pool = idle.empty() ? c.allowed : idle;
                 a0 = pool[static_cast<std::size_t>(rng() % pool.size())];
             }
-            const double dur = lib.actions[static_cast<std::size_t>(a0)].duration;
+            const double dur = lib.actions()[static_cast<std::size_t>(a0)].duration;
             const double offset = std::uniform_real_distribution<double>(0.0, 0.5 * dur)(rng);
             CharState s;
             s.action = a0;

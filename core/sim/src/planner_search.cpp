@@ -277,9 +277,9 @@ public:
             thread_local std::vector<std::uint64_t> seenAt;
             thread_local std::uint64_t call = 0;
             ++call;
-            seenAt.resize(ctx.lib->variantClass.size() + 1, 0);
+            seenAt.resize(ctx.lib->variantClass().size() + 1, 0);
             std::erase_if(base_, [&](int a) {
-                auto& stamp = seenAt[static_cast<std::size_t>(ctx.lib->variantClass[static_cast<std::size_t>(a)])];
+                auto& stamp = seenAt[static_cast<std::size_t>(ctx.lib->variantClass()[static_cast<std::size_t>(a)])];
                 if (stamp == call) return true;
                 stamp = call;
                 return false;
@@ -420,7 +420,7 @@ private:
         for (int depth = 0; depth < kArenaLookAhead && !frontier.empty(); ++depth) {
             next.clear();
             for (const Step& f : frontier) {
-                for (int b : ctx_.lib->next[static_cast<std::size_t>(f.action)]) {
+                for (int b : ctx_.lib->next()[static_cast<std::size_t>(f.action)]) {
                     if (act(ctx_, b).is(kReactive) || !std::binary_search(allowed.begin(), allowed.end(), b)) continue;
                     const double r = arenaReach(f.end, b);
                     best = std::min(best, r);

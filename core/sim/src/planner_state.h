@@ -115,7 +115,7 @@ struct Stats {
     }
 };
 
-inline const LibraryAction& act(const Context& ctx, int a) { return ctx.lib->actions[static_cast<std::size_t>(a)]; }
+inline const LibraryAction& act(const Context& ctx, int a) { return ctx.lib->actions()[static_cast<std::size_t>(a)]; }
 inline const CharacterSpec& specOf(const Context& ctx, int i) { return *ctx.members[static_cast<std::size_t>(i)].spec; }
 
 inline double clipTime(const CharState& s, double t) { return s.offset + (t - s.start); }
