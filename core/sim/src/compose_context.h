@@ -3,8 +3,8 @@
 // being built, standard actions (idle, locomotion), placing patches and their
 // hits, scoring them (density, usage, user commands), recycling through
 // standard poses, greedy collision-free locomotion and the body tests.
-// A scene kind derives from Composer, adds its own spec part (`own`) and
-// stats, and provides run(). Internal to fray_sim.
+// A scene kind derives from KindComposer (its own spec part `own` and
+// stats `ownStats`) and provides run(). Internal to fray_sim.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -428,6 +428,17 @@ struct Composer {
     }
     double freeAt0(int c) const { return track0(c).empty() ? 0.0 : freeAt(c); }
     const std::vector<ActionInstance>& track0(int c) const { return scene.characters[static_cast<std::size_t>(c)].track; }
+};
+
+// The base of a scene kind's composer: the shared context, the kind's own
+// part of the spec (`own`) and of the stats (`ownStats`; the common ones
+// for kinds with none of their own).
+template <class Spec, class Stats = ComposeCommonStats>
+struct KindComposer : Composer {
+    const Spec& own;
+    Stats& ownStats;
+    KindComposer(const ActionLibrary& l, const PatchLibrary& p, const ComposeSpec& s, ComposeStats& st)
+        : Composer(l, p, s, st), own(s), ownStats(st) {}
 };
 
 }  // namespace fray::sim::detail

@@ -5,11 +5,8 @@ namespace fray::sim::detail {
 
 namespace {
 
-struct DominoComposer : Composer {
-    const DominoSpec& own;
-    DominoStats& ownStats;
-    DominoComposer(const ActionLibrary& l, const PatchLibrary& p, const ComposeSpec& s, ComposeStats& st)
-        : Composer(l, p, s, st), own(s), ownStats(st) {}
+struct DominoComposer : KindComposer<DominoSpec, DominoStats> {
+    using KindComposer::KindComposer;
 
     // ---- domino: falling bodies knock the next people over, inside the painted area.
     struct Faller {

@@ -5,11 +5,8 @@ namespace fray::sim::detail {
 
 namespace {
 
-struct FootballComposer : Composer {
-    const FootballSpec& own;
-    FootballStats& ownStats;
-    FootballComposer(const ActionLibrary& l, const PatchLibrary& p, const ComposeSpec& s, ComposeStats& st)
-        : Composer(l, p, s, st), own(s), ownStats(st) {}
+struct FootballComposer : KindComposer<FootballSpec, FootballStats> {
+    using KindComposer::KindComposer;
 
     // ---- American football (SPEC 4.5): the carrier runs for the goal line
     // (+Z, own.goal m out) in the direction the user sets over time; tacklers

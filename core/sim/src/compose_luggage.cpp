@@ -5,10 +5,8 @@ namespace fray::sim::detail {
 
 namespace {
 
-struct LuggageComposer : Composer {
-    const LuggageSpec& own;
-    LuggageComposer(const ActionLibrary& l, const PatchLibrary& p, const ComposeSpec& s, ComposeStats& st)
-        : Composer(l, p, s, st), own(s) {}
+struct LuggageComposer : KindComposer<LuggageSpec> {
+    using KindComposer::KindComposer;
 
     // A porter who has handed the item on walks 2.5-4 m away, in the first
     // direction (away from the carrier first) whose walk touches nobody.

@@ -5,10 +5,8 @@ namespace fray::sim::detail {
 
 namespace {
 
-struct OneVsManyComposer : Composer {
-    const OneVsManySpec& own;
-    OneVsManyComposer(const ActionLibrary& l, const PatchLibrary& p, const ComposeSpec& s, ComposeStats& st)
-        : Composer(l, p, s, st), own(s) {}
+struct OneVsManyComposer : KindComposer<OneVsManySpec> {
+    using KindComposer::KindComposer;
 
     // ---- one vs many: the main character meets the enemies one after another.
     Status run(const ProgressFn& progress) {

@@ -5,8 +5,8 @@ namespace fray::sim::detail {
 
 namespace {
 
-struct OneVsOneComposer : Composer {
-    using Composer::Composer;
+struct OneVsOneComposer : KindComposer<ComposeCommonSpec> {
+    using KindComposer::KindComposer;
 
     // ---- one vs one: two characters fight on, patch after patch.
     Status run(const ProgressFn& progress) {

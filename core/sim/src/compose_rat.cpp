@@ -8,11 +8,8 @@
 namespace fray::sim::detail {
 
 // Also serves ratAvoidPatches (below).
-struct RatComposer : Composer {
-    const RatSpec& own;
-    RatStats& ownStats;
-    RatComposer(const ActionLibrary& l, const PatchLibrary& p, const ComposeSpec& s, ComposeStats& st)
-        : Composer(l, p, s, st), own(s), ownStats(st) {}
+struct RatComposer : KindComposer<RatSpec, RatStats> {
+    using KindComposer::KindComposer;
 
     // ---- rat: people step out of the way of a rat running along the user's
     // trajectory (SPEC 4.5), and bump into their neighbours doing so. The rat
