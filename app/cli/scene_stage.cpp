@@ -107,7 +107,7 @@ std::string SceneStage::currentAction(int c) const {
     const int i = loaded_.scene.instanceAt(c, time_);
     if (i < 0) return {};
     const auto& inst = loaded_.scene.characters[static_cast<std::size_t>(c)].track[static_cast<std::size_t>(i)];
-    return library().actions[static_cast<std::size_t>(inst.action)].label() + (inst.forced ? " (hit)" : "");
+    return library().action(inst.action).label() + (inst.forced ? " (hit)" : "");
 }
 
 void SceneStage::pose(double t, Labels labels, int selected) {

@@ -14,7 +14,7 @@ namespace fray::cli {
 struct SimSession {
     Session session;
     ProjectGraph graph;
-    sim::ActionLibrary library;  // points into session.motions: keep the session where it is
+    sim::ActionLibrary library;  // shares copies of session.motions: it stands on its own
 };
 
 // Opens the project, computes (or reads from the cache) contacts and the

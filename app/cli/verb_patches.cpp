@@ -112,7 +112,7 @@ void runList(const PatchesArgs& a, SimSession& s) {
         for (int c = 0; c < 2; ++c) {
             for (const auto& inst : p.tracks[static_cast<std::size_t>(c)]) {
                 acts[static_cast<std::size_t>(c)] += (acts[static_cast<std::size_t>(c)].empty() ? "" : " ") +
-                                                     lib.actions[static_cast<std::size_t>(inst.action)].label() + (inst.forced ? "!" : "");
+                                                     lib.actions()[static_cast<std::size_t>(inst.action)].label() + (inst.forced ? "!" : "");
             }
         }
         if (a.json) {

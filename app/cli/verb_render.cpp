@@ -374,7 +374,7 @@ void runScene(const RenderArgs& a, const FrameRange& range, std::pair<int, int> 
             if (age < 0 || age > 0.25) continue;
             // At the defender's head or chest joint, fading.
             const auto& lib = stage.library();
-            const auto& joints = lib.motions[static_cast<std::size_t>(lib.actions[static_cast<std::size_t>(h.attackAction)].motion)].joints;
+            const auto& joints = lib.motion(lib.actions()[static_cast<std::size_t>(h.attackAction)].motion).joints;
             const int joint = h.target == sim::kHead ? joints.head : (joints.chest >= 0 ? joints.chest : joints.pelvis);
             const auto pos = stage.jointPositions(h.defender);
             if (joint < 0 || static_cast<std::size_t>(joint) >= pos.size()) continue;

@@ -567,9 +567,10 @@ void MainWindow::analysisFinished() {
     progress_->hide();
     cancelButton_->hide();
     if (!analysisResult_ || !*analysisResult_) {
+        const bool wasCancelled = analysisResult_ && analysisResult_->error().isCancelled();
         const QString why = analysisResult_ ? QString::fromStdString(analysisResult_->error().message) : "no result";
-        statusBar()->showMessage(why == "cancelled" ? "Analysis cancelled" : "Analysis failed: " + why);
-        if (why != "cancelled") std::fprintf(stderr, "fray: analysis failed: %s\n", why.toUtf8().constData());
+        if (wasCancelled) statusBar()->showMessage("Analysis cancelled");
+        else showError("Analysis", "Analysis failed: " + why);
         return;
     }
     analysis_ = std::move(analysisResult_->value());

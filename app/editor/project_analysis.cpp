@@ -47,7 +47,7 @@ Result<ProjectAnalysis> analyseProject(const prep::Project& project, const std::
     for (std::size_t i = 0; i < session->motions.size(); ++i) {
         const prep::LoadedMotion& m = session->motions[i];
         if (!reportProgress(progress, 0.7 + 0.1 * static_cast<double>(i) / count, "profile " + m.id))
-            return makeError("cancelled");
+            return cancelled();
         const prep::ProjectMotion& entry = session->project.motions[i];
         const prep::SegmentationResult seg = prep::segment(m.signals, m.contacts, params);
         MotionAnalysis a;

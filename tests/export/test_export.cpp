@@ -183,8 +183,8 @@ TEST(ExportSummary, WhoDoesWhichActionWhenAndWhere) {
         for (std::size_t k = 0; k < ch.track.size(); ++k) {
             const json& a = cj["actions"][k];
             const auto& inst = ch.track[k];
-            EXPECT_EQ(a["label"], lib.actions[static_cast<std::size_t>(inst.action)].label());
-            EXPECT_EQ(a["annotations"], lib.actions[static_cast<std::size_t>(inst.action)].annotations);
+            EXPECT_EQ(a["label"], lib.actions()[static_cast<std::size_t>(inst.action)].label());
+            EXPECT_EQ(a["annotations"], lib.actions()[static_cast<std::size_t>(inst.action)].annotations);
             EXPECT_EQ(a["start"].get<double>(), inst.start);
             EXPECT_EQ(a["end"].get<double>(), inst.end);
             EXPECT_EQ(a["forced"], inst.forced);

@@ -258,8 +258,8 @@ TEST(ExportSummaryFiles, OnePerExportAndHonestUnits) {
     EXPECT_EQ(gltf["file_units"], "m");
     EXPECT_EQ(gltf["hits"], fbx["hits"]);
     const json& action = fbx["characters"][0]["actions"][0];
-    const auto& first = exportLibrary().actions[static_cast<std::size_t>(exportDuel().characters[0].track[0].action)];
-    EXPECT_EQ(action["motion_fps"], exportLibrary().motions[static_cast<std::size_t>(first.motion)].motion.fps());
+    const auto& first = exportLibrary().actions()[static_cast<std::size_t>(exportDuel().characters[0].track[0].action)];
+    EXPECT_EQ(action["motion_fps"], exportLibrary().motion(first.motion).motion.fps());
     EXPECT_EQ(action["first_frame"], first.firstFrame);
     ASSERT_FALSE(fbx["hits"].empty());
     EXPECT_TRUE(fbx["hits"][0].contains("action"));

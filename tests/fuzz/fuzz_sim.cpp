@@ -21,8 +21,7 @@ namespace {
 
 const fray::sim::ActionLibrary& library() {
     static const fray::sim::ActionLibrary lib = [] {
-        fray::sim::ActionLibrary l;
-        l.vocabulary = {"punch", "kick", "idle", "pushed", "walk"};
+        std::vector<fray::sim::LibraryAction> actions;
         struct A {
             const char* name;
             const char* annotation;
@@ -44,9 +43,9 @@ const fray::sim::ActionLibrary& library() {
             a.lastFrame = first + 29;
             a.duration = 0.5;
             first += 30;
-            l.actions.push_back(a);
+            actions.push_back(a);
         }
-        return l;
+        return fray::sim::ActionLibrary::catalogue(std::move(actions), {"punch", "kick", "idle", "pushed", "walk"});
     }();
     return lib;
 }
@@ -73,7 +72,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         }
         case 2: {
             fray::prep::Project project;
-            project.vocabulary = lib.vocabulary;
+            project.vocabulary = lib.vocabulary();
             project.laterSections[fray::sim::kPatternSection] = std::string(text);
             auto set = fray::sim::projectPatterns(project, "fuzz.frayproj");
             if (set) {

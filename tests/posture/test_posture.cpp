@@ -165,7 +165,7 @@ TEST(PostureSolver, WithoutControlACharacterFallsAsARagDoll) {
     ASSERT_TRUE(frames);
     const auto& lib = demoWorld().library;
     const auto captured = sim::kinematicTracks(scene, lib, options.fps);
-    const int pelvis = lib.motions[static_cast<std::size_t>(lib.actions[static_cast<std::size_t>(scene.characters[0].track[0].action)].motion)].joints.pelvis;
+    const int pelvis = lib.motion(lib.actions()[static_cast<std::size_t>(scene.characters[0].track[0].action)].motion).joints.pelvis;
     const int last = frames->world.frames - 1;
     const float fallen = frames->world.at(0, last)[static_cast<std::size_t>(pelvis)].y;
     const float standing = frames->world.at(1, last)[static_cast<std::size_t>(pelvis)].y;

@@ -198,8 +198,9 @@ TEST(PatchFile, OlderVersionAndOtherActionsAreRefused) {
     EXPECT_TRUE(r.error().is(ErrorKind::Unsupported));
     EXPECT_NE(r.error().message.find("old.patches: patch library version 3"), std::string::npos) << r.error().message;
     EXPECT_NE(r.error().message.find("generate the patches again"), std::string::npos);
-    ActionLibrary recut = lib;
-    recut.actions[0].lastFrame += 1;
+    std::vector<LibraryAction> changed = lib.actions();
+    changed[0].lastFrame += 1;  // one action cut differently
+    const ActionLibrary recut = ActionLibrary::catalogue(changed, lib.vocabulary());
     r = readPatchLibrary(bytesOf(smallLibrary()), "recut.patches", recut);
     ASSERT_FALSE(r);
     EXPECT_TRUE(r.error().is(ErrorKind::Stale));

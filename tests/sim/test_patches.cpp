@@ -148,7 +148,7 @@ TEST(PatchGeneration, KeptPatchesFollowTheirPattern) {
         for (int c = 0; c < 2; ++c) {
             std::size_t k = 0;
             for (const auto& inst : p.tracks[static_cast<std::size_t>(c)]) {
-                const auto& act = lib.actions[static_cast<std::size_t>(inst.action)];
+                const auto& act = lib.actions()[static_cast<std::size_t>(inst.action)];
                 if (k < entries[static_cast<std::size_t>(c)].size() &&
                     matchesAnnotation(act, entries[static_cast<std::size_t>(c)][k]->annotation)) {
                     if (isReactiveAnnotation(entries[static_cast<std::size_t>(c)][k]->annotation)) {
@@ -233,7 +233,7 @@ TEST(PatchGeneration, HandMadePatchesUseTheSameRules) {
     // A kick where the pattern wants a punch... any attack is fine; a block is not.
     int block = -1;
     for (int i = 0; i < lib.size() && block < 0; ++i) {
-        if (lib.actions[static_cast<std::size_t>(i)].is(kBlock)) block = i;
+        if (lib.actions()[static_cast<std::size_t>(i)].is(kBlock)) block = i;
     }
     st = addHandMadePatch(lib, pattern("attack-fall"), src->initial, {{{block}, {}}}, out);
     ASSERT_FALSE(st);
@@ -253,8 +253,8 @@ TEST(PatchTables, ConnectionsAndStandardPoses) {
                 if (l.shared >= 0 && l.shared != k) continue;
                 const int m = l.roles ? 1 - k : k;
                 // Motion-graph continuity of every continuing character.
-                EXPECT_EQ(lib.startNode[static_cast<std::size_t>(pb.tracks[static_cast<std::size_t>(m)].front().action)],
-                          lib.endNode[static_cast<std::size_t>(pa.tracks[static_cast<std::size_t>(k)].back().action)]);
+                EXPECT_EQ(lib.startNode()[static_cast<std::size_t>(pb.tracks[static_cast<std::size_t>(m)].front().action)],
+                          lib.endNode()[static_cast<std::size_t>(pa.tracks[static_cast<std::size_t>(k)].back().action)]);
             }
             if (l.shared < 0) {
                 ++both;
@@ -420,8 +420,8 @@ TEST(PatchCache, RoundTripAndBadFiles) {
     }
     EXPECT_EQ(back->patterns, gen.patterns);
     const std::string bytes = *readWholeFile(file);
-    ActionLibrary recut = lib;
-    recut.actions.resize(3);  // actions the project does not have
+    // Actions the project does not have.
+    const ActionLibrary recut = ActionLibrary::catalogue({lib.actions().begin(), lib.actions().begin() + 3}, lib.vocabulary());
     auto r = readPatchLibrary(bytes, "x.patches", recut);
     ASSERT_FALSE(r);
     EXPECT_NE(r.error().message.find("made from other actions"), std::string::npos);
@@ -436,7 +436,7 @@ TEST(PatchCache, RoundTripAndBadFiles) {
 int countAttacks(const Scene& scene, int c, std::uint32_t flag) {
     int n = 0;
     for (const auto& i : scene.characters[static_cast<std::size_t>(c)].track) {
-        n += demoWorld().library.actions[static_cast<std::size_t>(i.action)].is(flag) ? 1 : 0;
+        n += demoWorld().library.actions()[static_cast<std::size_t>(i.action)].is(flag) ? 1 : 0;
     }
     return n;
 }
@@ -552,7 +552,7 @@ FloorBitmap discs(const std::vector<std::pair<glm::vec2, float>>& centres) {
 
 bool falls(const SceneCharacter& c) {
     return std::any_of(c.track.begin(), c.track.end(), [](const ActionInstance& i) { return i.forced; }) ||
-           (!c.track.empty() && demoWorld().library.actions[static_cast<std::size_t>(c.track.back().action)].is(kFalling));
+           (!c.track.empty() && demoWorld().library.actions()[static_cast<std::size_t>(c.track.back().action)].is(kFalling));
 }
 
 TEST(PatchCompose, DominoFallsInsideThePaintedAreaOnly) {
@@ -614,7 +614,7 @@ TEST(PatchCompose, DominoFallsInsideThePaintedAreaOnly) {
         for (const auto& h : scene->hits) {
             const auto& pusher = scene->characters[static_cast<std::size_t>(h.attacker)];
             const int i = scene->instanceAt(h.attacker, h.time);
-            EXPECT_TRUE(lib.actions[static_cast<std::size_t>(pusher.track[static_cast<std::size_t>(i)].action)].is(kFalling));
+            EXPECT_TRUE(lib.actions()[static_cast<std::size_t>(pusher.track[static_cast<std::size_t>(i)].action)].is(kFalling));
         }
     }
     EXPECT_GE(totalChain, 25);
@@ -680,7 +680,7 @@ TEST(PatchCompose, LuggageTravelsTheWholeChain) {
         std::vector<Event> events;
         for (int c = 0; c < static_cast<int>(scene->characters.size()); ++c) {
             for (const auto& i : scene->characters[static_cast<std::size_t>(c)].track) {
-                const auto& a = lib.actions[static_cast<std::size_t>(i.action)];
+                const auto& a = lib.actions()[static_cast<std::size_t>(i.action)];
                 if (a.has("hand") || a.has("receive")) events.push_back({i.start, c, a.has("hand"), i.placementAt(lib, i.offset).pos});
             }
         }
@@ -692,9 +692,8 @@ TEST(PatchCompose, LuggageTravelsTheWholeChain) {
         std::vector<glm::vec3> handWorld;
         auto handsOf = [&](int c, double t) {
             handPoser.worldPositions(c, t, handWorld);
-            const auto& j = lib.motions[static_cast<std::size_t>(
-                                            lib.actions[static_cast<std::size_t>(scene->characters[static_cast<std::size_t>(c)].track.front().action)].motion)]
-                                .joints;
+            const auto& j =
+                lib.motion(lib.actions()[static_cast<std::size_t>(scene->characters[static_cast<std::size_t>(c)].track.front().action)].motion).joints;
             return 0.5f * (handWorld[static_cast<std::size_t>(j.leftHand)] + handWorld[static_cast<std::size_t>(j.rightHand)]);
         };
         int handovers = 0, holder = -1;
@@ -810,8 +809,8 @@ TEST(PatchCompose, FootballCarrierReachesTheGoalPastTheTacklers) {
     EXPECT_GE(farthest - nearest, 1.0);
     for (const auto& p : patches.patches) {
         EXPECT_TRUE(p.hits.empty()) << "a kept tackle patch where the tackle lands";
-        EXPECT_TRUE(lib.actions[static_cast<std::size_t>(p.tracks[1].front().action)].is(kTackle));
-        EXPECT_TRUE(lib.actions[static_cast<std::size_t>(p.tracks[0].back().action)].is(kAvoid));
+        EXPECT_TRUE(lib.actions()[static_cast<std::size_t>(p.tracks[1].front().action)].is(kTackle));
+        EXPECT_TRUE(lib.actions()[static_cast<std::size_t>(p.tracks[0].back().action)].is(kAvoid));
     }
     // Three runs: the arrow swings right then left, the mirror of that, and
     // straight on (the seed only breaks ties, so the arrows make the difference).
@@ -833,7 +832,7 @@ TEST(PatchCompose, FootballCarrierReachesTheGoalPastTheTacklers) {
         EXPECT_GE(stats.tacklersPassed, 3) << "seed " << seed;
         int dives = 0;
         for (const auto& c : scene->characters) {
-            for (const auto& i : c.track) dives += lib.actions[static_cast<std::size_t>(i.action)].is(kTackle) ? 1 : 0;
+            for (const auto& i : c.track) dives += lib.actions()[static_cast<std::size_t>(i.action)].is(kTackle) ? 1 : 0;
         }
         EXPECT_EQ(dives, stats.tacklersPassed);
         for (const auto& h : scene->hits) EXPECT_NE(h.defender, 0) << "the carrier was tackled at " << h.time << " s";
@@ -941,7 +940,7 @@ TEST(PatchCompose, RatCrowdGetsOutOfTheWay) {
             bool moved = false, forced = false;
             for (const auto& inst : track) {
                 forced = forced || inst.forced;
-                if (!lib.actions[static_cast<std::size_t>(inst.action)].is(kIdle) && inst.start < pass + 0.6) moved = true;
+                if (!lib.actions()[static_cast<std::size_t>(inst.action)].is(kIdle) && inst.start < pass + 0.6) moved = true;
             }
             // (a) Everyone within reach moves (steps aside, or is pushed) before the rat is past.
             if (closest < spec.reach) {
@@ -950,7 +949,7 @@ TEST(PatchCompose, RatCrowdGetsOutOfTheWay) {
             }
             if (forced) continue;
             // (b) The rat's body never touches the feet of someone who was not knocked off them.
-            const auto& joints = lib.motions[static_cast<std::size_t>(lib.actions[static_cast<std::size_t>(track.front().action)].motion)].joints;
+            const auto& joints = lib.motion(lib.actions()[static_cast<std::size_t>(track.front().action)].motion).joints;
             for (double t = pass - 0.5; t <= pass + 0.5; t += 1.0 / 30) {
                 poser.worldPositions(c, t, world);
                 const RootXf r = creatureAt(rat, t);
@@ -1043,8 +1042,8 @@ TEST(PatchCompose, RatAvoidPatchesKeepTheRatOffTheFeet) {
     int hold = -1;
     double longest = -1;
     for (int a = 0; a < lib.size(); ++a) {
-        if (lib.actions[static_cast<std::size_t>(a)].is(kIdle) && lib.actions[static_cast<std::size_t>(a)].duration > longest) {
-            longest = lib.actions[static_cast<std::size_t>(a)].duration, hold = a;
+        if (lib.actions()[static_cast<std::size_t>(a)].is(kIdle) && lib.actions()[static_cast<std::size_t>(a)].duration > longest) {
+            longest = lib.actions()[static_cast<std::size_t>(a)].duration, hold = a;
         }
     }
     ASSERT_GE(hold, 0);
@@ -1063,14 +1062,14 @@ TEST(PatchCompose, RatAvoidPatchesKeepTheRatOffTheFeet) {
         RootXf place = at * lib.rootAt(p.actions.front(), 0).inverse();
         double t = ts;
         for (int a : p.actions) {
-            const auto& A = lib.actions[static_cast<std::size_t>(a)];
+            const auto& A = lib.actions()[static_cast<std::size_t>(a)];
             person.track.push_back({a, t, 0.0, t + A.duration, place, false, false});
             place = place * A.end;
             t += A.duration;
         }
         scene.characters.push_back(person);
         const ScenePoser poser(scene, lib, 0.0);
-        const auto& joints = lib.motions[static_cast<std::size_t>(lib.actions[static_cast<std::size_t>(hold)].motion)].joints;
+        const auto& joints = lib.motion(lib.actions()[static_cast<std::size_t>(hold)].motion).joints;
         for (double tt = kPass - 0.5; tt <= std::min(t, kPass + 0.5); tt += 1.0 / 30) {
             poser.worldPositions(0, tt, world);
             const glm::vec2 rat(static_cast<float>(-p.lateral), static_cast<float>(spec.ratSpeed * (tt - kPass)));
@@ -1087,12 +1086,19 @@ TEST(PatchCompose, RatAvoidPatchesKeepTheRatOffTheFeet) {
         ++checked;
     }
     EXPECT_GE(checked, 300);
-    // A project with nothing to step aside with has no patches, and says why.
-    ActionLibrary still = lib;
-    for (auto& a : still.actions) {
-        if (a.is(kAvoid | kStep)) a.flags = kIdle;
+    // A project with nothing to step aside with (its avoids and steps
+    // annotated as idles) has no patches, and says why.
+    prep::Project stillProject = demoWorld().project;
+    for (auto& m : stillProject.motions) {
+        for (auto& a : m.actions.actions) {
+            const bool moves = std::any_of(a.annotations.begin(), a.annotations.end(),
+                                           [](const std::string& w) { return w == "avoid" || w == "dodge" || w == "step"; });
+            if (moves) a.annotations = {"idle"};
+        }
     }
-    auto none = ratAvoidPatches(still, spec);
+    auto still = buildActionLibrary(stillProject, demoWorld().motions, demoWorld().graph);
+    ASSERT_TRUE(still) << still.error().message;
+    auto none = ratAvoidPatches(*still, spec);
     ASSERT_FALSE(none);
     EXPECT_NE(none.error().message.find("no avoid or step action"), std::string::npos) << none.error().message;
 }

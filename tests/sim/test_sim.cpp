@@ -63,7 +63,7 @@ TEST(SimLibrary, ActionsTracksAndAttacks) {
     ASSERT_EQ(lib.size(), static_cast<int>(sim::projectActionRefs(w.project).size()));
     int attacks = 0, variants = 0;
     for (int i = 0; i < lib.size(); ++i) {
-        const auto& a = lib.actions[static_cast<std::size_t>(i)];
+        const auto& a = lib.actions()[static_cast<std::size_t>(i)];
         EXPECT_GT(a.duration, 0.0);
         EXPECT_EQ(a.sampleCount, static_cast<int>(std::floor(a.duration * kSampleRate)) + 1);
         // The first sample is the action's own placement.
@@ -77,15 +77,15 @@ TEST(SimLibrary, ActionsTracksAndAttacks) {
             EXPECT_LT(a.activeBegin, a.activeEnd) << a.label();
             EXPECT_GT(a.peakSpeed, 2.0) << a.label();
         }
-        variants = std::max(variants, lib.variantClass[static_cast<std::size_t>(i)] + 1);
+        variants = std::max(variants, lib.variantClass()[static_cast<std::size_t>(i)] + 1);
     }
     EXPECT_GT(attacks, 100);
     EXPECT_LT(variants, lib.size() / 2);  // the demo repeats every action kind many times
-    EXPECT_FALSE(lib.reactions.empty());
+    EXPECT_FALSE(lib.reactions().empty());
     // A jab's fist travels forward (+Z in its own frame) during its active window.
     const auto jabs = lib.select("jab");
     ASSERT_FALSE(jabs.empty());
-    const auto& jab = lib.actions[static_cast<std::size_t>(jabs.front())];
+    const auto& jab = lib.actions()[static_cast<std::size_t>(jabs.front())];
     const Obb fist = lib.boxesAt(jabs.front(), jab.activeEnd - 1)[jab.effector];
     EXPECT_GT(fist.centre.z, 0.3f);
 }
@@ -141,7 +141,7 @@ TEST(SimPlanner, ArenaKeepsAChaseOnStage) {
         for (const auto& c : scene.characters)
             for (const auto& a : c.track) {
                 if (a.forced) continue;
-                const RootXf end = a.root * lib.actions[static_cast<std::size_t>(a.action)].end;
+                const RootXf end = a.root * lib.actions()[static_cast<std::size_t>(a.action)].end;
                 out = std::max(out, static_cast<double>(glm::length(end.pos - glm::vec2(1.0f, 0.0f))));
             }
         return out;
@@ -228,7 +228,7 @@ TEST(SimPlanner, HitsForceReactions) {
             const auto& track = scene->characters[static_cast<std::size_t>(h.defender)].track;
             const bool reacted = std::any_of(track.begin(), track.end(), [&](const ActionInstance& i) {
                 return i.forced && std::fabs(i.start - h.time) < 1e-9 &&
-                       demoWorld().library.actions[static_cast<std::size_t>(i.action)].is(kReactive);
+                       demoWorld().library.actions()[static_cast<std::size_t>(i.action)].is(kReactive);
             });
             EXPECT_TRUE(reacted) << "hit at " << h.time;
         }
@@ -263,7 +263,7 @@ TEST(SimPlanner, NoLegalActionFallsBackToIdle) {
     EXPECT_EQ(scene->stats.fallbacks, a.fallbacks + scene->characters[1].fallbacks);
     ASSERT_GT(a.track.size(), 1u);
     EXPECT_TRUE(a.track[1].fallback);  // the first choice after the guard
-    EXPECT_TRUE(demoWorld().library.actions[static_cast<std::size_t>(a.track[1].action)].has("carry"));
+    EXPECT_TRUE(demoWorld().library.actions()[static_cast<std::size_t>(a.track[1].action)].has("carry"));
     const auto m = computeMetrics(*scene, demoWorld().library);
     EXPECT_EQ(m.characters[0].fallbacks, a.fallbacks);
 }
@@ -300,7 +300,7 @@ TEST(SimScene, PoserPlacesAndBlends) {
     ASSERT_TRUE(scene.ok());
     const auto& lib = demoWorld().library;
     const ScenePoser poser(*scene, lib);
-    const auto& joints = lib.motions[0].joints;
+    const auto& joints = lib.motion(0).joints;
     std::vector<glm::vec3> world, before;
     for (int c = 0; c < 2; ++c) {
         const auto& track = scene->characters[static_cast<std::size_t>(c)].track;

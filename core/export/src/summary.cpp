@@ -26,7 +26,7 @@ json placementJson(const sim::RootXf& xf) {
 }
 
 json actionJson(const sim::ActionInstance& inst, const sim::ActionLibrary& lib) {
-    const auto& a = lib.actions[static_cast<std::size_t>(inst.action)];
+    const auto& a = lib.actions()[static_cast<std::size_t>(inst.action)];
     json out = {{"label", a.label()},
             {"name", a.name},
             {"annotations", a.annotations},
@@ -34,8 +34,8 @@ json actionJson(const sim::ActionInstance& inst, const sim::ActionLibrary& lib) 
             {"first_frame", a.firstFrame},
             {"last_frame", a.lastFrame}};
     // The frames are the source motion's, at its own rate.
-    if (a.motion >= 0 && static_cast<std::size_t>(a.motion) < lib.motions.size()) {
-        out["motion_fps"] = lib.motions[static_cast<std::size_t>(a.motion)].motion.fps();
+    if (a.motion >= 0 && a.motion < lib.motionCount()) {
+        out["motion_fps"] = lib.motion(a.motion).motion.fps();
     }
     out.update(json{
             {"start", inst.start},
@@ -100,7 +100,7 @@ json hitsJson(const sim::Scene& scene, const sim::ActionLibrary& lib) {
         json j = {{"time", h.time},
                   {"attacker", name(h.attacker)},
                   {"defender", name(h.defender)},
-                  {"action", lib.actions[static_cast<std::size_t>(h.attackAction)].label()},
+                  {"action", lib.actions()[static_cast<std::size_t>(h.attackAction)].label()},
                   {"effector", sim::segmentName(h.effector)},
                   {"target", sim::segmentName(h.target)},
                   {"speed", h.speed},

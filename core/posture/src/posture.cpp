@@ -233,8 +233,8 @@ struct Simulator::Impl {
             c.index = static_cast<int>(i);
             if (scene.isCreature(c.index) || scene.characters[i].track.empty()) continue;
             c.skeleton = &poser.skeleton(c.index);
-            const auto& first = lib.actions[static_cast<std::size_t>(scene.characters[i].track.front().action)];
-            c.roles = lib.motions[static_cast<std::size_t>(first.motion)].joints;
+            const auto& first = lib.actions()[static_cast<std::size_t>(scene.characters[i].track.front().action)];
+            c.roles = lib.motion(first.motion).joints;
             c.controlled = !(i < opt.ragdoll.size() && opt.ragdoll[i] != 0);
             const auto& sk = *c.skeleton;
             c.jointCount = sk.jointCount();

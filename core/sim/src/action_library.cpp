@@ -8,6 +8,7 @@
 
 #include "fray/core/kinematics.h"
 #include "fray/sim/segment_boxes.h"
+#include "interaction.h"
 
 namespace fray::sim {
 
@@ -145,34 +146,34 @@ bool LibraryAction::has(const std::string& annotation) const {
 }
 
 int ActionLibrary::sampleAt(int action, double t) const {
-    const auto& a = actions[static_cast<std::size_t>(action)];
+    const auto& a = actions_[static_cast<std::size_t>(action)];
     const int s = static_cast<int>(std::floor(t * kSampleRate + 1e-9));
     return std::clamp(s, 0, a.sampleCount - 1);
 }
 
 RootXf ActionLibrary::rootAt(int action, double t) const {
-    const auto& a = actions[static_cast<std::size_t>(action)];
+    const auto& a = actions_[static_cast<std::size_t>(action)];
     const double x = std::clamp(t * kSampleRate, 0.0, static_cast<double>(a.sampleCount - 1));
     const int s0 = static_cast<int>(x);
     const int s1 = std::min(s0 + 1, a.sampleCount - 1);
-    const auto& r0 = roots[static_cast<std::size_t>(a.sampleBegin + s0)];
-    const auto& r1 = roots[static_cast<std::size_t>(a.sampleBegin + s1)];
+    const auto& r0 = roots_[static_cast<std::size_t>(a.sampleBegin + s0)];
+    const auto& r1 = roots_[static_cast<std::size_t>(a.sampleBegin + s1)];
     return lerp(r0, r1, x - s0);
 }
 
 int ActionLibrary::frameAt(int action, double t) const {
-    const auto& a = actions[static_cast<std::size_t>(action)];
-    const double fps = motions[static_cast<std::size_t>(a.motion)].motion.fps();
+    const auto& a = actions_[static_cast<std::size_t>(action)];
+    const double fps = motions_[static_cast<std::size_t>(a.motion)]->motion.fps();
     const int f = a.firstFrame + static_cast<int>(std::lround(t * fps));
     return std::clamp(f, a.firstFrame, a.lastFrame);
 }
 
 bool ActionLibrary::continuesInto(int from, int to) const {
     const auto f = static_cast<std::size_t>(from), t = static_cast<std::size_t>(to);
-    if (startNode[t] == endNode[f]) return true;
-    for (int n : next[f]) {
+    if (startNode_[t] == endNode_[f]) return true;
+    for (int n : next_[f]) {
         const auto k = static_cast<std::size_t>(n);
-        if (n == to || (variantClass[k] == variantClass[t] && startNode[k] == startNode[t])) return true;
+        if (n == to || (variantClass_[k] == variantClass_[t] && startNode_[k] == startNode_[t])) return true;
     }
     return false;
 }
@@ -182,12 +183,20 @@ std::vector<int> ActionLibrary::select(const std::string& key) const {
     const bool annotation = !key.empty() && key[0] == '@';
     const std::string word = annotation ? key.substr(1) : key;
     for (int i = 0; i < size(); ++i) {
-        const auto& a = actions[static_cast<std::size_t>(i)];
+        const auto& a = actions_[static_cast<std::size_t>(i)];
         const bool hit = annotation ? std::find(a.annotations.begin(), a.annotations.end(), word) != a.annotations.end()
                                     : a.name == word;
         if (hit) out.push_back(i);
     }
     return out;
+}
+
+ActionLibrary ActionLibrary::catalogue(std::vector<LibraryAction> actions, std::vector<std::string> vocabulary) {
+    ActionLibrary lib;
+    lib.actions_ = std::move(actions);
+    lib.vocabulary_ = std::move(vocabulary);
+    lib.reactionMemo_ = std::make_shared<detail::ReactionMemo>();
+    return lib;
 }
 
 std::vector<prep::ActionRef> projectActionRefs(const prep::Project& project) {
@@ -201,6 +210,17 @@ std::vector<prep::ActionRef> projectActionRefs(const prep::Project& project) {
 
 Result<ActionLibrary> buildActionLibrary(const prep::Project& project, std::span<const prep::LoadedMotion> motions,
                                          const prep::MotionGraph& graph, const ProgressFn& progress) {
+    std::vector<std::shared_ptr<const prep::LoadedMotion>> shared;
+    shared.reserve(motions.size());
+    for (const auto& m : motions) shared.push_back(std::make_shared<const prep::LoadedMotion>(m));
+    return buildActionLibrary(project, std::move(shared), graph, progress);
+}
+
+Result<ActionLibrary> buildActionLibrary(const prep::Project& project, std::vector<std::shared_ptr<const prep::LoadedMotion>> motions,
+                                         const prep::MotionGraph& graph, const ProgressFn& progress) {
+    for (std::size_t m = 0; m < motions.size(); ++m) {
+        if (!motions[m]) return makeError("action library: motion " + std::to_string(m + 1) + " is missing (not loaded)");
+    }
     if (motions.size() != project.motions.size()) {
         return makeError("action library: " + std::to_string(motions.size()) + " motions loaded for a project of " +
                          std::to_string(project.motions.size()));
@@ -212,16 +232,17 @@ Result<ActionLibrary> buildActionLibrary(const prep::Project& project, std::span
                          " actions, the project has " + std::to_string(refs.size()) + " (rebuild the graph)");
     }
     ActionLibrary lib;
-    lib.motions = motions;
-    lib.vocabulary = project.vocabulary;
-    lib.next = graph.next;
-    lib.inLargestScc = graph.inLargestScc;
-    lib.startNode = graph.startNode;
-    lib.endNode = graph.endNode;
-    lib.actions.reserve(refs.size());
+    lib.motions_ = motions;  // shared: frameAt reads them while building
+    lib.reactionMemo_ = std::make_shared<detail::ReactionMemo>();
+    lib.vocabulary_ = project.vocabulary;
+    lib.next_ = graph.next;
+    lib.inLargestScc_ = graph.inLargestScc;
+    lib.startNode_ = graph.startNode;
+    lib.endNode_ = graph.endNode;
+    lib.actions_.reserve(refs.size());
 
     for (std::size_t m = 0; m < motions.size(); ++m) {
-        const auto& lm = motions[m];
+        const auto& lm = *motions[m];
         const auto& motion = lm.motion;
         const auto& j = lm.joints;
         if (!j.complete()) {
@@ -243,7 +264,7 @@ Result<ActionLibrary> buildActionLibrary(const prep::Project& project, std::span
         const double fps = motion.fps();
 
         for (int k = 0; k < doc.actionCount(); ++k) {
-            if (!reportProgress(progress, static_cast<double>(lib.actions.size()) / static_cast<double>(refs.size()),
+            if (!reportProgress(progress, static_cast<double>(lib.actions_.size()) / static_cast<double>(refs.size()),
                                 "action library")) {
                 return cancelled();
             }
@@ -258,7 +279,7 @@ Result<ActionLibrary> buildActionLibrary(const prep::Project& project, std::span
             a.flags = flagsOf(info.annotations);
             const int frames = a.lastFrame - a.firstFrame + 1;
             a.duration = frames / fps;
-            a.sampleBegin = static_cast<int>(lib.roots.size());
+            a.sampleBegin = static_cast<int>(lib.roots_.size());
             a.sampleCount = static_cast<int>(std::floor(a.duration * kSampleRate)) + 1;
 
             const RootXf start = placement(a.firstFrame);
@@ -308,14 +329,14 @@ Result<ActionLibrary> buildActionLibrary(const prep::Project& project, std::span
             for (int s = 0; s < a.sampleCount; ++s) {
                 const int f = std::clamp(a.firstFrame + static_cast<int>(std::lround(s / kSampleRate * fps)), a.firstFrame,
                                          a.lastFrame);
-                lib.roots.push_back(localOf(f));
+                lib.roots_.push_back(localOf(f));
                 const glm::vec3 origin(start.pos.x, 0.0f, start.pos.y);
                 for (Obb box : segmentBoxes(span(f), j)) {
                     box.centre -= origin;
-                    lib.boxes.push_back(box.placed(RootXf{{0.0f, 0.0f}, toLocal.heading}));
+                    lib.boxes_.push_back(box.placed(RootXf{{0.0f, 0.0f}, toLocal.heading}));
                 }
                 const double v = tip >= 0 ? tipSpeed(tip, f) : 0.0;
-                lib.effectorSpeed.push_back(static_cast<float>(v));
+                lib.effectorSpeed_.push_back(static_cast<float>(v));
                 if (tip >= 0) {
                     const glm::vec3 e = at(f, tip) - at(f, j.pelvis);
                     extension.push_back(std::sqrt(e.x * e.x + e.z * e.z));
@@ -324,7 +345,7 @@ Result<ActionLibrary> buildActionLibrary(const prep::Project& project, std::span
             if (tip >= 0) {
                 // Active window: the run of fast samples around the peak,
                 // extended to full extension (where a blow usually lands).
-                const float* sp = &lib.effectorSpeed[static_cast<std::size_t>(a.sampleBegin)];
+                const float* sp = &lib.effectorSpeed_[static_cast<std::size_t>(a.sampleBegin)];
                 int peak = 0;
                 for (int s = 1; s < a.sampleCount; ++s) {
                     if (sp[s] > sp[peak]) peak = s;
@@ -341,40 +362,40 @@ Result<ActionLibrary> buildActionLibrary(const prep::Project& project, std::span
                 a.activeBegin = b;
                 a.activeEnd = std::max(e, reach) + 1;
                 for (int sk = a.activeBegin; sk < a.activeEnd; ++sk) {
-                    const Obb& box = lib.boxes[static_cast<std::size_t>(a.sampleBegin + sk) * kSegmentCount +
+                    const Obb& box = lib.boxes_[static_cast<std::size_t>(a.sampleBegin + sk) * kSegmentCount +
                                                static_cast<std::size_t>(a.effector)];
                     const double front = box.centre.z + box.half.x * std::fabs(box.axes[0].z);
                     a.reach = std::max(a.reach, front);
                 }
             }
-            lib.actions.push_back(std::move(a));
+            lib.actions_.push_back(std::move(a));
         }
     }
     // Variant classes (see the header): unnamed, unannotated actions are their own class.
     {
         std::map<std::pair<std::string, int>, int> classes;
-        lib.variantClass.resize(lib.actions.size());
+        lib.variantClass_.resize(lib.actions_.size());
         for (int i = 0; i < lib.size(); ++i) {
-            const auto& a = lib.actions[static_cast<std::size_t>(i)];
+            const auto& a = lib.actions_[static_cast<std::size_t>(i)];
             std::string key = a.name;
             if (key.empty()) {
                 for (const auto& w : a.annotations) key += "@" + w;
             }
             if (key.empty()) key = "#" + std::to_string(i);
             const auto [it, inserted] =
-                classes.emplace(std::make_pair(key, lib.endNode[static_cast<std::size_t>(i)]), static_cast<int>(classes.size()));
-            lib.variantClass[static_cast<std::size_t>(i)] = it->second;
+                classes.emplace(std::make_pair(key, lib.endNode_[static_cast<std::size_t>(i)]), static_cast<int>(classes.size()));
+            lib.variantClass_[static_cast<std::size_t>(i)] = it->second;
         }
     }
     // Reactive clips: pose features of their first part for matching.
     for (int i = 0; i < lib.size(); ++i) {
-        const auto& a = lib.actions[static_cast<std::size_t>(i)];
+        const auto& a = lib.actions_[static_cast<std::size_t>(i)];
         if (!a.is(kReactive)) continue;
-        const auto& lm = motions[static_cast<std::size_t>(a.motion)];
+        const auto& lm = *motions[static_cast<std::size_t>(a.motion)];
         const int upto = std::max(1, static_cast<int>(0.35 * a.sampleCount));
         for (int s = 0; s < upto; s += 2) {
-            lib.reactions.push_back({i, s, prep::poseFeature(lm.motion, lm.joints, lib.frameAt(i, s / kSampleRate))});
-            lib.reactionPoses.add(lib.reactions.back().feature);
+            lib.reactions_.push_back({i, s, prep::poseFeature(lm.motion, lm.joints, lib.frameAt(i, s / kSampleRate))});
+            lib.reactionPoses_.add(lib.reactions_.back().feature);
         }
     }
     reportProgress(progress, 1.0, "action library");

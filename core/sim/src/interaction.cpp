@@ -6,17 +6,16 @@
 #include <cstdint>
 #include <limits>
 #include <numbers>
-#include <unordered_map>
 
 namespace fray::sim::detail {
 
 namespace {
 constexpr float kHitReach = 2.2f;  // m, pelvis to pelvis: no blow lands from farther
-}
 
+// Earliest hit in [t0, t1] of att's attack on def; time < 0 if none.
 HitCandidate findHit(const ActionLibrary& lib, const Playing& att, const Playing& def, double t0, double t1) {
     HitCandidate hit;
-    const auto& a = lib.actions[static_cast<std::size_t>(att.action)];
+    const auto& a = lib.actions()[static_cast<std::size_t>(att.action)];
     const double ws = att.start + a.activeBegin / kSampleRate - att.offset;
     const double we = att.start + a.activeEnd / kSampleRate - att.offset;
     const double lo = std::max(ws, t0), hi = std::min(we, t1);
@@ -53,8 +52,8 @@ HitCandidate findHit(const ActionLibrary& lib, const Playing& att, const Playing
                 hit.time = ts;
                 hit.target = target;
                 hit.effector = e;
-                hit.speed = lib.effectorSpeed[static_cast<std::size_t>(a.sampleBegin + s)];
-                const auto& d = lib.actions[static_cast<std::size_t>(def.action)];
+                hit.speed = lib.effectorSpeed()[static_cast<std::size_t>(a.sampleBegin + s)];
+                const auto& d = lib.actions()[static_cast<std::size_t>(def.action)];
                 hit.blocked = d.is(kBlock) && d.defended == target;
                 return hit;
             }
@@ -62,6 +61,8 @@ HitCandidate findHit(const ActionLibrary& lib, const Playing& att, const Playing
     }
     return hit;
 }
+
+}  // namespace
 
 CoreBody::CoreBody(const ActionLibrary& lib, const BodyPose& pose, const FloorRotation& rotate, glm::vec2 clipPelvis,
                    float shrink)
@@ -102,56 +103,105 @@ double effectiveMass(int effector) {
     return (effector == kLeftForearm || effector == kRightForearm) ? 2.5 : 5.0;
 }
 
-std::vector<glm::vec2> reactionDirections(const ActionLibrary& lib) {
-    std::vector<glm::vec2> dir(static_cast<std::size_t>(lib.size()), glm::vec2(0.0f));
-    for (int a = 0; a < lib.size(); ++a) {
-        const auto& x = lib.actions[static_cast<std::size_t>(a)];
-        if (!x.is(kReactive)) continue;
-        const glm::vec2 d = lib.rootAt(a, std::min(0.5, x.duration)).pos;
-        if (glm::length(d) > 0.05f) dir[static_cast<std::size_t>(a)] = glm::normalize(d);
-    }
-    return dir;
-}
-
 glm::vec2 pushDirection(const RootXf& victim, const RootXf& attacker) {
     glm::vec2 push = victim.pos - attacker.pos;
     if (glm::dot(push, push) < 1e-8f) push = -headingVector(victim.heading);
     return rotateFloor(glm::normalize(push), -victim.heading);
 }
 
-std::pair<int, int> chooseReaction(const ActionLibrary& lib, const std::vector<glm::vec2>& reactionDir,
-                                   const Playing& victim, double t, glm::vec2 pushLocal, bool strong,
-                                   const std::vector<int>& pool) {
-    // Quantised direction (8 sectors) keeps the cache small and results exact.
+void sortHits(std::vector<HitEvent>& hits) {
+    std::sort(hits.begin(), hits.end(), [](const HitEvent& a, const HitEvent& b) {
+        return a.time != b.time ? a.time < b.time : a.attacker < b.attacker;
+    });
+}
+
+void cutIntoReaction(std::vector<ActionInstance>& track, double t, const ForcedReaction& reaction) {
+    if (!track.empty()) track.back().end = t;
+    track.push_back(reaction.instance(t));
+}
+
+std::pair<int, const std::vector<int>*> ReactionMemo::pool(const std::vector<int>& clips) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    const auto it = std::find(pools_.begin(), pools_.end(), clips);
+    if (it != pools_.end()) return {static_cast<int>(it - pools_.begin()), &*it};
+    pools_.push_back(clips);
+    return {static_cast<int>(pools_.size()) - 1, &pools_.back()};
+}
+
+std::size_t ReactionMemo::Hash::operator()(const Key& k) const {
+    std::uint64_t h = static_cast<std::uint32_t>(k.pool);
+    for (const int x : {k.action, k.sample, k.sector * 2 + (k.strong ? 1 : 0)}) {
+        h = (h ^ static_cast<std::uint32_t>(x)) * 0x100000001b3ull;
+    }
+    return static_cast<std::size_t>(h ^ (h >> 29));
+}
+
+InteractionEngine::InteractionEngine(const ActionLibrary& lib)
+    : lib_(&lib), reactionDir_(static_cast<std::size_t>(lib.size()), glm::vec2(0.0f)),
+      memo_(lib.reactionMemo_ ? lib.reactionMemo_ : std::make_shared<ReactionMemo>()) {
+    for (int a = 0; a < lib.size(); ++a) {
+        const auto& x = lib.action(a);
+        if (!x.is(kReactive)) continue;
+        const glm::vec2 d = lib.rootAt(a, std::min(0.5, x.duration)).pos;
+        if (glm::length(d) > 0.05f) reactionDir_[static_cast<std::size_t>(a)] = glm::normalize(d);
+    }
+}
+
+int InteractionEngine::addPool(const std::vector<int>& pool) {
+    const auto [id, clips] = memo_->pool(pool);
+    if (pools_.size() <= static_cast<std::size_t>(id)) pools_.resize(static_cast<std::size_t>(id) + 1, nullptr);
+    pools_[static_cast<std::size_t>(id)] = clips;
+    return id;
+}
+
+HitCandidate InteractionEngine::strike(const Playing& att, bool spent, const Playing& def, bool defReacting, double t0,
+                                       double t1) const {
+    const auto& a = lib_->actions()[static_cast<std::size_t>(att.action)];
+    if (spent || defReacting || !a.is(kAttack) || a.effector < 0) return {};
+    return findHit(*lib_, att, def, t0, t1);
+}
+
+ForcedReaction InteractionEngine::react(const Playing& victim, const RootXf& pusher, double t, bool strong, int poolId) const {
+    const RootXf placed = victim.placement(*lib_, t);
+    const auto [action, sample] = chooseReaction(victim, t, pushDirection(placed, pusher), strong, poolId);
+    ForcedReaction r;
+    if (action < 0) return r;
+    r.action = action;
+    r.offset = sample / kSampleRate;
+    r.root = placed * lib_->rootAt(action, r.offset).inverse();
+    r.end = t + std::max(lib_->actions()[static_cast<std::size_t>(action)].duration - r.offset, 1.0 / kSampleRate);
+    return r;
+}
+
+std::pair<int, int> InteractionEngine::chooseReaction(const Playing& victim, double t, glm::vec2 pushLocal, bool strong,
+                                                      int poolId) const {
+    const ActionLibrary& lib = *lib_;
+    // Quantised direction (8 sectors): the choice depends on the sector only,
+    // so every input of it is in the key and a remembered choice is exact.
     const int sector = static_cast<int>(std::lround(angleOf(pushLocal) / (std::numbers::pi / 4))) & 7;
     const int sample = lib.sampleAt(victim.action, victim.clipTime(t));
-    const std::uint64_t key = (static_cast<std::uint64_t>(victim.action) << 32) ^ (static_cast<std::uint64_t>(sample) << 8) ^
-                              (static_cast<std::uint64_t>(sector) << 1) ^ (strong ? 1u : 0u);
-    // One cache per reaction pool (each character has its own), cleared when
-    // the library changes.
-    thread_local std::unordered_map<const std::vector<int>*, std::unordered_map<std::uint64_t, std::pair<int, int>>> caches;
-    thread_local const ActionLibrary* cacheOwner = nullptr;
-    if (cacheOwner != &lib) caches.clear(), cacheOwner = &lib;
-    auto& cache = caches[&pool];
+    const ReactionMemo::Key key{poolId, victim.action, sample, sector, strong};
+    auto& cache = memo_->table();
     if (auto it = cache.find(key); it != cache.end()) return it->second;
 
+    const auto& pool = *pools_[static_cast<std::size_t>(poolId)];
     const double sectorAngle = sector * std::numbers::pi / 4;
     const glm::vec2 dir(static_cast<float>(std::sin(sectorAngle)), static_cast<float>(std::cos(sectorAngle)));
-    const auto& a = lib.actions[static_cast<std::size_t>(victim.action)];
-    const auto& lm = lib.motions[static_cast<std::size_t>(a.motion)];
+    const auto& a = lib.actions()[static_cast<std::size_t>(victim.action)];
+    const auto& lm = lib.motion(a.motion);
     const prep::PoseFeature now = prep::poseFeature(lm.motion, lm.joints, lib.frameAt(victim.action, sample / kSampleRate));
     prep::PoseMatcher::Probe probe(now);
     std::pair<int, int> best{-1, 0};
     double bestCost = std::numeric_limits<double>::max();
     for (int pass = 0; pass < 2 && best.first < 0; ++pass) {
-        for (std::size_t k = 0; k < lib.reactions.size(); ++k) {
-            const auto& e = lib.reactions[k];
+        for (std::size_t k = 0; k < lib.reactions().size(); ++k) {
+            const auto& e = lib.reactions()[k];
             if (!std::binary_search(pool.begin(), pool.end(), e.action)) continue;
-            const bool falls = lib.actions[static_cast<std::size_t>(e.action)].is(kFalling);
+            const bool falls = lib.actions()[static_cast<std::size_t>(e.action)].is(kFalling);
             if (pass == 0 && falls != strong) continue;
-            const glm::vec2 travel = reactionDir[static_cast<std::size_t>(e.action)];
+            const glm::vec2 travel = reactionDir_[static_cast<std::size_t>(e.action)];
             const double dirCost = glm::dot(travel, travel) > 0 ? 0.5 * (1.0 - static_cast<double>(glm::dot(travel, dir))) : 0.25;
-            if (const auto cost = lib.reactionPoses.distanceBelow(probe, k, dirCost, bestCost)) {
+            if (const auto cost = lib.reactionPoses().distanceBelow(probe, k, dirCost, bestCost)) {
                 bestCost = *cost, best = {e.action, e.sample};
             }
         }

@@ -1,14 +1,24 @@
 #pragma once
-// Interaction primitives shared by the planners (tree expansion now,
-// Interaction Patches too): the earliest hit of an attack on a defender, the
-// forced reaction that best matches a victim's posture and the hit direction
-// (SPEC 2.1, 4.2), and the impulse of a blow. Internal to fray_sim.
+// The interaction rules every planner plays by (tree expansion, patch
+// generation, composition): when an attack lands on a defender and whether it
+// is blocked, the impulse of a blow, and the forced reaction (clip and start
+// frame) that best matches a victim's posture and the push (SPEC 2.1, 4.2).
+// InteractionEngine holds all of their state; the body-overlap tests sit
+// beside it. Internal to fray_sim.
 #include <array>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
 #include <optional>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
+#include <tbb/enumerable_thread_specific.h>
+
 #include "fray/sim/action_library.h"
+#include "fray/sim/scene.h"
 
 namespace fray::sim::detail {
 
@@ -76,25 +86,103 @@ struct HitCandidate {
     int effector = 0;
     double speed = 0;
     bool blocked = false;
+    // Is this a hit, earlier than `best` (the first found wins a tie)?
+    bool before(const HitCandidate& best) const { return time >= 0 && (best.time < 0 || time < best.time); }
 };
-HitCandidate findHit(const ActionLibrary& lib, const Playing& att, const Playing& def, double t0, double t1);
 
 // Effective mass (kg) behind a blow with this segment: impulse = speed x mass.
 double effectiveMass(int effector);
 
-// Per library action: the initial floor travel direction of reactive clips
-// (unit, in the clip's frame), zero for the rest.
-std::vector<glm::vec2> reactionDirections(const ActionLibrary& lib);
-
-// The reactive clip and start sample that best match the victim's posture at
-// t, the push direction (in the victim's heading frame) and whether the blow
-// knocks down (strong) or pushes. Only clips in pool (ascending) are used;
-// {-1, 0} when the pool has none. Cached per pool and thread.
-std::pair<int, int> chooseReaction(const ActionLibrary& lib, const std::vector<glm::vec2>& reactionDir,
-                                   const Playing& victim, double t, glm::vec2 pushLocal, bool strong,
-                                   const std::vector<int>& pool);
-
 // The push direction of a blow in the victim's heading frame, from the two placements at contact.
 glm::vec2 pushDirection(const RootXf& victim, const RootXf& attacker);
+
+// A forced reaction: the reactive clip, the clip time it starts at, where its
+// first frame goes so that it continues the victim's pose, and when it ends.
+struct ForcedReaction {
+    int action = -1;  // -1: the pool has no clip
+    double offset = 0;
+    RootXf root;
+    double end = 0;
+    // The instance in a scene track (forced).
+    ActionInstance instance(double start) const { return {action, start, offset, end, root, true, false}; }
+};
+
+// A scene's hits in time order (attacker order within one moment).
+void sortHits(std::vector<HitEvent>& hits);
+
+// Ends a track's last action at t and appends a forced reaction starting then.
+void cutIntoReaction(std::vector<ActionInstance>& track, double t, const ForcedReaction& reaction);
+
+// The reaction choices made over one library, for as long as it lives: the
+// reaction pools met so far, by value (equal pools share an id), and per
+// thread the choices keyed by pool id, victim clip and sample, push sector
+// and strength. A choice is a function of the library and its key alone, so
+// a remembered one is exact. Owned by the ActionLibrary (its copies share
+// it); used through InteractionEngine.
+class ReactionMemo {
+public:
+    struct Key {
+        int pool = 0, action = 0, sample = 0, sector = 0;
+        bool strong = false;
+        bool operator==(const Key&) const = default;
+    };
+    struct Hash {
+        std::size_t operator()(const Key& k) const;
+    };
+    using Table = std::unordered_map<Key, std::pair<int, int>, Hash>;
+
+    // The id of a pool (ascending clips), added when new, and its clips
+    // (which stay where they are for the memo's life).
+    std::pair<int, const std::vector<int>*> pool(const std::vector<int>& clips);
+    // This thread's choices.
+    Table& table() { return tables_.local(); }
+
+private:
+    std::mutex mutex_;
+    std::deque<std::vector<int>> pools_;
+    tbb::enumerable_thread_specific<Table> tables_;
+};
+
+// The interaction rules over one library, with their state explicit: per
+// action the initial travel of reactive clips, the reaction pools this engine
+// uses (each character's or pattern entry's) and the library's ReactionMemo
+// of choices. Pools are added before planning starts; the rest is safe to use
+// from many threads at once.
+class InteractionEngine {
+public:
+    explicit InteractionEngine(const ActionLibrary& lib);
+    InteractionEngine(const InteractionEngine&) = delete;
+    InteractionEngine& operator=(const InteractionEngine&) = delete;
+
+    const ActionLibrary& library() const { return *lib_; }
+
+    // Adds a pool of reactive clips (ascending action indices) and returns its
+    // id; pools with the same clips share one id (and their choices).
+    int addPool(const std::vector<int>& pool);
+    const std::vector<int>& pool(int id) const { return *pools_[static_cast<std::size_t>(id)]; }
+
+    // The earliest blow in [t0, t1] of att's action on def: none unless att
+    // plays an attack with an effector that has not landed yet (`spent`) and
+    // def is not in a forced reaction. A block on the segment hit stops it.
+    HitCandidate strike(const Playing& att, bool spent, const Playing& def, bool defReacting, double t0, double t1) const;
+
+    // The momentum of a landed blow (speed x the effector's effective mass).
+    static double impulse(double speed, int effector) { return speed * effectiveMass(effector); }
+    static double impulse(const HitCandidate& hit) { return impulse(hit.speed, hit.effector); }
+
+    // The forced reaction of `victim` to a push at t from someone placed at
+    // `pusher`: the clip of pool `poolId` and start sample that best match the
+    // victim's posture and the push direction, a fall when strong; action -1
+    // when the pool has none.
+    ForcedReaction react(const Playing& victim, const RootXf& pusher, double t, bool strong, int poolId) const;
+
+private:
+    std::pair<int, int> chooseReaction(const Playing& victim, double t, glm::vec2 pushLocal, bool strong, int poolId) const;
+
+    const ActionLibrary* lib_;
+    std::vector<glm::vec2> reactionDir_;  // per action: initial floor travel of reactive clips (unit), else zero
+    std::shared_ptr<ReactionMemo> memo_;  // the library's
+    std::vector<const std::vector<int>*> pools_;  // by pool id: the clips of the pools added here (else null)
+};
 
 }  // namespace fray::sim::detail

@@ -65,7 +65,7 @@ SceneMetrics computeMetrics(const Scene& scene, const ActionLibrary& lib, const 
         cm.fallbacks = sc.fallbacks;
         for (const auto& inst : sc.track) {
             if (inst.forced) ++cm.forcedReactions;
-            if (!inst.forced && lib.actions[static_cast<std::size_t>(inst.action)].is(kAttack)) ++m.attacks;
+            if (!inst.forced && lib.actions()[static_cast<std::size_t>(inst.action)].is(kAttack)) ++m.attacks;
         }
     }
     for (const auto& h : scene.hits) {
@@ -146,7 +146,7 @@ SceneMetrics computeMetrics(const Scene& scene, const ActionLibrary& lib, const 
         auto& cm = m.characters[static_cast<std::size_t>(c)];
         const auto& track = scene.characters[static_cast<std::size_t>(c)].track;
         if (track.empty()) continue;
-        const auto& joints = lib.motions[static_cast<std::size_t>(lib.actions[static_cast<std::size_t>(track.front().action)].motion)].joints;
+        const auto& joints = lib.motion(lib.actions()[static_cast<std::size_t>(track.front().action)].motion).joints;
         const int feet[2] = {joints.leftFoot, joints.rightFoot};
         double sum = 0;
         int count = 0;
@@ -353,7 +353,7 @@ std::vector<int> strikingLimb(int effector) {
 bool handOver(const ActionLibrary& lib, const Scene& scene, int c, double t) {
     const int i = scene.instanceAt(c, t);
     if (i < 0) return false;
-    const auto& a = lib.actions[static_cast<std::size_t>(scene.characters[static_cast<std::size_t>(c)].track[static_cast<std::size_t>(i)].action)];
+    const auto& a = lib.actions()[static_cast<std::size_t>(scene.characters[static_cast<std::size_t>(c)].track[static_cast<std::size_t>(i)].action)];
     return a.has("hand") || a.has("receive");
 }
 
@@ -367,7 +367,7 @@ bool reacting(const Scene& scene, const ActionLibrary& lib, int c, double t, dou
     }
     constexpr double kSettle = 0.5;  // s after a reaction ends
     for (const auto& inst : scene.characters[static_cast<std::size_t>(c)].track) {
-        const bool reactive = inst.forced || lib.actions[static_cast<std::size_t>(inst.action)].is(kReactive);
+        const bool reactive = inst.forced || lib.actions()[static_cast<std::size_t>(inst.action)].is(kReactive);
         if (reactive && t >= inst.start - 1e-9 && t <= inst.end + kSettle) return true;
     }
     return false;
@@ -385,7 +385,7 @@ PostureMetrics computePostureMetrics(const Scene& scene, const ActionLibrary& li
     const double fps = shown.fps;
     auto jointsOf = [&](int c) -> const StandardJoints& {
         const auto& track = scene.characters[static_cast<std::size_t>(c)].track;
-        return lib.motions[static_cast<std::size_t>(lib.actions[static_cast<std::size_t>(track.front().action)].motion)].joints;
+        return lib.motion(lib.actions()[static_cast<std::size_t>(track.front().action)].motion).joints;
     };
     long contactSum = 0;
     double skateSum = 0, devSum = 0;

@@ -270,7 +270,7 @@ Status checkPattern(const PatternList& pattern, const PatternSet& set, const Act
     const std::string who = "pattern '" + pattern.name + "'";
     for (std::size_t i = 0; i < pattern.entries.size(); ++i) {
         const auto& e = pattern.entries[i];
-        const bool any = std::any_of(lib.actions.begin(), lib.actions.end(),
+        const bool any = std::any_of(lib.actions().begin(), lib.actions().end(),
                                      [&](const LibraryAction& a) { return matchesAnnotation(a, e.annotation); });
         if (!any) {
             return makeError(who + ", entry " + std::to_string(i + 1) + " (character " + std::to_string(e.character + 1) + ", " +

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -12,76 +11,19 @@
 #include <optional>
 #include <random>
 
-#include <tbb/parallel_for.h>
-
-#include "interaction.h"
+#include "planner_state.h"
 
 namespace fray::sim {
 
-namespace {
-
-constexpr int kRecent = 6;
-constexpr double kPenetrationStep = 1.0 / 15.0;  // s between body tests when pruning
-constexpr double kArenaMargin = 0.3;             // m: a pelvis this close to the arena's edge is outside
-constexpr double kArenaWeight = 1000;            // per m^2 beyond the arena's inner edge (F_comp)
-constexpr int kArenaLookAhead = 3;               // clips after a candidate searched for a way back in
-constexpr std::size_t kArenaBeam = 3;            // clips followed per look-ahead step
-constexpr double kMovementSeconds = 0.5;         // s: the action length whose movement terms weigh 1 (per-second scoring)
-constexpr double kCatchStep = 1.0 / 15.0;
-constexpr float kPenetrationShrink = 0.8f;       // grazing contact is not penetration
-constexpr float kPenetrationReach = 0.8f;        // m: two torsos are never wider apart
-constexpr double kReachMargin = 0.35;             // m beyond an attack's reach: the target's body depth and a lean
-
-struct CharState {
-    int action = 0;
-    double start = 0, offset = 0, end = 0;
-    RootXf root;
-    int checkpoint = 0;
-    bool attackDone = false;   // the current attack landed (one hit per attack)
-    bool caught = false;       // a catch was scored during the current action
-    bool reacting = false;     // in a forced reaction: cannot be hit again until it ends
-    // The names (Context::nameId) of its last actions, newest first: recency()
-    // is asked about every candidate of a node, an action starts once.
-    std::array<std::int16_t, kRecent> recent{};
-    std::int8_t recentCount = 0;
-};
-
-struct GroupState {
-    double time = 0;
-    int n = 0;
-    std::array<CharState, kMaxGroupSize> c{};
-};
-
-// What happened while a state advanced from one node to the next.
-struct Events {
-    std::array<double, kMaxGroupSize> givenShort{}, givenLong{}, received{};
-    std::array<int, kMaxGroupSize> catches{}, caught{};
-};
-
-struct Recorder {
-    Scene* scene = nullptr;
-    std::array<int, kMaxGroupSize> global{};
-    bool stop = false;  // stopOnCatch fired
-};
-
-struct Member {
-    int global = 0;
-    const CharacterSpec* spec = nullptr;
-    // Per library action: its Next() within this character's allowed set,
-    // reactive clips left out (SPEC 2.1's legal choices before pruning).
-    std::vector<std::vector<int>> legal;
-    // The same with one representative (the first) per variant class, for
-    // inside the tree (SimOptions::variants).
-    std::vector<std::vector<int>> folded;
-};
+namespace planner {
 
 std::vector<std::vector<int>> legalChoices(const ActionLibrary& lib, const CharacterSpec& spec) {
     std::vector<std::vector<int>> legal(static_cast<std::size_t>(lib.size()));
     for (int a = 0; a < lib.size(); ++a) {
-        const auto& next = lib.next[static_cast<std::size_t>(a)];
+        const auto& next = lib.next()[static_cast<std::size_t>(a)];
         auto& out = legal[static_cast<std::size_t>(a)];
         std::set_intersection(next.begin(), next.end(), spec.allowed.begin(), spec.allowed.end(), std::back_inserter(out));
-        std::erase_if(out, [&](int b) { return lib.actions[static_cast<std::size_t>(b)].is(kReactive); });
+        std::erase_if(out, [&](int b) { return lib.actions()[static_cast<std::size_t>(b)].is(kReactive); });
     }
     return legal;
 }
@@ -91,7 +33,7 @@ std::vector<std::vector<int>> foldVariants(const ActionLibrary& lib, const std::
     for (std::size_t a = 0; a < legal.size(); ++a) {
         std::vector<int> seen;
         for (int b : legal[a]) {
-            const int c = lib.variantClass[static_cast<std::size_t>(b)];
+            const int c = lib.variantClass()[static_cast<std::size_t>(b)];
             if (std::find(seen.begin(), seen.end(), c) != seen.end()) continue;
             seen.push_back(c);
             folded[a].push_back(b);
@@ -100,878 +42,9 @@ std::vector<std::vector<int>> foldVariants(const ActionLibrary& lib, const std::
     return folded;
 }
 
-struct Context {
-    const ActionLibrary* lib = nullptr;
-    const std::vector<float>* combo = nullptr;  // combo[mine * n + theirs]
-    int comboN = 0;
-    const SimOptions* opt = nullptr;
-    std::vector<Member> members;
-    bool cooperative = false;  // any cooperative weight: alpha-beta does not apply
-    std::vector<glm::vec2> reactionDir;  // per library action: initial travel direction of reactive clips
-    std::vector<int> nameId;             // per library action: its name's number (unnamed: a number of its own)
-    std::vector<RootXf> endAt;           // per library action: rootAt(action, duration)
-    std::vector<glm::vec2> endFacing;    // per library action: headingVector of endAt's heading
-    std::vector<double> maxHitSpeed;     // per library action: the fastest its effector lands (attacks; else 0)
-    // Per library action, from testPelvisBegin[action]: its pelvis in the
-    // clip's frame (rootAt(action, tau).pos) at the clip times the
-    // penetration test steps through, tau = 0, kPenetrationStep, ... (summed
-    // as that loop sums them) up to its duration. Every node tests its
-    // candidates at these same times.
-    std::vector<std::size_t> testPelvisBegin;
-    std::vector<glm::vec2> testPelvis;
-    bool duel = false;                   // two members on opposite sides: each one's opponent is the other
-    bool boundedFrontier = false;        // a duel scored by blows: frontier edges can be bounded (boundedFrontier)
-};
+}  // namespace planner
 
-struct Value {
-    double comp = 0, coop = 0;
-};
-
-struct Stats {
-    std::int64_t nodes = 0, leaves = 0, choices = 0, pruned = 0, cutoffs = 0;
-    std::int64_t shallower = 0;  // decisions taken at a lower depth than asked (budget)
-    std::int64_t budget = std::numeric_limits<std::int64_t>::max();  // leaves this search may visit
-    bool exhausted = false;
-    void add(const Stats& o) {
-        nodes += o.nodes, leaves += o.leaves, choices += o.choices, pruned += o.pruned, cutoffs += o.cutoffs;
-        shallower += o.shallower;
-    }
-};
-
-const LibraryAction& act(const Context& ctx, int a) { return ctx.lib->actions[static_cast<std::size_t>(a)]; }
-const CharacterSpec& specOf(const Context& ctx, int i) { return *ctx.members[static_cast<std::size_t>(i)].spec; }
-
-double clipTime(const CharState& s, double t) { return s.offset + (t - s.start); }
-
-RootXf placement(const Context& ctx, const CharState& s, double t) {
-    return s.root * ctx.lib->rootAt(s.action, clipTime(s, t));
-}
-
-int chooserOf(const GroupState& g) {
-    int best = 0;
-    for (int i = 1; i < g.n; ++i) {
-        if (g.c[static_cast<std::size_t>(i)].end < g.c[static_cast<std::size_t>(best)].end) best = i;
-    }
-    return best;
-}
-
-bool enemies(const Context& ctx, int a, int b) { return specOf(ctx, a).side != specOf(ctx, b).side; }
-
-int opponentOf(const Context& ctx, const GroupState& g, int who, double t) {
-    if (ctx.duel) return 1 - who;
-    const int explicitOpp = specOf(ctx, who).opponent;
-    if (explicitOpp >= 0) {
-        for (int i = 0; i < g.n; ++i) {
-            if (ctx.members[static_cast<std::size_t>(i)].global == explicitOpp) return i;
-        }
-    }
-    // One enemy in the group (a duel): no need to measure.
-    int only = -1, enemiesFound = 0;
-    for (int i = 0; i < g.n; ++i) {
-        if (i != who && enemies(ctx, who, i)) only = i, ++enemiesFound;
-    }
-    if (enemiesFound <= 1) return only;
-    const glm::vec2 p = placement(ctx, g.c[static_cast<std::size_t>(who)], t).pos;
-    int best = -1;
-    float bestD = std::numeric_limits<float>::max();
-    for (int i = 0; i < g.n; ++i) {
-        if (i == who || !enemies(ctx, who, i)) continue;
-        const glm::vec2 d = placement(ctx, g.c[static_cast<std::size_t>(i)], t).pos - p;
-        const float dd = glm::dot(d, d);
-        if (dd < bestD) bestD = dd, best = i;
-    }
-    return best;
-}
-
-void pushRecent(const Context& ctx, CharState& s, int action) {
-    std::copy_backward(s.recent.begin(), s.recent.end() - 1, s.recent.end());
-    s.recent[0] = static_cast<std::int16_t>(ctx.nameId[static_cast<std::size_t>(action)]);
-    if (s.recentCount < kRecent) ++s.recentCount;
-}
-
-// How recently an action with the same name was used: 1 for the last one,
-// fading to 1/kRecent for the oldest remembered; 0 when not remembered.
-double recency(const Context& ctx, const CharState& s, int action) {
-    const int name = ctx.nameId[static_cast<std::size_t>(action)];
-    for (int k = 0; k < s.recentCount; ++k) {
-        if (s.recent[static_cast<std::size_t>(k)] == name) return 1.0 - static_cast<double>(k) / kRecent;
-    }
-    return 0.0;
-}
-
-void launch(const Context& ctx, GroupState& g, int who, int action, double t) {
-    auto& s = g.c[static_cast<std::size_t>(who)];
-    const RootXf endPlacement = s.root * act(ctx, s.action).end;
-    s.action = action;
-    s.start = t;
-    s.offset = 0;
-    s.end = t + act(ctx, action).duration;
-    s.root = endPlacement;
-    s.attackDone = false;
-    s.caught = false;
-    s.reacting = false;
-    pushRecent(ctx, s, action);
-}
-
-detail::Playing playing(const CharState& s) { return {s.action, s.start, s.offset, s.root}; }
-
-void updateCheckpoints(const Context& ctx, GroupState& g, double t) {
-    for (int i = 0; i < g.n; ++i) {
-        const auto& spec = specOf(ctx, i);
-        auto& s = g.c[static_cast<std::size_t>(i)];
-        if (spec.path.empty()) continue;
-        const glm::vec2 p = placement(ctx, s, t).pos;
-        for (int guard = 0; guard < static_cast<int>(spec.path.size()); ++guard) {
-            if (!spec.loopPath && s.checkpoint >= static_cast<int>(spec.path.size())) break;
-            const auto& cp = spec.path[static_cast<std::size_t>(s.checkpoint) % spec.path.size()];
-            const bool timeOk = !cp.time || t >= *cp.time;
-            if (!timeOk || static_cast<double>(glm::length(p - cp.pos)) > ctx.opt->checkpointRadius) break;
-            ++s.checkpoint;
-            if (spec.loopPath) s.checkpoint %= static_cast<int>(spec.path.size());
-        }
-    }
-}
-
-// Advances the group from its node time to the next node (the next moment a
-// character finishes its action), resolving hits (forced reactions) and catches.
-void advance(const Context& ctx, GroupState& g, Events& ev, Recorder* rec) {
-    double t0 = g.time;
-    for (int guard = 0; guard < 64; ++guard) {
-        double t1 = g.c[0].end;
-        for (int i = 1; i < g.n; ++i) t1 = std::min(t1, g.c[static_cast<std::size_t>(i)].end);
-        // Earliest event among all pairs.
-        detail::HitCandidate best;
-        int bestAtt = -1, bestDef = -1;
-        bool isCatch = false;
-        for (int a = 0; a < g.n; ++a) {
-            const auto& as = g.c[static_cast<std::size_t>(a)];
-            if (as.attackDone || !act(ctx, as.action).is(kAttack) || act(ctx, as.action).effector < 0) continue;
-            for (int d = 0; d < g.n; ++d) {
-                if (d == a || !enemies(ctx, a, d) || g.c[static_cast<std::size_t>(d)].reacting) continue;
-                const auto h = detail::findHit(*ctx.lib, playing(as), playing(g.c[static_cast<std::size_t>(d)]), t0, t1);
-                if (h.time >= 0 && (best.time < 0 || h.time < best.time)) best = h, bestAtt = a, bestDef = d, isCatch = false;
-            }
-        }
-        for (int a = 0; a < g.n; ++a) {
-            const auto& as = g.c[static_cast<std::size_t>(a)];
-            if (!specOf(ctx, a).weights.catches || as.caught || specOf(ctx, a).weights.wHitShort <= 0) continue;
-            for (int d = 0; d < g.n; ++d) {
-                if (d == a || !enemies(ctx, a, d)) continue;
-                const double limit = best.time >= 0 ? best.time : t1;
-                for (double ts = t0; ts <= limit; ts += kCatchStep) {
-                    const glm::vec2 diff = placement(ctx, as, ts).pos - placement(ctx, g.c[static_cast<std::size_t>(d)], ts).pos;
-                    if (static_cast<double>(glm::length(diff)) <= ctx.opt->catchRadius) {
-                        if (best.time < 0 || ts < best.time) {
-                            best = detail::HitCandidate{};
-                            best.time = ts;
-                            bestAtt = a, bestDef = d, isCatch = true;
-                        }
-                        break;
-                    }
-                }
-            }
-        }
-        if (best.time < 0) {
-            g.time = t1;
-            break;
-        }
-        auto& att = g.c[static_cast<std::size_t>(bestAtt)];
-        auto& def = g.c[static_cast<std::size_t>(bestDef)];
-        const double te = best.time;
-        if (isCatch) {
-            att.caught = true;
-            ++ev.catches[static_cast<std::size_t>(bestAtt)];
-            ++ev.caught[static_cast<std::size_t>(bestDef)];
-            if (rec) {
-                rec->scene->catches.push_back({te, rec->global[static_cast<std::size_t>(bestAtt)],
-                                               rec->global[static_cast<std::size_t>(bestDef)]});
-                if (ctx.opt->stopOnCatch) {
-                    rec->stop = true;
-                    g.time = te;
-                    return;
-                }
-            }
-            t0 = te;
-            continue;
-        }
-        att.attackDone = true;
-        const auto& attack = act(ctx, att.action);
-        const double impulse = best.speed * detail::effectiveMass(best.effector);
-        if (!best.blocked) {
-            (attack.is(kKick) ? ev.givenLong : ev.givenShort)[static_cast<std::size_t>(bestAtt)] += best.speed;
-            ev.received[static_cast<std::size_t>(bestDef)] += best.speed;
-        }
-        if (rec) {
-            rec->scene->hits.push_back({te, rec->global[static_cast<std::size_t>(bestAtt)],
-                                        rec->global[static_cast<std::size_t>(bestDef)], att.action, best.effector,
-                                        best.target, best.speed, impulse, best.blocked});
-        }
-        const auto& pool = specOf(ctx, bestDef).reactions;
-        if (!best.blocked && !pool.empty()) {
-            const RootXf pd = placement(ctx, def, te);
-            const RootXf pa = placement(ctx, att, te);
-            const auto [reaction, sample] = detail::chooseReaction(*ctx.lib, ctx.reactionDir, playing(def), te,
-                                                                   detail::pushDirection(pd, pa),
-                                                                   impulse > ctx.opt->fallImpulse, pool);
-            if (reaction >= 0) {
-                const double offset = sample / kSampleRate;
-                CharState ns = def;
-                ns.action = reaction;
-                ns.start = te;
-                ns.offset = offset;
-                ns.end = te + std::max(act(ctx, reaction).duration - offset, 1.0 / kSampleRate);
-                ns.root = pd * ctx.lib->rootAt(reaction, offset).inverse();
-                ns.attackDone = true;
-                ns.caught = false;
-                ns.reacting = true;
-                pushRecent(ctx, ns, reaction);
-                if (rec) {
-                    auto& track = rec->scene->characters[static_cast<std::size_t>(rec->global[static_cast<std::size_t>(bestDef)])].track;
-                    if (!track.empty()) track.back().end = te;
-                    ActionInstance inst;
-                    inst.action = reaction;
-                    inst.start = te;
-                    inst.offset = offset;
-                    inst.end = ns.end;
-                    inst.root = ns.root;
-                    inst.forced = true;
-                    track.push_back(inst);
-                    ++rec->scene->stats.forced;
-                }
-                def = ns;
-            }
-        }
-        t0 = te;
-    }
-    updateCheckpoints(ctx, g, g.time);
-}
-
-// One character's placement at one moment, kept for the next call with the
-// same state and moment (compared bit for bit: the same inputs, the same
-// value). A node's edges judge the opponent where its action ends whenever
-// the candidate outlasts it, from the same state unless a blow changed it, so
-// one per node saves most of those placements.
-class PlacementMemo {
-public:
-    RootXf operator()(const Context& ctx, const CharState& s, double t) {
-        if (!valid_ || s.action != action_ || !same(s.start, start_) || !same(s.offset, offset_) || !same(t, t_) ||
-            !same(s.root.pos.x, root_.pos.x) || !same(s.root.pos.y, root_.pos.y) ||
-            !same(s.root.heading, root_.heading)) {
-            valid_ = true;
-            action_ = s.action, start_ = s.start, offset_ = s.offset, root_ = s.root, t_ = t;
-            value_ = placement(ctx, s, t);
-        }
-        return value_;
-    }
-
-private:
-    static bool same(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
-    static bool same(float a, float b) { return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b); }
-    bool valid_ = false;
-    int action_ = 0;
-    double start_ = 0, offset_ = 0, t_ = 0;
-    RootXf root_;
-    RootXf value_;
-};
-
-// F_comp and F_coop of the edge "who launched action" (SPEC 2.3), evaluated
-// at the next node with the events of the interval. oppAt: the node's memo of
-// the opponent's placement.
-Value edgeScore(const Context& ctx, const GroupState& before, const GroupState& after, int who, int action,
-                const Events& ev, PlacementMemo& oppAt) {
-    const auto& spec = specOf(ctx, who);
-    const auto& w = spec.weights;
-    // Movement is judged where the launched action leaves the character (its
-    // end), against where the opponent's current action leaves it by then:
-    // the next node can come a few frames later, before the action has done
-    // anything.
-    const auto& me = after.c[static_cast<std::size_t>(who)];
-    const double t = me.end;
-    const RootXf pm = placement(ctx, me, t);
-    // Movement and path terms per half second of the launched action
-    // (StyleWeights::perSecond), else per edge as in the thesis.
-    const double moveScale = w.perSecond ? act(ctx, action).duration / kMovementSeconds : 1.0;
-    Value v;
-    const int opp = opponentOf(ctx, after, who, after.time);
-    if (opp >= 0) {
-        const auto& os = after.c[static_cast<std::size_t>(opp)];
-        const RootXf po = oppAt(ctx, os, std::min(t, os.end));
-        const glm::vec2 d = po.pos - pm.pos;
-        const double r = glm::length(d);
-        const double theta = r > 1e-6 ? wrapAngle(angleOf(d) - pm.heading) : 0.0;
-        v.comp -= moveScale * (w.wTheta * theta * theta + w.wR * (r - w.rD) * (r - w.rD));
-        const int oppBefore = opponentOf(ctx, before, who, before.time);
-        if (oppBefore >= 0 && ctx.combo) {
-            const int theirs = before.c[static_cast<std::size_t>(oppBefore)].action;
-            v.comp += w.wCombo * static_cast<double>((*ctx.combo)[static_cast<std::size_t>(action) * static_cast<std::size_t>(ctx.comboN) +
-                                              static_cast<std::size_t>(theirs)]);
-        }
-    }
-    // Scoring: the whole team's blows and catches, with this character's weights.
-    for (int i = 0; i < after.n; ++i) {
-        if (enemies(ctx, who, i)) continue;
-        const auto k = static_cast<std::size_t>(i);
-        if (w.catches) {
-            v.comp += w.wHitShort * ev.catches[k] - w.wDamage * ev.caught[k];
-        } else {
-            v.comp += w.wHitShort * ev.givenShort[k] + w.wHitLong * ev.givenLong[k] - w.wDamage * ev.received[k];
-        }
-    }
-    v.comp -= w.wRecency * recency(ctx, before.c[static_cast<std::size_t>(who)], action);
-    // The stage: ending near or beyond its edge costs like a lost blow per
-    // metre squared, so the search turns a runner before the edge, where one
-    // clip of look-ahead (the choice filter) is too late for a running turn.
-    if (ctx.opt->arena.bounded()) {
-        const double out = ctx.opt->arena.distanceFrom(pm.pos) - (ctx.opt->arena.radius - kArenaMargin);
-        if (out > 0) v.comp -= kArenaWeight * out * out;
-    }
-    // Cooperative: checkpoints and required actions.
-    if (!spec.path.empty() && (w.wPath > 0 || w.wPsi > 0)) {
-        const int k = me.checkpoint;
-        if (spec.loopPath || k < static_cast<int>(spec.path.size())) {
-            const auto& cp = spec.path[static_cast<std::size_t>(k) % spec.path.size()];
-            const glm::vec2 d = cp.pos - pm.pos;
-            v.coop -= moveScale * w.wPath * static_cast<double>(glm::dot(d, d));
-            if (w.wPsi > 0 && glm::dot(d, d) > 1e-6f) {
-                const double psi = wrapAngle(pm.heading - angleOf(d));
-                v.coop -= moveScale * w.wPsi * psi * psi;
-            }
-        }
-    }
-    if (w.wReq > 0) {
-        if (std::binary_search(spec.required.begin(), spec.required.end(), action)) v.coop += w.wReq;
-        if (std::binary_search(spec.forbidden.begin(), spec.forbidden.end(), action)) v.coop -= w.wReq;
-        const int k = before.c[static_cast<std::size_t>(who)].checkpoint;
-        if (!spec.path.empty() && (spec.loopPath || k < static_cast<int>(spec.path.size()))) {
-            const auto& cp = spec.path[static_cast<std::size_t>(k) % spec.path.size()];
-            if (!cp.action.empty()) {
-                const auto& a = act(ctx, action);
-                const bool match = cp.action[0] == '@' ? a.has(cp.action.substr(1)) : a.name == cp.action;
-                if (match) v.coop += w.wReq;
-            }
-        }
-    }
-    return v;
-}
-
-bool bodiesPenetrate(const Context& ctx, const RootXf& place, int action, double tau, const CharState& other, double t) {
-    return detail::coreBodiesOverlap(*ctx.lib, {action, tau, place}, detail::bodyAt(playing(other), std::min(t, other.end)),
-                                     kPenetrationShrink, kPenetrationReach);
-}
-
-// Legal choices of `who` at a node (SPEC 2.1) and the pruning criteria
-// (SPEC 2.4) as predicates, so the frontier can test them lazily.
-class Pruner {
-public:
-    Pruner(const Context& ctx, const GroupState& g, int who, bool root) : ctx_(ctx), g_(g), who_(who) {
-        const auto& spec = specOf(ctx, who);
-        const auto& s = g.c[static_cast<std::size_t>(who)];
-        // Inside the tree with no stage, the variant-folded list is ready
-        // made (on a stage the folding comes after the stage's filter).
-        const auto& member = ctx.members[static_cast<std::size_t>(who)];
-        bool folded = !root && ctx.opt->variants && !ctx.opt->arena.bounded();
-        base_ = (folded ? member.folded : member.legal)[static_cast<std::size_t>(s.action)];
-        if (base_.empty()) {
-            folded = false;
-            // No legal action: an idle/guard one of its set (else any).
-            fallback_ = true;
-            for (int a : spec.allowed) {
-                if (act(ctx, a).is(kIdle) && !act(ctx, a).is(kReactive)) base_.push_back(a);
-            }
-            if (base_.empty()) {
-                for (int a : spec.allowed) {
-                    if (!act(ctx, a).is(kReactive)) base_.push_back(a);
-                }
-            }
-            if (base_.empty()) base_ = spec.allowed;
-        }
-        if (ctx.opt->arena.bounded()) keepInsideArena(s);
-        if (!root && ctx.opt->variants && !folded && base_.size() > 1) {
-            // One representative (the first) per variant class: a class is
-            // seen when its stamp holds this call's number.
-            thread_local std::vector<std::uint64_t> seenAt;
-            thread_local std::uint64_t call = 0;
-            ++call;
-            seenAt.resize(ctx.lib->variantClass.size() + 1, 0);
-            std::erase_if(base_, [&](int a) {
-                auto& stamp = seenAt[static_cast<std::size_t>(ctx.lib->variantClass[static_cast<std::size_t>(a)])];
-                if (stamp == call) return true;
-                stamp = call;
-                return false;
-            });
-        }
-        opp_ = ctx.opt->pruning ? opponentOf(ctx, g, who, g.time) : -1;
-        if (opp_ >= 0) {
-            const auto& o = g.c[static_cast<std::size_t>(opp_)];
-            start_ = s.root * act(ctx, s.action).end;
-            startRotation_ = FloorRotation(start_.heading);
-            r_ = static_cast<double>(glm::length(placement(ctx, o, g.time).pos - start_.pos));
-            const auto& oa = act(ctx, o.action);
-            oppAttacking_ = oa.is(kAttack) && !o.attackDone && clipTime(o, g.time) < oa.activeEnd / kSampleRate &&
-                            r_ <= spec.weights.defenceRange;
-        }
-    }
-    bool fallback() const { return fallback_; }
-    bool active() const { return opp_ >= 0; }
-    const std::vector<int>& base() const { return base_; }
-
-    // 1. The bodies do not penetrate (over the time both actions are known).
-    bool penetrationFree(int a, bool lastFrameOnly) const {
-        const auto& o = g_.c[static_cast<std::size_t>(opp_)];
-        const double T = std::clamp(o.end - g_.time, 1.0 / kSampleRate, act(ctx_, a).duration);
-        if (lastFrameOnly) return !bodiesPenetrate(ctx_, start_, a, T, o, g_.time + T);
-        // Every candidate is tested at the same times against the same
-        // opponent: its placed body at the k-th time is kept for the next.
-        std::size_t k = 0;
-        const auto ak = static_cast<std::size_t>(a);
-        const std::size_t pelvisBegin = ctx_.testPelvisBegin[ak];
-        const std::size_t pelvisCount = ctx_.testPelvisBegin[ak + 1] - pelvisBegin;
-        for (double tau = 0; tau <= T + 1e-9; tau += kPenetrationStep, ++k) {
-            if (k == opponentBodies_.size()) {
-                if (k == 0) opponentBodies_.reserve(32);
-                opponentBodies_.emplace_back(*ctx_.lib, detail::bodyAt(playing(o), std::min(g_.time + tau, o.end)),
-                                             kPenetrationShrink);
-            }
-            const glm::vec2 pelvis = k < pelvisCount ? ctx_.testPelvis[pelvisBegin + k] : ctx_.lib->rootAt(a, tau).pos;
-            const detail::CoreBody me(*ctx_.lib, {a, tau, start_}, startRotation_, pelvis, kPenetrationShrink);
-            if (detail::coreBodiesOverlap(me, opponentBodies_[k], kPenetrationReach)) return false;
-        }
-        return true;
-    }
-    // 2. Ends facing the opponent.
-    bool facing(int a) const {
-        if (!specOf(ctx_, who_).weights.faceOpponent) return true;
-        const auto& o = g_.c[static_cast<std::size_t>(opp_)];
-        const double d = act(ctx_, a).duration;
-        const auto k = static_cast<std::size_t>(a);
-        const glm::vec2 end = start_.pos + startRotation_(ctx_.endAt[k].pos);
-        // Most candidates outlast the opponent's action: its end placement once.
-        if (g_.time + d >= o.end && !oppEnd_) oppEnd_ = placement(ctx_, o, o.end).pos;
-        const glm::vec2 to = (g_.time + d >= o.end ? *oppEnd_ : placement(ctx_, o, g_.time + d).pos) - end;
-        if (glm::dot(to, to) < 1e-6f) return true;
-        // Within 90 degrees of its facing there: no angle needed.
-        return glm::dot(to, startRotation_(ctx_.endFacing[k])) >= 0.0f;
-    }
-    // 3. In distance: no attack beyond attackRange, no defence beyond defenceRange.
-    bool inDistance(int a) const {
-        const auto& x = act(ctx_, a);
-        const auto& w = specOf(ctx_, who_).weights;
-        // An attack is out of distance past its own reach (plus a step's
-        // worth of the opponent's body depth), and never past attackRange.
-        if (x.is(kAttack) && r_ > std::min(w.attackRange, x.reach + kReachMargin)) return false;
-        if (x.is(kDefence) && r_ > w.defenceRange) return false;
-        return true;
-    }
-    // 4. Required: while the opponent attacks (and can still land), only defences.
-    bool required(int a) const { return !oppAttacking_ || act(ctx_, a).is(kDefence); }
-    bool cheapCriteria(int a) const { return facing(a) && inDistance(a) && required(a); }
-
-    // The full rule: criteria in priority order, each skipped when it would
-    // leave nothing (criterion 1 first falls back to its last-frame form).
-    void prune(std::vector<int>& out, Stats& stats) const {
-        out = base_;
-        stats.choices += static_cast<std::int64_t>(out.size());
-        if (!active()) return;
-        const std::size_t before = out.size();
-        // When some candidate passes every criterion the rule keeps exactly
-        // those: the costly penetration test is then needed only for the
-        // candidates that pass the cheap ones.
-        std::vector<int> all;
-        for (int a : out) {
-            if (cheapCriteria(a) && penetrationFree(a, false)) all.push_back(a);
-        }
-        if (!all.empty()) {
-            out.swap(all);
-            stats.pruned += static_cast<std::int64_t>(before - out.size());
-            return;
-        }
-        auto apply = [&](auto&& keep) {
-            std::vector<int> kept;
-            for (int a : out) {
-                if (keep(a)) kept.push_back(a);
-            }
-            if (kept.empty()) return false;
-            out.swap(kept);
-            return true;
-        };
-        if (!apply([&](int a) { return penetrationFree(a, false); })) apply([&](int a) { return penetrationFree(a, true); });
-        apply([&](int a) { return facing(a); });
-        apply([&](int a) { return inDistance(a); });
-        apply([&](int a) { return required(a); });
-        stats.pruned += static_cast<std::int64_t>(before - out.size());
-    }
-
-private:
-    // The stage (SimOptions::arena). A candidate is judged by how far
-    // out it would get before it could come back: its end's distance from
-    // the centre, plus, when it ends heading away, part of a turning circle
-    // at its speed (v^2 / 4 m/s^2 lateral acceleration: about 2 m for a run,
-    // 0.5 m for a walk), and near the edge the best such value up to three
-    // clips later (running turns take several clips; judging one clip alone
-    // let runners leave the stage clip by clip). Candidates within the inner
-    // edge stay; when none is, those within 0.25 m of the best.
-    double arenaReach(const RootXf& at, int action) const {
-        const auto& a = act(ctx_, action);
-        const RootXf e = at * a.end;
-        const glm::vec2 out = e.pos - ctx_.opt->arena.centre;
-        const double d = static_cast<double>(glm::length(out));
-        const double v = static_cast<double>(glm::length(a.end.pos)) / std::max(a.duration, 1e-3);
-        const double turn = std::clamp(v * v / 4.0, 0.3, 3.0);
-        const double c = d > 1e-6 ? static_cast<double>(glm::dot(headingVector(e.heading), out)) / d : 0.0;
-        return d + turn * 0.5 * (1.0 + c);
-    }
-    // Best arenaReach over up to kArenaLookAhead further clips after
-    // `action` (ending at `at`): a beam search through Next() keeping the
-    // kArenaBeam most promising clips per step, so a fighting node's hundreds
-    // of successors cost hundreds of evaluations, not millions.
-    double lookAhead(const RootXf& at, int action, const std::vector<int>& allowed) const {
-        struct Step {
-            RootXf end;
-            int action;
-            double reach;
-        };
-        std::vector<Step> frontier{{at, action, 0.0}}, next;
-        double best = 1e300;
-        for (int depth = 0; depth < kArenaLookAhead && !frontier.empty(); ++depth) {
-            next.clear();
-            for (const Step& f : frontier) {
-                for (int b : ctx_.lib->next[static_cast<std::size_t>(f.action)]) {
-                    if (act(ctx_, b).is(kReactive) || !std::binary_search(allowed.begin(), allowed.end(), b)) continue;
-                    const double r = arenaReach(f.end, b);
-                    best = std::min(best, r);
-                    next.push_back({f.end * act(ctx_, b).end, b, r});
-                }
-            }
-            const std::size_t keep = std::min<std::size_t>(next.size(), kArenaBeam);
-            std::partial_sort(next.begin(), next.begin() + static_cast<std::ptrdiff_t>(keep), next.end(),
-                              [](const Step& x, const Step& y) { return x.reach < y.reach || (x.reach == y.reach && x.action < y.action); });
-            next.resize(keep);
-            frontier.swap(next);
-        }
-        return best;
-    }
-    void keepInsideArena(const CharState& s) {
-        const RootXf from = s.root * act(ctx_, s.action).end;
-        const double inner = std::max(ctx_.opt->arena.radius - kArenaMargin, 0.0);
-        const auto& allowed = specOf(ctx_, who_).allowed;
-        std::vector<double> reach(base_.size());
-        for (std::size_t i = 0; i < base_.size(); ++i) {
-            reach[i] = arenaReach(from, base_[i]);
-            if (reach[i] <= inner) continue;
-            reach[i] = std::min(reach[i], lookAhead(from * act(ctx_, base_[i]).end, base_[i], allowed));
-        }
-        const double best = *std::min_element(reach.begin(), reach.end());
-        const double limit = best <= inner ? inner : best + 0.25;
-        std::vector<int> kept;
-        for (std::size_t i = 0; i < base_.size(); ++i)
-            if (reach[i] <= limit) kept.push_back(base_[i]);
-        base_.swap(kept);
-    }
-
-    const Context& ctx_;
-    const GroupState& g_;
-    int who_;
-    std::vector<int> base_;
-    bool fallback_ = false;
-    int opp_ = -1;
-    RootXf start_;
-    FloorRotation startRotation_{0.0};
-    mutable std::vector<detail::CoreBody> opponentBodies_;
-    mutable std::optional<glm::vec2> oppEnd_;  // the opponent where its action ends (facing)
-    double r_ = 0;
-    bool oppAttacking_ = false;
-};
-
-// Candidate actions of `who` at node time t after pruning. Returns whether it
-// had to fall back (no legal action: idle/guard).
-bool candidates(const Context& ctx, const GroupState& g, int who, std::vector<int>& out, Stats& stats) {
-    const Pruner pruner(ctx, g, who, true);
-    pruner.prune(out, stats);
-    return pruner.fallback();
-}
-
-struct Child {
-    int action = 0;
-    GroupState state;
-    Value acc;
-    double order = 0;
-};
-
-bool isMax(const Context& ctx, int who, int rootSide) { return specOf(ctx, who).side == rootSide; }
-
-// The child reached by `who` launching `action` from g, with the path sums.
-void makeChild(const Context& ctx, const GroupState& g, int who, int action, const Value& acc, bool mx, Child& ch,
-               PlacementMemo& oppAt) {
-    ch.action = action;
-    ch.state = g;
-    launch(ctx, ch.state, who, action, g.time);
-    Events ev;
-    advance(ctx, ch.state, ev, nullptr);
-    const Value e = edgeScore(ctx, g, ch.state, who, action, ev, oppAt);
-    ch.acc.comp = acc.comp + (mx ? e.comp : -e.comp);
-    ch.acc.coop = acc.coop + e.coop;
-    ch.order = mx ? ch.acc.comp + ch.acc.coop : -(ch.acc.comp - ch.acc.coop);
-}
-
-// Better for the chooser of this node (SPEC 2.2 back-up rules).
-bool better(bool mx, const Value& a, const Value& b) {
-    return mx ? (a.comp + a.coop > b.comp + b.coop) : (a.comp - a.coop < b.comp - b.coop);
-}
-
-// A frontier node of a duel scored by blows (Context::boundedFrontier), under
-// alpha-beta. The chooser maximises its own edge score e, so each candidate
-// gets a cheap key first: e itself when nothing can land in the interval
-// (neither a blow of its own nor one of the opponent's: the edge is the
-// launch and the movement, no hit search), else an upper bound (movement at
-// most 0, the fastest blow its effector can land, nothing received).
-// Candidates are then taken best key first: a key no better than the best
-// edge found cannot win, so it and the rest are skipped without their
-// pruning tests. Only the value changes with the order (the fail-soft bound
-// of a cutoff), never the exact minimax value, so root choices are those of
-// the plain frontier. Returns nothing when no candidate passes every
-// criterion (the caller then applies the full rule with its fallbacks).
-std::optional<Value> boundedFrontier(const Context& ctx, const GroupState& g, int who, bool mx, const Pruner& pruner,
-                                     double alpha, double beta, const Value& acc, Stats& stats, PlacementMemo& oppAt) {
-    const int opp = 1 - who;
-    const auto& o = g.c[static_cast<std::size_t>(opp)];
-    const auto& oa = act(ctx, o.action);
-    const bool oppCanHit = oa.is(kAttack) && oa.effector >= 0 && !o.attackDone &&
-                           o.start + oa.activeEnd / kSampleRate - o.offset >= g.time;
-    const auto& w = specOf(ctx, who).weights;
-    struct Key {
-        double key;
-        int action;
-        bool exact;
-    };
-    thread_local std::vector<Key> keys;
-    keys.clear();
-    for (int a : pruner.base()) {
-        const auto& x = act(ctx, a);
-        const bool attack = x.is(kAttack) && x.effector >= 0;
-        if (!attack && !oppCanHit) {
-            // Only the exact key needs the launched state.
-            // (No checkpoints to update: alpha-beta runs without cooperative terms.)
-            GroupState after = g;
-            launch(ctx, after, who, a, g.time);
-            after.time = std::min(after.c[0].end, after.c[1].end);
-            keys.push_back({edgeScore(ctx, g, after, who, a, Events{}, oppAt).comp, a, true});
-            continue;
-        }
-        // The scoring-free part of the edge, without movement, stage and path
-        // (a blow either way moves someone) plus the best blow it can land.
-        double bound = -w.wRecency * recency(ctx, g.c[static_cast<std::size_t>(who)], a);
-        if (ctx.combo) {
-            bound += w.wCombo * static_cast<double>((*ctx.combo)[static_cast<std::size_t>(a) * static_cast<std::size_t>(ctx.comboN) +
-                                                      static_cast<std::size_t>(o.action)]);
-        }
-        if (attack) bound += (x.is(kKick) ? w.wHitLong : w.wHitShort) * ctx.maxHitSpeed[static_cast<std::size_t>(a)];
-        keys.push_back({bound, a, false});
-    }
-    std::stable_sort(keys.begin(), keys.end(), [](const Key& x, const Key& y) { return x.key > y.key; });
-    Value best;
-    bool have = false;
-    Child ch;
-    for (const Key& k : keys) {
-        if (have && (mx ? acc.comp + k.key <= best.comp : acc.comp - k.key >= best.comp)) break;
-        if (!pruner.cheapCriteria(k.action) || !pruner.penetrationFree(k.action, false)) continue;
-        ++stats.leaves;
-        Value v;
-        if (k.exact) {
-            v.comp = mx ? acc.comp + k.key : acc.comp - k.key;
-            v.coop = acc.coop;
-        } else {
-            makeChild(ctx, g, who, k.action, acc, mx, ch, oppAt);
-            v = ch.acc;
-        }
-        if (!have || better(mx, v, best)) best = v, have = true;
-        if (mx ? best.comp >= beta : best.comp <= alpha) {
-            ++stats.cutoffs;
-            break;
-        }
-    }
-    if (!have) return std::nullopt;
-    return best;
-}
-
-// Min-max over the next `depth` decisions. With alpha-beta (competitive
-// scenes only: the cooperative back-up rules are not zero-sum) the window
-// [alpha, beta] bounds S_comp; the frontier is evaluated lazily so a cutoff
-// saves the remaining edges, and inner nodes try their children in the order
-// of their immediate scores.
-Value search(const Context& ctx, const GroupState& g, int depth, double alpha, double beta, const Value& acc,
-             int rootSide, Stats& stats) {
-    ++stats.nodes;
-    if (stats.leaves > stats.budget) {
-        stats.exhausted = true;
-        return acc;
-    }
-    const int who = chooserOf(g);
-    const bool mx = isMax(ctx, who, rootSide);
-    const bool ab = ctx.opt->alphaBeta && !ctx.cooperative;
-    const Pruner pruner(ctx, g, who, false);
-    Child ch;
-    PlacementMemo oppAt;
-    if (depth <= 1) {
-        if (ab && ctx.boundedFrontier && pruner.active()) {
-            if (auto v = boundedFrontier(ctx, g, who, mx, pruner, alpha, beta, acc, stats, oppAt)) return *v;
-        }
-        // Frontier: when some action passes every criterion, the pruned set
-        // is exactly those actions, so each is tested only when reached and a
-        // cutoff skips the rest. Otherwise the full rule with its fallbacks.
-        Value best;
-        bool have = false;
-        auto visit = [&](int a) {
-            makeChild(ctx, g, who, a, acc, mx, ch, oppAt);
-            ++stats.leaves;
-            if (!have || better(mx, ch.acc, best)) best = ch.acc, have = true;
-            if (ab && (mx ? best.comp >= beta : best.comp <= alpha)) {
-                ++stats.cutoffs;
-                return false;
-            }
-            return true;
-        };
-        if (pruner.active()) {
-            for (int a : pruner.base()) {
-                if (!pruner.cheapCriteria(a) || !pruner.penetrationFree(a, false)) continue;
-                if (!visit(a)) return best;
-            }
-            if (have) return best;
-        }
-        std::vector<int> cands;
-        Stats ignored;
-        pruner.prune(cands, ignored);
-        for (int a : cands) {
-            if (!visit(a)) break;
-        }
-        return have ? best : acc;
-    }
-    // Inner node: children in the order of their immediate scores. Under
-    // alpha-beta a cutoff skips the rest, so when some action passes every
-    // criterion (the pruned set is then exactly those) the penetration test
-    // waits until a child is reached; otherwise the full rule.
-    std::vector<Child> children;
-    auto searchChildren = [&](bool testPenetration) {
-        std::stable_sort(children.begin(), children.end(), [](const Child& a, const Child& b) { return a.order > b.order; });
-        Value best;
-        bool have = false;
-        for (const auto& c : children) {
-            if (testPenetration && !pruner.penetrationFree(c.action, false)) continue;
-            const Value v = search(ctx, c.state, depth - 1, alpha, beta, c.acc, rootSide, stats);
-            if (!have || better(mx, v, best)) best = v, have = true;
-            if (ab) {
-                if (mx) alpha = std::max(alpha, v.comp);
-                else beta = std::min(beta, v.comp);
-                if (alpha >= beta) {
-                    ++stats.cutoffs;
-                    break;
-                }
-            }
-        }
-        return have ? std::optional<Value>(best) : std::nullopt;
-    };
-    if (ab && pruner.active()) {
-        for (int a : pruner.base()) {
-            if (!pruner.cheapCriteria(a)) continue;
-            makeChild(ctx, g, who, a, acc, mx, children.emplace_back(), oppAt);
-        }
-        if (auto v = searchChildren(true)) return *v;
-        children.clear();
-    }
-    std::vector<int> cands;
-    Stats ignored;  // choices and pruning are counted at the real decisions
-    pruner.prune(cands, ignored);
-    if (cands.empty()) return acc;
-    children.resize(cands.size());
-    for (std::size_t i = 0; i < cands.size(); ++i) makeChild(ctx, g, who, cands[i], acc, mx, children[i], oppAt);
-    return searchChildren(false).value_or(acc);
-}
-
-// The real choice of the character due at g.time. The first child (best by
-// its immediate score) is searched with the full window; its value bounds
-// the others, which then run in parallel with that fixed bound. A child that
-// does not beat the bound cannot be chosen, one that does has an exact value:
-// the choice is the same whatever the thread timing.
-int decide(const Context& ctx, const GroupState& g, int depth, Stats& stats, bool& fellBack) {
-    const int who = chooserOf(g);
-    const int rootSide = specOf(ctx, who).side;
-    ++stats.nodes;
-    std::vector<int> cands;
-    fellBack = candidates(ctx, g, who, cands, stats);
-    if (cands.empty()) return -1;
-    if (cands.size() == 1) return cands[0];
-    std::vector<Child> children(cands.size());
-    PlacementMemo oppAt;
-    for (std::size_t i = 0; i < cands.size(); ++i) makeChild(ctx, g, who, cands[i], Value{}, true, children[i], oppAt);
-    if (depth <= 1) {
-        stats.leaves += static_cast<std::int64_t>(children.size());
-        std::size_t best = 0;
-        for (std::size_t i = 1; i < children.size(); ++i) {
-            if (better(true, children[i].acc, children[best].acc)) best = i;
-        }
-        return children[best].action;
-    }
-    std::stable_sort(children.begin(), children.end(), [](const Child& a, const Child& b) { return a.order > b.order; });
-    constexpr double kInf = std::numeric_limits<double>::infinity();
-    const bool ab = ctx.opt->alphaBeta && !ctx.cooperative;
-    // Iterative deepening under a leaf budget: when a deeper search would
-    // visit too many leaves (long runs of one character's decisions, where
-    // alpha-beta cannot cut), the last complete depth decides. Each root child
-    // has its own share of the budget, so the outcome does not depend on
-    // thread timing.
-    const std::int64_t share = std::max<std::int64_t>(2000, ctx.opt->leafBudget / static_cast<std::int64_t>(children.size()));
-    // Each deeper pass searches the children in the order of the last pass's
-    // values, so the bound comes from the likely best child. The choice is
-    // the same as in the immediate-score order: among the exact values the
-    // best wins, ties going to the child first in that order; a child before
-    // the bound's child in it is searched just below the bound, so a tie
-    // with the bound is exact too.
-    std::vector<std::size_t> order(children.size());
-    std::iota(order.begin(), order.end(), std::size_t{0});
-    std::size_t chosen = 0;
-    for (int d = 2; d <= depth; ++d) {
-        std::vector<Value> values(children.size());
-        std::vector<double> floor(children.size(), -kInf);
-        std::vector<Stats> childStats(children.size());
-        for (auto& cs : childStats) cs.budget = share;
-        const std::size_t first = order[0];
-        values[first] = search(ctx, children[first].state, d - 1, -kInf, kInf, children[first].acc, rootSide, childStats[first]);
-        const double alpha = ab ? values[first].comp : -kInf;
-        for (std::size_t i = 0; i < children.size(); ++i) {
-            if (ab && i != first) floor[i] = i < first ? std::nextafter(alpha, -kInf) : alpha;
-        }
-        auto run = [&](std::size_t k) {
-            const std::size_t i = order[k];
-            values[i] = search(ctx, children[i].state, d - 1, floor[i], kInf, children[i].acc, rootSide, childStats[i]);
-        };
-        if (ctx.opt->parallel) {
-            tbb::parallel_for(std::size_t{1}, children.size(), run);
-        } else {
-            for (std::size_t k = 1; k < children.size(); ++k) run(k);
-        }
-        bool exhausted = false;
-        std::size_t best = first;
-        for (std::size_t i = 0; i < children.size(); ++i) {
-            stats.add(childStats[i]);
-            exhausted = exhausted || childStats[i].exhausted;
-            if (i == first) continue;
-            if (ab && !(values[i].comp > floor[i])) continue;  // failed low: at most the bound
-            if (better(true, values[i], values[best]) || (i < best && !better(true, values[best], values[i]))) best = i;
-        }
-        if (exhausted) {
-            ++stats.shallower;
-            break;
-        }
-        chosen = best;
-        std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
-            return values[x].comp + values[x].coop > values[y].comp + values[y].coop;
-        });
-        // The chosen child first (a failed-low bound can equal its value).
-        std::rotate(order.begin(), std::find(order.begin(), order.end(), chosen), std::find(order.begin(), order.end(), chosen) + 1);
-    }
-    return children[chosen].action;
-}
-
-}  // namespace
+using namespace planner;
 
 Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos, const SceneSpec& spec,
                        const ProgressFn& progress) {
@@ -1010,9 +83,9 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
     std::vector<float> combo(static_cast<std::size_t>(n) * static_cast<std::size_t>(n), 0.0f);
     if (!combos.records().empty()) {
         for (int a : inPlay) {
-            const auto& x = lib.actions[static_cast<std::size_t>(a)];
+            const auto& x = lib.actions()[static_cast<std::size_t>(a)];
             for (int b : inPlay) {
-                const auto& y = lib.actions[static_cast<std::size_t>(b)];
+                const auto& y = lib.actions()[static_cast<std::size_t>(b)];
                 combo[static_cast<std::size_t>(a) * static_cast<std::size_t>(n) + static_cast<std::size_t>(b)] =
                     static_cast<float>(combos.query(x.name, x.annotations, y.name, y.annotations));
             }
@@ -1024,33 +97,34 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
     base.combo = &combo;
     base.comboN = n;
     base.opt = &opt;
-    base.reactionDir = detail::reactionDirections(lib);
+    detail::InteractionEngine engine(lib);
+    base.engine = &engine;
     {
         std::map<std::string, int> names;
         base.nameId.resize(static_cast<std::size_t>(n));
         for (int a = 0; a < n; ++a) {
-            const auto& name = lib.actions[static_cast<std::size_t>(a)].name;
+            const auto& name = lib.actions()[static_cast<std::size_t>(a)].name;
             base.nameId[static_cast<std::size_t>(a)] =
                 name.empty() ? -1 - a : names.emplace(name, static_cast<int>(names.size())).first->second;
         }
     }
     for (int a = 0; a < n; ++a) {
-        base.endAt.push_back(lib.rootAt(a, lib.actions[static_cast<std::size_t>(a)].duration));
+        base.endAt.push_back(lib.rootAt(a, lib.actions()[static_cast<std::size_t>(a)].duration));
         base.endFacing.push_back(headingVector(base.endAt.back().heading));
     }
     base.maxHitSpeed.assign(static_cast<std::size_t>(n), 0.0);
     for (int a = 0; a < n; ++a) {
-        const auto& x = lib.actions[static_cast<std::size_t>(a)];
+        const auto& x = lib.actions()[static_cast<std::size_t>(a)];
         if (!x.is(kAttack)) continue;
         double fastest = 0;
         for (int k = x.activeBegin; k <= std::min(x.activeEnd, x.sampleCount - 1); ++k) {
-            fastest = std::max(fastest, static_cast<double>(lib.effectorSpeed[static_cast<std::size_t>(x.sampleBegin + k)]));
+            fastest = std::max(fastest, static_cast<double>(lib.effectorSpeed()[static_cast<std::size_t>(x.sampleBegin + k)]));
         }
         base.maxHitSpeed[static_cast<std::size_t>(a)] = fastest;
     }
     for (int a = 0; a < n; ++a) {
         base.testPelvisBegin.push_back(base.testPelvis.size());
-        const double duration = lib.actions[static_cast<std::size_t>(a)].duration;
+        const double duration = lib.actions()[static_cast<std::size_t>(a)].duration;
         for (double tau = 0; tau <= duration + 1e-9; tau += kPenetrationStep) {
             base.testPelvis.push_back(lib.rootAt(a, tau).pos);
         }
@@ -1079,7 +153,7 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
             }
             auto legal = legalChoices(lib, c);
             auto folded = foldVariants(lib, legal);
-            ctx.members.push_back({i, &c, std::move(legal), std::move(folded)});
+            ctx.members.push_back({i, &c, std::move(legal), std::move(folded), engine.addPool(c.reactions)});
             rec.global[static_cast<std::size_t>(g.n)] = i;
             if (c.weights.wPath > 0 || c.weights.wPsi > 0 || c.weights.wReq > 0) ctx.cooperative = true;
             if (c.weights.catches) catches = true;
@@ -1089,12 +163,12 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
             if (a0 < 0) {
                 std::vector<int> idle;
                 for (int a : c.allowed) {
-                    if (lib.actions[static_cast<std::size_t>(a)].is(kIdle)) idle.push_back(a);
+                    if (lib.actions()[static_cast<std::size_t>(a)].is(kIdle)) idle.push_back(a);
                 }
                 const auto& pool = idle.empty() ? c.allowed : idle;
                 a0 = pool[static_cast<std::size_t>(rng() % pool.size())];
             }
-            const double dur = lib.actions[static_cast<std::size_t>(a0)].duration;
+            const double dur = lib.actions()[static_cast<std::size_t>(a0)].duration;
             const double offset = std::uniform_real_distribution<double>(0.0, 0.5 * dur)(rng);
             CharState s;
             s.action = a0;
@@ -1153,9 +227,7 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
             }
         }
     }
-    std::sort(scene.hits.begin(), scene.hits.end(), [](const HitEvent& a, const HitEvent& b) {
-        return a.time != b.time ? a.time < b.time : a.attacker < b.attacker;
-    });
+    detail::sortHits(scene.hits);
     std::sort(scene.catches.begin(), scene.catches.end(), [](const CatchEvent& a, const CatchEvent& b) {
         return a.time != b.time ? a.time < b.time : a.chaser < b.chaser;
     });

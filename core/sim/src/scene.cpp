@@ -20,7 +20,7 @@ using json = nlohmann::ordered_json;
 using prep::JsonReader;
 
 json actionRef(const ActionLibrary& lib, int action) {
-    const auto& a = lib.actions[static_cast<std::size_t>(action)];
+    const auto& a = lib.actions()[static_cast<std::size_t>(action)];
     return json{{"motion", a.motionId}, {"first", a.firstFrame}, {"last", a.lastFrame}, {"name", a.name}};
 }
 
@@ -39,7 +39,7 @@ class ActionIndex {
 public:
     explicit ActionIndex(const ActionLibrary& lib) {
         for (int i = 0; i < lib.size(); ++i) {
-            const auto& a = lib.actions[static_cast<std::size_t>(i)];
+            const auto& a = lib.actions()[static_cast<std::size_t>(i)];
             map_[{a.motionId, a.firstFrame, a.lastFrame}] = i;
         }
     }
@@ -505,7 +505,7 @@ Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, co
             FRAY_TRY(end, rd.numberAt(ij, ip, "end"));
             if (start < previousStart) return rd.error(ip + "/start", "actions must be in time order");
             if (end < start) return rd.error(ip + "/end", "ends before it starts");
-            const double dur = lib.actions[static_cast<std::size_t>(action)].duration;
+            const double dur = lib.actions()[static_cast<std::size_t>(action)].duration;
             if (offset < 0 || offset > dur) return rd.error(ip + "/offset", "must lie within the action (0.." + std::to_string(dur) + " s)");
             previousStart = start;
             inst.start = start, inst.offset = offset, inst.end = end;
@@ -603,14 +603,14 @@ ScenePoser::ScenePoser(const Scene& scene, const ActionLibrary& lib, double blen
 const Skeleton& ScenePoser::skeleton(int character) const {
     if (scene_.isCreature(character)) return *creatureSkeleton(scene_.characters[static_cast<std::size_t>(character)].body);
     const auto& track = scene_.characters[static_cast<std::size_t>(character)].track;
-    const int motion = track.empty() ? 0 : lib_.actions[static_cast<std::size_t>(track.front().action)].motion;
-    return lib_.motions[static_cast<std::size_t>(motion)].motion.skeleton();
+    const int motion = track.empty() ? 0 : lib_.actions()[static_cast<std::size_t>(track.front().action)].motion;
+    return lib_.motion(motion).motion.skeleton();
 }
 
 void ScenePoser::rawPose(int character, int instance, double t, Pose& out) const {
     const auto& inst = scene_.characters[static_cast<std::size_t>(character)].track[static_cast<std::size_t>(instance)];
-    const auto& a = lib_.actions[static_cast<std::size_t>(inst.action)];
-    const auto& lm = lib_.motions[static_cast<std::size_t>(a.motion)];
+    const auto& a = lib_.actions()[static_cast<std::size_t>(inst.action)];
+    const auto& lm = lib_.motion(a.motion);
     const double fps = lm.motion.fps();
     const double tau = std::clamp(inst.offset + (t - inst.start), 0.0, a.duration);
     const double frame = std::min(a.firstFrame + tau * fps, static_cast<double>(a.lastFrame));
@@ -662,8 +662,8 @@ std::array<bool, 2> ScenePoser::contacts(int character, double t) const {
     const int i = scene_.instanceAt(character, t);
     if (i < 0) return {false, false};
     const auto& inst = scene_.characters[static_cast<std::size_t>(character)].track[static_cast<std::size_t>(i)];
-    const auto& a = lib_.actions[static_cast<std::size_t>(inst.action)];
-    const auto& c = lib_.motions[static_cast<std::size_t>(a.motion)].contacts;
+    const auto& a = lib_.actions()[static_cast<std::size_t>(inst.action)];
+    const auto& c = lib_.motion(a.motion).contacts;
     const int f = lib_.frameAt(inst.action, inst.offset + (t - inst.start));
     if (f < 0 || f >= c.frameCount()) return {false, false};
     return {c.left[static_cast<std::size_t>(f)] != 0, c.right[static_cast<std::size_t>(f)] != 0};

@@ -337,13 +337,13 @@ Result<SceneSpec> parseSceneSpec(std::string_view text, std::string_view fileNam
         if (key.empty()) return rd.error(path, "must not be empty");
         if (key[0] == '@') {
             const std::string word = key.substr(1);
-            if (std::find(lib.vocabulary.begin(), lib.vocabulary.end(), word) == lib.vocabulary.end()) {
+            if (std::find(lib.vocabulary().begin(), lib.vocabulary().end(), word) == lib.vocabulary().end()) {
                 return rd.error(path, "unknown annotation '" + word + "' (not in the project's vocabulary)");
             }
         }
         std::vector<int> out;
         for (int a : lib.select(key)) {
-            const auto& x = lib.actions[static_cast<std::size_t>(a)];
+            const auto& x = lib.actions()[static_cast<std::size_t>(a)];
             if (motions.empty() || std::find(motions.begin(), motions.end(), x.motionId) != motions.end()) out.push_back(a);
         }
         if (out.empty()) {
@@ -428,7 +428,7 @@ Result<SceneSpec> parseSceneSpec(std::string_view text, std::string_view fileNam
         if (auto v = c.find("motions"); v != c.end()) {
             FRAY_TRY(ms, rd.strings(*v, p + "/motions"));
             for (std::size_t k = 0; k < ms.size(); ++k) {
-                const bool known = std::any_of(lib.actions.begin(), lib.actions.end(),
+                const bool known = std::any_of(lib.actions().begin(), lib.actions().end(),
                                                [&](const LibraryAction& a) { return a.motionId == ms[k]; });
                 if (!known) return rd.error(p + "/motions/" + std::to_string(k), "no motion '" + ms[k] + "' in the project");
             }
@@ -436,32 +436,32 @@ Result<SceneSpec> parseSceneSpec(std::string_view text, std::string_view fileNam
         }
         auto inMotions = [&](int a) {
             return motions.empty() || std::find(motions.begin(), motions.end(),
-                                                lib.actions[static_cast<std::size_t>(a)].motionId) != motions.end();
+                                                lib.actions()[static_cast<std::size_t>(a)].motionId) != motions.end();
         };
         if (auto v = c.find("actions"); v != c.end()) {
             FRAY_TRY(sel, selectList(*v, motions, p + "/actions"));
             cs.allowed = sel;
         } else {
             for (int a = 0; a < lib.size(); ++a) {
-                if (inMotions(a) && !lib.actions[static_cast<std::size_t>(a)].is(kReactive)) cs.allowed.push_back(a);
+                if (inMotions(a) && !lib.actions()[static_cast<std::size_t>(a)].is(kReactive)) cs.allowed.push_back(a);
             }
         }
-        std::erase_if(cs.allowed, [&](int a) { return lib.actions[static_cast<std::size_t>(a)].is(kReactive); });
+        std::erase_if(cs.allowed, [&](int a) { return lib.actions()[static_cast<std::size_t>(a)].is(kReactive); });
         if (cs.allowed.empty()) {
             return rd.error(p + "/actions", "character '" + name + "' has no usable action (reactions like pushed/falling are "
                                             "only forced by hits)");
         }
         if (auto v = c.find("reactions"); v != c.end()) {
             FRAY_TRY(sel, selectList(*v, motions, p + "/reactions"));
-            std::erase_if(sel, [&](int a) { return !lib.actions[static_cast<std::size_t>(a)].is(kReactive); });
+            std::erase_if(sel, [&](int a) { return !lib.actions()[static_cast<std::size_t>(a)].is(kReactive); });
             cs.reactions = sel;
         } else {
             for (int a = 0; a < lib.size(); ++a) {
-                if (lib.actions[static_cast<std::size_t>(a)].is(kReactive) && inMotions(a)) cs.reactions.push_back(a);
+                if (lib.actions()[static_cast<std::size_t>(a)].is(kReactive) && inMotions(a)) cs.reactions.push_back(a);
             }
             if (cs.reactions.empty()) {
                 for (int a = 0; a < lib.size(); ++a) {
-                    if (lib.actions[static_cast<std::size_t>(a)].is(kReactive)) cs.reactions.push_back(a);
+                    if (lib.actions()[static_cast<std::size_t>(a)].is(kReactive)) cs.reactions.push_back(a);
                 }
             }
         }

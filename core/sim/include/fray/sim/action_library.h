@@ -7,6 +7,7 @@
 // planner puts an action anywhere by composing one RootXf.
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -81,29 +82,41 @@ struct ReactionEntry {
     prep::PoseFeature feature;
 };
 
+namespace detail {
+class ReactionMemo;
+class InteractionEngine;
+}  // namespace detail
+
+// Built once by buildActionLibrary and immutable afterwards: every planner
+// reads it through these accessors. It shares ownership of the motions it was
+// built from, so it stays complete and valid however long it is kept.
 class ActionLibrary {
 public:
-    std::vector<LibraryAction> actions;
-    std::vector<std::vector<int>> next;  // per action: Next() (motion graph)
-    std::vector<std::uint8_t> inLargestScc;
-    std::vector<int> startNode, endNode;  // motion-graph nodes of each action
+    int size() const { return static_cast<int>(actions_.size()); }
+    const LibraryAction& action(int a) const { return actions_[static_cast<std::size_t>(a)]; }
+    const std::vector<LibraryAction>& actions() const { return actions_; }
+    // Next() of each action in the motion graph, ascending.
+    const std::vector<std::vector<int>>& next() const { return next_; }
+    const std::vector<std::uint8_t>& inLargestScc() const { return inLargestScc_; }
+    // Motion-graph nodes each action starts and ends at.
+    const std::vector<int>& startNode() const { return startNode_; }
+    const std::vector<int>& endNode() const { return endNode_; }
     // Variant class: actions with the same name (else the same annotations)
-    // and the same end node are variants of one choice; -1 is not used.
-    std::vector<int> variantClass;
-    // Tracks, sample-major: sample s of action a is index actions[a].sampleBegin + s.
-    std::vector<RootXf> roots;                  // pelvis placement relative to the action's start
-    std::vector<Obb> boxes;                     // kSegmentCount per sample, action frame
-    std::vector<float> effectorSpeed;           // m/s per sample (attacks; 0 otherwise)
-    std::vector<ReactionEntry> reactions;       // reactive clips, first part, every 2nd sample
-    prep::PoseMatcher reactionPoses;            // their features packed for matching (same order)
-    // Source data, not owned: they must outlive the library.
-    std::span<const prep::LoadedMotion> motions;
-    std::vector<std::string> vocabulary;
+    // and the same end node are variants of one choice.
+    const std::vector<int>& variantClass() const { return variantClass_; }
+    // Per sample (actions()[a].sampleBegin + s): the effector's speed, m/s (attacks; 0 otherwise).
+    const std::vector<float>& effectorSpeed() const { return effectorSpeed_; }
+    // Reactive clips, first part, every 2nd sample, and their features packed for matching (same order).
+    const std::vector<ReactionEntry>& reactions() const { return reactions_; }
+    const prep::PoseMatcher& reactionPoses() const { return reactionPoses_; }
+    // The source motions (with joints and contacts), shared with whoever built the library.
+    int motionCount() const { return static_cast<int>(motions_.size()); }
+    const prep::LoadedMotion& motion(int m) const { return *motions_[static_cast<std::size_t>(m)]; }
+    const std::vector<std::string>& vocabulary() const { return vocabulary_; }
 
-    int size() const { return static_cast<int>(actions.size()); }
+    // Body-segment boxes (kSegmentCount, in the action's frame) at a sample of an action.
     const Obb* boxesAt(int action, int sample) const {
-        return &boxes[static_cast<std::size_t>(actions[static_cast<std::size_t>(action)].sampleBegin + sample) *
-                      kSegmentCount];
+        return &boxes_[static_cast<std::size_t>(actions_[static_cast<std::size_t>(action)].sampleBegin + sample) * kSegmentCount];
     }
     // Sample index for a time (s) into the action, clamped.
     int sampleAt(int action, double t) const;
@@ -117,10 +130,40 @@ public:
     bool continuesInto(int from, int to) const;
     // Finds actions by "@annotation" or name; empty when nothing matches.
     std::vector<int> select(const std::string& key) const;
+
+    // A catalogue of actions only (names, annotations, flags; no tracks,
+    // graph or motions): enough to read scene specs and scene files against,
+    // as the fuzzers do. Nothing can be planned or posed with it.
+    static ActionLibrary catalogue(std::vector<LibraryAction> actions, std::vector<std::string> vocabulary);
+
+private:
+    friend Result<ActionLibrary> buildActionLibrary(const prep::Project&, std::vector<std::shared_ptr<const prep::LoadedMotion>>,
+                                                    const prep::MotionGraph&, const ProgressFn&);
+    std::vector<LibraryAction> actions_;
+    std::vector<std::vector<int>> next_;
+    std::vector<std::uint8_t> inLargestScc_;
+    std::vector<int> startNode_, endNode_;
+    std::vector<int> variantClass_;
+    // Tracks, sample-major: sample s of action a is index actions_[a].sampleBegin + s.
+    std::vector<RootXf> roots_;  // pelvis placement relative to the action's start
+    std::vector<Obb> boxes_;     // kSegmentCount per sample, action frame
+    std::vector<float> effectorSpeed_;
+    std::vector<ReactionEntry> reactions_;
+    prep::PoseMatcher reactionPoses_;
+    std::vector<std::shared_ptr<const prep::LoadedMotion>> motions_;
+    std::vector<std::string> vocabulary_;
+    // The forced-reaction choices made over this library so far, by value
+    // (fray_sim's interaction engine; a choice is a function of the library
+    // and its key, so remembering it changes no result). Copies share it.
+    friend class detail::InteractionEngine;
+    std::shared_ptr<detail::ReactionMemo> reactionMemo_;
 };
 
 // Builds the library from a prepared project: its motions (with contacts),
 // and the motion graph over the project's actions in project order.
+// The library shares the motions; the second form copies them.
+Result<ActionLibrary> buildActionLibrary(const prep::Project& project, std::vector<std::shared_ptr<const prep::LoadedMotion>> motions,
+                                         const prep::MotionGraph& graph, const ProgressFn& progress = {});
 Result<ActionLibrary> buildActionLibrary(const prep::Project& project, std::span<const prep::LoadedMotion> motions,
                                          const prep::MotionGraph& graph, const ProgressFn& progress = {});
 

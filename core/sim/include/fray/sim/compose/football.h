@@ -1,0 +1,35 @@
+#pragma once
+// American football (SPEC 4.5): a carrier runs for the goal line past
+// tacklers that dive at it from {run, TACKLE, avoid} patches. Its part of a
+// compose spec and of the compose stats.
+#include <vector>
+
+namespace fray::sim {
+
+// From `time` on the carrier runs toward this floor heading (rad, 0 = +Z,
+// straight at the goal line; the arrow on the floor).
+struct RunDirection {
+    double time = 0;
+    double heading = 0;
+};
+
+// Tacklers coming in turn, the goal line this far along +Z (m) from the
+// carrier's start, and the running direction over time.
+struct FootballSpec {
+    int tacklers = 5;
+    double goal = 40;
+    std::vector<RunDirection> directions;
+    // Two tacklers at once where a second tackle patch connects spatially to
+    // the chosen one (the carrier's very same run and cut, the two tacklers
+    // never meeting).
+    bool doubles = false;
+};
+
+struct FootballStats {
+    int graphJoined = 0;      // joined where the carrier's run continues in the motion graph
+    int secondTacklers = 0;   // second tacklers joined beside a patch by a spatial connection
+    int tacklersPassed = 0;   // tackles the carrier got away from
+    double goalReached = -1;  // when the carrier crossed the goal line (s), -1 never
+};
+
+}  // namespace fray::sim

@@ -1,0 +1,12 @@
+#pragma once
+// Luggage (SPEC 4.5): porters passing one item along, each recycled after
+// handing it on. Its part of a compose spec.
+
+namespace fray::sim {
+
+struct LuggageSpec {
+    int porters = 4;
+    int handoffs = 8;
+};
+
+}  // namespace fray::sim

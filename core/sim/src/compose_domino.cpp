@@ -1,0 +1,267 @@
+// Domino: falling bodies knock the next people over inside the painted area (SPEC 4.5).
+#include "compose_kinds.h"
+
+namespace fray::sim::detail {
+
+namespace {
+
+struct DominoComposer : KindComposer<DominoSpec, DominoStats> {
+    using KindComposer::KindComposer;
+
+    // ---- domino: falling bodies knock the next people over, inside the painted area.
+    struct Faller {
+        int c = 0;
+        double clipStart = 0;  // scene time of the clip's time 0
+        int action = 0;
+        RootXf root;           // placement of the clip's first frame
+        double offset = 0;     // clip time the fall started at
+        int patch = -1;        // the patch it fell in (as its character 2), -1: a start
+    };
+
+    // Stands character c in the guard from its first free moment until `until`,
+    // the last guard timed so that its clip is at `clipTimeAtEnd` then.
+    void standUntil(int c, const RootXf& at, double until, double clipTimeAtEnd) {
+        const double lastStart = until - clipTimeAtEnd;
+        auto holdAt = [&](double start, double end, double offset) {
+            append(c, hold, start, at * lib.rootAt(hold, 0).inverse(), offset, end);
+        };
+        double t = track(c).empty() ? 0.0 : freeAt(c);
+        while (t < lastStart - 1e-6) {
+            const double end = std::min(lastStart, t + act(hold).duration);
+            holdAt(t, end, 0.0);
+            t = end;
+        }
+        if (until > t + 1e-9) holdAt(t, until, std::max(0.0, clipTimeAtEnd - (until - t)));
+    }
+
+    // Share of the painted floor within DominoStats::kCoverRadius of a spot.
+    double coverage(const std::vector<glm::vec2>& fallers) const {
+        constexpr float kStep = 0.25f;
+        const glm::vec2 lo = own.floor.extentMin(), hi = own.floor.extentMax();
+        long painted = 0, covered = 0;
+        for (float z = lo.y + 0.5f * kStep; z < hi.y; z += kStep) {
+            for (float x = lo.x + 0.5f * kStep; x < hi.x; x += kStep) {
+                const glm::vec2 q(x, z);
+                if (!own.floor.paintedAt(q)) continue;
+                ++painted;
+                for (const glm::vec2& s : fallers) {
+                    if (glm::length(s - q) <= DominoStats::kCoverRadius) {
+                        ++covered;
+                        break;
+                    }
+                }
+            }
+        }
+        return painted > 0 ? static_cast<double>(covered) / static_cast<double>(painted) : 0.0;
+    }
+
+    Status run(const ProgressFn& progress) {
+        if (own.floor.empty()) return makeError("domino: no floor bitmap");
+        if (own.starts.empty()) return makeError("domino: no start (where the first person falls)");
+        std::vector<std::size_t> chainPatches;
+        std::vector<char> isChain(patches.patches.size(), 0);
+        for (std::size_t i = 0; i < patches.patches.size(); ++i) {
+            const auto& p = patches.patches[i];
+            const auto& pattern = patches.patterns[static_cast<std::size_t>(p.pattern)];
+            if (!allowed[i] || pattern.entries.empty() || !isReactiveAnnotation(pattern.entries[0].annotation) ||
+                pattern.entries[0].character != 0)
+                continue;
+            const bool pushes = std::any_of(p.hits.begin(), p.hits.end(), [](const HitEvent& h) { return h.attacker == 0 && !h.blocked; });
+            if (pushes) chainPatches.push_back(i), isChain[i] = 1;
+        }
+        if (chainPatches.empty()) return makeError("domino: the patch library has no patch where a falling body knocks someone over (generate the fall-fall pattern)");
+        std::vector<Print> prints;     // per character: where it stands and falls
+        std::vector<glm::vec2> spots;  // per character: where it stands
+        std::vector<Faller> queue;
+        auto byTime = [](const Faller& a, const Faller& b) { return a.clipStart > b.clipStart; };
+        std::uniform_real_distribution<double> unit(0.0, 1.0);
+        for (std::size_t k = 0; k < own.starts.size(); ++k) {
+            const auto& st = own.starts[k];
+            if (!own.floor.paintedAt(st.pos)) {
+                return makeError("domino: start " + std::to_string(k) + " at (" + std::to_string(st.pos.x) + ", " +
+                                 std::to_string(st.pos.y) + ") is not on the painted area");
+            }
+            const Patch& p = patches.patches[chainPatches[static_cast<std::size_t>(rng() % chainPatches.size())]];
+            const int action = p.tracks[0].front().action;
+            RootXf at;
+            at.pos = st.pos;
+            at.heading = wrapAngle(unit(rng) * 2 * std::numbers::pi);
+            const int c = addCharacter("person-" + std::to_string(scene.characters.size() + 1), 0);
+            standUntil(c, at, st.time, 0.0);
+            const RootXf root = at * lib.rootAt(action, 0).inverse();
+            append(c, action, st.time, root);
+            Print first = footprint(p, 0, root * p.tracks[0].front().root.inverse());
+            first.add(standingBox(at.pos));
+            prints.push_back(first);
+            spots.push_back(at.pos);
+            queue.push_back({c, st.time, action, root, 0.0, -1});
+            std::push_heap(queue.begin(), queue.end(), byTime);
+        }
+        constexpr int kBranch = 3;
+        while (!queue.empty() && static_cast<int>(scene.characters.size()) < own.maxCharacters) {
+            std::pop_heap(queue.begin(), queue.end(), byTime);
+            const Faller f = queue.back();
+            queue.pop_back();
+            // What the faller can knock over next: where it fell in a patch,
+            // the chain patches spatially connected to it through the faller
+            // (SPEC 4.3: it plays the same fall on, and the new victim never
+            // meets whoever pushed it); a start, any chain patch that begins
+            // with its fall. With the patch time from which the fall is the faller's.
+            std::vector<std::pair<std::size_t, double>> next;
+            if (f.patch >= 0) {
+                for (const auto& l : patches.spatial[static_cast<std::size_t>(f.patch)]) {
+                    if (l.sharedA == 1 && l.sharedB == 0 && isChain[static_cast<std::size_t>(l.to)]) next.emplace_back(l.to, l.from);
+                }
+                std::sort(next.begin(), next.end());
+            } else {
+                for (std::size_t idx : chainPatches) {
+                    if (patches.patches[idx].tracks[0].front().action == f.action) next.emplace_back(idx, f.offset);
+                }
+            }
+            for (int child = 0; child < kBranch && static_cast<int>(scene.characters.size()) < own.maxCharacters; ++child) {
+                int best = -1;
+                double bestS = -std::numeric_limits<double>::max();
+                for (const auto& [idx, from] : next) {
+                    const Patch& p = patches.patches[idx];
+                    const HitEvent& hit = *std::find_if(p.hits.begin(), p.hits.end(), [](const HitEvent& h) { return h.attacker == 0; });
+                    if (hit.time < from + 0.05) continue;  // the fall is already past that point
+                    const RootXf xf = f.root * p.tracks[0].front().root.inverse();
+                    const glm::vec2 q = (xf * p.tracks[1].front().placementAt(lib, 0)).pos;
+                    if (!own.floor.paintedAt(q)) continue;
+
+                    Print print = footprint(p, 1, xf);
+                    print.add(standingBox(q));
+                    bool clear = true;
+                    for (std::size_t o = 0; o < prints.size() && clear; ++o) {
+                        // Boxes around bodies are generous: they must overlap by 0.15 m to count.
+                        if (static_cast<int>(o) != f.c) clear = !prints[o].overlaps(print, -0.15f);
+                    }
+                    if (!clear) continue;
+                    int near = 0;
+                    for (const auto& sp : spots) near += glm::length(sp - q) < 1.5f ? 1 : 0;
+                    const double sc = score(idx, near, 0);
+                    if (sc > bestS) bestS = sc, best = static_cast<int>(idx);
+                }
+                if (best < 0) break;
+                const Patch& p = patches.patches[static_cast<std::size_t>(best)];
+                const HitEvent hit = *std::find_if(p.hits.begin(), p.hits.end(), [](const HitEvent& h) { return h.attacker == 0; });
+                const RootXf xf = f.root * p.tracks[0].front().root.inverse();
+                const RootXf standing = xf * p.tracks[1].front().placementAt(lib, 0);
+                const double tHit = f.clipStart + hit.time;
+                const int n = addCharacter("person-" + std::to_string(scene.characters.size() + 1), 0);
+                // It stands in the guard, at the clip time the patch had when the body hit it.
+                const double holdTime = hit.time - p.tracks[1].front().start;
+                standUntil(n, standing, tHit, holdTime);
+                const auto& reaction = *std::find_if(p.tracks[1].begin(), p.tracks[1].end(), [](const ActionInstance& i) { return i.forced; });
+                ActionInstance fall = reaction;
+                fall.start = tHit;
+                fall.end = tHit + (reaction.end - reaction.start);
+                fall.root = xf * reaction.root;
+                track(n).push_back(fall);
+                HitEvent h = hit;
+                h.time = tHit, h.attacker = f.c, h.defender = n, h.attackAction = f.action;
+                scene.hits.push_back(h);
+                Print print = footprint(p, 1, xf);
+                print.add(standingBox(standing.pos));
+                prints.push_back(print);
+                spots.push_back(standing.pos);
+                used(static_cast<std::size_t>(best));
+                ++ownStats.chainFalls;
+                ownStats.spatialFalls += f.patch >= 0 ? 1 : 0;
+                queue.push_back({n, tHit - reaction.offset, reaction.action, fall.root, reaction.offset, best});
+                std::push_heap(queue.begin(), queue.end(), byTime);
+            }
+            if (!reportProgress(progress, std::min(1.0, static_cast<double>(scene.characters.size()) / own.maxCharacters), "compose")) {
+                return cancelled();
+            }
+        }
+        ownStats.paintedCoverage = coverage(spots);
+        scene.floor = own.floor;  // the viewers draw the painted area
+        // Bystanders outside the painted area, clear of every fall.
+        const glm::vec2 lo = own.floor.extentMin(), hi = own.floor.extentMax();
+        for (int b = 0, tries = 0; b < own.background && tries < 200 * own.background; ++tries) {
+            const float ux = static_cast<float>(unit(rng)), uz = static_cast<float>(unit(rng));
+            const glm::vec2 q(lo.x + ux * (hi.x - lo.x), lo.y + uz * (hi.y - lo.y));
+            if (own.floor.paintedAt(q)) continue;
+            Print box;
+            box.add(standingBox(q));
+            bool clear = true;
+            for (const auto& pr : prints) clear = clear && !pr.overlaps(box, 0.3f);
+            if (!clear) continue;
+            RootXf at;
+            at.pos = q;
+            at.heading = wrapAngle(unit(rng) * 2 * std::numbers::pi);
+            const int c = addCharacter("bystander-" + std::to_string(b + 1), 1);
+            append(c, hold, 0.0, at * lib.rootAt(hold, 0).inverse());
+            prints.push_back(box);
+            spots.push_back(q);
+            ++b;
+        }
+        // Everyone still standing stays until the last one has fallen.
+        double end = 0;
+        for (int c = 0; c < static_cast<int>(scene.characters.size()); ++c) end = std::max(end, freeAt(c));
+        for (int c = 0; c < static_cast<int>(scene.characters.size()); ++c) {
+            if (!act(track(c).back().action).is(kReactive)) waitUntil(c, end);
+        }
+        return {};
+    }
+};
+
+Status parseDomino(const prep::JsonReader& rd, const Json& j, DominoSpec& s) {
+    if (auto f = rd.field(j, "", "floor", false); !f) return f.error();
+    else if (*f) {
+        const Json& fl = **f;
+        if (!fl.is_object()) return rd.error("/floor", "must be an object {bitmap, metres_per_pixel, origin}");
+        FRAY_TRY(file, rd.stringAt(fl, "/floor", "bitmap"));
+        if (file.empty()) return rd.error("/floor/bitmap", "must name a PNG file");
+        s.floorFile = file;
+        if (auto m = rd.field(fl, "/floor", "metres_per_pixel", false); !m) return m.error();
+        else if (*m) {
+            FRAY_TRY(x, rd.number(**m, "/floor/metres_per_pixel"));
+            if (!(x > 0.001) || x > 10) return rd.error("/floor/metres_per_pixel", "must be in (0.001, 10]");
+            s.metresPerPixel = x;
+        }
+        if (auto o = rd.field(fl, "/floor", "origin", false); !o) return o.error();
+        else if (*o) {
+            if (!(*o)->is_array() || (*o)->size() != 2) return rd.error("/floor/origin", "must be [x, z]");
+            FRAY_TRY(x, rd.number((**o)[0], "/floor/origin/0"));
+            FRAY_TRY(z, rd.number((**o)[1], "/floor/origin/1"));
+            if (std::fabs(x) > 1e4 || std::fabs(z) > 1e4) return rd.error("/floor/origin", "is too far out");
+            s.floorOrigin = glm::vec2(static_cast<float>(x), static_cast<float>(z));
+        }
+    }
+    if (auto f = rd.field(j, "", "starts", false); !f) return f.error();
+    else if (*f) {
+        if (!(*f)->is_array()) return rd.error("/starts", "must be an array of {time, x, z}");
+        for (std::size_t i = 0; i < (*f)->size(); ++i) {
+            const std::string p = "/starts/" + std::to_string(i);
+            const Json& st = (**f)[i];
+            if (!st.is_object()) return rd.error(p, "must be an object {time, x, z}");
+            FRAY_TRY(t, rd.numberAt(st, p, "time"));
+            FRAY_TRY(x, rd.numberAt(st, p, "x"));
+            FRAY_TRY(z, rd.numberAt(st, p, "z"));
+            if (t < 0 || t > 3600) return rd.error(p + "/time", "must be in [0, 3600] seconds");
+            if (std::fabs(x) > 1e4 || std::fabs(z) > 1e4) return rd.error(p, "is too far out");
+            s.starts.push_back({t, glm::vec2(static_cast<float>(x), static_cast<float>(z))});
+        }
+    }
+    if (auto st = optionalInt(rd, j, "background", 0, 10000, s.background); !st) return st.error();
+    return optionalInt(rd, j, "max_characters", 1, 100000, s.maxCharacters);
+}
+
+Status checkDomino(const prep::JsonReader& rd, const DominoSpec& s) {
+    if (s.floorFile.empty()) return rd.error("/floor", "a domino scene needs a floor bitmap (the painted area where people fall)");
+    if (s.starts.empty()) return rd.error("/starts", "a domino scene needs at least one start (where the first person falls)");
+    return {};
+}
+
+constexpr const char* kFields[] = {"floor", "starts", "background", "max_characters"};
+
+}  // namespace
+
+const SceneKindModule& dominoKind() {
+    static const SceneKindModule kind = kindModule<DominoComposer, DominoSpec, parseDomino, checkDomino>(SceneKind::Domino, "domino", true, kFields);
+    return kind;
+}
+
+}  // namespace fray::sim::detail

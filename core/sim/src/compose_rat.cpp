@@ -1,0 +1,607 @@
+// The rat scene: people step out of the way of a rat and bump into their neighbours (SPEC 4.5).
+#include <set>
+
+#include <tbb/parallel_for.h>
+
+#include "compose_kinds.h"
+
+namespace fray::sim::detail {
+
+// Also serves ratAvoidPatches (below).
+struct RatComposer : KindComposer<RatSpec, RatStats> {
+    using KindComposer::KindComposer;
+
+    // ---- rat: people step out of the way of a rat running along the user's
+    // trajectory (SPEC 4.5), and bump into their neighbours doing so. The rat
+    // is a one-joint creature with no captured actions, so its {run, AVOID}
+    // patches are generated here for the scene's rat speed (makeRatPatches),
+    // not read from the project's patch library. A bump pushes the neighbour
+    // into the forced reaction that best matches its posture and the push,
+    // the response rule of patch generation ({any, AVOID, PUSHED}), applied
+    // where the neighbours actually stand.
+    struct Bystander {
+        glm::vec2 spot{0.0f};
+        RootXf at;                           // standing placement
+        double passTime = 0, passDistance = 1e9;  // the rat's closest approach
+        bool near = false;
+        std::vector<ActionInstance> plan;    // empty: stands all along
+    };
+
+    static double distanceToPolyline(glm::vec2 p, const std::vector<glm::vec2>& line) {
+        double best = std::numeric_limits<double>::max();
+        for (std::size_t i = 0; i + 1 < line.size(); ++i) best = std::min(best, distanceToSegment(p, line[i], line[i + 1]));
+        return best;
+    }
+
+    // The rat's keys: it waits at the first point until ratStart, then runs
+    // the polyline at ratSpeed, facing along it (corners rounded over 0.3 m).
+    std::vector<RootKey> ratKeys() const {
+        const auto& P = own.ratPath;
+        std::vector<double> cum{0.0};
+        for (std::size_t i = 0; i + 1 < P.size(); ++i) cum.push_back(cum.back() + static_cast<double>(glm::length(P[i + 1] - P[i])));
+        const double length = cum.back();
+        auto at = [&](double s) {
+            s = std::clamp(s, 0.0, length);
+            std::size_t i = static_cast<std::size_t>(std::upper_bound(cum.begin(), cum.end(), s) - cum.begin());
+            i = std::clamp<std::size_t>(i, 1, P.size() - 1);
+            const double seg = cum[i] - cum[i - 1];
+            const float u = seg > 0 ? static_cast<float>((s - cum[i - 1]) / seg) : 0.0f;
+            return P[i - 1] + u * (P[i] - P[i - 1]);
+        };
+        std::vector<RootKey> keys;
+        double heading = 0;
+        auto key = [&](double t, double s) {
+            const glm::vec2 d = at(s + 0.15) - at(s - 0.15);
+            if (glm::length(d) > 1e-4f) heading = angleOf(d);
+            keys.push_back({t, {at(s), heading}});
+        };
+        if (own.ratStart > 0) key(0.0, 0.0);
+        constexpr double kKeyStep = 0.1;  // s
+        const int steps = static_cast<int>(std::ceil(length / own.ratSpeed / kKeyStep));
+        for (int k = 0; k <= steps; ++k) {
+            const double s = std::min(length, k * kKeyStep * own.ratSpeed);
+            key(own.ratStart + s / own.ratSpeed, s);
+        }
+        return keys;
+    }
+
+    // The body of someone following `plan` (or standing at `at` when it is empty) at time t.
+    detail::BodyPose bodyIn(const std::vector<ActionInstance>& plan, const RootXf& at, double t) const {
+        if (plan.empty()) {
+            const double tau = std::fmod(std::max(t, 0.0), act(hold).duration);
+            return {hold, tau, at * lib.rootAt(hold, 0).inverse()};
+        }
+        const auto& inst = plan[static_cast<std::size_t>(instanceIndexAt(plan, t))];
+        return {inst.action, inst.clipTimeAt(t), inst.root};
+    }
+
+    // The floor boxes of the feet and shins of someone following `plan`
+    // (standing at `at` when it is empty) at every sample from 0.6 s before
+    // the rat's closest approach `pass` to 0.6 s after it.
+    using FootBoxes = std::vector<std::array<SweptBox, 4>>;
+    FootBoxes footBoxes(const std::vector<ActionInstance>& plan, const RootXf& at, double pass) const {
+        FootBoxes out;
+        for (double t = pass - 0.6; t <= pass + 0.6; t += 1.0 / kSampleRate) {
+            const detail::BodyPose body = bodyIn(plan, at, t);
+            const Obb* boxes = lib.boxesAt(body.action, lib.sampleAt(body.action, body.tau));
+            auto& feet = out.emplace_back();
+            int k = 0;
+            for (int seg : {kLeftFoot, kRightFoot, kLeftShin, kRightShin}) feet[static_cast<std::size_t>(k++)] = floorBox(boxes[seg].placed(body.root));
+        }
+        return out;
+    }
+
+    // Closest the rat's body (ratAt(t): its root) comes to those boxes (m;
+    // negative: it runs into them). Stops as soon as it is below `enough`.
+    template <class RatAt>
+    static double clearanceOf(const FootBoxes& feet, RatAt&& ratAt, double pass, double enough = -1e9) {
+        double best = std::numeric_limits<double>::max();
+        double t = pass - 0.6;
+        for (const auto& sample : feet) {
+            const RootXf r = ratAt(t);
+            const glm::vec2 fwd = headingVector(r.heading);
+            for (const SweptBox& box : sample) {
+                for (float along : {0.0f, 0.5f, 1.0f}) {
+                    const double d = static_cast<double>(rectDistance(box, r.pos + fwd * (along * kRatLength))) - 0.04;  // the rat's girth
+                    best = std::min(best, d);
+                }
+            }
+            if (best < enough) break;
+            t += 1.0 / kSampleRate;
+        }
+        return best;
+    }
+
+    // Closest the rat's body comes to the feet and shins of someone following
+    // `plan` while it passes them (m; negative: it runs into them).
+    double ratClearance(const Bystander& b, const std::vector<ActionInstance>& plan) const {
+        return clearanceOf(footBoxes(plan, b.at, b.passTime), [&](double t) { return creatureAt(ratBody, t); }, b.passTime);
+    }
+
+    // Ways out of the rat's path: an avoid or a step that can start from
+    // standing, alone or followed by a second one that continues it in the
+    // motion graph (a guard step moves 0.3 m; two get the feet clear of a
+    // rat running right under someone). One representative per variant
+    // class and start node. False when there are none.
+    static constexpr const char* kNoWays = "rat: the project has no avoid or step action (people need one to get out of the rat's way)";
+    bool findWays() {
+        std::map<std::pair<int, int>, int> reps;
+        for (int a = 0; a < lib.size(); ++a) {
+            const auto& A = act(a);
+            if (!A.is(kAvoid | kStep) || A.is(kReactive | kAttack | kRun | kWalk) || A.has("carry")) continue;
+            reps.emplace(std::make_pair(lib.variantClass()[static_cast<std::size_t>(a)], lib.startNode()[static_cast<std::size_t>(a)]), a);
+        }
+        ways.clear();
+        for (int pass = 0; pass < 2 && ways.empty(); ++pass) {
+            for (const auto& [key, a] : reps) {
+                if (pass == 0 && !lib.continuesInto(hold, a)) continue;
+                ways.push_back({a});
+                for (const auto& [key2, b] : reps) {
+                    if (lib.continuesInto(a, b) && glm::length(act(b).end.pos) > 0.1f) ways.push_back({a, b});
+                }
+            }
+        }
+        return !ways.empty();
+    }
+
+    // {run, AVOID} patches (SPEC 4.5, the rat scene's third PatternList): the
+    // rat runs straight at the scene's speed past someone standing in the
+    // guard `lateral` m to the side of its line (positive: on its left) and
+    // turned `facing` from its heading; every way out, started `lead` s
+    // before the rat's closest approach, that keeps the rat clear of the feet
+    // and shins is a patch. The initial conditions are the SPEC grid (0.2 m,
+    // 20 degrees, 0.1 s). The rat has no captured actions to make patches
+    // from, so its run is made for the scene's speed and the table is
+    // generated per scene (in parallel; each cell on its own, so the same
+    // table every time). The composer looks each bystander up in it.
+    struct RatPatch {
+        int way = 0;           // index into `ways`
+        double lead = 0;       // s
+        double clearance = 0;  // m, against the straight rat
+        double score() const { return std::min(clearance, 0.25) - 0.01 * lead; }  // clear by a safe margin, at the last moment
+    };
+    static constexpr double kRatLateralStep = 0.2, kRatLeadStep = 0.1;
+    static constexpr int kRatFacings = 18;  // 20 degrees apart
+    int ratLaterals = 0;                    // cells either side of the line
+    std::vector<std::vector<RatPatch>> ratTable;  // per (lateral, facing) cell, best first
+    std::vector<std::vector<int>> ways;      // ways out: one or two avoiding or stepping actions
+
+    static glm::vec2 leftOf(double heading) { return headingVector(heading + 0.5 * std::numbers::pi); }
+    static double ratFacingAt(int f) { return wrapAngle((f - kRatFacings / 2) * 2 * std::numbers::pi / kRatFacings); }
+    std::size_t ratCell(int lateral, int facing) const {
+        return static_cast<std::size_t>((lateral + ratLaterals) * kRatFacings + facing);
+    }
+
+    void makeRatPatches() {
+        ratLaterals = static_cast<int>(std::ceil(own.reach / kRatLateralStep - 1e-9)) + 1;  // a cell beyond reach, to look up either side
+        ratTable.assign(static_cast<std::size_t>((2 * ratLaterals + 1) * kRatFacings), {});
+        constexpr double kPass = 3.0;  // patch time of the rat's closest approach
+        tbb::parallel_for(0, kRatFacings, [&](int f) {
+            const RootXf at{glm::vec2(0.0f), ratFacingAt(f)};
+            for (std::size_t w = 0; w < ways.size(); ++w) {
+                const auto& way = ways[w];
+                const RootXf root = at * lib.rootAt(way.front(), 0).inverse();
+                double duration = 0;
+                for (int a : way) duration += act(a).duration;
+                for (int k = 1; k * kRatLeadStep <= std::min(duration + 0.6, kPass - 0.2) + 1e-9; ++k) {
+                    const double lead = k * kRatLeadStep;
+                    const FootBoxes feet = footBoxes(planMove(at, kPass - lead, way, 0.0, root, false, kPass + 1.0), at, kPass);
+                    for (int l = -ratLaterals; l <= ratLaterals; ++l) {
+                        // The person stands l * 0.2 m to the left of the rat's line.
+                        const glm::vec2 line = -static_cast<float>(l * kRatLateralStep) * leftOf(0.0);
+                        const double clear = clearanceOf(
+                            feet, [&](double t) { return RootXf{line + headingVector(0.0) * static_cast<float>(own.ratSpeed * (t - kPass)), 0.0}; },
+                            kPass, kRatClear);
+                        if (clear >= kRatClear) ratTable[ratCell(l, f)].push_back({static_cast<int>(w), lead, clear});
+                    }
+                }
+            }
+        });
+        for (auto& cell : ratTable) {
+            std::stable_sort(cell.begin(), cell.end(), [](const RatPatch& a, const RatPatch& b) { return a.score() > b.score(); });
+            ownStats.ratPatches += static_cast<int>(cell.size());
+        }
+    }
+
+    // The patches of the cells nearest a bystander's configuration (the two
+    // nearest lateral offsets by the two nearest facings), each way and lead once.
+    std::vector<RatPatch> ratCandidates(const Bystander& b) const {
+        const RootXf r = creatureAt(ratBody, b.passTime);
+        const double lateral = static_cast<double>(glm::dot(b.spot - r.pos, leftOf(r.heading))) / kRatLateralStep;
+        const double facing = (wrapAngle(b.at.heading - r.heading) + std::numbers::pi) / (2 * std::numbers::pi / kRatFacings);
+        const int l0 = static_cast<int>(std::floor(lateral)), f0 = static_cast<int>(std::floor(facing));
+        std::vector<RatPatch> out;
+        std::set<std::pair<int, double>> seen;  // (way, lead): the cells share the 0.1 s lead grid exactly
+        for (int l : {l0, l0 + 1}) {
+            if (l < -ratLaterals || l > ratLaterals) continue;
+            for (int f : {f0, f0 + 1}) {
+                for (const RatPatch& p : ratTable[ratCell(l, ((f % kRatFacings) + kRatFacings) % kRatFacings)]) {
+                    if (seen.emplace(p.way, p.lead).second) out.push_back(p);
+                }
+            }
+        }
+        return out;
+    }
+
+    // When a plan moves the body: from its first action that is not an idle
+    // to the end of its last one; {+inf, -inf} for someone who only stands.
+    std::pair<double, double> movingWindow(const std::vector<ActionInstance>& plan) const {
+        std::pair<double, double> w{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+        for (const auto& inst : plan) {
+            if (act(inst.action).is(kIdle)) continue;
+            w.first = std::min(w.first, inst.start);
+            w.second = std::max(w.second, inst.end);
+        }
+        return w;
+    }
+
+    // First time someone following `plan` from `from` to `until` touches
+    // another bystander's body: {who, when}; {-1, 0} when nobody. Two people
+    // standing still do not start touching, so once this plan has settled only
+    // the others' moving windows are sampled.
+    std::pair<int, double> firstTouch(const std::vector<Bystander>& crowd, std::size_t self, const std::vector<ActionInstance>& plan,
+                                      double from, double until, std::size_t ignore = SIZE_MAX) const {
+        constexpr float kShrink = 0.82f;  // as the composer's penetration test
+        constexpr double dt = 1.0 / kSampleRate;
+        std::vector<std::size_t> close;
+        for (std::size_t o = 0; o < crowd.size(); ++o) {
+            if (o != self && o != ignore && glm::length(crowd[o].spot - crowd[self].spot) < 3.0f) close.push_back(o);
+        }
+        auto touches = [&](std::size_t o, double t) {
+            return detail::coreBodiesOverlap(lib, bodyIn(plan, crowd[self].at, t), bodyIn(crowd[o].plan, crowd[o].at, t), kShrink);
+        };
+        const double settle = std::min(until, std::max(from, movingWindow(plan).second) + dt);
+        for (double t = from; t <= settle + 1e-9; t += dt) {
+            for (std::size_t o : close) {
+                if (touches(o, t)) return {static_cast<int>(o), t};
+            }
+        }
+        std::pair<int, double> first{-1, std::numeric_limits<double>::infinity()};
+        for (std::size_t o : close) {
+            const auto [w0, w1] = movingWindow(crowd[o].plan);
+            for (double t = std::max(settle, w0 - dt); t <= std::min({until, w1 + dt, first.second}) + 1e-9; t += dt) {
+                if (touches(o, t)) {
+                    first = {static_cast<int>(o), t};
+                    break;
+                }
+            }
+        }
+        return first.first >= 0 ? first : std::pair<int, double>{-1, 0.0};
+    }
+
+    // Stands in the guard at `at` from 0 until `until` (the clip from its start each time round).
+    std::vector<ActionInstance> standing(const RootXf& at, double until) const {
+        std::vector<ActionInstance> plan;
+        const RootXf root = at * lib.rootAt(hold, 0).inverse();
+        for (double t = 0; t < until - 1e-6;) {
+            const double end = std::min(until, t + act(hold).duration);
+            plan.push_back({hold, t, 0.0, end, root, false, false});
+            t = end;
+        }
+        return plan;
+    }
+
+    // Stands until `from`, plays `actions` one after another (the first from
+    // clip time `offset`, placed at `root`), then stands where they leave off until `until`.
+    std::vector<ActionInstance> planMove(const RootXf& at, double from, const std::vector<int>& actions, double offset,
+                                         const RootXf& root, bool forced, double until) const {
+        std::vector<ActionInstance> plan = standing(at, from);
+        double t = from;
+        RootXf place = root;
+        for (std::size_t k = 0; k < actions.size(); ++k) {
+            const double off = k == 0 ? offset : 0.0;
+            const double end = t + act(actions[k]).duration - off;
+            plan.push_back({actions[k], t, off, end, place, forced && k == 0, false});
+            place = place * act(actions[k]).end;
+            t = end;
+        }
+        const int idle = idleAfter(actions.back());
+        while (t < until - 1e-6) {
+            const double e = std::min(until, t + act(idle).duration);
+            plan.push_back({idle, t, 0.0, e, place * lib.rootAt(idle, 0).inverse(), false, false});
+            t = e;
+        }
+        return plan;
+    }
+
+    // Someone pushed into a reaction: by a bystander (index) or the rat (SIZE_MAX), when, and their new plan.
+    struct Push {
+        std::size_t who = 0, by = SIZE_MAX;
+        double time = 0;
+        std::vector<ActionInstance> plan;
+    };
+
+    // Pushes bystander q at time t away from `pusher` (bystander `by`, or the
+    // rat when SIZE_MAX): the forced reaction matching its posture and the
+    // push. Its neighbours may be pushed on in turn (depth levels). Returns the
+    // changed plans, or nothing when the push would put anyone in the rat's
+    // way or into someone who is already moving.
+    std::optional<std::vector<Push>> push(const std::vector<Bystander>& crowd, std::size_t q, std::size_t by, const RootXf& pusher,
+                                          double t, double until, int depth) const {
+        const Bystander& b = crowd[q];
+        if (!b.plan.empty()) return std::nullopt;  // it has moved, or will: its plan stands
+        // Near the trajectory and not yet out of the way: it must get out of
+        // the way itself before the rat has passed (pushed later, it would
+        // have stood in the rat's way).
+        if (by != SIZE_MAX && b.near && t >= b.passTime + 0.6) return std::nullopt;
+        const detail::BodyPose body = bodyIn(b.plan, b.at, t);
+        const auto reaction = rules->react({body.action, t, body.tau, body.root}, pusher, t, false, pushedPool);
+        if (reaction.action < 0) return std::nullopt;
+        auto plan = planMove(b.at, t, {reaction.action}, reaction.offset, reaction.root, true, until);
+        // Pushed by someone else, it must not reel into the rat's way (pushed by the rat, it is in it).
+        if (by != SIZE_MAX && b.near && t < b.passTime + 0.6 && ratClearance(b, plan) < kRatClear) return std::nullopt;
+        std::vector<Push> changes;
+        auto trial = crowd;
+        trial[q].plan = plan;
+        const double settled = until;  // both stand still afterwards: touching later counts too
+        const auto [other, when] = firstTouch(trial, q, plan, t, settled, by);
+        if (other >= 0) {
+            if (depth <= 0) return std::nullopt;
+            const detail::BodyPose mine = bodyIn(plan, b.at, when);
+            auto more = push(trial, static_cast<std::size_t>(other), q, mine.root * lib.rootAt(mine.action, mine.tau), when,
+                             until, depth - 1);
+            if (!more) return std::nullopt;
+            for (const auto& m : *more) trial[m.who].plan = m.plan;
+            if (firstTouch(trial, q, plan, when, settled, static_cast<std::size_t>(other)).first >= 0) return std::nullopt;
+            if (firstTouch(trial, q, plan, when + kContactWindow, settled, by).first >= 0) return std::nullopt;
+            changes = std::move(*more);
+        }
+        changes.push_back({q, by, t, std::move(plan)});
+        return changes;
+    }
+
+    // Takes a push into the crowd's plans (and the log of contacts).
+    void commit(std::vector<Bystander>& crowd, Push&& m, std::vector<Push>& log) {
+        Bystander& o = crowd[m.who];
+        o.plan = m.plan;
+        if (m.by != SIZE_MAX) ++ownStats.bumps;
+        log.push_back(std::move(m));
+    }
+
+    static constexpr double kRatClear = 0.08;
+    static constexpr double kContactWindow = 0.2;  // s a bump may keep two bodies touching (MetricsOptions::hitWindow)  // m between the rat and an avoider's feet and shins
+    std::optional<detail::InteractionEngine> rules;  // forced reactions of the pushed
+    int pushedPool = 0;
+    SceneCharacter ratBody;  // the rat's keys
+
+    Status run(const ProgressFn& progress) {
+        ratBody.body = "rat";
+        ratBody.keys = ratKeys();
+        const auto& keys = ratBody.keys;
+        const double ratEnd = keys.back().time;
+        const double until = ratEnd + 2.0;  // reactions and steps settle
+        std::vector<int> pushed;
+        for (int a = 0; a < lib.size(); ++a) {
+            if (act(a).is(kPushed) && !act(a).is(kFalling)) pushed.push_back(a);
+        }
+        if (pushed.empty()) {
+            for (int a = 0; a < lib.size(); ++a) {
+                if (act(a).is(kPushed)) pushed.push_back(a);
+            }
+        }
+        pushedPool = rules.emplace(lib).addPool(pushed);
+        if (!findWays()) return makeError(kNoWays);
+        makeRatPatches();
+
+        // The crowd: people standing within `band` of the trajectory, `spacing` apart.
+        std::vector<Bystander> crowd;
+        glm::vec2 lo = own.ratPath.front(), hi = lo;
+        for (const auto& p : own.ratPath) lo = glm::min(lo, p), hi = glm::max(hi, p);
+        const auto band = static_cast<float>(own.band);
+        lo -= glm::vec2(band), hi += glm::vec2(band);
+        std::uniform_real_distribution<double> unit(0.0, 1.0);
+        for (int tries = 0; static_cast<int>(crowd.size()) < own.crowd && tries < 400 * own.crowd; ++tries) {
+            const glm::vec2 q(lo.x + static_cast<float>(unit(rng)) * (hi.x - lo.x), lo.y + static_cast<float>(unit(rng)) * (hi.y - lo.y));
+            const double heading = wrapAngle(unit(rng) * 2 * std::numbers::pi);
+            if (distanceToPolyline(q, own.ratPath) > own.band) continue;
+            if (glm::length(q - own.ratPath.front()) < 1.5f) continue;  // not on the rat's hole
+            if (std::any_of(crowd.begin(), crowd.end(), [&](const Bystander& b) { return static_cast<double>(glm::length(b.spot - q)) < own.spacing; })) continue;
+            Bystander b;
+            b.spot = q;
+            b.at = {q, heading};
+            crowd.push_back(b);
+        }
+        if (crowd.empty()) return makeError("rat: nobody could stand near the trajectory (widen band or lower spacing)");
+        for (auto& b : crowd) {
+            for (double t = own.ratStart; t <= ratEnd + 1e-9; t += 0.02) {
+                const double d = static_cast<double>(glm::length(creatureAt(ratBody, t).pos - b.spot));
+                if (d < b.passDistance) b.passDistance = d, b.passTime = t;
+            }
+            b.near = b.passDistance < own.reach;
+            ownStats.ratNear += b.near ? 1 : 0;
+        }
+        std::vector<std::size_t> order;
+        for (std::size_t i = 0; i < crowd.size(); ++i) order.push_back(i);
+        std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return crowd[a].passTime < crowd[b].passTime; });
+
+        std::vector<Push> log;  // every push, for the scene's contacts
+        int done = 0;
+        for (std::size_t i : order) {
+            Bystander& b = crowd[i];
+            if (!reportProgress(progress, static_cast<double>(done++) / static_cast<double>(crowd.size()), "compose")) {
+                return cancelled();
+            }
+            if (!b.near || !b.plan.empty()) continue;  // far off, or already pushed out of the way
+            // The {run, AVOID} patches of the nearest configurations, placed
+            // where the person stands and tried against the rat's actual run
+            // (it may curve) and the neighbours: candidates minus colliding ones.
+            struct Option {
+                double score = -std::numeric_limits<double>::max();
+                std::vector<ActionInstance> plan;
+                double start = 0, clearance = 0;
+                std::vector<Push> pushes;
+            } best;
+            for (const RatPatch& patch : ratCandidates(b)) {
+                const auto& way = ways[static_cast<std::size_t>(patch.way)];
+                const double ts = b.passTime - patch.lead;
+                if (ts < 0.2) continue;
+                const RootXf root = b.at * lib.rootAt(way.front(), 0).inverse();
+                auto plan = planMove(b.at, ts, way, 0.0, root, false, until);
+                const double clear = ratClearance(b, plan);
+                if (clear < kRatClear) continue;
+                // Clear of the rat by a safe margin; bumping a neighbour as
+                // the spec likes it (0: avoid it, 1: seek it); the latest
+                // start (people react at the last moment).
+                const double bumpBonus = 0.2 * own.bumps - 0.05;
+                const double base = std::min(clear, 0.25) + 0.01 * (ts - b.passTime) + 1e-4 * unit(rng);
+                if (base + std::max(0.0, bumpBonus) <= best.score) continue;  // cannot win: skip the body tests
+                const double settled = until;  // everyone stands still afterwards: touching later counts too
+                const auto [other, when] = firstTouch(crowd, i, plan, ts, settled);
+                std::vector<Push> pushes;
+                if (other >= 0) {
+                    auto trial = crowd;
+                    trial[i].plan = plan;
+                    const detail::BodyPose mine = bodyIn(plan, b.at, when);
+                    auto chain = push(trial, static_cast<std::size_t>(other), i, mine.root * lib.rootAt(mine.action, mine.tau),
+                                      when, until, 1);
+                    if (!chain) continue;
+                    // With the pushed ones moving, the rest of the way out
+                    // touches nobody, the pushed one included once the
+                    // contact is over.
+                    for (const auto& m : *chain) trial[m.who].plan = m.plan;
+                    if (firstTouch(trial, i, plan, when, settled, static_cast<std::size_t>(other)).first >= 0) continue;
+                    if (firstTouch(trial, i, plan, when + kContactWindow, settled).first >= 0) continue;
+                    pushes = std::move(*chain);
+                }
+                const double score = base + (pushes.empty() ? 0.0 : bumpBonus);
+                if (score > best.score) best = {score, std::move(plan), ts, clear, std::move(pushes)};
+            }
+            if (!best.plan.empty()) {
+                b.plan = std::move(best.plan);
+                ++ownStats.ratAvoided;
+                ++stats.patchesUsed;
+                ownStats.ratClearance = ownStats.ratClearance < 0 ? best.clearance : std::min(ownStats.ratClearance, best.clearance);
+                for (auto& m : best.pushes) {
+                    if (crowd[m.who].near) ++ownStats.ratPushed;
+                    commit(crowd, std::move(m), log);
+                }
+                continue;
+            }
+            // No way out: it reels back as the rat runs into its feet (a push
+            // from the rat, a little before it arrives).
+            bool reeled = false;
+            for (double lead : {0.1, 0.3, 0.5}) {
+                const double t = std::max(0.2, b.passTime - lead);
+                auto chain = push(crowd, i, SIZE_MAX, creatureAt(ratBody, t), t, until, 1);
+                if (!chain) continue;
+                for (auto& m : *chain) commit(crowd, std::move(m), log);
+                reeled = true;
+                break;
+            }
+            ++(reeled ? ownStats.ratStartled : ownStats.ratRunOver);
+        }
+
+        // The timeline: the rat first, then everyone, standing where they have no plan.
+        auto& rat = scene.characters[static_cast<std::size_t>(addCharacter("rat", 1))];
+        rat.body = "rat";
+        rat.keys = keys;
+        rat.preset = "creature";
+        std::vector<int> index(crowd.size());
+        for (std::size_t k = 0; k < crowd.size(); ++k) {
+            auto& b = crowd[k];
+            const int c = addCharacter("person-" + std::to_string(k + 1), 0);
+            index[k] = c;
+            track(c) = b.plan.empty() ? standing(b.at, until) : b.plan;
+        }
+        // The bumps as contacts (who pushed whom, when), for metrics and viewers.
+        for (const auto& m : log) {
+            if (m.by == SIZE_MAX) continue;  // reeled back from the rat: no one pushed it
+            const detail::BodyPose pusher = bodyIn(crowd[m.by].plan, crowd[m.by].at, m.time);
+            HitEvent h;
+            h.time = m.time;
+            h.attacker = index[m.by];
+            h.defender = index[m.who];
+            h.attackAction = pusher.action;
+            h.effector = kTorso, h.target = kTorso;  // body against body
+            h.speed = 1.0;                           // a walking-pace shove (m/s)
+            h.impulse = detail::InteractionEngine::impulse(h.speed, kTorso);
+            scene.hits.push_back(h);
+        }
+        scene.marks.push_back({"trail", own.ratPath});
+        return {};
+    }
+};
+
+namespace {
+
+Status parseRat(const prep::JsonReader& rd, const Json& j, RatSpec& s) {
+    if (auto f = rd.field(j, "", "rat", false); !f) return f.error();
+    else if (*f) {
+        const Json& r = **f;
+        if (!r.is_object()) return rd.error("/rat", "must be an object {path, speed, start}");
+        for (auto it = r.begin(); it != r.end(); ++it) {
+            if (it.key() != "path" && it.key() != "speed" && it.key() != "start") return rd.error("/rat/" + it.key(), "unknown field");
+        }
+        FRAY_TRY(pf, rd.field(r, "/rat", "path"));
+        if (!pf->is_array()) return rd.error("/rat/path", "must be an array of [x, z] points (the rat's trajectory)");
+        if (pf->size() > 10000) return rd.error("/rat/path", "has more than 10000 points");
+        double length = 0;
+        for (std::size_t i = 0; i < pf->size(); ++i) {
+            const std::string p = "/rat/path/" + std::to_string(i);
+            const Json& q = (*pf)[i];
+            if (!q.is_array() || q.size() != 2) return rd.error(p, "must be [x, z]");
+            FRAY_TRY(x, rd.number(q[0], p + "/0"));
+            FRAY_TRY(z, rd.number(q[1], p + "/1"));
+            if (!(std::fabs(x) <= 1e4) || !(std::fabs(z) <= 1e4)) return rd.error(p, "is too far out");
+            const glm::vec2 v(static_cast<float>(x), static_cast<float>(z));
+            if (!s.ratPath.empty()) length += static_cast<double>(glm::length(v - s.ratPath.back()));
+            s.ratPath.push_back(v);
+        }
+        if (s.ratPath.size() < 2 || length < 0.5) {
+            return rd.error("/rat/path", "the rat's trajectory is empty: draw at least two points, 0.5 m apart or more");
+        }
+        if (auto st = optionalNumberIn(rd, r, "/rat", "speed", 0.3, 10, "m/s", s.ratSpeed, true); !st) return st.error();
+        if (auto st = optionalNumberIn(rd, r, "/rat", "start", 0, 600, "s", s.ratStart, true); !st) return st.error();
+    }
+    if (auto st = optionalInt(rd, j, "crowd", 1, 2000, s.crowd); !st) return st.error();
+    if (auto st = optionalNumber(rd, j, "band", 0, 100, "m", s.band); !st) return st.error();
+    if (auto st = optionalNumber(rd, j, "spacing", 0.5, 20, "m", s.spacing); !st) return st.error();
+    if (auto st = optionalNumber(rd, j, "reach", 0, 10, "m", s.reach); !st) return st.error();
+    if (auto f = rd.field(j, "", "bumps", false); !f) return f.error();
+    else if (*f) {
+        FRAY_TRY(x, rd.number(**f, "/bumps"));
+        if (!(x >= 0 && x <= 1)) return rd.error("/bumps", "must be in [0, 1] (0: people avoid bumping into each other, 1: they seek it)");
+        s.bumps = x;
+    }
+    return {};
+}
+
+Status checkRat(const prep::JsonReader& rd, const RatSpec& s) {
+    if (s.ratPath.empty()) return rd.error("/rat", "a rat scene needs the rat's trajectory: \"rat\": {\"path\": [[x, z], ...]}");
+    return {};
+}
+
+constexpr const char* kFields[] = {"rat", "crowd", "band", "spacing", "reach", "bumps"};
+
+}  // namespace
+
+const SceneKindModule& ratKind() {
+    static const SceneKindModule kind = kindModule<RatComposer, RatSpec, parseRat, checkRat>(SceneKind::Rat, "rat", false, kFields);
+    return kind;
+}
+
+}  // namespace fray::sim::detail
+
+namespace fray::sim {
+
+Result<std::vector<RatAvoidPatch>> ratAvoidPatches(const ActionLibrary& lib, const ComposeSpec& spec) {
+    using detail::RatComposer;
+    const PatchLibrary none;
+    ComposeStats st;
+    RatComposer c(lib, none, spec, st);
+    if (c.hold < 0) return makeError("the project has no idle action (characters need one to wait)");
+    if (!c.findWays()) return makeError(RatComposer::kNoWays);
+    c.makeRatPatches();
+    std::vector<RatAvoidPatch> out;
+    for (int l = -c.ratLaterals; l <= c.ratLaterals; ++l) {
+        for (int f = 0; f < RatComposer::kRatFacings; ++f) {
+            for (const auto& p : c.ratTable[c.ratCell(l, f)]) {
+                out.push_back({l * RatComposer::kRatLateralStep, RatComposer::ratFacingAt(f), c.ways[static_cast<std::size_t>(p.way)], p.lead,
+                               p.clearance});
+            }
+        }
+    }
+    return out;
+}
+
+}  // namespace fray::sim

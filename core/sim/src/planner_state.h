@@ -1,0 +1,203 @@
+#pragma once
+// Tree expansion's state and rules (SPEC 2): the group of characters at a
+// node, what happened between two nodes, the planning context shared by the
+// search, and the rules that advance a group from one node to the next
+// (hits and forced reactions through the interaction engine, catches,
+// checkpoints). planner_search.cpp holds the rules and the min-max search,
+// planner.cpp the legal choices and the scene loop. Internal to fray_sim.
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "fray/sim/planner.h"
+#include "interaction.h"
+
+namespace fray::sim::planner {
+
+inline constexpr int kRecent = 6;
+inline constexpr double kPenetrationStep = 1.0 / 15.0;  // s between body tests when pruning
+inline constexpr double kArenaMargin = 0.3;             // m: a pelvis this close to the arena's edge is outside
+inline constexpr double kArenaWeight = 1000;            // per m^2 beyond the arena's inner edge (F_comp)
+inline constexpr int kArenaLookAhead = 3;               // clips after a candidate searched for a way back in
+inline constexpr std::size_t kArenaBeam = 3;            // clips followed per look-ahead step
+inline constexpr double kMovementSeconds = 0.5;         // s: the action length whose movement terms weigh 1 (per-second scoring)
+inline constexpr double kCatchStep = 1.0 / 15.0;
+inline constexpr float kPenetrationShrink = 0.8f;       // grazing contact is not penetration
+inline constexpr float kPenetrationReach = 0.8f;        // m: two torsos are never wider apart
+inline constexpr double kReachMargin = 0.35;             // m beyond an attack's reach: the target's body depth and a lean
+
+struct CharState {
+    int action = 0;
+    double start = 0, offset = 0, end = 0;
+    RootXf root;
+    int checkpoint = 0;
+    bool attackDone = false;   // the current attack landed (one hit per attack)
+    bool caught = false;       // a catch was scored during the current action
+    bool reacting = false;     // in a forced reaction: cannot be hit again until it ends
+    // The names (Context::nameId) of its last actions, newest first: recency()
+    // is asked about every candidate of a node, an action starts once.
+    std::array<std::int16_t, kRecent> recent{};
+    std::int8_t recentCount = 0;
+};
+
+struct GroupState {
+    double time = 0;
+    int n = 0;
+    std::array<CharState, kMaxGroupSize> c{};
+};
+
+// What happened while a state advanced from one node to the next.
+struct Events {
+    std::array<double, kMaxGroupSize> givenShort{}, givenLong{}, received{};
+    std::array<int, kMaxGroupSize> catches{}, caught{};
+};
+
+struct Recorder {
+    Scene* scene = nullptr;
+    std::array<int, kMaxGroupSize> global{};
+    bool stop = false;  // stopOnCatch fired
+};
+
+struct Member {
+    int global = 0;
+    const CharacterSpec* spec = nullptr;
+    // Per library action: its Next() within this character's allowed set,
+    // reactive clips left out (SPEC 2.1's legal choices before pruning).
+    std::vector<std::vector<int>> legal;
+    // The same with one representative (the first) per variant class, for
+    // inside the tree (SimOptions::variants).
+    std::vector<std::vector<int>> folded;
+    int pool = 0;  // its reactive clips (spec->reactions) in the interaction engine
+};
+
+// Per library action: its Next() within the character's allowed set, reactive clips left out.
+std::vector<std::vector<int>> legalChoices(const ActionLibrary& lib, const CharacterSpec& spec);
+// The same with one representative per variant class.
+std::vector<std::vector<int>> foldVariants(const ActionLibrary& lib, const std::vector<std::vector<int>>& legal);
+
+struct Context {
+    const ActionLibrary* lib = nullptr;
+    const std::vector<float>* combo = nullptr;  // combo[mine * n + theirs]
+    int comboN = 0;
+    const SimOptions* opt = nullptr;
+    std::vector<Member> members;
+    bool cooperative = false;  // any cooperative weight: alpha-beta does not apply
+    const detail::InteractionEngine* engine = nullptr;  // hits and forced reactions
+    std::vector<int> nameId;             // per library action: its name's number (unnamed: a number of its own)
+    std::vector<RootXf> endAt;           // per library action: rootAt(action, duration)
+    std::vector<glm::vec2> endFacing;    // per library action: headingVector of endAt's heading
+    std::vector<double> maxHitSpeed;     // per library action: the fastest its effector lands (attacks; else 0)
+    // Per library action, from testPelvisBegin[action]: its pelvis in the
+    // clip's frame (rootAt(action, tau).pos) at the clip times the
+    // penetration test steps through, tau = 0, kPenetrationStep, ... (summed
+    // as that loop sums them) up to its duration. Every node tests its
+    // candidates at these same times.
+    std::vector<std::size_t> testPelvisBegin;
+    std::vector<glm::vec2> testPelvis;
+    bool duel = false;                   // two members on opposite sides: each one's opponent is the other
+    bool boundedFrontier = false;        // a duel scored by blows: frontier edges can be bounded (boundedFrontier)
+};
+
+struct Value {
+    double comp = 0, coop = 0;
+};
+
+struct Stats {
+    std::int64_t nodes = 0, leaves = 0, choices = 0, pruned = 0, cutoffs = 0;
+    std::int64_t shallower = 0;  // decisions taken at a lower depth than asked (budget)
+    std::int64_t budget = std::numeric_limits<std::int64_t>::max();  // leaves this search may visit
+    bool exhausted = false;
+    void add(const Stats& o) {
+        nodes += o.nodes, leaves += o.leaves, choices += o.choices, pruned += o.pruned, cutoffs += o.cutoffs;
+        shallower += o.shallower;
+    }
+};
+
+inline const LibraryAction& act(const Context& ctx, int a) { return ctx.lib->actions()[static_cast<std::size_t>(a)]; }
+inline const CharacterSpec& specOf(const Context& ctx, int i) { return *ctx.members[static_cast<std::size_t>(i)].spec; }
+
+inline double clipTime(const CharState& s, double t) { return s.offset + (t - s.start); }
+
+inline RootXf placement(const Context& ctx, const CharState& s, double t) {
+    return s.root * ctx.lib->rootAt(s.action, clipTime(s, t));
+}
+
+inline int chooserOf(const GroupState& g) {
+    int best = 0;
+    for (int i = 1; i < g.n; ++i) {
+        if (g.c[static_cast<std::size_t>(i)].end < g.c[static_cast<std::size_t>(best)].end) best = i;
+    }
+    return best;
+}
+
+inline bool enemies(const Context& ctx, int a, int b) { return specOf(ctx, a).side != specOf(ctx, b).side; }
+
+inline int opponentOf(const Context& ctx, const GroupState& g, int who, double t) {
+    if (ctx.duel) return 1 - who;
+    const int explicitOpp = specOf(ctx, who).opponent;
+    if (explicitOpp >= 0) {
+        for (int i = 0; i < g.n; ++i) {
+            if (ctx.members[static_cast<std::size_t>(i)].global == explicitOpp) return i;
+        }
+    }
+    // One enemy in the group (a duel): no need to measure.
+    int only = -1, enemiesFound = 0;
+    for (int i = 0; i < g.n; ++i) {
+        if (i != who && enemies(ctx, who, i)) only = i, ++enemiesFound;
+    }
+    if (enemiesFound <= 1) return only;
+    const glm::vec2 p = placement(ctx, g.c[static_cast<std::size_t>(who)], t).pos;
+    int best = -1;
+    float bestD = std::numeric_limits<float>::max();
+    for (int i = 0; i < g.n; ++i) {
+        if (i == who || !enemies(ctx, who, i)) continue;
+        const glm::vec2 d = placement(ctx, g.c[static_cast<std::size_t>(i)], t).pos - p;
+        const float dd = glm::dot(d, d);
+        if (dd < bestD) bestD = dd, best = i;
+    }
+    return best;
+}
+
+inline void pushRecent(const Context& ctx, CharState& s, int action) {
+    std::copy_backward(s.recent.begin(), s.recent.end() - 1, s.recent.end());
+    s.recent[0] = static_cast<std::int16_t>(ctx.nameId[static_cast<std::size_t>(action)]);
+    if (s.recentCount < kRecent) ++s.recentCount;
+}
+
+// How recently an action with the same name was used: 1 for the last one,
+// fading to 1/kRecent for the oldest remembered; 0 when not remembered.
+inline double recency(const Context& ctx, const CharState& s, int action) {
+    const int name = ctx.nameId[static_cast<std::size_t>(action)];
+    for (int k = 0; k < s.recentCount; ++k) {
+        if (s.recent[static_cast<std::size_t>(k)] == name) return 1.0 - static_cast<double>(k) / kRecent;
+    }
+    return 0.0;
+}
+
+inline void launch(const Context& ctx, GroupState& g, int who, int action, double t) {
+    auto& s = g.c[static_cast<std::size_t>(who)];
+    const RootXf endPlacement = s.root * act(ctx, s.action).end;
+    s.action = action;
+    s.start = t;
+    s.offset = 0;
+    s.end = t + act(ctx, action).duration;
+    s.root = endPlacement;
+    s.attackDone = false;
+    s.caught = false;
+    s.reacting = false;
+    pushRecent(ctx, s, action);
+}
+
+inline detail::Playing playing(const CharState& s) { return {s.action, s.start, s.offset, s.root}; }
+
+void updateCheckpoints(const Context& ctx, GroupState& g, double t);
+// Advances the group from its node time to the next node (the next moment a
+// character finishes its action), resolving hits (forced reactions) and catches.
+void advance(const Context& ctx, GroupState& g, Events& ev, Recorder* rec);
+
+// The real choice of the character due at g.time (min-max over `depth` decisions).
+int decide(const Context& ctx, const GroupState& g, int depth, Stats& stats, bool& fellBack);
+
+}  // namespace fray::sim::planner
