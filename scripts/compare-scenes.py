@@ -12,10 +12,12 @@ with the smaller settings of the test that plans every kind. The demo libraries
 are generated once, by BASE_CLI, and both builds plan from the same files.
 
 What is compared: every .frayscene and .patches file, byte for byte (a
-.patches file ends with the generation's wall-clock seconds, a double: those
-last 8 bytes are left out), and the text each command prints with its
-wall-clock times ("; 1.234 s", "8.67 s wall clock (2.3x real time)") and the
-output folder removed.
+version-3 .patches file ends with the generation's wall-clock seconds, a
+double: those last 8 bytes are left out; with --library-format-changed, the
+two builds write different library file versions, so each library is compared
+through its own build's `patches list --json` instead), and the text each
+command prints with its wall-clock times ("; 1.234 s", "8.67 s wall clock (2.3x
+real time)") and the output folder removed.
 Exits 1 and names the first bytes that differ when anything does.
 """
 import argparse
@@ -104,6 +106,8 @@ def main():
     ap.add_argument("--work", help="folder for the libraries and outputs (default: a temporary one)")
     ap.add_argument("--keep", action="store_true", help="keep the temporary folder")
     ap.add_argument("--reuse-base", action="store_true", help="with --work: keep BASE_CLI's outputs from an earlier run there")
+    ap.add_argument("--library-format-changed", action="store_true",
+                    help="compare the .patches files through each build's `patches list --json`, not byte for byte")
     args = ap.parse_args()
     work = pathlib.Path(args.work or tempfile.mkdtemp(prefix="fray-compare-"))
     work.mkdir(parents=True, exist_ok=True)
@@ -126,7 +130,18 @@ def main():
         bad += 1
     for name in base_files:
         a, b = (work / "base" / name).read_bytes(), (work / "new" / name).read_bytes()
-        if name.endswith(".patches"):
+        if name.endswith(".patches") and args.library_format_changed:
+            project = (football_lib if name.startswith("football") else lib) / "demo.frayproj"
+            listed = []
+            for cli, side in ((args.base, "base"), (args.new, "new")):
+                proc = subprocess.run([cli, "patches", "list", str(project), "--out", str(work / side / name), "--json", "-q"],
+                                      stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+                if proc.returncode != 0:
+                    sys.exit(f"{cli} patches list {name} failed:\n{proc.stderr.decode()}")
+                listed.append(proc.stdout)
+            a, b = listed
+            name += " (listed)"
+        elif name.endswith(".patches"):
             a, b = a[:-8], b[:-8]  # the generation's wall-clock seconds
         if a == b:
             print(f"same      {name} ({len(a)} bytes)")

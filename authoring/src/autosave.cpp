@@ -104,6 +104,7 @@ Result<std::unique_ptr<ProjectDocument>> recoverDocument(const Recovery& recover
     auto project = prep::projectFromJson(*text, recovery.autosaveFile.string());
     if (!project) return project.error();
     auto doc = std::make_unique<ProjectDocument>(std::move(*project), recovery.projectFile);
+    doc->rememberDiskState();
     doc->markDirty();
     return doc;
 }

@@ -36,9 +36,43 @@ ProjectDocument::~ProjectDocument() {
 }
 
 Result<std::unique_ptr<ProjectDocument>> ProjectDocument::open(const fs::path& file) {
-    auto project = prep::loadProject(file);
+    auto text = readWholeFile(file, "the project");
+    if (!text) return text.error();
+    auto project = prep::projectFromJson(*text, file.string());
     if (!project) return project.error();
-    return std::make_unique<ProjectDocument>(std::move(*project), file);
+    auto doc = std::make_unique<ProjectDocument>(std::move(*project), file);
+    doc->onDisk_ = std::move(*text);
+    return doc;
+}
+
+void ProjectDocument::rememberDiskState() {
+    onDisk_.reset();
+    if (file_.empty()) return;
+    std::error_code ec;
+    if (!fs::exists(file_, ec)) return;
+    if (auto text = readWholeFile(file_, "the project")) onDisk_ = std::move(*text);
+}
+
+Status ProjectDocument::writeLocked(const fs::path& file, const std::string& bytes, bool checkUnchanged) {
+    // Under the project's lock (the CLI's edits take it too), and only over
+    // the file this document last read or wrote: an edit saved meanwhile by
+    // another program is never overwritten silently.
+    auto lock = FileLock::acquire(file, std::chrono::seconds(5));
+    if (!lock) return lock.error();
+    if (checkUnchanged && onDisk_) {
+        std::error_code ec;
+        if (fs::exists(file, ec)) {
+            auto now = readWholeFile(file, "the project");
+            if (!now) return now.error();
+            if (*now != *onDisk_)
+                return makeError(file.string() +
+                                 ": changed on disk since it was opened here (another program saved it); nothing was "
+                                 "written: Save As to keep both versions, or reopen the project to take the other one");
+        }
+    }
+    if (auto st = writeFileAtomically(file, bytes); !st) return st;
+    onDisk_ = bytes;
+    return {};
 }
 
 std::string ProjectDocument::serialized() const { return prep::projectToJson(project_); }
@@ -50,7 +84,7 @@ void ProjectDocument::notify(const ChangeEvent& event) {
 
 Status ProjectDocument::save() {
     if (file_.empty()) return makeError(project_.name + ": the project has no file yet (use Save As)");
-    if (auto st = writeFileAtomically(file_, serialized()); !st) return st;
+    if (auto st = writeLocked(file_, serialized(), true); !st) return st;
     undoStack_.setClean();
     Q_EMIT saved(QString::fromStdString(file_.string()));
     return {};
@@ -67,7 +101,8 @@ Status ProjectDocument::saveAs(const fs::path& file) {
         pathsMoved = pathsMoved || p != m.path;
         m.path = std::move(p);
     }
-    if (auto st = writeFileAtomically(file, prep::projectToJson(moved)); !st) return st;
+    // Save As to the file itself is a Save; to another file, the user chose to replace it.
+    if (auto st = writeLocked(file, prep::projectToJson(moved), file == file_); !st) return st;
     project_ = std::move(moved);
     const bool renamed = file != file_;
     file_ = file;

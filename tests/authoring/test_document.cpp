@@ -3,6 +3,8 @@
 // drags merge; dirty state follows the stack; saves are atomic.
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include <QUndoStack>
 
 #include <functional>
@@ -11,6 +13,7 @@
 
 #include "document_fixture.h"
 #include "fray/authoring/project_document.h"
+#include "fray/core/atomic_file.h"
 #include "fray/prep/project.h"
 
 using namespace fray;
@@ -310,14 +313,33 @@ TEST(Document, SaveAndSaveAsAreAtomicAndAFailureKeepsTheOldFile) {
     const std::string original = test::readFile(file);
     ASSERT_TRUE(doc->setName("edited").ok());
 
-    // The temporary file's place is taken: the save fails, the old file stays.
-    fs::create_directories(dir / "demo.frayproj.tmp" / "blocker");
+    // Another program saved the project meanwhile: Save refuses to overwrite
+    // it, leaves its bytes, and the document stays dirty.
+    const std::string theirs = original + "\n";
+    {
+        std::ofstream out(file, std::ios::binary | std::ios::trunc);
+        out << theirs;
+    }
     const Status failed = doc->save();
     ASSERT_FALSE(failed.ok());
-    EXPECT_NE(failed.error().message.find("demo.frayproj"), std::string::npos) << failed.error().message;
-    EXPECT_EQ(test::readFile(file), original);
+    EXPECT_NE(failed.error().message.find("demo.frayproj: changed on disk"), std::string::npos) << failed.error().message;
+    EXPECT_EQ(test::readFile(file), theirs);
     EXPECT_TRUE(doc->isDirty());
-    fs::remove_all(dir / "demo.frayproj.tmp");
+    {
+        std::ofstream out(file, std::ios::binary | std::ios::trunc);
+        out << original;
+    }
+    // The project's lock held by another program: the save waits, then fails, the old file stays.
+    {
+        auto held = FileLock::acquire(file, std::chrono::seconds(1));
+        ASSERT_TRUE(held.ok());
+        const Status locked = doc->save();
+        ASSERT_FALSE(locked.ok());
+        EXPECT_NE(locked.error().message.find("another program is still editing it"), std::string::npos)
+            << locked.error().message;
+        EXPECT_EQ(test::readFile(file), original);
+        EXPECT_TRUE(doc->isDirty());
+    }
 
     // Save As onto a folder fails the same way and keeps the document's file.
     fs::create_directories(dir / "taken.frayproj" / "x");
@@ -331,7 +353,8 @@ TEST(Document, SaveAndSaveAsAreAtomicAndAFailureKeepsTheOldFile) {
     const auto reloaded = prep::loadProject(file);
     ASSERT_TRUE(reloaded.ok()) << reloaded.error().message;
     EXPECT_EQ(*reloaded, doc->project());
-    EXPECT_FALSE(fs::exists(dir / "demo.frayproj.tmp"));
+    for (const auto& entry : fs::directory_iterator(dir.path()))
+        EXPECT_EQ(entry.path().extension() == ".tmp", false) << "a temporary file was left: " << entry.path();
 }
 
 TEST(Document, SaveAsIntoAnotherFolderKeepsMotionPathsPointingAtTheSameFiles) {

@@ -57,6 +57,9 @@ public:
     Status saveAs(const std::filesystem::path& file);
     // After a crash recovery: the contents differ from the file on disk.
     void markDirty();
+    // Reads the project file as it is now as the state Save may replace
+    // (Save refuses to overwrite a file another program changed since).
+    void rememberDiskState();
 
     DragId beginDrag() { return ++lastDrag_; }
 
@@ -137,8 +140,11 @@ private:
     Status pushCutEdit(const std::string& motionId, Result<prep::CutEdit> edit, const QString& text, DragId drag);
     Status pushVocabulary(const prep::Project& after, const QString& text);
 
+    Status writeLocked(const std::filesystem::path& file, const std::string& bytes, bool checkUnchanged);
+
     prep::Project project_;
     std::filesystem::path file_;
+    std::optional<std::string> onDisk_;  // the file's bytes as this document last read or wrote them
     QUndoStack undoStack_;
     std::uint64_t revision_ = 0;
     DragId lastDrag_ = 0;
