@@ -173,15 +173,26 @@ void MainWindow::buildDocks() {
         return d;
     };
 
+    // A panel of a filter line over a view.
+    const auto panel = [](const char* name, QVBoxLayout*& layout) {
+        auto* w = new QWidget;
+        w->setObjectName(name);
+        layout = new QVBoxLayout(w);
+        layout->setContentsMargins(2, 2, 2, 2);
+        return w;
+    };
+    const auto filterLine = [](const char* name, const QString& placeholder) {
+        auto* edit = new QLineEdit;
+        edit->setObjectName(name);
+        edit->setPlaceholderText(placeholder);
+        edit->setClearButtonEnabled(true);
+        return edit;
+    };
+
     // Library.
-    auto* libraryPanel = new QWidget;
-    libraryPanel->setObjectName("libraryPanel");
-    auto* libraryLayout = new QVBoxLayout(libraryPanel);
-    libraryLayout->setContentsMargins(2, 2, 2, 2);
-    libraryFilter_ = new QLineEdit;
-    libraryFilter_->setObjectName("libraryFilter");
-    libraryFilter_->setPlaceholderText(scene_ ? "Filter characters" : "Filter by annotation or name");
-    libraryFilter_->setClearButtonEnabled(true);
+    QVBoxLayout* libraryLayout = nullptr;
+    QWidget* libraryPanel = panel("libraryPanel", libraryLayout);
+    libraryFilter_ = filterLine("libraryFilter", scene_ ? "Filter characters" : "Filter by annotation or name");
     library_ = new QTreeWidget;
     library_->setObjectName("library");
     library_->setHeaderLabels({scene_ ? "Character" : "Motion / action", "Frames", "Annotations"});
@@ -247,14 +258,9 @@ void MainWindow::buildDocks() {
             });
 
     // Combination table, tabbed with the timeline.
-    auto* combosPanel = new QWidget;
-    combosPanel->setObjectName("combosPanel");
-    auto* combosLayout = new QVBoxLayout(combosPanel);
-    combosLayout->setContentsMargins(2, 2, 2, 2);
-    combosFilter_ = new QLineEdit;
-    combosFilter_->setObjectName("combosFilter");
-    combosFilter_->setPlaceholderText("Filter records (mine or theirs)");
-    combosFilter_->setClearButtonEnabled(true);
+    QVBoxLayout* combosLayout = nullptr;
+    QWidget* combosPanel = panel("combosPanel", combosLayout);
+    combosFilter_ = filterLine("combosFilter", "Filter records (mine or theirs)");
     combosModel_ = new QStandardItemModel(0, 3, this);
     combosModel_->setHorizontalHeaderLabels({"Mine", "Theirs", "Suitability"});
     combosProxy_ = new QSortFilterProxyModel(this);
@@ -306,10 +312,8 @@ void MainWindow::buildDocks() {
     connect(inspector_, &InspectorPanel::editFailed, this, &MainWindow::editFailed);
     inspectorDock_ = dock("InspectorDock", "Inspector", inspector_, Qt::RightDockWidgetArea);
 
-    auto* graphPanel = new QWidget;
-    graphPanel->setObjectName("graphPanel");
-    auto* graphLayout = new QVBoxLayout(graphPanel);
-    graphLayout->setContentsMargins(2, 2, 2, 2);
+    QVBoxLayout* graphLayout = nullptr;
+    QWidget* graphPanel = panel("graphPanel", graphLayout);
     graph_ = new GraphView;
     graph_->setObjectName("graph");
     nodeActions_ = new QListWidget;

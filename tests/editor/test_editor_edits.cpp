@@ -31,6 +31,7 @@
 
 #include "fray/authoring/autosave.h"
 #include "fray/authoring/project_document.h"
+#include "editor_fixture.h"
 #include "main_window.h"
 #include "takes.h"
 #include "timeline_view.h"
@@ -57,20 +58,8 @@ struct DemoCopy {
 };
 
 std::unique_ptr<MainWindow> openWindow(const QString& project, EditorOptions::Recovery recovery) {
-    auto takes = fray::app::loadTakes({project.toStdString()});
-    if (!takes) {
-        ADD_FAILURE() << takes.error().message;
-        return nullptr;
-    }
-    EditorOptions options;
-    options.restoreLayout = false;
-    options.autosaveSeconds = 0;
-    options.recovery = recovery;
-    options.noDialogs = true;
-    auto w = std::make_unique<MainWindow>(nullptr, std::move(*takes), nullptr, project, "edits", options);
-    w->resize(1400, 880);
-    w->show();
-    if (!QTest::qWaitForWindowExposed(w.get())) ADD_FAILURE() << "window not exposed";
+    auto w = fray::test::openEditorWindow(project, recovery);
+    if (w && !QTest::qWaitForWindowExposed(w.get())) ADD_FAILURE() << "window not exposed";
     return w;
 }
 

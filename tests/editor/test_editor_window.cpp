@@ -24,6 +24,7 @@
 #include <set>
 
 #include "graph_view.h"
+#include "editor_fixture.h"
 #include "main_window.h"
 #include "takes.h"
 #include "timeline_view.h"
@@ -40,20 +41,7 @@ QString probeProject() {
     return other.isEmpty() ? QString(FRAY_DEMO_PROJECT) : QString::fromUtf8(other);
 }
 
-std::unique_ptr<MainWindow> openDemo() {
-    auto takes = fray::app::loadTakes({probeProject().toStdString()});
-    if (!takes) {
-        ADD_FAILURE() << takes.error().message;
-        return nullptr;
-    }
-    EditorOptions options;
-    options.restoreLayout = false;
-    options.autosaveSeconds = 0;
-    auto w = std::make_unique<MainWindow>(nullptr, std::move(*takes), nullptr, probeProject(), "demo", options);
-    w->resize(1400, 880);
-    w->show();
-    return w;
-}
+std::unique_ptr<MainWindow> openDemo() { return fray::test::openEditorWindow(probeProject()); }
 
 int distinctColours(const QImage& image) {
     std::set<QRgb> colours;
