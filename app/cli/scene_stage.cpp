@@ -8,7 +8,7 @@
 
 namespace fray::cli {
 
-SceneStage::SceneStage(LoadedScene scene) : loaded_(std::move(scene)) {
+SceneStage::SceneStage(pipeline::LoadedScene scene) : loaded_(std::move(scene)) {
     poser_ = std::make_unique<sim::ScenePoser>(loaded_.scene, loaded_.session->library);
     const auto n = loaded_.scene.characters.size();
     poses_.resize(n);

@@ -11,13 +11,13 @@
 #include "fray/render/camera.h"
 #include "fray/render/frame.h"
 #include "fray/sim/scene.h"
-#include "sim_session.h"
+#include "fray/pipeline/sim_session.h"
 
 namespace fray::cli {
 
 class SceneStage {
 public:
-    explicit SceneStage(LoadedScene scene);
+    explicit SceneStage(pipeline::LoadedScene scene);
 
     const sim::Scene& scene() const { return loaded_.scene; }
     const sim::ActionLibrary& library() const { return loaded_.session->library; }
@@ -63,7 +63,7 @@ public:
     render::Bounds stageBounds() const;
 
 private:
-    LoadedScene loaded_;
+    pipeline::LoadedScene loaded_;
     std::unique_ptr<sim::ScenePoser> poser_;
     double time_ = 0;
     std::vector<Pose> poses_;

@@ -10,8 +10,7 @@
 #include <memory>
 
 #include "fray/export/export.h"
-#include "prep_session.h"
-#include "sim_session.h"
+#include "cli_session.h"
 #include "verbs.h"
 
 namespace fray::cli {

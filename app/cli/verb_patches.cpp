@@ -10,7 +10,7 @@
 #include "fray/sim/compose.h"
 #include "fray/sim/patches.h"
 #include "fray/sim/patterns.h"
-#include "sim_session.h"
+#include "cli_session.h"
 #include "verbs.h"
 
 namespace fray::cli {

@@ -14,7 +14,7 @@
 #include "fray/prep/motion_graph.h"
 #include "fray/prep/segmentation.h"
 #include "options.h"
-#include "prep_session.h"
+#include "cli_session.h"
 #include "verbs.h"
 
 namespace fray::cli {

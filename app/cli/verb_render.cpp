@@ -30,10 +30,9 @@
 #include "options.h"
 #include "fray/core/kinematics.h"
 #include "fray/sim/scene.h"
-#include "prep_session.h"
+#include "cli_session.h"
 #include "rig_setup.h"
 #include "scene_stage.h"
-#include "sim_session.h"
 #include "verbs.h"
 
 namespace fray::cli {

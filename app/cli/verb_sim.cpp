@@ -12,8 +12,7 @@
 #include "fray/sim/metrics.h"
 #include "fray/sim/planner.h"
 #include "fray/sim/spec.h"
-#include "prep_session.h"
-#include "sim_session.h"
+#include "cli_session.h"
 #include "verbs.h"
 
 namespace fray::cli {

@@ -22,6 +22,7 @@
 #include "fray/render/vulkan_device.h"
 #include "main_window.h"
 #include "rig_setup.h"
+#include "fray/pipeline/sim_session.h"
 #include "scene_stage.h"
 #include "takes.h"
 #include "viewport.h"
@@ -114,7 +115,9 @@ int main(int argc, char** argv) {
     std::unique_ptr<fray::cli::SceneStage> scene;
     std::vector<fray::app::LoadedTake> takes;
     if (inputs.size() == 1 && std::filesystem::path(inputs[0]).extension() == ".frayscene") {
-        auto loaded = fray::cli::openScene(inputs[0], {});
+        auto loaded = fray::pipeline::openScene(inputs[0], {}, [](std::string_view note) {
+            std::fprintf(stderr, "fray: %.*s\n", static_cast<int>(note.size()), note.data());
+        });
         if (!loaded) return fail(loaded.error().message);
         scene = std::make_unique<fray::cli::SceneStage>(std::move(*loaded));
     } else {

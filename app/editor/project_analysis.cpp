@@ -3,7 +3,7 @@
 #include "fray/prep/contacts.h"
 #include "fray/prep/pipeline.h"
 #include "fray/prep/segmentation.h"
-#include "prep_session.h"
+#include "fray/pipeline/sim_session.h"
 
 #include <optional>
 
@@ -24,15 +24,15 @@ Result<ProjectAnalysis> analyseProject(const prep::Project& project, const std::
         if (!progress) return {};
         return [=](double f, std::string_view name) { return progress(from + (to - from) * f, name); };
     };
-    std::optional<cli::Session> session(std::in_place);
+    std::optional<pipeline::Session> session(std::in_place);
     session->file = file;
     session->project = project;
-    auto motions = prep::loadProjectMotions(project, file, cli::loadProjectMotion, stage(0.0, 0.5));
+    auto motions = prep::loadProjectMotions(project, file, pipeline::loadProjectMotion, stage(0.0, 0.5));
     if (!motions) return motions.error();
     session->motions = std::move(*motions);
     std::string why;
     session->cache = prep::readCache(file, &why);
-    auto contacts = cli::computeContacts(*session, false, stage(0.5, 0.7));
+    auto contacts = pipeline::computeContacts(*session, false, stage(0.5, 0.7));
     if (!contacts) return contacts.error();
 
     ProjectAnalysis out;
@@ -66,7 +66,7 @@ Result<ProjectAnalysis> analyseProject(const prep::Project& project, const std::
         out.motions.push_back(std::move(a));
         for (int k = 0; k < entry.actions.actionCount(); ++k) out.graphActions.emplace_back(static_cast<int>(i), k);
     }
-    auto graph = cli::projectGraph(*session, "", 0.0, stage(0.8, 1.0));
+    auto graph = pipeline::projectGraph(*session, "", 0.0, stage(0.8, 1.0));
     if (!graph) return graph.error();
     out.graph.nodeCount = graph->graph.nodeCount;
     out.graph.startNode = graph->graph.startNode;

@@ -44,7 +44,7 @@
 #include "graph_view.h"
 #include "inspector_panel.h"
 #include "main_window.h"
-#include "prep_session.h"
+#include "fray/pipeline/sim_session.h"
 #include "timeline_view.h"
 
 namespace fray::editor {

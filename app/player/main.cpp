@@ -27,7 +27,7 @@
 
 #include "fray/render/presenter.h"
 #include "fray/render/renderer.h"
-#include "prep_session.h"
+#include "fray/pipeline/sim_session.h"
 #include "rig_setup.h"
 #include "scene_stage.h"
 #include "takes.h"
@@ -122,7 +122,9 @@ int main(int argc, char** argv) {
     std::unique_ptr<cli::SceneStage> scene;
     std::vector<app::LoadedTake> takeList;
     if (args.inputs.size() == 1 && std::filesystem::path(args.inputs[0]).extension() == ".frayscene") {
-        auto loaded = cli::openScene(args.inputs[0], {});
+        auto loaded = pipeline::openScene(args.inputs[0], {}, [](std::string_view note) {
+            std::fprintf(stderr, "fray-play: %.*s\n", static_cast<int>(note.size()), note.data());
+        });
         if (!loaded) return fail(loaded.error().message);
         scene = std::make_unique<cli::SceneStage>(std::move(*loaded));
     } else {

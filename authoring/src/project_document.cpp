@@ -36,7 +36,7 @@ ProjectDocument::~ProjectDocument() {
 }
 
 Result<std::unique_ptr<ProjectDocument>> ProjectDocument::open(const fs::path& file) {
-    auto text = readWholeFile(file, "the project");
+    auto text = readWholeFile(file, "the project file");
     if (!text) return text.error();
     auto project = prep::projectFromJson(*text, file.string());
     if (!project) return project.error();

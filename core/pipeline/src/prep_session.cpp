@@ -1,4 +1,4 @@
-#include "prep_session.h"
+#include "fray/pipeline/prep_session.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,25 +11,7 @@
 #include "fray/prep/contacts.h"
 #include "fray/prep/labels.h"
 
-namespace fray::cli {
-
-ProgressFn stderrProgress(bool quiet) {
-    if (quiet) return {};
-    struct State {
-        std::string stage;
-        int lastDecile = -1;
-    };
-    auto state = std::make_shared<State>();
-    return [state](double fraction, std::string_view stage) {
-        const int decile = static_cast<int>(std::floor(std::clamp(fraction, 0.0, 1.0) * 10.0));
-        if (stage != state->stage || decile != state->lastDecile) {
-            state->stage = std::string(stage);
-            state->lastDecile = decile;
-            std::fprintf(stderr, "fray-cli: %.*s %d%%\n", static_cast<int>(stage.size()), stage.data(), decile * 10);
-        }
-        return true;
-    };
-}
+namespace fray::pipeline {
 
 Result<Motion> loadProjectMotion(const std::filesystem::path& file, const prep::ProjectMotion& entry) {
     LoadOptions o;
@@ -37,7 +19,8 @@ Result<Motion> loadProjectMotion(const std::filesystem::path& file, const prep::
     return loadMotion(file, o);
 }
 
-Result<Session> openSession(const std::filesystem::path& file, bool loadMotions, const ProgressFn& progress) {
+Result<Session> openSession(const std::filesystem::path& file, bool loadMotions, const ProgressFn& progress,
+                            const NoteFn& note) {
     Session s;
     s.file = file;
     auto project = prep::loadProject(file);
@@ -51,7 +34,7 @@ Result<Session> openSession(const std::filesystem::path& file, bool loadMotions,
         std::string why;
         bool damaged = false;
         s.cache = prep::readCache(file, &why, &damaged);
-        if (damaged) std::fprintf(stderr, "fray-cli: note: %s; rebuilding it\n", why.c_str());
+        if (damaged && note) note("note: " + why + "; rebuilding it");
     }
     return s;
 }
@@ -173,7 +156,7 @@ Result<ProjectGraph> projectGraph(Session& s, const std::string& presetOverride,
     return out;
 }
 
-Status saveSession(const Session& s) {
+Status saveSession(const Session& s, const NoteFn& note) {
     auto lock = FileLock::acquire(s.file);
     if (!lock) return lock.error();
     auto current = prep::loadProject(s.file);
@@ -186,14 +169,14 @@ Status saveSession(const Session& s) {
     if (auto st = prep::saveProject(s.project, s.file); !st) return st;
     if (auto st = prep::writeCache(s.file, s.cache); !st) {
         // The cache is derived data: losing it costs time, not work.
-        std::fprintf(stderr, "fray-cli: warning: could not write the cache: %s\n", st.error().message.c_str());
+        if (note) note("warning: could not write the cache: " + st.error().message);
     }
     return {};
 }
 
-}  // namespace fray::cli
+}  // namespace fray::pipeline
 
-namespace fray::cli {
+namespace fray::pipeline {
 
 Status editProject(const std::filesystem::path& file, const std::function<Status(prep::Project&)>& edit) {
     // A file that is not a readable project gets its error without a lock
@@ -229,4 +212,4 @@ Status checkOutputIsNotInput(const std::filesystem::path& projectFile, const pre
     return {};
 }
 
-}  // namespace fray::cli
+}  // namespace fray::pipeline

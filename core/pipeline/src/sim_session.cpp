@@ -1,17 +1,18 @@
-#include "sim_session.h"
+#include "fray/pipeline/sim_session.h"
 
 #include <cstdio>
 
 #include "fray/core/atomic_file.h"
 
-namespace fray::cli {
+namespace fray::pipeline {
 
 namespace fs = std::filesystem;
 
 // A prepared project ready for the planners: motions with contacts, graph,
 // action library. Heap-held: the library points into the session's motions.
-Result<std::unique_ptr<SimSession>> openSimSession(const std::filesystem::path& project, const ProgressFn& progress) {
-    auto s = openSession(project, true, progress);
+Result<std::unique_ptr<SimSession>> openSimSession(const std::filesystem::path& project, const ProgressFn& progress,
+                                                   const NoteFn& note) {
+    auto s = openSession(project, true, progress, note);
     if (!s) return s.error();
     auto out = std::make_unique<SimSession>();
     out->session = std::move(*s);
@@ -22,7 +23,7 @@ Result<std::unique_ptr<SimSession>> openSimSession(const std::filesystem::path& 
     out->graph = std::move(*graph);
     if (!out->graph.cached || !contacts->fromCache) {
         if (auto w = prep::writeCache(out->session.file, out->session.cache); !w) {
-            std::fprintf(stderr, "fray-cli: warning: could not write the cache: %s\n", w.error().message.c_str());
+            if (note) note("warning: could not write the cache: " + w.error().message);
         }
     }
     auto lib = sim::buildActionLibrary(out->session.project, out->session.motions, out->graph.graph, progress);
@@ -32,7 +33,7 @@ Result<std::unique_ptr<SimSession>> openSimSession(const std::filesystem::path& 
 }
 
 
-Result<LoadedScene> openScene(const fs::path& sceneFile, const ProgressFn& progress) {
+Result<LoadedScene> openScene(const fs::path& sceneFile, const ProgressFn& progress, const NoteFn& note) {
     auto text = readWholeFile(sceneFile, "the scene file");
     if (!text) return text.error();
     const std::string name = sceneFile.string();
@@ -41,7 +42,7 @@ Result<LoadedScene> openScene(const fs::path& sceneFile, const ProgressFn& progr
     fs::path project(*projectRel);
     if (project.is_relative()) project = sceneFile.parent_path() / project;
     if (!fs::exists(project)) return makeError(name + ": /project: cannot find the project '" + project.string() + "'");
-    auto ss = openSimSession(project, progress);
+    auto ss = openSimSession(project, progress, note);
     if (!ss) return ss.error();
     auto scene = sim::sceneFromJson(*text, name, (*ss)->library);
     if (!scene) return scene.error();
@@ -63,4 +64,4 @@ Status checkSceneOutput(const fs::path& out) {
     return {};
 }
 
-}  // namespace fray::cli
+}  // namespace fray::pipeline

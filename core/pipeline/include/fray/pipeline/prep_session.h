@@ -1,7 +1,12 @@
 #pragma once
-// Shared plumbing of the data-preparation verbs: open a project, load its
-// motions, get foot contacts (from the cache when fresh), report progress on
-// stderr, save the project and the cache.
+// The data-preparation pipeline over a project file, shared by fray-cli, the
+// editor, fray-play, the tests and the benches: open a project, load its
+// motions, get foot contacts (from the cache when fresh), build the motion
+// graph, save the project and the cache. Long steps take a ProgressFn: it
+// reports progress and cancels (the step then fails with ErrorKind::Cancelled,
+// which callers tell from a failure by the kind). What the user should be told
+// on the side (a damaged cache rebuilt, a cache that could not be written)
+// goes to a NoteFn. Plain C++: no Qt, no Vulkan.
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -12,11 +17,11 @@
 #include "fray/prep/pipeline.h"
 #include "fray/prep/project.h"
 
-namespace fray::cli {
+namespace fray::pipeline {
 
-// Progress lines on stderr ("fray-cli: load walk_01 40%"), at most one per
-// 10 % step of each stage.
-ProgressFn stderrProgress(bool quiet = false);
+// Things to tell the user beside the result ("demo.frayproj.cache: checksum
+// mismatch; rebuilding it"); an empty NoteFn says nothing.
+using NoteFn = std::function<void(std::string_view note)>;
 
 // Loads a motion as the project entry says (units/up overrides).
 Result<Motion> loadProjectMotion(const std::filesystem::path& file, const prep::ProjectMotion& entry);
@@ -29,7 +34,8 @@ struct Session {
     prep::DerivedCache cache;
 };
 
-Result<Session> openSession(const std::filesystem::path& file, bool loadMotions, const ProgressFn& progress);
+Result<Session> openSession(const std::filesystem::path& file, bool loadMotions, const ProgressFn& progress,
+                            const NoteFn& note = {});
 
 // Imports a labels CSV into the project: rows name motions by id; every
 // range is checked against the motion's frame count. Replaces the labels of
@@ -63,7 +69,7 @@ Result<ProjectGraph> projectGraph(Session& s, const std::string& presetOverride,
 // (FileLock) and only when the file still holds what openSession read:
 // if another program saved it meanwhile, nothing is saved and the error says
 // so (run the command again), so neither edit is lost.
-Status saveSession(const Session& s);
+Status saveSession(const Session& s, const NoteFn& note);
 
 // One read-modify-write of a project file under its lock: lock, read the
 // file afresh, apply `edit`, save atomically, unlock. Concurrent editors
@@ -76,4 +82,4 @@ Status editProject(const std::filesystem::path& file, const std::function<Status
 Status checkOutputIsNotInput(const std::filesystem::path& projectFile, const prep::Project& project,
                              const std::filesystem::path& out);
 
-}  // namespace fray::cli
+}  // namespace fray::pipeline

@@ -7,9 +7,9 @@
 
 #include "fray/sim/action_library.h"
 #include "fray/sim/scene.h"
-#include "prep_session.h"
+#include "fray/pipeline/prep_session.h"
 
-namespace fray::cli {
+namespace fray::pipeline {
 
 struct SimSession {
     Session session;
@@ -19,7 +19,8 @@ struct SimSession {
 
 // Opens the project, computes (or reads from the cache) contacts and the
 // graph, writes the cache when it changed, and builds the action library.
-Result<std::unique_ptr<SimSession>> openSimSession(const std::filesystem::path& project, const ProgressFn& progress);
+Result<std::unique_ptr<SimSession>> openSimSession(const std::filesystem::path& project, const ProgressFn& progress,
+                                                   const NoteFn& note = {});
 
 struct LoadedScene {
     std::unique_ptr<SimSession> session;
@@ -27,7 +28,7 @@ struct LoadedScene {
 };
 // Reads a scene file, opens the project it names (relative to the scene file)
 // and resolves its actions.
-Result<LoadedScene> openScene(const std::filesystem::path& sceneFile, const ProgressFn& progress);
+Result<LoadedScene> openScene(const std::filesystem::path& sceneFile, const ProgressFn& progress, const NoteFn& note = {});
 
 // A scene may only replace a previous scene: never the user's other files.
 Status checkSceneOutput(const std::filesystem::path& out);
@@ -35,4 +36,4 @@ Status checkSceneOutput(const std::filesystem::path& out);
 // scene's folder when possible, else absolute.
 std::string sceneProjectReference(const std::filesystem::path& sceneFile, const std::filesystem::path& project);
 
-}  // namespace fray::cli
+}  // namespace fray::pipeline
