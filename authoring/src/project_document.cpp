@@ -495,6 +495,16 @@ Status ProjectDocument::setComboRecord(const prep::ComboRecord& record, DragId d
     if (!std::isfinite(record.suitability)) {
         return makeError("combination table: (" + record.mine + ", " + record.theirs + "): suitability must be a number");
     }
+    // Annotations from the vocabulary, action names of the project's actions.
+    if (auto st = prep::ComboTable::checkRecord(record, project_.vocabulary); !st)
+        return makeError("combination table: " + st.error().message);
+    for (const std::string& key : {record.mine, record.theirs}) {
+        if (key.front() == '@') continue;
+        bool named = false;
+        for (const auto& m : project_.motions)
+            for (const auto& a : m.actions.actions) named = named || a.name == key;
+        if (!named) return makeError("combination table: no action of the project is named " + inQuotes(key));
+    }
     prep::ComboTable table = project_.combos;
     table.set(record);
     if (table == project_.combos) return {};

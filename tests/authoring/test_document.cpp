@@ -192,6 +192,8 @@ TEST(Document, RefusedEditsNameTheProblemAndChangeNothing) {
         {[&] { return doc->addContactLabel(box, {10, 1000000, true, true}); }, "are outside the motion's"},
         {[&] { return doc->removeContactLabel(box, 99); }, "no contact label 99"},
         {[&] { return doc->setComboRecord({"a b", "jab", 1}); }, "\"a b\" is not an action name"},
+        {[&] { return doc->setComboRecord({"@pnuch", "jab", 1}); }, "@pnuch is not in the project vocabulary"},
+        {[&] { return doc->setComboRecord({"jabb", "@block", 1}); }, "no action of the project is named \"jabb\""},
         {[&] { return doc->removeComboRecord("x", "y"); }, "no record (x, y)"},
         {[&] { return doc->setGraphPreset("ballet"); }, "graph preset \"ballet\""},
         {[&] { return doc->setGraphThreshold(-1.0); }, "graph threshold must be positive"},

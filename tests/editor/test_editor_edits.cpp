@@ -194,6 +194,17 @@ TEST_F(EditorEdits, LabellingContactsAndDeletingACutMergesTwoActions) {
     EXPECT_NEAR(labels.back().lastFrame, b, 3);
     EXPECT_EQ(labels.back().left, std::optional<bool>(true));
     EXPECT_FALSE(labels.back().right.has_value());
+    // Train: the analysis retrains the SVM on the labels as they are now and
+    // the timeline's bands come from it.
+    const std::size_t labelCount = labels.size();
+    ASSERT_TRUE(QTest::qWaitFor([&] { return w->analysis() != nullptr; }, 240000)) << w->lastError().toStdString();
+    action(w.get(), "actionAnalyse")->trigger();
+    ASSERT_TRUE(QTest::qWaitFor([&] {
+        return w->analysis() && w->analysis()->project.motions[0].contactLabels.size() == labelCount;
+    }, 240000)) << w->lastError().toStdString();
+    EXPECT_NE(w->analysis()->contactsSummary.find("SVM contacts, leave-one-out accuracy"), std::string::npos)
+        << w->analysis()->contactsSummary;
+    EXPECT_EQ(timeline->data().contactLeft, w->analysis()->motions[0].timeline.contactLeft);
     // The playhead on a cut, then Delete: the two actions around it merge.
     timeline->setFocus();
     timeline->setPlayhead(cuts[2]);
