@@ -377,6 +377,43 @@ Result<std::string> sceneProjectPath(std::string_view text, std::string_view fil
     return projectOf(JsonReader(fileName), j);
 }
 
+// One character's track: its actions in time order, each within its clip.
+Result<std::vector<ActionInstance>> trackFromJson(const JsonReader& rd, const ActionIndex& index, const ActionLibrary& lib,
+                                                  const json& track, const std::string& path) {
+    std::vector<ActionInstance> out;
+    if (!track.is_array()) return rd.error(path, "must be an array");
+    double previousStart = -1;
+    for (std::size_t k = 0; k < track.size(); ++k) {
+        const std::string ip = path + "/" + std::to_string(k);
+        const json& ij = track[k];
+        if (!ij.is_object()) return rd.error(ip, "must be an object");
+        ActionInstance inst;
+        FRAY_TRY(af, rd.field(ij, ip, "action"));
+        FRAY_TRY(action, index.resolve(rd, *af, ip + "/action"));
+        inst.action = action;
+        FRAY_TRY(start, rd.numberAt(ij, ip, "start"));
+        FRAY_TRY(offset, rd.numberAt(ij, ip, "offset"));
+        FRAY_TRY(end, rd.numberAt(ij, ip, "end"));
+        if (start < previousStart) return rd.error(ip + "/start", "actions must be in time order");
+        if (end < start) return rd.error(ip + "/end", "ends before it starts");
+        const double dur = lib.actions()[static_cast<std::size_t>(action)].duration;
+        if (offset < 0 || offset > dur) return rd.error(ip + "/offset", "must lie within the action (0.." + std::to_string(dur) + " s)");
+        previousStart = start;
+        inst.start = start, inst.offset = offset, inst.end = end;
+        FRAY_TRY(rf, rd.field(ij, ip, "root"));
+        if (!rf->is_array() || rf->size() != 3) return rd.error(ip + "/root", "must be [x, z, heading]");
+        FRAY_TRY(rx, rd.number((*rf)[0], ip + "/root/0"));
+        FRAY_TRY(rz, rd.number((*rf)[1], ip + "/root/1"));
+        FRAY_TRY(rh, rd.number((*rf)[2], ip + "/root/2"));
+        inst.root = {{static_cast<float>(rx), static_cast<float>(rz)}, rh};
+        FRAY_TRY(forced, rd.booleanAt(ij, ip, "forced"));
+        FRAY_TRY(fallback, rd.booleanAt(ij, ip, "fallback"));
+        inst.forced = forced, inst.fallback = fallback;
+        out.push_back(inst);
+    }
+    return out;
+}
+
 Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, const ActionLibrary& lib) {
     const JsonReader rd(fileName);
     FRAY_TRY(j, prep::parseJson(text, fileName));
@@ -490,36 +527,8 @@ Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, co
         FRAY_TRY(loop, rd.booleanAt(c, p, "loop_path"));
         sc.loopPath = loop;
         FRAY_TRY(tf, rd.field(c, p, "track"));
-        if (!tf->is_array()) return rd.error(p + "/track", "must be an array");
-        double previousStart = -1;
-        for (std::size_t k = 0; k < tf->size(); ++k) {
-            const std::string ip = p + "/track/" + std::to_string(k);
-            const json& ij = (*tf)[k];
-            if (!ij.is_object()) return rd.error(ip, "must be an object");
-            ActionInstance inst;
-            FRAY_TRY(af, rd.field(ij, ip, "action"));
-            FRAY_TRY(action, index.resolve(rd, *af, ip + "/action"));
-            inst.action = action;
-            FRAY_TRY(start, rd.numberAt(ij, ip, "start"));
-            FRAY_TRY(offset, rd.numberAt(ij, ip, "offset"));
-            FRAY_TRY(end, rd.numberAt(ij, ip, "end"));
-            if (start < previousStart) return rd.error(ip + "/start", "actions must be in time order");
-            if (end < start) return rd.error(ip + "/end", "ends before it starts");
-            const double dur = lib.actions()[static_cast<std::size_t>(action)].duration;
-            if (offset < 0 || offset > dur) return rd.error(ip + "/offset", "must lie within the action (0.." + std::to_string(dur) + " s)");
-            previousStart = start;
-            inst.start = start, inst.offset = offset, inst.end = end;
-            FRAY_TRY(rf, rd.field(ij, ip, "root"));
-            if (!rf->is_array() || rf->size() != 3) return rd.error(ip + "/root", "must be [x, z, heading]");
-            FRAY_TRY(rx, rd.number((*rf)[0], ip + "/root/0"));
-            FRAY_TRY(rz, rd.number((*rf)[1], ip + "/root/1"));
-            FRAY_TRY(rh, rd.number((*rf)[2], ip + "/root/2"));
-            inst.root = {{static_cast<float>(rx), static_cast<float>(rz)}, rh};
-            FRAY_TRY(forced, rd.booleanAt(ij, ip, "forced"));
-            FRAY_TRY(fallback, rd.booleanAt(ij, ip, "fallback"));
-            inst.forced = forced, inst.fallback = fallback;
-            sc.track.push_back(inst);
-        }
+        FRAY_TRY(track, trackFromJson(rd, index, lib, *tf, p + "/track"));
+        sc.track = std::move(track);
         scene.characters.push_back(std::move(sc));
     }
     auto character = [&](const json& v, const std::string& path) -> Result<int> {
