@@ -11,6 +11,7 @@
 #include <cstring>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "fray/sim/patches.h"
 
@@ -21,20 +22,20 @@ constexpr std::size_t kKeyAt = 16;  // magic (8), file version (4), link rule (4
 
 const fray::sim::ActionLibrary& library() {
     static const fray::sim::ActionLibrary lib = [] {
-        fray::sim::ActionLibrary l;
-        l.vocabulary = {"punch", "idle", "pushed"};
+        const std::vector<std::string> vocabulary = {"punch", "idle", "pushed"};
+        std::vector<fray::sim::LibraryAction> actions;
         for (int i = 0; i < kActions; ++i) {
             fray::sim::LibraryAction a;
             a.motionId = "take";
             a.name = "action" + std::to_string(i);
-            a.annotations = {l.vocabulary[static_cast<std::size_t>(i % 3)]};
+            a.annotations = {vocabulary[static_cast<std::size_t>(i % 3)]};
             a.flags = i % 3 == 0 ? fray::sim::kPunch : i % 3 == 1 ? fray::sim::kIdle : fray::sim::kPushed;
             a.firstFrame = 30 * i;
             a.lastFrame = 30 * i + 29;
             a.duration = 1.0;
-            l.actions.push_back(a);
+            actions.push_back(a);
         }
-        return l;
+        return fray::sim::ActionLibrary::catalogue(std::move(actions), vocabulary);
     }();
     return lib;
 }
