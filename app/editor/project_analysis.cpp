@@ -38,7 +38,9 @@ Result<ProjectAnalysis> analyseProject(const prep::Project& project, const std::
     ProjectAnalysis out;
     out.file = file;
     out.project = session->project;
-    if (contacts->svm)
+    if (contacts->svm && contacts->fromCache)
+        out.contactsSummary = "SVM contacts (trained earlier, from the cache)";
+    else if (contacts->svm)
         out.contactsSummary = "SVM contacts, leave-one-out accuracy " + std::to_string(contacts->looAccuracy * 100.0).substr(0, 5) + " %";
     else
         out.contactsSummary = "heuristic contacts (label some frames and train for SVM contacts)";
