@@ -13,6 +13,7 @@
 
 #include "fray/core/motion.h"
 #include "fray/sim/compose.h"
+#include "fray/sim/compose/one_vs_one.h"
 #include "fray/sim/patches.h"
 #include "fray/sim/patterns.h"
 #include "sim/demo_world.h"
@@ -42,9 +43,9 @@ void BM_GeneratePatches(benchmark::State& state) {
             return;
         }
         buildConnections(lib, out);
-        patches = static_cast<double>(out.patches.size());
-        paths = static_cast<double>(out.stats.paths);
-        benchmark::DoNotOptimize(out.temporal.size());
+        patches = static_cast<double>(out.patches().size());
+        paths = static_cast<double>(out.stats().paths);
+        benchmark::DoNotOptimize(out.temporal().size());
     }
     state.SetLabel(patternAt(static_cast<int>(state.range(0))).name);
     state.counters["patches"] = patches;
@@ -93,10 +94,10 @@ void BM_OpenPatchLibrary(benchmark::State& state) {
             return;
         }
         links = 0;
-        for (const auto& row : patches->temporal) links += row.size();
+        for (const auto& row : patches->temporal()) links += row.size();
         benchmark::DoNotOptimize(links);
     }
-    state.counters["patches"] = static_cast<double>(loadPatchLibrary(file, lib)->patches.size());
+    state.counters["patches"] = static_cast<double>(loadPatchLibrary(file, lib)->patches().size());
     state.counters["temporal_links"] = static_cast<double>(links);
     state.counters["file_MB"] = static_cast<double>(std::filesystem::file_size(file)) / 1e6;
 }
@@ -110,12 +111,11 @@ void BM_RebuildPatchTables(benchmark::State& state) {
         state.SkipWithError(loaded.error().message.c_str());
         return;
     }
-    PatchLibrary bare = std::move(*loaded);
-    bare.temporal.clear(), bare.spatial.clear(), bare.standardPoses.clear(), bare.initialPose.clear(), bare.finalPose.clear();
+    const PatchLibrary loadedLib = std::move(*loaded);
     for (auto _ : state) {
-        PatchLibrary copy = bare;
+        PatchLibrary copy = loadedLib;  // buildConnections replaces its tables
         buildConnections(lib, copy);
-        benchmark::DoNotOptimize(copy.temporal.size());
+        benchmark::DoNotOptimize(copy.temporal().size());
     }
 }
 BENCHMARK(BM_RebuildPatchTables)->Unit(benchmark::kMillisecond)->UseRealTime();
@@ -141,8 +141,7 @@ void BM_ComposeAndPose(benchmark::State& state) {
     const auto& lib = demoWorld().library;
     const int characters = static_cast<int>(state.range(0));
     const int pairs = characters / 2;
-    ComposeSpec spec;
-    spec.kind = SceneKind::OneVsOne;
+    ComposeSpec spec = ComposeSpec::of(OneVsOneSpec{});
     spec.duration = 20;
     const auto t0 = std::chrono::steady_clock::now();
     std::vector<Scene> scenes;

@@ -10,6 +10,10 @@
 #include "fray/sim/compose.h"
 #include "fray/sim/patches.h"
 #include "fray/sim/patterns.h"
+#include "fray/sim/compose/domino.h"
+#include "fray/sim/compose/football.h"
+#include "fray/sim/compose/luggage.h"
+#include "fray/sim/compose/rat.h"
 #include "cli_session.h"
 #include "verbs.h"
 
@@ -69,9 +73,9 @@ void runGenerate(const PatchesArgs& a, SimSession& s) {
     opt.maxChoicesPerEntry = a.maxChoices;
     const auto progress = stderrProgress(a.quiet);
     for (const auto* p : chosen) {
-        const auto before = out.stats;
+        const auto before = out.stats();
         if (auto st = sim::generatePatches(s.library, *p, *set, out, opt, progress); !st) return fail(st.error().message);
-        printStats(p->name.c_str(), out.stats.since(before));
+        printStats(p->name.c_str(), out.stats().since(before));
     }
     const fs::path file = a.out.empty() ? defaultPatchFile(a.project) : fs::path(a.out);
     if (fs::exists(file)) {
@@ -84,10 +88,10 @@ void runGenerate(const PatchesArgs& a, SimSession& s) {
     sim::buildConnections(s.library, out);
     if (auto st = sim::savePatchLibrary(out, file); !st) return fail(st.error().message);
     std::size_t temporal = 0, spatial = 0;
-    for (const auto& t : out.temporal) temporal += t.size();
-    for (const auto& t : out.spatial) spatial += t.size();
+    for (const auto& t : out.temporal()) temporal += t.size();
+    for (const auto& t : out.spatial()) spatial += t.size();
     std::printf("%s: %zu patches from %zu PatternLists; %zu temporal and %zu spatial connections; %zu standard poses\n",
-                file.string().c_str(), out.patches.size(), out.patterns.size(), temporal, spatial, out.standardPoses.size());
+                file.string().c_str(), out.patches().size(), out.patterns().size(), temporal, spatial, out.standardPoses().size());
 }
 
 Result<sim::PatchLibrary> openPatches(const std::string& project, const std::string& file, const sim::ActionLibrary& lib) {
@@ -105,9 +109,9 @@ void runList(const PatchesArgs& a, SimSession& s) {
     if (!patches) return fail(patches.error().message);
     const auto& lib = s.library;
     nlohmann::ordered_json out = nlohmann::ordered_json::array();
-    for (std::size_t i = 0; i < patches->patches.size(); ++i) {
-        const auto& p = patches->patches[i];
-        const auto& pattern = patches->patterns[static_cast<std::size_t>(p.pattern)].name;
+    for (std::size_t i = 0; i < patches->patches().size(); ++i) {
+        const auto& p = patches->patches()[i];
+        const auto& pattern = patches->patterns()[static_cast<std::size_t>(p.pattern)].name;
         std::array<std::string, 2> acts;
         for (int c = 0; c < 2; ++c) {
             for (const auto& inst : p.tracks[static_cast<std::size_t>(c)]) {
@@ -120,7 +124,7 @@ void runList(const PatchesArgs& a, SimSession& s) {
                            {"hits", p.hits.size()}, {"character1", acts[0]}, {"character2", acts[1]},
                            {"initial", {{"r", p.initial.r}, {"theta1_deg", p.initial.theta1 * 180 / 3.14159265358979},
                                         {"theta2_deg", p.initial.theta2 * 180 / 3.14159265358979}, {"delay", p.initial.delay}}},
-                           {"temporal_links", patches->temporal[i].size()}, {"spatial_links", patches->spatial[i].size()}});
+                           {"temporal_links", patches->temporal()[i].size()}, {"spatial_links", patches->spatial()[i].size()}});
         } else {
             std::printf("%5zu %-28s %.2f %5.2fs r=%.1f  1: %s | 2: %s\n", i, pattern.c_str(), p.score, p.duration, p.initial.r,
                         acts[0].c_str(), acts[1].c_str());
@@ -175,6 +179,42 @@ struct ComposeArgs {
     bool quiet = false;
 };
 
+
+// What a kind's own stats say, where it keeps its own.
+void reportKind(const ComposeArgs& a, const sim::ComposeSpec& spec, const sim::ComposeStats& st, const sim::Scene& scene) {
+    if (const auto* fb = st.part<sim::FootballStats>()) {
+        char goal[64] = "did not reach the goal line";
+        if (fb->goalReached >= 0) std::snprintf(goal, sizeof goal, "crossed the goal line at %.1f s", fb->goalReached);
+        std::printf("%s: %d patches joined through the carrier's motion graph, %d second tackler%s beside them by spatial "
+                    "connection; the carrier got past %d tacklers and %s\n",
+                    a.out.c_str(), fb->graphJoined, fb->secondTacklers, fb->secondTacklers == 1 ? "" : "s", fb->tacklersPassed, goal);
+    }
+    const auto* rat = spec.part<sim::RatSpec>();
+    const auto* ratStats = st.part<sim::RatStats>();
+    if (rat && ratStats) {
+        if (static_cast<int>(scene.characters.size()) - 1 < rat->crowd) {
+            std::printf("%s: %zu of the %d people asked for fit within %.1f m of the trajectory at %.2f m spacing\n", a.out.c_str(),
+                        scene.characters.size() - 1, rat->crowd, rat->band, rat->spacing);
+        }
+        std::printf("%s: %d {run, AVOID} patches generated for the rat's %.1f m/s\n", a.out.c_str(), ratStats->ratPatches, rat->ratSpeed);
+        std::printf("%s: %d people within %.1f m of the rat's trajectory: %d stepped out of its way (closest it came to "
+                    "their feet %.2f m), %d were pushed aside by a neighbour first, %d had no way out and reeled back, %d could not "
+                    "even do that; %d bumps in all\n",
+                    a.out.c_str(), ratStats->ratNear, rat->reach, ratStats->ratAvoided, ratStats->ratClearance, ratStats->ratPushed,
+                    ratStats->ratStartled, ratStats->ratRunOver, ratStats->bumps);
+    }
+    if (const auto* luggage = spec.part<sim::LuggageSpec>(); luggage && st.patchesUsed < luggage->handoffs) {
+        std::printf("%s: %d of the %d hand-overs asked for fit in the %.0f s duration (raise \"duration\" for more)\n", a.out.c_str(),
+                    st.patchesUsed, luggage->handoffs, spec.duration);
+    }
+    if (const auto* domino = st.part<sim::DominoStats>()) {
+        std::printf("%s: %d of the %d chain falls joined by spatial connection; the falls cover %.0f %% of the painted area (within "
+                    "%.1f m of someone who fell)\n",
+                    a.out.c_str(), domino->spatialFalls, domino->chainFalls, 100.0 * domino->paintedCoverage,
+                    double(sim::DominoStats::kCoverRadius));
+    }
+}
+
 void runCompose(const ComposeArgs& a) {
     const fs::path outFile(a.out);
     if (Status st = checkSceneOutput(outFile); !st) return fail(st.error().message);
@@ -191,50 +231,25 @@ void runCompose(const ComposeArgs& a) {
     if (!patches) return fail(patches.error().message);
     auto spec = sim::parseComposeSpec(*specText, a.spec, *patches);
     if (!spec) return fail(spec.error().message);
-    if (!spec->floorFile.empty()) {
-        fs::path bitmap(spec->floorFile);
+    if (auto* domino = spec->part<sim::DominoSpec>(); domino && !domino->floorFile.empty()) {
+        fs::path bitmap(domino->floorFile);
         if (bitmap.is_relative()) bitmap = fs::path(a.spec).parent_path() / bitmap;  // relative to the spec
-        auto floor = loadFloorBitmap(bitmap, spec->metresPerPixel, spec->floorOrigin);
+        auto floor = loadFloorBitmap(bitmap, domino->metresPerPixel, domino->floorOrigin);
         if (!floor) return fail(floor.error().message);
-        spec->floor = std::move(*floor);
+        domino->floor = std::move(*floor);
     }
     sim::ComposeStats st;
     auto scene = sim::compose(s.library, *patches, *spec, &st, stderrProgress(a.quiet));
     if (!scene) return fail(a.spec + ": " + scene.error().message);
     scene->project = sceneProjectReference(outFile, a.project);
     if (auto saved = sim::saveScene(*scene, s.library, outFile); !saved) return fail(saved.error().message);
+    const sim::DominoStats* dominoStats = st.part<sim::DominoStats>();
     std::printf("%s: %s, %zu characters, %.1f s, %zu hits; %d patches (%d by temporal connection, %d recycled through "
                 "standard poses, %d chain falls), %d locomotion steps, worst junction %.2f m; %.3f s\n",
-                a.out.c_str(), sim::sceneKindName(spec->kind), scene->characters.size(), scene->duration, scene->hits.size(),
-                st.patchesUsed, st.temporalLinks, st.recycled, st.chainFalls, st.locomotionSteps, st.maxJunctionError, st.seconds);
-    if (spec->kind == sim::SceneKind::Football) {
-        char goal[64] = "did not reach the goal line";
-        if (st.goalReached >= 0) std::snprintf(goal, sizeof goal, "crossed the goal line at %.1f s", st.goalReached);
-        std::printf("%s: %d patches joined through the carrier's motion graph, %d second tackler%s beside them by spatial "
-                    "connection; the carrier got past %d tacklers and %s\n",
-                    a.out.c_str(), st.graphJoined, st.secondTacklers, st.secondTacklers == 1 ? "" : "s", st.tacklersPassed, goal);
-    }
-    if (spec->kind == sim::SceneKind::Rat && static_cast<int>(scene->characters.size()) - 1 < spec->crowd) {
-        std::printf("%s: %zu of the %d people asked for fit within %.1f m of the trajectory at %.2f m spacing\n", a.out.c_str(),
-                    scene->characters.size() - 1, spec->crowd, spec->band, spec->spacing);
-    }
-    if (spec->kind == sim::SceneKind::Rat) {
-        std::printf("%s: %d {run, AVOID} patches generated for the rat's %.1f m/s\n", a.out.c_str(), st.ratPatches, spec->ratSpeed);
-        std::printf("%s: %d people within %.1f m of the rat's trajectory: %d stepped out of its way (closest it came to "
-                    "their feet %.2f m), %d were pushed aside by a neighbour first, %d had no way out and reeled back, %d could not "
-                    "even do that; %d bumps in all\n",
-                    a.out.c_str(), st.ratNear, spec->reach, st.ratAvoided, st.ratClearance, st.ratPushed, st.ratStartled, st.ratRunOver,
-                    st.bumps);
-    }
-    if (spec->kind == sim::SceneKind::Luggage && st.patchesUsed < spec->handoffs) {
-        std::printf("%s: %d of the %d hand-overs asked for fit in the %.0f s duration (raise \"duration\" for more)\n", a.out.c_str(),
-                    st.patchesUsed, spec->handoffs, spec->duration);
-    }
-    if (spec->kind == sim::SceneKind::Domino) {
-        std::printf("%s: %d of the %d chain falls joined by spatial connection; the falls cover %.0f %% of the painted area (within "
-                    "%.1f m of someone who fell)\n",
-                    a.out.c_str(), st.spatialFalls, st.chainFalls, 100.0 * st.paintedCoverage, double(sim::ComposeStats::kCoverRadius));
-    }
+                a.out.c_str(), spec->kind.c_str(), scene->characters.size(), scene->duration, scene->hits.size(), st.patchesUsed,
+                st.temporalLinks, st.recycled, dominoStats ? dominoStats->chainFalls : 0, st.locomotionSteps, st.maxJunctionError,
+                st.seconds);
+    reportKind(a, *spec, st, *scene);
 }
 
 }  // namespace

@@ -82,9 +82,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             break;
         }
         case 3: {
-            fray::sim::PatchLibrary patches;
-            patches.patterns = fray::sim::defaultPatterns();
-            (void)fray::sim::parseComposeSpec(text, "fuzz.json", patches);
+            (void)fray::sim::parseComposeSpec(text, "fuzz.json", fray::sim::defaultPatterns());
             break;
         }
         default: {

@@ -10,6 +10,7 @@
 
 #include "fray/posture/posture.h"
 #include "fray/sim/metrics.h"
+#include "fray/sim/compose/luggage.h"
 #include "posture/posture_fixture.h"
 
 namespace {
@@ -245,11 +246,8 @@ TEST(PostureSolver, ChaseAndLuggageKeepFeetAndPose) {
     EXPECT_LT(chase.physics.penetrationMaxCm, chase.kinematic.penetrationMaxCm);
 
     static const auto patches = test::demoPatches({"carry-walk-hand-receive-turn-carry", "carry-hand-receive-carry"});
-    sim::ComposeSpec spec;
-    spec.kind = sim::SceneKind::Luggage;
+    sim::ComposeSpec spec = sim::ComposeSpec::of(sim::LuggageSpec{.porters = 4, .handoffs = 9});
     spec.seed = 1;
-    spec.porters = 4;
-    spec.handoffs = 9;
     spec.duration = 300;
     auto scene = sim::compose(demoWorld().library, patches, spec);
     ASSERT_TRUE(scene) << scene.error().message;

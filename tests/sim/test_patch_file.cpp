@@ -14,6 +14,9 @@
 #include "fray/core/progress.h"
 #include "fray/core/result.h"
 #include "fray/sim/compose.h"
+#include "fray/sim/compose/domino.h"
+#include "fray/sim/compose/one_vs_many.h"
+#include "fray/sim/compose/one_vs_one.h"
 #include "fray/sim/patches.h"
 #include "fray/sim/patterns.h"
 #include "sim/demo_world.h"
@@ -74,46 +77,48 @@ void reseal(std::string& bytes) {
 void expectSameTables(const PatchLibrary& a, const PatchLibrary& b) {
     ASSERT_TRUE(a.complete());
     ASSERT_TRUE(b.complete());
-    ASSERT_EQ(a.temporal.size(), b.temporal.size());
+    ASSERT_EQ(a.temporal().size(), b.temporal().size());
     std::size_t links = 0;
-    for (std::size_t i = 0; i < a.temporal.size(); ++i) {
-        ASSERT_EQ(a.temporal[i].size(), b.temporal[i].size()) << "patch " << i;
-        for (std::size_t k = 0; k < a.temporal[i].size(); ++k) {
-            const auto &x = a.temporal[i][k], &y = b.temporal[i][k];
+    for (std::size_t i = 0; i < a.temporal().size(); ++i) {
+        ASSERT_EQ(a.temporal()[i].size(), b.temporal()[i].size()) << "patch " << i;
+        for (std::size_t k = 0; k < a.temporal()[i].size(); ++k) {
+            const auto &x = a.temporal()[i][k], &y = b.temporal()[i][k];
             ASSERT_TRUE(x.to == y.to && x.roles == y.roles && x.shared == y.shared) << "patch " << i << " link " << k;
         }
-        ASSERT_EQ(a.spatial[i].size(), b.spatial[i].size()) << "patch " << i;
-        for (std::size_t k = 0; k < a.spatial[i].size(); ++k) {
-            const auto &x = a.spatial[i][k], &y = b.spatial[i][k];
+        ASSERT_EQ(a.spatial()[i].size(), b.spatial()[i].size()) << "patch " << i;
+        for (std::size_t k = 0; k < a.spatial()[i].size(); ++k) {
+            const auto &x = a.spatial()[i][k], &y = b.spatial()[i][k];
             ASSERT_TRUE(x.to == y.to && x.sharedA == y.sharedA && x.sharedB == y.sharedB && x.offset == y.offset && x.from == y.from)
                 << "patch " << i << " spatial link " << k;
         }
-        links += a.temporal[i].size() + a.spatial[i].size();
+        links += a.temporal()[i].size() + a.spatial()[i].size();
     }
     EXPECT_GT(links, 0u);
-    EXPECT_EQ(a.standardPoses, b.standardPoses);
-    EXPECT_EQ(a.initialPose, b.initialPose);
-    EXPECT_EQ(a.finalPose, b.finalPose);
+    EXPECT_EQ(a.standardPoses(), b.standardPoses());
+    EXPECT_EQ(a.initialPose(), b.initialPose());
+    EXPECT_EQ(a.finalPose(), b.finalPose());
 }
 
 // Scenes that use temporal links, standard poses and spatial links.
 std::vector<ComposeSpec> specs() {
     std::vector<ComposeSpec> out(3);
-    out[0].kind = SceneKind::OneVsMany, out[0].enemies = 3, out[0].duration = 40;
-    out[1].kind = SceneKind::OneVsOne, out[1].duration = 15;
+    out[0] = ComposeSpec::of(OneVsManySpec{.enemies = 3}), out[0].duration = 40;
+    out[1] = ComposeSpec::of(OneVsOneSpec{}), out[1].duration = 15;
     FloorBitmap floor;
     floor.width = floor.height = 80;
     floor.metresPerPixel = 0.1;
     floor.origin = glm::vec2(-4.0f);
     floor.painted.assign(80 * 80, 1);
-    out[2].kind = SceneKind::Domino, out[2].floor = floor, out[2].starts = {{0.2, glm::vec2(0.0f)}}, out[2].background = 4;
+    DominoSpec domino;
+    domino.floor = floor, domino.starts = {{0.2, glm::vec2(0.0f)}}, domino.background = 4;
+    out[2] = ComposeSpec::of(domino);
     return out;
 }
 
 TEST(PatchFile, LoadedLibraryIsCompleteAndComposesTheSameScenes) {
     const auto& lib = demoWorld().library;
     const auto& fresh = smallLibrary();
-    ASSERT_GE(fresh.patches.size(), 40u);
+    ASSERT_GE(fresh.patches().size(), 40u);
     const test::TempDir dir("fray_patch_file_");
     ASSERT_TRUE(savePatchLibrary(fresh, dir / "s.patches"));
     auto loaded = loadPatchLibrary(dir / "s.patches", lib);
@@ -124,10 +129,10 @@ TEST(PatchFile, LoadedLibraryIsCompleteAndComposesTheSameScenes) {
     for (const auto& spec : specs()) {
         auto a = compose(lib, fresh, spec);
         auto b = compose(lib, *loaded, spec);
-        ASSERT_EQ(a.ok(), b.ok()) << sceneKindName(spec.kind) << ": " << (a ? b.error().message : a.error().message);
+        ASSERT_EQ(a.ok(), b.ok()) << spec.kind << ": " << (a ? b.error().message : a.error().message);
         if (!a) continue;
         ++composed;
-        EXPECT_EQ(sceneToJson(*a, lib), sceneToJson(*b, lib)) << sceneKindName(spec.kind);
+        EXPECT_EQ(sceneToJson(*a, lib), sceneToJson(*b, lib)) << spec.kind;
     }
     EXPECT_GE(composed, 2);
     // What loads saves to the same bytes.

@@ -56,26 +56,20 @@ Status optionalNumber(const prep::JsonReader& rd, const Json& obj, const char* k
     return optionalNumberIn(rd, obj, "", key, lo, hi, unit, out, false);
 }
 
+const SceneKindModule* kindNamed(std::string_view name) {
+    for (const SceneKindModule* k : sceneKinds()) {
+        if (name == k->name) return k;
+    }
+    return nullptr;
+}
+
 }  // namespace detail
 
 namespace {
 
 using detail::Json;
 using detail::SceneKindModule;
-
-const SceneKindModule* kindNamed(std::string_view name) {
-    for (const SceneKindModule* k : detail::sceneKinds()) {
-        if (name == k->name) return k;
-    }
-    return nullptr;
-}
-
-const SceneKindModule& kindOf(SceneKind kind) {
-    for (const SceneKindModule* k : detail::sceneKinds()) {
-        if (k->kind == kind) return *k;
-    }
-    return *detail::sceneKinds().front();  // every SceneKind is registered
-}
+using detail::kindNamed;
 
 // "a, b and c": the kinds this build composes.
 std::string kindList() {
@@ -89,7 +83,7 @@ std::string kindList() {
 }
 
 // The fields every kind reads: the scene, the patches it may use and the user's commands.
-Status parseCommon(const prep::JsonReader& rd, const Json& j, const PatchLibrary& patches, ComposeCommonSpec& s) {
+Status parseCommon(const prep::JsonReader& rd, const Json& j, const std::vector<PatternList>& patterns, ComposeCommonSpec& s) {
     if (auto st = detail::optionalNumber(rd, j, "duration", 0, 3600, "seconds", s.duration); !st) return st.error();
     if (auto f = rd.field(j, "", "seed", false); !f) return f.error();
     else if (*f) {
@@ -102,7 +96,7 @@ Status parseCommon(const prep::JsonReader& rd, const Json& j, const PatchLibrary
     else if (*f) {
         FRAY_TRY(names, rd.strings(**f, "/patterns"));
         for (std::size_t i = 0; i < names.size(); ++i) {
-            const bool found = std::any_of(patches.patterns.begin(), patches.patterns.end(),
+            const bool found = std::any_of(patterns.begin(), patterns.end(),
                                            [&](const PatternList& p) { return p.name == names[i]; });
             if (!found) return rd.error("/patterns/" + std::to_string(i), "no pattern '" + names[i] + "' in the patch library");
         }
@@ -131,9 +125,17 @@ Status parseCommon(const prep::JsonReader& rd, const Json& j, const PatchLibrary
 
 }  // namespace
 
-const char* sceneKindName(SceneKind kind) { return kindOf(kind).name; }
+std::vector<std::string> sceneKindNames() {
+    std::vector<std::string> out;
+    for (const SceneKindModule* k : detail::sceneKinds()) out.emplace_back(k->name);
+    return out;
+}
 
 Result<ComposeSpec> parseComposeSpec(std::string_view text, std::string_view fileName, const PatchLibrary& patches) {
+    return parseComposeSpec(text, fileName, patches.patterns());
+}
+
+Result<ComposeSpec> parseComposeSpec(std::string_view text, std::string_view fileName, const std::vector<PatternList>& patterns) {
     const prep::JsonReader rd(fileName);
     const Json j = Json::parse(text, nullptr, false);
     if (j.is_discarded()) return rd.error("", "not valid JSON");
@@ -150,12 +152,14 @@ Result<ComposeSpec> parseComposeSpec(std::string_view text, std::string_view fil
     FRAY_TRY(kindName, rd.stringAt(j, "", "kind"));
     const SceneKindModule* kind = kindNamed(kindName);
     if (!kind) return rd.error("/kind", "unknown scene kind '" + kindName + "' (this build composes " + kindList() + ")");
-    s.kind = kind->kind;
-    if (auto st = parseCommon(rd, j, patches, s); !st) return st.error();
+    s.kind = kind->name;
+    if (auto st = parseCommon(rd, j, patterns, s); !st) return st.error();
     for (const SceneKindModule* k : detail::sceneKinds()) {
-        if (auto st = k->parse(rd, j, s); !st) return st.error();
+        std::any part = k->defaults();
+        if (auto st = k->parse(rd, j, part); !st) return st.error();
+        if (k == kind) s.own = std::move(part);
     }
-    if (auto st = kind->check(rd, s); !st) return st.error();
+    if (auto st = kind->check(rd, s.own); !st) return st.error();
     return s;
 }
 
@@ -170,10 +174,24 @@ bool composeNeedsPatches(std::string_view specText) {
 
 Result<Scene> compose(const ActionLibrary& lib, const PatchLibrary& patches, const ComposeSpec& spec, ComposeStats* stats,
                       const ProgressFn& progress) {
-    const SceneKindModule& kind = kindOf(spec.kind);
+    const SceneKindModule* found = kindNamed(spec.kind);
+    if (!found) {
+        return makeError(ErrorKind::InvalidInput, spec.kind.empty() ? "the compose spec names no scene kind (this build composes " + kindList() + ")"
+                                                                    : "unknown scene kind '" + spec.kind + "' (this build composes " + kindList() + ")");
+    }
+    const SceneKindModule& kind = *found;
+    if (spec.own.has_value() && !kind.holds(spec.own)) {
+        return makeError(ErrorKind::InvalidInput, "the compose spec's own part is not a " + spec.kind + " spec");
+    }
+    if (!spec.own.has_value()) {
+        // No own part: the kind's defaults.
+        ComposeSpec withDefaults = spec;
+        withDefaults.own = kind.defaults();
+        return compose(lib, patches, withDefaults, stats, progress);
+    }
     if (kind.needsPatches) {
-        if (patches.patches.empty()) return makeError("the patch library is empty (run patches generate first)");
-        if (patches.temporal.size() != patches.patches.size()) return makeError("the patch library has no connection tables");
+        if (patches.empty()) return makeError("the patch library is empty (run patches generate first)");
+        if (!patches.complete()) return makeError("the patch library has no connection tables");
     }
     const auto wallStart = std::chrono::steady_clock::now();
     ComposeStats local;

@@ -15,6 +15,7 @@
 #include <random>
 #include <string>
 #include <tuple>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -57,11 +58,11 @@ struct Composer {
             reps.emplace(std::make_pair(lib.variantClass()[static_cast<std::size_t>(i)], lib.startNode()[static_cast<std::size_t>(i)]), i);
         }
         for (const auto& [key, i] : reps) locomotion.push_back(i);
-        usage.assign(patches.patches.size(), 0.0);
-        allowed.assign(patches.patches.size(), 1);
+        usage.assign(patches.patches().size(), 0.0);
+        allowed.assign(patches.patches().size(), 1);
         if (!spec.patterns.empty()) {
-            for (std::size_t i = 0; i < patches.patches.size(); ++i) {
-                const auto& name = patches.patterns[static_cast<std::size_t>(patches.patches[i].pattern)].name;
+            for (std::size_t i = 0; i < patches.patches().size(); ++i) {
+                const auto& name = patches.patterns()[static_cast<std::size_t>(patches.patches()[i].pattern)].name;
                 allowed[i] = std::find(spec.patterns.begin(), spec.patterns.end(), name) != spec.patterns.end();
             }
         }
@@ -418,10 +419,10 @@ struct Composer {
     int nearestStartingPose(const PatchConfig& c) const {
         int best = -1;
         double bestD = std::numeric_limits<double>::max();
-        for (std::size_t i = 0; i < patches.patches.size(); ++i) {
+        for (std::size_t i = 0; i < patches.patches().size(); ++i) {
             if (!allowed[i]) continue;
-            const int pose = patches.initialPose[i];
-            const double d = configDistance(c, patches.standardPoses[static_cast<std::size_t>(pose)]);
+            const int pose = patches.initialPose()[i];
+            const double d = configDistance(c, patches.standardPoses()[static_cast<std::size_t>(pose)]);
             if (d < bestD) bestD = d, best = pose;
         }
         return best;
@@ -431,14 +432,27 @@ struct Composer {
 };
 
 // The base of a scene kind's composer: the shared context, the kind's own
-// part of the spec (`own`) and of the stats (`ownStats`; the common ones
-// for kinds with none of their own).
+// part of the spec (`own`, held in spec.own) and of the stats (`ownStats`,
+// put in stats.own; the common ones for kinds with none of their own).
+template <class Spec>
+const Spec& ownPart(const ComposeSpec& s) {
+    return std::any_cast<const Spec&>(s.own);  // compose() checked its type
+}
+template <class Stats>
+Stats& ownStatsPart(ComposeStats& st) {
+    if constexpr (std::is_same_v<Stats, ComposeCommonStats>) {
+        return st;
+    } else {
+        return st.own.emplace<Stats>();
+    }
+}
+
 template <class Spec, class Stats = ComposeCommonStats>
 struct KindComposer : Composer {
     const Spec& own;
     Stats& ownStats;
     KindComposer(const ActionLibrary& l, const PatchLibrary& p, const ComposeSpec& s, ComposeStats& st)
-        : Composer(l, p, s, st), own(s), ownStats(st) {}
+        : Composer(l, p, s, st), own(ownPart<Spec>(s)), ownStats(ownStatsPart<Stats>(st)) {}
 };
 
 }  // namespace fray::sim::detail

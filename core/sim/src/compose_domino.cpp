@@ -1,5 +1,6 @@
 // Domino: falling bodies knock the next people over inside the painted area (SPEC 4.5).
 #include "compose_kinds.h"
+#include "fray/sim/compose/domino.h"
 
 namespace fray::sim::detail {
 
@@ -59,10 +60,10 @@ struct DominoComposer : KindComposer<DominoSpec, DominoStats> {
         if (own.floor.empty()) return makeError("domino: no floor bitmap");
         if (own.starts.empty()) return makeError("domino: no start (where the first person falls)");
         std::vector<std::size_t> chainPatches;
-        std::vector<char> isChain(patches.patches.size(), 0);
-        for (std::size_t i = 0; i < patches.patches.size(); ++i) {
-            const auto& p = patches.patches[i];
-            const auto& pattern = patches.patterns[static_cast<std::size_t>(p.pattern)];
+        std::vector<char> isChain(patches.patches().size(), 0);
+        for (std::size_t i = 0; i < patches.patches().size(); ++i) {
+            const auto& p = patches.patches()[i];
+            const auto& pattern = patches.patterns()[static_cast<std::size_t>(p.pattern)];
             if (!allowed[i] || pattern.entries.empty() || !isReactiveAnnotation(pattern.entries[0].annotation) ||
                 pattern.entries[0].character != 0)
                 continue;
@@ -81,7 +82,7 @@ struct DominoComposer : KindComposer<DominoSpec, DominoStats> {
                 return makeError("domino: start " + std::to_string(k) + " at (" + std::to_string(st.pos.x) + ", " +
                                  std::to_string(st.pos.y) + ") is not on the painted area");
             }
-            const Patch& p = patches.patches[chainPatches[static_cast<std::size_t>(rng() % chainPatches.size())]];
+            const Patch& p = patches.patches()[chainPatches[static_cast<std::size_t>(rng() % chainPatches.size())]];
             const int action = p.tracks[0].front().action;
             RootXf at;
             at.pos = st.pos;
@@ -109,20 +110,20 @@ struct DominoComposer : KindComposer<DominoSpec, DominoStats> {
             // with its fall. With the patch time from which the fall is the faller's.
             std::vector<std::pair<std::size_t, double>> next;
             if (f.patch >= 0) {
-                for (const auto& l : patches.spatial[static_cast<std::size_t>(f.patch)]) {
+                for (const auto& l : patches.spatial()[static_cast<std::size_t>(f.patch)]) {
                     if (l.sharedA == 1 && l.sharedB == 0 && isChain[static_cast<std::size_t>(l.to)]) next.emplace_back(l.to, l.from);
                 }
                 std::sort(next.begin(), next.end());
             } else {
                 for (std::size_t idx : chainPatches) {
-                    if (patches.patches[idx].tracks[0].front().action == f.action) next.emplace_back(idx, f.offset);
+                    if (patches.patches()[idx].tracks[0].front().action == f.action) next.emplace_back(idx, f.offset);
                 }
             }
             for (int child = 0; child < kBranch && static_cast<int>(scene.characters.size()) < own.maxCharacters; ++child) {
                 int best = -1;
                 double bestS = -std::numeric_limits<double>::max();
                 for (const auto& [idx, from] : next) {
-                    const Patch& p = patches.patches[idx];
+                    const Patch& p = patches.patches()[idx];
                     const HitEvent& hit = *std::find_if(p.hits.begin(), p.hits.end(), [](const HitEvent& h) { return h.attacker == 0; });
                     if (hit.time < from + 0.05) continue;  // the fall is already past that point
                     const RootXf xf = f.root * p.tracks[0].front().root.inverse();
@@ -143,7 +144,7 @@ struct DominoComposer : KindComposer<DominoSpec, DominoStats> {
                     if (sc > bestS) bestS = sc, best = static_cast<int>(idx);
                 }
                 if (best < 0) break;
-                const Patch& p = patches.patches[static_cast<std::size_t>(best)];
+                const Patch& p = patches.patches()[static_cast<std::size_t>(best)];
                 const HitEvent hit = *std::find_if(p.hits.begin(), p.hits.end(), [](const HitEvent& h) { return h.attacker == 0; });
                 const RootXf xf = f.root * p.tracks[0].front().root.inverse();
                 const RootXf standing = xf * p.tracks[1].front().placementAt(lib, 0);
@@ -260,7 +261,7 @@ constexpr const char* kFields[] = {"floor", "starts", "background", "max_charact
 }  // namespace
 
 const SceneKindModule& dominoKind() {
-    static const SceneKindModule kind = kindModule<DominoComposer, DominoSpec, parseDomino, checkDomino>(SceneKind::Domino, "domino", true, kFields);
+    static const SceneKindModule kind = kindModule<DominoComposer, DominoSpec, parseDomino, checkDomino>(true, kFields);
     return kind;
 }
 

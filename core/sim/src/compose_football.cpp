@@ -1,5 +1,6 @@
 // American football: a carrier runs for the goal line past tacklers (SPEC 4.5).
 #include "compose_kinds.h"
+#include "fray/sim/compose/football.h"
 
 namespace fray::sim::detail {
 
@@ -79,10 +80,10 @@ struct FootballComposer : KindComposer<FootballSpec, FootballStats> {
     // patch `a` (placed by xf at scene time t) from its start, its tackler
     // never meeting a's. Returns whether one came in.
     bool secondTackler(std::size_t a, double t, const RootXf& xf, int number) {
-        const Patch& pa = patches.patches[a];
+        const Patch& pa = patches.patches()[a];
         const int carrier = 0;
-        for (const auto& l : patches.spatial[a]) {
-            const Patch& pb = patches.patches[static_cast<std::size_t>(l.to)];
+        for (const auto& l : patches.spatial()[a]) {
+            const Patch& pb = patches.patches()[static_cast<std::size_t>(l.to)];
             if (l.sharedA != 0 || l.sharedB != 0 || !allowed[static_cast<std::size_t>(l.to)] || pb.tracks[1].empty() ||
                 !act(pb.tracks[1].front().action).is(kTackle)) {
                 continue;
@@ -134,8 +135,8 @@ struct FootballComposer : KindComposer<FootballSpec, FootballStats> {
 
     Status run(const ProgressFn& progress) {
         bool any = false;
-        for (std::size_t i = 0; i < patches.patches.size() && !any; ++i) {
-            const auto& p = patches.patches[i];
+        for (std::size_t i = 0; i < patches.patches().size() && !any; ++i) {
+            const auto& p = patches.patches()[i];
             any = allowed[i] && !p.tracks[1].empty() && act(p.tracks[1].front().action).is(kTackle);
         }
         if (!any) {
@@ -185,8 +186,8 @@ struct FootballComposer : KindComposer<FootballSpec, FootballStats> {
                 if (n < kMinLead || forward(at) >= own.goal) continue;
                 const double want = wantedHeading(t);
                 const auto boxes = obstacles(t, carrier);
-                for (std::size_t i = 0; i < patches.patches.size(); ++i) {
-                    const Patch& p = patches.patches[i];
+                for (std::size_t i = 0; i < patches.patches().size(); ++i) {
+                    const Patch& p = patches.patches()[i];
                     if (!allowed[i] || p.tracks[0].front().start != 0.0 || p.tracks[1].empty()) continue;
                     if (!act(p.tracks[1].front().action).is(kTackle)) continue;
                     if (!lib.continuesInto(last, p.tracks[0].front().action)) continue;
@@ -211,7 +212,7 @@ struct FootballComposer : KindComposer<FootballSpec, FootballStats> {
                 const Option& op = options[o];
                 track(carrier).resize(base);
                 for (int n = 0; n < op.lead; ++n) track(carrier).push_back(lead[static_cast<std::size_t>(n)]);
-                const Patch& p = patches.patches[op.patch];
+                const Patch& p = patches.patches()[op.patch];
                 const double tp = freeAt(carrier);
                 const RootXf xf = leaves(carrier) * p.tracks[0].front().root.inverse();
                 const auto& dive = p.tracks[1].front();
@@ -324,7 +325,7 @@ constexpr const char* kFields[] = {"tacklers", "goal", "directions", "doubles"};
 }  // namespace
 
 const SceneKindModule& footballKind() {
-    static const SceneKindModule kind = kindModule<FootballComposer, FootballSpec, parseFootball, noCheck<FootballSpec>>(SceneKind::Football, "football", true, kFields);
+    static const SceneKindModule kind = kindModule<FootballComposer, FootballSpec, parseFootball, noCheck<FootballSpec>>(true, kFields);
     return kind;
 }
 

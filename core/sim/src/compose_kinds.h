@@ -3,9 +3,12 @@
 // spec's JSON fields and their reader, what a spec of that kind must have,
 // and the composition itself), the helpers their readers share, and the
 // registry compose.cpp keeps of them. Adding a kind: its own
-// compose_<kind>.cpp (and fray/sim/compose/<kind>.h for its spec and stats)
-// and one line in the registry. Internal to fray_sim.
+// compose_<kind>.cpp (and fray/sim/compose/<kind>.h for its spec and stats,
+// the spec naming its kind in kKind), its module function declared here and
+// one entry in the registry (compose.cpp). Internal to fray_sim.
+#include <any>
 #include <span>
+#include <string_view>
 
 #include <nlohmann/json.hpp>
 
@@ -17,23 +20,29 @@ namespace fray::sim::detail {
 using Json = nlohmann::ordered_json;
 
 struct SceneKindModule {
-    SceneKind kind;
-    const char* name;  // "kind" in the spec
+    const char* name;  // "kind" in the spec; its spec type's kKind
     bool needsPatches;  // draws on the patch library (else makes its own)
     std::span<const char* const> fields;  // its own fields of the spec JSON
-    // Reads its own fields into the spec (every kind's fields are read
-    // whatever the kind, so a spec can be switched from one kind to another).
-    Status (*parse)(const prep::JsonReader& rd, const Json& j, ComposeSpec& spec);
+    // Its own part of a spec with every field at its default.
+    std::any (*defaults)();
+    // Reads its own fields into `part` (one of its own parts; every kind's
+    // fields are read whatever the kind, so a spec can be switched from one
+    // kind to another and a bad field of another kind is still reported).
+    Status (*parse)(const prep::JsonReader& rd, const Json& j, std::any& part);
     // What a spec of this kind must have, once every field is read.
-    Status (*check)(const prep::JsonReader& rd, const ComposeSpec& spec);
+    Status (*check)(const prep::JsonReader& rd, const std::any& part);
+    // Does `part` hold this kind's spec type?
+    bool (*holds)(const std::any& part);
     // Composes the scene (its characters, tracks, hits and marks; the
-    // registry adds what every scene has).
+    // registry adds what every scene has). spec.own holds this kind's part.
     Result<Scene> (*compose)(const ActionLibrary& lib, const PatchLibrary& patches, const ComposeSpec& spec, ComposeStats& stats,
                              const ProgressFn& progress);
 };
 
 // The registered kinds, in the order their fields are read.
 std::span<const SceneKindModule* const> sceneKinds();
+// The registered kind of that name, or null.
+const SceneKindModule* kindNamed(std::string_view name);
 
 const SceneKindModule& oneVsManyKind();
 const SceneKindModule& oneVsOneKind();
@@ -59,16 +68,17 @@ Result<Scene> composeKind(const ActionLibrary& lib, const PatchLibrary& patches,
 }
 
 // The module of scene kind K (a Composer with run()), whose spec part Part
-// is read by Parse and checked by Check (once every field is read).
+// (named Part::kKind) is read by Parse and checked by Check (once every field is read).
 template <class K, class Part, Status (*Parse)(const prep::JsonReader&, const Json&, Part&),
           Status (*Check)(const prep::JsonReader&, const Part&)>
-SceneKindModule kindModule(SceneKind kind, const char* name, bool needsPatches, std::span<const char* const> fields) {
-    return {kind,
-            name,
+SceneKindModule kindModule(bool needsPatches, std::span<const char* const> fields) {
+    return {Part::kKind,
             needsPatches,
             fields,
-            [](const prep::JsonReader& rd, const Json& j, ComposeSpec& s) { return Parse(rd, j, s); },
-            [](const prep::JsonReader& rd, const ComposeSpec& s) { return Check(rd, s); },
+            [] { return std::any(Part{}); },
+            [](const prep::JsonReader& rd, const Json& j, std::any& part) { return Parse(rd, j, std::any_cast<Part&>(part)); },
+            [](const prep::JsonReader& rd, const std::any& part) { return Check(rd, std::any_cast<const Part&>(part)); },
+            [](const std::any& part) { return std::any_cast<Part>(&part) != nullptr; },
             composeKind<K>};
 }
 

@@ -1,5 +1,6 @@
 // Luggage: an item passed along a chain of porters, each recycled after handing it on (SPEC 4.5).
 #include "compose_kinds.h"
+#include "fray/sim/compose/luggage.h"
 
 namespace fray::sim::detail {
 
@@ -98,9 +99,9 @@ struct LuggageComposer : KindComposer<LuggageSpec> {
 
     Status run(const ProgressFn& progress) {
         std::vector<std::size_t> handoffs;  // patches where character 1 hands and character 2 receives
-        for (std::size_t i = 0; i < patches.patches.size(); ++i) {
+        for (std::size_t i = 0; i < patches.patches().size(); ++i) {
             if (!allowed[i]) continue;
-            const auto& p = patches.patches[i];
+            const auto& p = patches.patches()[i];
             auto has = [&](int role, const char* annotation) {
                 return std::any_of(p.tracks[static_cast<std::size_t>(role)].begin(), p.tracks[static_cast<std::size_t>(role)].end(),
                                    [&](const ActionInstance& inst) { return act(inst.action).has(annotation); });
@@ -124,7 +125,7 @@ struct LuggageComposer : KindComposer<LuggageSpec> {
             const RootXf at = track(carrier).empty() ? RootXf{} : leaves(carrier);
             std::vector<std::size_t> cands;
             if (prev >= 0) {
-                for (const auto& l : patches.temporal[static_cast<std::size_t>(prev)]) {
+                for (const auto& l : patches.temporal()[static_cast<std::size_t>(prev)]) {
                     if (l.shared == 1 && l.roles == 1 && std::binary_search(handoffs.begin(), handoffs.end(), static_cast<std::size_t>(l.to))) {
                         cands.push_back(static_cast<std::size_t>(l.to));
                     }
@@ -149,7 +150,7 @@ struct LuggageComposer : KindComposer<LuggageSpec> {
             };
             std::vector<Option> options;
             for (std::size_t i : cands) {
-                const Patch& p = patches.patches[i];
+                const Patch& p = patches.patches()[i];
                 options.push_back({score(i, 0, 0) + (track(carrier).empty() || lib.startNode()[static_cast<std::size_t>(p.tracks[0].front().action)] ==
                                                                                lib.endNode()[static_cast<std::size_t>(track(carrier).back().action)]
                                                           ? 1.0
@@ -165,7 +166,7 @@ struct LuggageComposer : KindComposer<LuggageSpec> {
             }
             bool placed = false;
             for (std::size_t o = 0; o < options.size() && o < 60 && !placed; ++o) {
-                const Patch& p = patches.patches[options[o].patch];
+                const Patch& p = patches.patches()[options[o].patch];
                 const RootXf xf = at * p.tracks[0].front().root.inverse();
                 Print print = footprint(p, 0, xf);
                 for (const auto& b : footprint(p, 1, xf).parts) print.add(b);
@@ -348,7 +349,7 @@ constexpr const char* kFields[] = {"porters", "handoffs"};
 }  // namespace
 
 const SceneKindModule& luggageKind() {
-    static const SceneKindModule kind = kindModule<LuggageComposer, LuggageSpec, parseLuggage, noCheck<LuggageSpec>>(SceneKind::Luggage, "luggage", true, kFields);
+    static const SceneKindModule kind = kindModule<LuggageComposer, LuggageSpec, parseLuggage, noCheck<LuggageSpec>>(true, kFields);
     return kind;
 }
 

@@ -1,5 +1,6 @@
 // One vs many: the main character meets the enemies one after another (SPEC 4.5).
 #include "compose_kinds.h"
+#include "fray/sim/compose/one_vs_many.h"
 
 namespace fray::sim::detail {
 
@@ -22,14 +23,14 @@ struct OneVsManyComposer : KindComposer<OneVsManySpec> {
             // Candidates: temporal links where the main character continues, else any (recycling).
             std::vector<std::size_t> cands;
             if (prev >= 0) {
-                for (const auto& l : patches.temporal[static_cast<std::size_t>(prev)]) {
+                for (const auto& l : patches.temporal()[static_cast<std::size_t>(prev)]) {
                     if (l.shared == 0 && l.roles == 0 && allowed[static_cast<std::size_t>(l.to)]) cands.push_back(static_cast<std::size_t>(l.to));
                 }
             }
             const bool linked = !cands.empty();
             if (!linked) {
-                for (std::size_t i = 0; i < patches.patches.size(); ++i) {
-                    if (allowed[i] && patches.patches[i].tracks[0].front().start == 0.0) cands.push_back(i);
+                for (std::size_t i = 0; i < patches.patches().size(); ++i) {
+                    if (allowed[i] && patches.patches()[i].tracks[0].front().start == 0.0) cands.push_back(i);
                 }
             }
             // The main character may first take one locomotion step (turn,
@@ -57,7 +58,7 @@ struct OneVsManyComposer : KindComposer<OneVsManySpec> {
                 }
                 const int lastA = mv >= 0 ? mv : lastMain;
                 for (std::size_t i : cands) {
-                    const Patch& p = patches.patches[i];
+                    const Patch& p = patches.patches()[i];
                     const RootXf xf = from * p.tracks[0].front().root.inverse();
                     if (collides(p, xf, obstacleBoxes)) continue;
                     const double s = score(i, densityAround(xf.apply(p.tracks[1].front().root.pos), tm), userPreference(p, 0, tm)) +
@@ -73,7 +74,7 @@ struct OneVsManyComposer : KindComposer<OneVsManySpec> {
             std::vector<ActionInstance> entry;
             const int enemy = addCharacter("enemy-" + std::to_string(k + 1), 1);
             for (std::size_t o = 0; o < options.size() && o < 40 && bestI < 0; ++o) {
-                const Patch& p = patches.patches[options[o].patch];
+                const Patch& p = patches.patches()[options[o].patch];
                 const int mv = options[o].move;
                 const RootXf from = mv >= 0 ? at * act(mv).end : at;
                 const double t = mv >= 0 ? t0 + act(mv).duration : t0;
@@ -116,7 +117,7 @@ struct OneVsManyComposer : KindComposer<OneVsManySpec> {
             }
             moves = 0;
             (linked ? stats.temporalLinks : stats.recycled) += 1;
-            const Patch& p = patches.patches[static_cast<std::size_t>(bestI)];
+            const Patch& p = patches.patches()[static_cast<std::size_t>(bestI)];
             RootXf from = at;
             double t = t0;
             if (bestMove >= 0) {
@@ -147,7 +148,7 @@ constexpr const char* kFields[] = {"enemies"};
 }  // namespace
 
 const SceneKindModule& oneVsManyKind() {
-    static const SceneKindModule kind = kindModule<OneVsManyComposer, OneVsManySpec, parseOneVsMany, noCheck<OneVsManySpec>>(SceneKind::OneVsMany, "one-vs-many", true, kFields);
+    static const SceneKindModule kind = kindModule<OneVsManyComposer, OneVsManySpec, parseOneVsMany, noCheck<OneVsManySpec>>(true, kFields);
     return kind;
 }
 

@@ -1,11 +1,12 @@
 // One vs one: two characters fight on, patch after patch (SPEC 4.5).
 #include "compose_kinds.h"
+#include "fray/sim/compose/one_vs_one.h"
 
 namespace fray::sim::detail {
 
 namespace {
 
-struct OneVsOneComposer : KindComposer<ComposeCommonSpec> {
+struct OneVsOneComposer : KindComposer<OneVsOneSpec> {
     using KindComposer::KindComposer;
 
     // ---- one vs one: two characters fight on, patch after patch.
@@ -23,7 +24,7 @@ struct OneVsOneComposer : KindComposer<ComposeCommonSpec> {
             };
             std::vector<Choice> cands;
             if (prev >= 0) {
-                for (const auto& l : patches.temporal[static_cast<std::size_t>(prev)]) {
+                for (const auto& l : patches.temporal()[static_cast<std::size_t>(prev)]) {
                     if (l.shared == -1 && allowed[static_cast<std::size_t>(l.to)]) {
                         // a's role in prev maps through the link's roles.
                         const int aRole = roleOf[0] ^ l.roles;
@@ -39,9 +40,9 @@ struct OneVsOneComposer : KindComposer<ComposeCommonSpec> {
                 for (int roles = 0; roles < 2; ++roles) {
                     const PatchConfig c = roles ? PatchConfig{now.r, now.theta2, now.theta1, 0} : now;
                     const int pose = prev >= 0 ? nearestStartingPose(c) : -1;
-                    for (std::size_t i = 0; i < patches.patches.size(); ++i) {
+                    for (std::size_t i = 0; i < patches.patches().size(); ++i) {
                         if (!allowed[i]) continue;
-                        if (pose >= 0 && patches.initialPose[i] != pose) continue;
+                        if (pose >= 0 && patches.initialPose()[i] != pose) continue;
                         cands.push_back({i, roles});
                     }
                 }
@@ -51,11 +52,11 @@ struct OneVsOneComposer : KindComposer<ComposeCommonSpec> {
             double bestS = -std::numeric_limits<double>::max();
             for (std::size_t k = 0; k < cands.size(); ++k) {
                 const auto& c = cands[k];
-                const double s = score(c.patch, 0, userPreference(patches.patches[c.patch], c.roles, t));
+                const double s = score(c.patch, 0, userPreference(patches.patches()[c.patch], c.roles, t));
                 if (s > bestS) bestS = s, best = static_cast<int>(k);
             }
             const Choice ch = cands[static_cast<std::size_t>(best)];
-            const Patch& p = patches.patches[ch.patch];
+            const Patch& p = patches.patches()[ch.patch];
             (linked ? stats.temporalLinks : stats.recycled) += 1;
             // Scene character of each role.
             const std::array<int, 2> sc = ch.roles == 0 ? who : std::array<int, 2>{who[1], who[0]};
@@ -97,7 +98,7 @@ struct OneVsOneComposer : KindComposer<ComposeCommonSpec> {
 }  // namespace
 
 const SceneKindModule& oneVsOneKind() {
-    static const SceneKindModule kind = kindModule<OneVsOneComposer, ComposeCommonSpec, noFields<ComposeCommonSpec>, noCheck<ComposeCommonSpec>>(SceneKind::OneVsOne, "one-vs-one", true, {});
+    static const SceneKindModule kind = kindModule<OneVsOneComposer, OneVsOneSpec, noFields<OneVsOneSpec>, noCheck<OneVsOneSpec>>(true, {});
     return kind;
 }
 

@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include "compose_kinds.h"
+#include "fray/sim/compose/rat.h"
 
 namespace fray::sim::detail {
 
@@ -576,7 +577,7 @@ constexpr const char* kFields[] = {"rat", "crowd", "band", "spacing", "reach", "
 }  // namespace
 
 const SceneKindModule& ratKind() {
-    static const SceneKindModule kind = kindModule<RatComposer, RatSpec, parseRat, checkRat>(SceneKind::Rat, "rat", false, kFields);
+    static const SceneKindModule kind = kindModule<RatComposer, RatSpec, parseRat, checkRat>(false, kFields);
     return kind;
 }
 
@@ -586,6 +587,7 @@ namespace fray::sim {
 
 Result<std::vector<RatAvoidPatch>> ratAvoidPatches(const ActionLibrary& lib, const ComposeSpec& spec) {
     using detail::RatComposer;
+    if (!spec.part<RatSpec>()) return makeError(ErrorKind::InvalidInput, "ratAvoidPatches needs a spec of kind \"rat\"");
     const PatchLibrary none;
     ComposeStats st;
     RatComposer c(lib, none, spec, st);

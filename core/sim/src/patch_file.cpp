@@ -15,6 +15,7 @@
 
 #include "fray/core/atomic_file.h"
 #include "fray/sim/patches.h"
+#include "patch_library_builder.h"
 
 namespace fray::sim {
 
@@ -129,8 +130,8 @@ struct Reader {
 };
 
 void writePatterns(Writer& w, const PatchLibrary& lib) {
-    w.put(static_cast<std::uint32_t>(lib.patterns.size()));
-    for (const auto& p : lib.patterns) {
+    w.put(static_cast<std::uint32_t>(lib.patterns().size()));
+    for (const auto& p : lib.patterns()) {
         w.str(p.name);
         w.put(static_cast<std::uint32_t>(p.entries.size()));
         for (const auto& e : p.entries) w.put(static_cast<std::int32_t>(e.character)), w.str(e.annotation);
@@ -141,8 +142,8 @@ void writePatterns(Writer& w, const PatchLibrary& lib) {
 }
 
 void writePatches(Writer& w, const PatchLibrary& lib) {
-    w.put(static_cast<std::uint32_t>(lib.patches.size()));
-    for (const auto& p : lib.patches) {
+    w.put(static_cast<std::uint32_t>(lib.patches().size()));
+    for (const auto& p : lib.patches()) {
         w.put(static_cast<std::int32_t>(p.pattern));
         w.put(p.duration), w.put(p.score), w.put(p.contact), w.put(p.distance), w.put(p.timing);
         w.cfg(p.initial), w.cfg(p.final);
@@ -167,21 +168,21 @@ void writePatches(Writer& w, const PatchLibrary& lib) {
         }
     }
     // The counters, not the wall-clock time: the same project makes the same bytes.
-    GenerateStats::zipCounts(lib.stats, lib.stats, [&](const auto& v, const auto&) { w.put(v); });
+    GenerateStats::zipCounts(lib.stats(), lib.stats(), [&](const auto& v, const auto&) { w.put(v); });
 }
 
 // Standard poses, then per patch its poses, temporal row and spatial row.
 void writeTables(Writer& w, const PatchLibrary& lib) {
-    w.var(lib.standardPoses.size());
-    for (const auto& c : lib.standardPoses) w.cfg(c);
-    const auto n = lib.patches.size();
-    for (std::size_t i = 0; i < n; ++i) w.var(static_cast<std::uint64_t>(lib.initialPose[i])), w.var(static_cast<std::uint64_t>(lib.finalPose[i]));
+    w.var(lib.standardPoses().size());
+    for (const auto& c : lib.standardPoses()) w.cfg(c);
+    const auto n = lib.patches().size();
+    for (std::size_t i = 0; i < n; ++i) w.var(static_cast<std::uint64_t>(lib.initialPose()[i])), w.var(static_cast<std::uint64_t>(lib.finalPose()[i]));
     std::vector<std::uint8_t> states(n);
     for (std::size_t i = 0; i < n; ++i) {
         // Per target patch, the state of its pair; then whichever of a dense
         // row (a nibble per patch) or a sparse one (gap and state per linked
         // patch) is shorter.
-        const auto& row = lib.temporal[i];
+        const auto& row = lib.temporal()[i];
         std::size_t at = 0, linked = 0, sparseBytes = 0;
         int last = -1;
         for (std::size_t b = 0; b < n; ++b) {
@@ -209,8 +210,8 @@ void writeTables(Writer& w, const PatchLibrary& lib) {
                 w.put(static_cast<std::uint8_t>(states[b] | (b + 1 < n ? states[b + 1] << 4 : 0)));
             }
         }
-        w.var(lib.spatial[i].size());
-        for (const auto& l : lib.spatial[i]) {
+        w.var(lib.spatial()[i].size());
+        for (const auto& l : lib.spatial()[i]) {
             w.var(static_cast<std::uint64_t>(l.to));
             w.put(static_cast<std::uint8_t>(l.sharedA | (l.sharedB << 1)));
             w.put(l.offset), w.put(l.from);
@@ -219,7 +220,7 @@ void writeTables(Writer& w, const PatchLibrary& lib) {
 }
 
 // The patterns and patches (and the generation counters) of a file whose header has been read.
-void readPatches(Reader& r, int actionCount, PatchLibrary& lib) {
+void readPatches(Reader& r, int actionCount, PatchLibrary::Data& lib) {
     const std::size_t np = r.count(12);
     for (std::size_t i = 0; i < np && !r.bad; ++i) {
         PatternList p;
@@ -287,7 +288,7 @@ void readPatches(Reader& r, int actionCount, PatchLibrary& lib) {
     GenerateStats::zipCounts(lib.stats, lib.stats, [&](auto& v, const auto&) { v = r.get<std::remove_reference_t<decltype(v)>>(); });
 }
 
-void readTables(Reader& r, PatchLibrary& lib) {
+void readTables(Reader& r, PatchLibrary::Data& lib) {
     const auto n = lib.patches.size();
     const std::size_t poses = r.varCount(32);
     if (poses > kMaxPoses || (n > 0 && poses == 0)) r.bad = true;
@@ -360,13 +361,13 @@ void readTables(Reader& r, PatchLibrary& lib) {
 // What the writer's encoding assumes of the tables (buildConnections makes
 // them so): rows in the order of their targets, one link per role mapping.
 bool tablesWellFormed(const PatchLibrary& lib) {
-    const auto n = lib.patches.size();
-    if (lib.standardPoses.size() > kMaxPoses) return false;
+    const auto n = lib.patches().size();
+    if (lib.standardPoses().size() > kMaxPoses) return false;
     for (std::size_t i = 0; i < n; ++i) {
-        if (lib.initialPose[i] < 0 || static_cast<std::size_t>(lib.initialPose[i]) >= lib.standardPoses.size()) return false;
-        if (lib.finalPose[i] < 0 || static_cast<std::size_t>(lib.finalPose[i]) >= lib.standardPoses.size()) return false;
+        if (lib.initialPose()[i] < 0 || static_cast<std::size_t>(lib.initialPose()[i]) >= lib.standardPoses().size()) return false;
+        if (lib.finalPose()[i] < 0 || static_cast<std::size_t>(lib.finalPose()[i]) >= lib.standardPoses().size()) return false;
         long long last = -1;
-        for (const auto& l : lib.temporal[i]) {
+        for (const auto& l : lib.temporal()[i]) {
             const long long key = 2LL * l.to + l.roles;
             if (l.to < 0 || static_cast<std::size_t>(l.to) >= n || l.roles < 0 || l.roles > 1 || l.shared < -1 || l.shared > 1 ||
                 key <= last) {
@@ -374,7 +375,7 @@ bool tablesWellFormed(const PatchLibrary& lib) {
             }
             last = key;
         }
-        for (const auto& l : lib.spatial[i]) {
+        for (const auto& l : lib.spatial()[i]) {
             if (l.to < 0 || static_cast<std::size_t>(l.to) >= n || static_cast<std::size_t>(l.to) == i || l.sharedA < 0 ||
                 l.sharedA > 1 || l.sharedB < 0 || l.sharedB > 1 || !std::isfinite(l.offset) || !std::isfinite(l.from)) {
                 return false;
@@ -387,9 +388,9 @@ bool tablesWellFormed(const PatchLibrary& lib) {
 }  // namespace
 
 bool PatchLibrary::complete() const {
-    const auto n = patches.size();
-    return temporal.size() == n && spatial.size() == n && initialPose.size() == n && finalPose.size() == n &&
-           (n == 0 || !standardPoses.empty());
+    const auto n = d_.patches.size();
+    return d_.temporal.size() == n && d_.spatial.size() == n && d_.initialPose.size() == n && d_.finalPose.size() == n &&
+           (n == 0 || !d_.standardPoses.empty());
 }
 
 std::uint32_t patchFileChecksum(std::string_view bytes) {
@@ -412,7 +413,7 @@ Result<std::string> patchLibraryBytes(const PatchLibrary& lib) {
     w.out.append(kMagic, sizeof(kMagic));
     w.put(kPatchFileVersion);
     w.put(kPatchLinkRule);
-    w.put(lib.libraryKey);
+    w.put(lib.libraryKey());
     writePatterns(w, lib);
     writePatches(w, lib);
     writeTables(w, lib);
@@ -452,12 +453,13 @@ Result<PatchLibrary> readPatchLibrary(std::string_view bytes, std::string_view f
     Reader r{body.substr(sizeof(kMagic) + 4)};
     const auto rule = r.get<std::uint32_t>();
     PatchLibrary lib;
-    lib.libraryKey = r.get<std::uint64_t>();
-    if (lib.libraryKey != libraryFingerprint(actions)) {
+    PatchLibrary::Data& data = detail::built(lib);
+    data.libraryKey = r.get<std::uint64_t>();
+    if (data.libraryKey != libraryFingerprint(actions)) {
         return makeError(ErrorKind::Stale, name + ": made from other actions than the project has now (generate the patches again)");
     }
-    readPatches(r, actions.size(), lib);
-    if (!r.bad && rule == kPatchLinkRule) readTables(r, lib);
+    readPatches(r, actions.size(), data);
+    if (!r.bad && rule == kPatchLinkRule) readTables(r, data);
     if (r.bad) return makeError(name + ": the patch library is corrupt at byte " + std::to_string(r.at + sizeof(kMagic) + 4));
     if (rule != kPatchLinkRule) {
         const std::string why = name + ": its connection tables follow link rule " + std::to_string(rule) + ", this build uses rule " +

@@ -15,6 +15,7 @@
 
 #include "fray/sim/patches.h"
 #include "interaction.h"
+#include "patch_library_builder.h"
 
 namespace fray::sim {
 
@@ -79,7 +80,7 @@ private:
     std::vector<std::uint8_t> cont_;
 };
 
-void temporalTable(const ActionLibrary& lib, PatchLibrary& out) {
+void temporalTable(const ActionLibrary& lib, PatchLibrary::Data& out) {
     const auto n = out.patches.size();
     out.temporal.assign(n, {});
     const ContinuationTable continuesTo(lib, out.patches);
@@ -142,7 +143,7 @@ detail::BodyPose bodyIn(const Patch& p, int who, double t, const RootXf& xf) {
     return {inst.action, inst.clipTimeAt(t), xf * inst.root};
 }
 
-void spatialTable(const ActionLibrary& lib, PatchLibrary& out) {
+void spatialTable(const ActionLibrary& lib, PatchLibrary::Data& out) {
     const auto n = out.patches.size();
     out.spatial.assign(n, {});
     // Index: first action of each character of every patch.
@@ -243,7 +244,8 @@ PatchConfig meanConfig(const std::vector<const PatchConfig*>& members) {
 
 // K-means under F, K grown (farthest point first) until every configuration
 // is within kStandardF of its pose.
-void standardPoses(PatchLibrary& out) {
+void standardPoses(PatchLibrary& lib) {
+    PatchLibrary::Data& out = detail::built(lib);
     std::vector<PatchConfig> configs;
     for (const auto& p : out.patches) configs.push_back(p.initial), configs.push_back(p.final);
     out.standardPoses.clear();
@@ -280,16 +282,16 @@ void standardPoses(PatchLibrary& out) {
     out.initialPose.assign(out.patches.size(), 0);
     out.finalPose.assign(out.patches.size(), 0);
     for (std::size_t i = 0; i < out.patches.size(); ++i) {
-        out.initialPose[i] = out.nearestPose(out.patches[i].initial);
-        out.finalPose[i] = out.nearestPose(out.patches[i].final);
+        out.initialPose[i] = lib.nearestPose(out.patches[i].initial);
+        out.finalPose[i] = lib.nearestPose(out.patches[i].final);
     }
 }
 
 }  // namespace
 
 void buildConnections(const ActionLibrary& lib, PatchLibrary& out) {
-    temporalTable(lib, out);
-    spatialTable(lib, out);
+    temporalTable(lib, detail::built(out));
+    spatialTable(lib, detail::built(out));
     standardPoses(out);
 }
 

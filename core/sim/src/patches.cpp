@@ -12,6 +12,7 @@
 #include <tbb/parallel_for.h>
 
 #include "patch_engine.h"
+#include "patch_library_builder.h"
 
 namespace fray::sim {
 
@@ -309,7 +310,7 @@ struct Expansion {
 
 // Keeps the best keepPerPath patches of every distinct action sequence (by
 // label), in generation order otherwise.
-void keepBestPerPath(const ActionLibrary& lib, std::vector<Patch>& patches, int keepPerPath, bool spread, PatchLibrary& out) {
+void keepBestPerPath(const ActionLibrary& lib, std::vector<Patch>& patches, int keepPerPath, bool spread, PatchLibrary::Data& out) {
     std::map<std::string, std::vector<std::size_t>> groups;
     for (std::size_t i = 0; i < patches.size(); ++i) {
         std::string key;
@@ -418,15 +419,16 @@ RootXf Patch::endPlacement(const ActionLibrary& lib, int character) const {
 int PatchLibrary::nearestPose(const PatchConfig& c) const {
     int best = -1;
     double bestD = std::numeric_limits<double>::max();
-    for (std::size_t i = 0; i < standardPoses.size(); ++i) {
-        const double d = configDistance(c, standardPoses[i]);
+    for (std::size_t i = 0; i < d_.standardPoses.size(); ++i) {
+        const double d = configDistance(c, d_.standardPoses[i]);
         if (d < bestD) bestD = d, best = static_cast<int>(i);
     }
     return best;
 }
 
-Status generatePatches(const ActionLibrary& lib, const PatternList& pattern, const PatternSet& set, PatchLibrary& out,
+Status generatePatches(const ActionLibrary& lib, const PatternList& pattern, const PatternSet& set, PatchLibrary& library,
                        const GenerateOptions& options, const ProgressFn& progress) {
+    PatchLibrary::Data& out = detail::built(library);
     if (pattern.entries.size() > static_cast<std::size_t>(kMaxEntries)) {
         return makeError("pattern '" + pattern.name + "' has more than " + std::to_string(kMaxEntries) + " entries");
     }
@@ -499,7 +501,8 @@ Status generatePatches(const ActionLibrary& lib, const PatternList& pattern, con
 }
 
 Status addHandMadePatch(const ActionLibrary& lib, const PatternList& pattern, const PatchConfig& initial,
-                        const std::array<std::vector<int>, 2>& actions, PatchLibrary& out, const GenerateOptions& options) {
+                        const std::array<std::vector<int>, 2>& actions, PatchLibrary& library, const GenerateOptions& options) {
+    PatchLibrary::Data& out = detail::built(library);
     const Engine eng(lib, pattern, options);
     for (int c = 0; c < 2; ++c) {
         std::size_t k = 0;

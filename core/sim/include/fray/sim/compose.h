@@ -7,9 +7,20 @@
 // The output is the shared scene timeline.
 //
 // Each scene kind is a module of its own (core/sim/src/compose_<kind>.cpp,
-// registered in compose.cpp) with its spec and stats types in
-// fray/sim/compose/<kind>.h; ComposeSpec and ComposeStats gather them so that
-// one spec file and one stats report serve every kind.
+// registered in compose.cpp's registry) with its spec and stats types in
+// fray/sim/compose/<kind>.h. A ComposeSpec is the common part plus the kind's
+// own part, held by value whatever its type; ComposeStats likewise. Adding a
+// kind touches its own files and the registry, not this header.
+//
+// Filling a spec from code (what a scene setup does):
+//     DominoSpec domino;                       // fray/sim/compose/domino.h
+//     domino.floor = ...; domino.starts = {{0.2, {0, 0}}};
+//     ComposeSpec spec = ComposeSpec::of(domino);  // kind "domino"
+//     spec.duration = 20, spec.seed = 7;       // the common part
+//     spec.part<DominoSpec>()->background = 4; // the kind's part, changed later
+// or parseComposeSpec on the JSON text. Every kind's spec type names its kind
+// (static constexpr const char* kKind) and has defaults for every field.
+#include <any>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -17,11 +28,6 @@
 
 #include "fray/core/progress.h"
 #include "fray/core/result.h"
-#include "fray/sim/compose/domino.h"
-#include "fray/sim/compose/football.h"
-#include "fray/sim/compose/luggage.h"
-#include "fray/sim/compose/one_vs_many.h"
-#include "fray/sim/compose/rat.h"
 #include "fray/sim/patches.h"
 #include "fray/sim/scene.h"
 
@@ -34,12 +40,8 @@ struct UserCommand {
     std::string annotation;  // punch, kick, avoid, ... or a group (attack, defence)
 };
 
-enum class SceneKind { OneVsMany, OneVsOne, Domino, Luggage, Football, Rat };
-const char* sceneKindName(SceneKind kind);
-
 // What every kind reads: the scene, the patches it may use and how they are scored.
 struct ComposeCommonSpec {
-    SceneKind kind = SceneKind::OneVsMany;
     double duration = 30;          // s (one-vs-one stops here; one-vs-many when the enemies are used up or here)
     std::uint64_t seed = 1;
     double entryRadius = 8;        // m: newcomers enter from this far out
@@ -50,9 +52,38 @@ struct ComposeCommonSpec {
     std::string text;              // the spec as written, kept in the scene
 };
 
-// A compose spec: the common part and every kind's own (one-vs-one has none);
-// a kind reads the common part and its own.
-struct ComposeSpec : ComposeCommonSpec, OneVsManySpec, DominoSpec, LuggageSpec, FootballSpec, RatSpec {};
+// A compose spec: the common part, the kind's name ("kind" in the spec file,
+// as the registry knows it) and the kind's own part (its <Kind>Spec).
+struct ComposeSpec : ComposeCommonSpec {
+    std::string kind;  // "one-vs-many", "domino", ...; empty: none chosen yet
+    std::any own;      // the kind's own part (a <Kind>Spec whose kKind is `kind`)
+
+    // A spec of Part's kind with `part` as its own part and the common part's defaults.
+    template <class Part>
+    static ComposeSpec of(Part part) {
+        ComposeSpec s;
+        s.set(std::move(part));
+        return s;
+    }
+    // Makes the spec one of Part's kind with `part` as its own part.
+    template <class Part>
+    Part& set(Part part) {
+        kind = Part::kKind;
+        return own.emplace<Part>(std::move(part));
+    }
+    // The kind's own part if the spec is of Part's kind, else null.
+    template <class Part>
+    const Part* part() const {
+        return kind == Part::kKind ? std::any_cast<Part>(&own) : nullptr;
+    }
+    template <class Part>
+    Part* part() {
+        return kind == Part::kKind ? std::any_cast<Part>(&own) : nullptr;
+    }
+};
+
+// The names of the registered scene kinds, in registry order.
+std::vector<std::string> sceneKindNames();
 
 // Does a compose spec of this kind draw on the patch library? (The rat scene
 // generates its own patches for the rat's speed; it reads "kind" only, and says yes
@@ -60,6 +91,8 @@ struct ComposeSpec : ComposeCommonSpec, OneVsManySpec, DominoSpec, LuggageSpec, 
 bool composeNeedsPatches(std::string_view specText);
 
 // Reads a compose spec (JSON). Errors name the file and the JSON path.
+// `patterns`: those a spec may name (the patch library's).
+Result<ComposeSpec> parseComposeSpec(std::string_view text, std::string_view fileName, const std::vector<PatternList>& patterns);
 Result<ComposeSpec> parseComposeSpec(std::string_view text, std::string_view fileName, const PatchLibrary& patches);
 
 struct ComposeCommonStats {
@@ -70,22 +103,20 @@ struct ComposeCommonStats {
     double seconds = 0;
 };
 
-// The stats of a composition: the common part and those of the kinds that keep their own.
-struct ComposeStats : ComposeCommonStats, FootballStats, DominoStats, RatStats {};
-
-// The rat scene's {run, AVOID} patches (SPEC 4.5) for a spec's rat speed and
-// reach, as the composer generates them: someone standing in the guard
-// `lateral` m to the left of a straight rat's line (negative: to its right),
-// turned `facing` rad from the rat's heading, plays `actions` from `lead` s
-// before the rat's closest approach, and the rat keeps `clearance` m from
-// their feet and shins. Best first within each (lateral, facing) cell.
-struct RatAvoidPatch {
-    double lateral = 0, facing = 0;
-    std::vector<int> actions;
-    double lead = 0, clearance = 0;
+// The stats of a composition: the common part and, for the kinds that keep
+// their own, the kind's part (its <Kind>Stats).
+struct ComposeStats : ComposeCommonStats {
+    std::any own;
+    // The kind's own stats if they are of type S, else null.
+    template <class S>
+    const S* part() const {
+        return std::any_cast<S>(&own);
+    }
 };
-Result<std::vector<RatAvoidPatch>> ratAvoidPatches(const ActionLibrary& lib, const ComposeSpec& spec);
 
+// Composes a scene of spec.kind. A spec whose own part is empty gets its
+// kind's defaults; an unknown or empty kind, or an own part of another
+// kind's type, is an error.
 Result<Scene> compose(const ActionLibrary& lib, const PatchLibrary& patches, const ComposeSpec& spec,
                       ComposeStats* stats = nullptr, const ProgressFn& progress = {});
 

@@ -149,20 +149,46 @@ struct SpatialLink {
     float from = 0;
 };
 
-// A library is complete when it has its connection tables and standard poses
-// (buildConnections after generating): what compose needs, and what a library
-// file stores and loads. Loading always gives a complete library.
-struct PatchLibrary {
-    std::vector<PatternList> patterns;
-    std::vector<Patch> patches;
-    std::vector<std::vector<TemporalLink>> temporal;  // per patch
-    std::vector<std::vector<SpatialLink>> spatial;    // per patch
-    std::vector<PatchConfig> standardPoses;           // cluster means of initial/final configurations
-    std::vector<int> initialPose, finalPose;          // per patch: its standard pose
-    GenerateStats stats;
-    std::uint64_t libraryKey = 0;                     // fingerprint of the action library it was made from
+namespace detail {
+struct PatchLibraryBuilder;  // core/sim's generation, hand-made patches, tables and file reading
+}
+
+// A patch library: its patterns and patches, and once complete (buildConnections
+// after generating; loading always gives a complete library) the connection
+// tables and standard poses compose needs. Its data is private: only the
+// functions below build one (generatePatches, addHandMadePatch,
+// buildConnections, readPatchLibrary/loadPatchLibrary); everyone else reads it
+// through the accessors. A default-constructed library is empty.
+class PatchLibrary {
+public:
+    const std::vector<PatternList>& patterns() const { return d_.patterns; }
+    const std::vector<Patch>& patches() const { return d_.patches; }
+    const std::vector<std::vector<TemporalLink>>& temporal() const { return d_.temporal; }  // per patch
+    const std::vector<std::vector<SpatialLink>>& spatial() const { return d_.spatial; }     // per patch
+    const std::vector<PatchConfig>& standardPoses() const { return d_.standardPoses; }      // cluster means of initial/final configurations
+    const std::vector<int>& initialPose() const { return d_.initialPose; }                   // per patch: its standard pose
+    const std::vector<int>& finalPose() const { return d_.finalPose; }
+    const GenerateStats& stats() const { return d_.stats; }
+    std::uint64_t libraryKey() const { return d_.libraryKey; }  // fingerprint of the action library it was made from
+    bool empty() const { return d_.patches.empty(); }
     int nearestPose(const PatchConfig& c) const;
     bool complete() const;  // tables and poses for every patch
+
+    // What a library holds (core/sim's builders fill it).
+    struct Data {
+        std::vector<PatternList> patterns;
+        std::vector<Patch> patches;
+        std::vector<std::vector<TemporalLink>> temporal;
+        std::vector<std::vector<SpatialLink>> spatial;
+        std::vector<PatchConfig> standardPoses;
+        std::vector<int> initialPose, finalPose;
+        GenerateStats stats;
+        std::uint64_t libraryKey = 0;
+    };
+
+private:
+    friend struct detail::PatchLibraryBuilder;
+    Data d_;
 };
 
 // Generates the patches of one pattern (appended to lib.patterns/patches).

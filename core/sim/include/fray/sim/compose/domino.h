@@ -1,6 +1,6 @@
 #pragma once
 // Domino (SPEC 4.5): falling bodies knock the next people over inside a
-// painted floor area. Its part of a compose spec and of the compose stats.
+// painted floor area. Its part of a compose spec (kind "domino") and of the compose stats.
 #include <string>
 #include <vector>
 
@@ -18,6 +18,7 @@ struct DominoStart {
 // letter each, with its own start time), people standing outside the area,
 // and a cap on the crowd.
 struct DominoSpec {
+    static constexpr const char* kKind = "domino";
     std::string floorFile;
     double metresPerPixel = 0.1;
     glm::vec2 floorOrigin{0.0f};

@@ -1,7 +1,7 @@
 #pragma once
 // American football (SPEC 4.5): a carrier runs for the goal line past
 // tacklers that dive at it from {run, TACKLE, avoid} patches. Its part of a
-// compose spec and of the compose stats.
+// compose spec (kind "football") and of the compose stats.
 #include <vector>
 
 namespace fray::sim {
@@ -16,6 +16,7 @@ struct RunDirection {
 // Tacklers coming in turn, the goal line this far along +Z (m) from the
 // carrier's start, and the running direction over time.
 struct FootballSpec {
+    static constexpr const char* kKind = "football";
     int tacklers = 5;
     double goal = 40;
     std::vector<RunDirection> directions;

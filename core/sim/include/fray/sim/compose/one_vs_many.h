@@ -1,10 +1,11 @@
 #pragma once
 // One vs many (SPEC 4.5): the main character meets enemies one after another,
-// each entering from outside, patch after patch. Its part of a compose spec.
+// each entering from outside, patch after patch. Its part of a compose spec (kind "one-vs-many").
 
 namespace fray::sim {
 
 struct OneVsManySpec {
+    static constexpr const char* kKind = "one-vs-many";
     int enemies = 10;  // how many come in turn
 };
 
