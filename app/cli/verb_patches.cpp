@@ -2,6 +2,10 @@
 #include <cstdio>
 #include <memory>
 
+#if defined(__unix__)
+#include <sys/resource.h>
+#endif
+
 #include <nlohmann/json.hpp>
 
 #include "fray/core/atomic_file.h"
@@ -180,6 +184,15 @@ struct ComposeArgs {
 };
 
 
+// The most resident memory the process has used so far (MB), 0 where unknown.
+double peakMemoryMB() {
+#if defined(__unix__)
+    rusage usage{};
+    if (getrusage(RUSAGE_SELF, &usage) == 0) return static_cast<double>(usage.ru_maxrss) / 1024.0;  // Linux: kB
+#endif
+    return 0.0;
+}
+
 // What a kind's own stats say, where it keeps its own.
 void reportKind(const ComposeArgs& a, const sim::ComposeSpec& spec, const sim::ComposeStats& st, const sim::Scene& scene) {
     if (const auto* fb = st.part<sim::FootballStats>()) {
@@ -250,6 +263,9 @@ void runCompose(const ComposeArgs& a) {
                 st.temporalLinks, st.recycled, dominoStats ? dominoStats->chainFalls : 0, st.locomotionSteps, st.maxJunctionError,
                 st.seconds);
     reportKind(a, *spec, st, *scene);
+    // Time and memory on stderr (stdout stays the same from run to run).
+    std::fprintf(stderr, "%s: composed in %.3f s; peak memory %.0f MB (the whole process, loading included)\n", a.out.c_str(),
+                 st.seconds, peakMemoryMB());
 }
 
 }  // namespace

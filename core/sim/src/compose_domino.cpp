@@ -1,4 +1,5 @@
 // Domino: falling bodies knock the next people over inside the painted area (SPEC 4.5).
+#include "compose_grid.h"
 #include "compose_kinds.h"
 #include "fray/sim/compose/domino.h"
 
@@ -38,6 +39,8 @@ struct DominoComposer : KindComposer<DominoSpec, DominoStats> {
     // Share of the painted floor within DominoStats::kCoverRadius of a spot.
     double coverage(const std::vector<glm::vec2>& fallers) const {
         constexpr float kStep = 0.25f;
+        FloorGrid grid;
+        for (std::size_t i = 0; i < fallers.size(); ++i) grid.insert(static_cast<int>(i), fallers[i]);
         const glm::vec2 lo = own.floor.extentMin(), hi = own.floor.extentMax();
         long painted = 0, covered = 0;
         for (float z = lo.y + 0.5f * kStep; z < hi.y; z += kStep) {
@@ -45,8 +48,8 @@ struct DominoComposer : KindComposer<DominoSpec, DominoStats> {
                 const glm::vec2 q(x, z);
                 if (!own.floor.paintedAt(q)) continue;
                 ++painted;
-                for (const glm::vec2& s : fallers) {
-                    if (glm::length(s - q) <= DominoStats::kCoverRadius) {
+                for (int i : grid.near(q, DominoStats::kCoverRadius)) {
+                    if (glm::length(fallers[static_cast<std::size_t>(i)] - q) <= DominoStats::kCoverRadius) {
                         ++covered;
                         break;
                     }
@@ -73,6 +76,21 @@ struct DominoComposer : KindComposer<DominoSpec, DominoStats> {
         if (chainPatches.empty()) return makeError("domino: the patch library has no patch where a falling body knocks someone over (generate the fall-fall pattern)");
         std::vector<Print> prints;     // per character: where it stands and falls
         std::vector<glm::vec2> spots;  // per character: where it stands
+        FloorGrid printGrid, spotGrid;  // the same, by where they are on the floor
+        auto addPrint = [&](const Print& pr, const glm::vec2& spot) {
+            printGrid.insert(static_cast<int>(prints.size()), pr.all);
+            spotGrid.insert(static_cast<int>(spots.size()), spot);
+            prints.push_back(pr);
+            spots.push_back(spot);
+        };
+        // Does `print` overlap (by margin) the print of anyone but `except`?
+        auto printClear = [&](const Print& print, int except, float margin) {
+            const float grow = std::max(margin, 0.0f);
+            for (int o : printGrid.near(SweptBox{print.all.lo - glm::vec2(grow), print.all.hi + glm::vec2(grow)})) {
+                if (o != except && prints[static_cast<std::size_t>(o)].overlaps(print, margin)) return false;
+            }
+            return true;
+        };
         std::vector<Faller> queue;
         auto byTime = [](const Faller& a, const Faller& b) { return a.clipStart > b.clipStart; };
         std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -93,8 +111,7 @@ struct DominoComposer : KindComposer<DominoSpec, DominoStats> {
             append(c, action, st.time, root);
             Print first = footprint(p, 0, root * p.tracks[0].front().root.inverse());
             first.add(standingBox(at.pos));
-            prints.push_back(first);
-            spots.push_back(at.pos);
+            addPrint(first, at.pos);
             queue.push_back({c, st.time, action, root, 0.0, -1});
             std::push_heap(queue.begin(), queue.end(), byTime);
         }
@@ -119,9 +136,16 @@ struct DominoComposer : KindComposer<DominoSpec, DominoStats> {
                     if (patches.patches()[idx].tracks[0].front().action == f.action) next.emplace_back(idx, f.offset);
                 }
             }
-            for (int child = 0; child < kBranch && static_cast<int>(scene.characters.size()) < own.maxCharacters; ++child) {
-                int best = -1;
-                double bestS = -std::numeric_limits<double>::max();
+            // Where each of them would put its victim: what does not change
+            // while this faller's victims are chosen (a footprint that
+            // overlaps someone's goes on overlapping it as more are added).
+            struct Candidate {
+                std::size_t idx;
+                glm::vec2 q;
+                Print print;
+            };
+            std::vector<Candidate> candidates;
+            if (static_cast<int>(scene.characters.size()) < own.maxCharacters) {
                 for (const auto& [idx, from] : next) {
                     const Patch& p = patches.patches()[idx];
                     const HitEvent& hit = *std::find_if(p.hits.begin(), p.hits.end(), [](const HitEvent& h) { return h.attacker == 0; });
@@ -129,19 +153,27 @@ struct DominoComposer : KindComposer<DominoSpec, DominoStats> {
                     const RootXf xf = f.root * p.tracks[0].front().root.inverse();
                     const glm::vec2 q = (xf * p.tracks[1].front().placementAt(lib, 0)).pos;
                     if (!own.floor.paintedAt(q)) continue;
-
                     Print print = footprint(p, 1, xf);
                     print.add(standingBox(q));
-                    bool clear = true;
-                    for (std::size_t o = 0; o < prints.size() && clear; ++o) {
-                        // Boxes around bodies are generous: they must overlap by 0.15 m to count.
-                        if (static_cast<int>(o) != f.c) clear = !prints[o].overlaps(print, -0.15f);
+                    candidates.push_back({idx, q, std::move(print)});
+                }
+            }
+            std::vector<char> blocked(candidates.size(), 0);
+            for (int child = 0; child < kBranch && static_cast<int>(scene.characters.size()) < own.maxCharacters; ++child) {
+                int best = -1;
+                double bestS = -std::numeric_limits<double>::max();
+                for (std::size_t k = 0; k < candidates.size(); ++k) {
+                    if (blocked[k]) continue;
+                    const Candidate& cand = candidates[k];
+                    // Boxes around bodies are generous: they must overlap by 0.15 m to count.
+                    if (!printClear(cand.print, f.c, -0.15f)) {
+                        blocked[k] = 1;
+                        continue;
                     }
-                    if (!clear) continue;
                     int near = 0;
-                    for (const auto& sp : spots) near += glm::length(sp - q) < 1.5f ? 1 : 0;
-                    const double sc = score(idx, near, 0);
-                    if (sc > bestS) bestS = sc, best = static_cast<int>(idx);
+                    for (int o : spotGrid.near(cand.q, 1.5f)) near += glm::length(spots[static_cast<std::size_t>(o)] - cand.q) < 1.5f ? 1 : 0;
+                    const double sc = score(cand.idx, near, 0);
+                    if (sc > bestS) bestS = sc, best = static_cast<int>(cand.idx);
                 }
                 if (best < 0) break;
                 const Patch& p = patches.patches()[static_cast<std::size_t>(best)];
@@ -164,8 +196,7 @@ struct DominoComposer : KindComposer<DominoSpec, DominoStats> {
                 scene.hits.push_back(h);
                 Print print = footprint(p, 1, xf);
                 print.add(standingBox(standing.pos));
-                prints.push_back(print);
-                spots.push_back(standing.pos);
+                addPrint(print, standing.pos);
                 used(static_cast<std::size_t>(best));
                 ++ownStats.chainFalls;
                 ownStats.spatialFalls += f.patch >= 0 ? 1 : 0;
@@ -186,16 +217,13 @@ struct DominoComposer : KindComposer<DominoSpec, DominoStats> {
             if (own.floor.paintedAt(q)) continue;
             Print box;
             box.add(standingBox(q));
-            bool clear = true;
-            for (const auto& pr : prints) clear = clear && !pr.overlaps(box, 0.3f);
-            if (!clear) continue;
+            if (!printClear(box, -1, 0.3f)) continue;
             RootXf at;
             at.pos = q;
             at.heading = wrapAngle(unit(rng) * 2 * std::numbers::pi);
             const int c = addCharacter("bystander-" + std::to_string(b + 1), 1);
             append(c, hold, 0.0, at * lib.rootAt(hold, 0).inverse());
-            prints.push_back(box);
-            spots.push_back(q);
+            addPrint(box, q);
             ++b;
         }
         // Everyone still standing stays until the last one has fallen.

@@ -1,4 +1,9 @@
 // American football: a carrier runs for the goal line past tacklers (SPEC 4.5).
+#include <atomic>
+#include <mutex>
+
+#include <tbb/parallel_for.h>
+
 #include "compose_kinds.h"
 #include "fray/sim/compose/football.h"
 
@@ -134,6 +139,7 @@ struct FootballComposer : KindComposer<FootballSpec, FootballStats> {
     }
 
     Status run(const ProgressFn& progress) {
+        if (own.runs > 1) return runMany(progress);
         bool any = false;
         for (std::size_t i = 0; i < patches.patches().size() && !any; ++i) {
             const auto& p = patches.patches()[i];
@@ -287,10 +293,133 @@ struct FootballComposer : KindComposer<FootballSpec, FootballStats> {
         }
         return {};
     }
+
+    // ---- many runs at once (issue 27): own.runs carriers, each with its own
+    // tacklers, composed in parallel (run k with seed + k, so the same spec
+    // gives the same bytes on any number of threads) and laid out on the floor
+    // side by side, each run's floor rectangle clear of the others'.
+    struct Lane {
+        Scene scene;
+        ComposeStats stats;
+        std::string error;
+        SweptBox extent = SweptBox::empty();
+    };
+
+    Status runMany(const ProgressFn& progress) {
+        const int n = own.runs;
+        std::vector<Lane> lanes(static_cast<std::size_t>(n));
+        std::atomic<int> done{0};
+        std::atomic<bool> stop{false};
+        std::mutex progressMutex;
+        tbb::parallel_for(0, n, [&](int k) {
+            if (stop.load(std::memory_order_relaxed)) return;
+            Lane& lane = lanes[static_cast<std::size_t>(k)];
+            FootballSpec one = own;
+            one.runs = 1;
+            // Each carrier is given its own arrows: the spec's, each turned by
+            // up to spread degrees either way (drawn from the run's seed).
+            std::mt19937_64 turn(spec.seed * 7919 + static_cast<std::uint64_t>(k));
+            std::uniform_real_distribution<double> within(-own.spread, own.spread);
+            constexpr double kMaxHeading = 79 * std::numbers::pi / 180;
+            for (auto& d : one.directions) d.heading = std::clamp(d.heading + within(turn), -kMaxHeading, kMaxHeading);
+            ComposeSpec s = ComposeSpec::of(one);
+            static_cast<ComposeCommonSpec&>(s) = spec;
+            s.seed = spec.seed + static_cast<std::uint64_t>(k);
+            FootballComposer c(lib, patches, s, lane.stats);
+            Status st = c.ready();
+            if (st) st = c.run({});
+            if (!st) {
+                lane.error = "run " + std::to_string(k + 1) + ": " + st.error().message;
+                return;
+            }
+            lane.scene = std::move(c.scene);
+            lane.extent = extentOf(lane.scene);
+            const int finished = ++done;
+            const std::lock_guard<std::mutex> lock(progressMutex);
+            if (!reportProgress(progress, static_cast<double>(finished) / n, "compose")) stop = true;
+        });
+        if (stop.load()) return cancelled();
+        for (const Lane& lane : lanes) {
+            if (!lane.error.empty()) return makeError(lane.error);
+        }
+        // Rows of ceil(sqrt(n)) runs, each run kMargin m from its neighbours.
+        constexpr float kMargin = 3.0f;
+        const int perRow = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(n))));
+        float rowZ = 0;
+        bool allReached = true;
+        double lastGoal = -1;
+        for (int row = 0; row * perRow < n; ++row) {
+            float x = 0, depth = 0;
+            for (int k = row * perRow; k < std::min(n, (row + 1) * perRow); ++k) {
+                Lane& lane = lanes[static_cast<std::size_t>(k)];
+                const glm::vec2 size = lane.extent.hi - lane.extent.lo;
+                const glm::vec2 shift = glm::vec2(x, rowZ) - lane.extent.lo;
+                merge(lane, k, shift);
+                x += size.x + kMargin;
+                depth = std::max(depth, size.y);
+                const auto& fs = *lane.stats.part<FootballStats>();
+                allReached = allReached && fs.goalReached >= 0;
+                lastGoal = std::max(lastGoal, fs.goalReached);
+            }
+            rowZ += depth + kMargin;
+        }
+        ownStats.goalReached = allReached ? lastGoal : -1;
+        return {};
+    }
+
+    // The floor rectangle a run's characters and marks cover (bodies included).
+    SweptBox extentOf(const Scene& s) const {
+        SweptBox box = SweptBox::empty();
+        for (const auto& ch : s.characters) {
+            for (const auto& inst : ch.track) {
+                for (double tau = inst.offset; tau <= inst.clipTimeAt(inst.end) + 1e-9; tau += 0.25) {
+                    const glm::vec2 p = inst.placementAt(lib, tau).pos;
+                    box.add({p, p});
+                }
+                const glm::vec2 e = inst.placementAt(lib, inst.clipTimeAt(inst.end)).pos;
+                box.add({e, e});
+            }
+        }
+        for (const auto& m : s.marks) {
+            for (const auto& p : m.points) box.add({p, p});
+        }
+        box.lo -= glm::vec2(1.5f), box.hi += glm::vec2(1.5f);  // bodies and falls around the roots
+        return box;
+    }
+
+    // Appends run k's characters, hits and marks, moved by `shift`, and its stats.
+    void merge(const Lane& lane, int k, const glm::vec2& shift) {
+        const int base = static_cast<int>(scene.characters.size());
+        const RootXf offset{shift, 0.0};
+        for (SceneCharacter ch : lane.scene.characters) {
+            ch.name = "run-" + std::to_string(k + 1) + "/" + ch.name;
+            for (auto& inst : ch.track) inst.root = offset * inst.root;
+            scene.characters.push_back(std::move(ch));
+        }
+        for (HitEvent h : lane.scene.hits) {
+            h.attacker += base, h.defender += base;
+            scene.hits.push_back(h);
+        }
+        for (FloorMark m : lane.scene.marks) {
+            for (auto& p : m.points) p += shift;
+            scene.marks.push_back(std::move(m));
+        }
+        const ComposeStats& ls = lane.stats;
+        stats.patchesUsed += ls.patchesUsed, stats.temporalLinks += ls.temporalLinks, stats.recycled += ls.recycled;
+        stats.locomotionSteps += ls.locomotionSteps;
+        stats.maxJunctionError = std::max(stats.maxJunctionError, ls.maxJunctionError);
+        const auto& fs = *ls.part<FootballStats>();
+        ownStats.graphJoined += fs.graphJoined, ownStats.secondTacklers += fs.secondTacklers;
+        ownStats.tacklersPassed += fs.tacklersPassed;
+    }
 };
 
 Status parseFootball(const prep::JsonReader& rd, const Json& j, FootballSpec& s) {
     if (auto st = optionalInt(rd, j, "tacklers", 1, 1000, s.tacklers); !st) return st.error();
+    if (auto st = optionalInt(rd, j, "runs", 1, 100000, s.runs); !st) return st.error();
+    double spreadDeg = s.spread * 180 / std::numbers::pi;
+    if (auto st = optionalNumberIn(rd, j, "", "spread_deg", 0, 45, "degrees", spreadDeg, true); !st) return st.error();
+    s.spread = spreadDeg * std::numbers::pi / 180;
     if (auto st = optionalNumber(rd, j, "goal", 0, 1000, "m", s.goal); !st) return st.error();
     if (auto f = rd.field(j, "", "doubles", false); !f) return f.error();
     else if (*f) {
@@ -320,7 +449,7 @@ Status parseFootball(const prep::JsonReader& rd, const Json& j, FootballSpec& s)
     return {};
 }
 
-constexpr const char* kFields[] = {"tacklers", "goal", "directions", "doubles"};
+constexpr const char* kFields[] = {"tacklers", "goal", "directions", "doubles", "runs", "spread_deg"};
 
 }  // namespace
 

@@ -24,6 +24,14 @@ struct FootballSpec {
     // the chosen one (the carrier's very same run and cut, the two tacklers
     // never meeting).
     bool doubles = false;
+    // Carriers running at once (issue 27: crowds), each with its own
+    // `tacklers`, composed in parallel and laid out side by side on the
+    // floor, clear of each other ("runs" in the spec; run k uses seed + k).
+    int runs = 1;
+    // With several runs, each carrier's arrows are the directions above each
+    // turned by up to this much either way (rad; "spread_deg" in the spec),
+    // drawn from the run's seed, so the carriers do not all run alike.
+    double spread = 0;
 };
 
 struct FootballStats {

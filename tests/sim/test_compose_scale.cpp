@@ -1,0 +1,184 @@
+// Composition at scale (issue 27): the floor grid that replaces passes over
+// every character, and a domino crowd of a few thousand over a large painted
+// field (the 10,000-character demo is measured by fray-bench, BM_DominoCrowd).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <numbers>
+#include <random>
+#include <set>
+
+#include <tbb/task_arena.h>
+
+#include "compose_grid.h"
+#include "fray/sim/compose.h"
+#include "fray/sim/compose/domino.h"
+#include "fray/sim/compose/football.h"
+#include "fray/sim/metrics.h"
+#include "fray/sim/patches.h"
+#include "fray/sim/patterns.h"
+#include "sim/demo_world.h"
+#include "sim/scene_crop.h"
+
+namespace fray::sim {
+namespace {
+
+using test::demoWorld;
+using test::footballWorld;
+
+// Every box that overlaps the query box is among the grid's candidates, and
+// the candidates come in increasing order, each once.
+TEST(FloorGrid, NearFindsEveryOverlapInOrder) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> pos(-30.0f, 30.0f), size(0.0f, 3.0f);
+    auto box = [&] {
+        const glm::vec2 lo(pos(rng), pos(rng));
+        return SweptBox{lo, lo + glm::vec2(size(rng), size(rng))};
+    };
+    std::vector<SweptBox> boxes;
+    detail::FloorGrid grid(2.0f);
+    for (int i = 0; i < 2000; ++i) {
+        boxes.push_back(box());
+        grid.insert(i, boxes.back());
+    }
+    grid.insert(2000, SweptBox::empty());  // an empty box is in no cell
+    int found = 0;
+    for (int q = 0; q < 500; ++q) {
+        const SweptBox query = box();
+        const std::vector<int> near = grid.near(query);
+        EXPECT_TRUE(std::is_sorted(near.begin(), near.end()));
+        EXPECT_EQ(std::adjacent_find(near.begin(), near.end()), near.end());
+        EXPECT_EQ(std::count(near.begin(), near.end(), 2000), 0);
+        for (int i = 0; i < 2000; ++i) {
+            if (!boxes[static_cast<std::size_t>(i)].overlaps(query)) continue;
+            ++found;
+            EXPECT_TRUE(std::binary_search(near.begin(), near.end(), i)) << "box " << i << " missed by query " << q;
+        }
+        EXPECT_LT(near.size(), 200u);  // the neighbourhood, not everyone
+    }
+    EXPECT_GT(found, 100);
+}
+
+const PatchLibrary& fallLibrary() {
+    static const PatchLibrary lib = [] {
+        PatchLibrary out;
+        for (const auto& p : defaultPatterns()) {
+            if (p.name != "fall-fall") continue;
+            if (auto st = generatePatches(demoWorld().library, p, PatternSet{}, out); !st) throw std::runtime_error(st.error().message);
+        }
+        buildConnections(demoWorld().library, out);
+        return out;
+    }();
+    return lib;
+}
+
+// A 60 m x 60 m painted field at 0.5 m a pixel with a hole in the middle.
+FloorBitmap field() {
+    FloorBitmap f;
+    f.width = f.height = 120;
+    f.metresPerPixel = 0.5;
+    f.origin = glm::vec2(-30.0f);
+    f.painted.assign(120 * 120, 1);
+    for (int y = 56; y < 64; ++y) {
+        for (int x = 56; x < 64; ++x) f.painted[static_cast<std::size_t>(y * 120 + x)] = 0;
+    }
+    return f;
+}
+
+// Thousands of people over a large painted field, every one of them knocked
+// over by the one before (none left standing idle), without bodies passing
+// through each other (measured on windows of the scene), the same bytes for
+// the same seed.
+TEST(ComposeScale, DominoCrowdFillsALargeField) {
+    const auto& lib = demoWorld().library;
+    DominoSpec domino;
+    domino.floor = field();
+    for (int z = -25; z <= 25; z += 10) {
+        for (int x = -25; x <= 25; x += 10) domino.starts.push_back({0.5 + 0.1 * (x + z + 50) / 10, glm::vec2(x, z)});
+    }
+    domino.background = 0;
+    domino.maxCharacters = 3000;
+    ComposeSpec spec = ComposeSpec::of(domino);
+    spec.seed = 3;
+    ComposeStats st;
+    auto scene = compose(lib, fallLibrary(), spec, &st);
+    ASSERT_TRUE(scene) << scene.error().message;
+    const auto* ds = st.part<DominoStats>();
+    ASSERT_NE(ds, nullptr);
+    const int n = static_cast<int>(scene->characters.size());
+    std::printf("%d characters, %d chain falls, %.0f %% of the field covered, composed in %.2f s\n", n, ds->chainFalls,
+                100.0 * ds->paintedCoverage, st.seconds);
+    EXPECT_GE(n, 1300);
+    EXPECT_EQ(ds->chainFalls + static_cast<int>(domino.starts.size()), n) << "everyone but the starts is knocked over";
+    EXPECT_EQ(static_cast<int>(scene->hits.size()), ds->chainFalls);
+    EXPECT_GE(ds->paintedCoverage, 0.5);
+    for (const auto& [lo, hi] : {std::pair{glm::vec2(-30.0f, -30.0f), glm::vec2(-22.0f, -22.0f)},
+                                 std::pair{glm::vec2(4.0f, 6.0f), glm::vec2(12.0f, 14.0f)}}) {
+        const Scene window = test::cropScene(*scene, lib, lo, hi);
+        ASSERT_GE(window.characters.size(), 20u);
+        const auto m = computeMetrics(window, lib);
+        EXPECT_EQ(m.penetrationFrames, 0) << "window at (" << lo.x << ", " << lo.y << ")";
+    }
+    auto again = compose(lib, fallLibrary(), spec);
+    ASSERT_TRUE(again);
+    EXPECT_EQ(sceneToJson(*again, lib), sceneToJson(*scene, lib));
+}
+
+// Many football runs at once: every carrier gets past its tacklers to the
+// goal line, the runs keep clear of each other, and composing them in
+// parallel gives the same bytes as on one thread.
+TEST(ComposeScale, FootballRunsSideBySide) {
+    const auto& lib = footballWorld().library;
+    PatchLibrary patches;
+    for (const auto& p : defaultPatterns()) {
+        if (p.name == "run-tackle-avoid") {
+            ASSERT_TRUE(generatePatches(lib, p, PatternSet{}, patches));
+        }
+    }
+    buildConnections(lib, patches);
+    FootballSpec football;
+    football.runs = 24;
+    football.tacklers = 4;
+    football.goal = 40;
+    football.spread = 20 * std::numbers::pi / 180;
+    football.directions = {{0.0, 0.0}, {5.0, 0.4}, {10.0, -0.3}};
+    ComposeSpec spec = ComposeSpec::of(football);
+    spec.duration = 60;
+    ComposeStats st;
+    auto scene = compose(lib, patches, spec, &st);
+    ASSERT_TRUE(scene) << scene.error().message;
+    const auto* fs = st.part<FootballStats>();
+    ASSERT_NE(fs, nullptr);
+    EXPECT_GE(fs->goalReached, 0.0) << "some carrier never reached the goal line";
+    EXPECT_GE(fs->tacklersPassed, 3 * football.runs);
+    int carriers = 0;
+    for (const auto& c : scene->characters) carriers += c.name.ends_with("/carrier") ? 1 : 0;
+    EXPECT_EQ(carriers, football.runs);
+    for (const auto& h : scene->hits) EXPECT_FALSE(scene->characters[static_cast<std::size_t>(h.defender)].name.ends_with("/carrier"));
+    // The runs differ (each carrier its own arrows), and none passes through
+    // another's: the first runs measured together.
+    std::set<std::vector<std::pair<int, long>>> distinct;  // carriers' runs: (action, start in ms) each
+    for (const auto& c : scene->characters) {
+        if (!c.name.ends_with("/carrier")) continue;
+        std::vector<std::pair<int, long>> run;
+        for (const auto& i : c.track) run.emplace_back(i.action, std::lround(i.start * 1000));
+        distinct.insert(run);
+    }
+    EXPECT_GE(distinct.size(), static_cast<std::size_t>(football.runs / 2));
+    const Scene firstRuns = test::cropSceneTo(*scene, [](int, const SceneCharacter& c) {
+        return c.name.starts_with("run-1/") || c.name.starts_with("run-2/") || c.name.starts_with("run-3/") ||
+               c.name.starts_with("run-6/") || c.name.starts_with("run-7/");
+    });
+    EXPECT_EQ(computeMetrics(firstRuns, lib).penetrationFrames, 0);
+    std::string oneThread;
+    tbb::task_arena arena(1);
+    arena.execute([&] {
+        auto again = compose(lib, patches, spec);
+        ASSERT_TRUE(again);
+        oneThread = sceneToJson(*again, lib);
+    });
+    EXPECT_EQ(oneThread, sceneToJson(*scene, lib));
+}
+
+}  // namespace
+}  // namespace fray::sim
