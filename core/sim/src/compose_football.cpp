@@ -45,23 +45,35 @@ struct FootballComposer : KindComposer<FootballSpec, FootballStats> {
     // steps that lead into it, until it starts entryRadius away; or from a
     // stand when the capture started the run from one. Before time 0 it is
     // already under way.
+    // The run step that leads into action `cur` in a run-up (-1: none): running
+    // first (a cut if nothing else leads on), then straightest, then the
+    // longest stride. A function of `cur` alone, so it is remembered.
+    int leadInto(int cur) const {
+        if (leads_.empty()) leads_.assign(static_cast<std::size_t>(lib.size()), -2);
+        int& memo = leads_[static_cast<std::size_t>(cur)];
+        if (memo != -2) return memo;
+        int best = -1;
+        double bestKey = 0;
+        for (int q = 0; q < lib.size(); ++q) {
+            const auto& Q = act(q);
+            const bool cut = Q.is(kAvoid) && !Q.is(kAttack);  // a running cut is a run step too
+            if (!(Q.is(kRun | kIdle) || cut) || Q.is(kAttack) || !lib.continuesInto(q, cur)) continue;
+            const double key = (Q.is(kRun) ? 0.0 : cut ? 500.0 : 1000.0) + std::round(std::fabs(Q.end.heading) / 0.05) * 10.0 -
+                               static_cast<double>(glm::length(Q.end.pos));
+            if (best < 0 || key < bestKey - 1e-9) best = q, bestKey = key;
+        }
+        memo = best;
+        return best;
+    }
+    mutable std::vector<int> leads_;  // leadInto's answers, -2: not asked yet
+
     std::vector<ActionInstance> runUp(int first, const RootXf& at, double t) const {
         std::vector<ActionInstance> rev;
         int cur = first;
         RootXf root = at;
         double start = t;
         while (start > 1e-9 && static_cast<double>(glm::length(root.pos - at.pos)) < spec.entryRadius && rev.size() < 64) {
-            int best = -1;
-            double bestKey = 0;
-            for (int q = 0; q < lib.size(); ++q) {
-                const auto& Q = act(q);
-                const bool cut = Q.is(kAvoid) && !Q.is(kAttack);  // a running cut is a run step too
-                if (!(Q.is(kRun | kIdle) || cut) || Q.is(kAttack) || !lib.continuesInto(q, cur)) continue;
-                // Running first (a cut if nothing else leads on), then straightest, then the longest stride.
-                const double key = (Q.is(kRun) ? 0.0 : cut ? 500.0 : 1000.0) + std::round(std::fabs(Q.end.heading) / 0.05) * 10.0 -
-                                   static_cast<double>(glm::length(Q.end.pos));
-                if (best < 0 || key < bestKey - 1e-9) best = q, bestKey = key;
-            }
+            const int best = leadInto(cur);
             if (best < 0) break;
             root = root * act(best).end.inverse();
             const double s0 = start - act(best).duration;
