@@ -413,10 +413,18 @@ Result<Motion> retarget(const Motion& source, const RetargetTarget& target, cons
     out.source() = source.source();
     out.source().warnings.push_back("retargeted onto " + target.name);
     const int pelvis = tsj.pelvis;
+    // The pelvis joint sits at different heights above the hip joints from
+    // one source to another: the hip joints' midpoint is what is scaled.
+    auto hipMid = [](const std::vector<glm::vec3>& p, const StandardJoints& sj) {
+        return 0.5 * (glm::dvec3(p[static_cast<std::size_t>(sj.leftHip)]) + glm::dvec3(p[static_cast<std::size_t>(sj.rightHip)]));
+    };
+    const glm::dvec3 hipMidInPelvis = glm::inverse(glm::dquat(refRot[static_cast<std::size_t>(pelvis)])) *
+                                      (hipMid(refPos, tsj) - glm::dvec3(refPos[static_cast<std::size_t>(pelvis)]));
     for (int f = 0; f < frames; ++f) {
         worldTransforms(source, f, sPos, sRot);
         sFrames.build(sPos, sA);
-        const glm::dvec3 want = scale * glm::dvec3(sPos[static_cast<std::size_t>(ssj.pelvis)]);
+        const glm::dquat pelvisWorld = sA[Pelvis] * offset[Pelvis];
+        const glm::dvec3 want = scale * hipMid(sPos, ssj) - pelvisWorld * hipMidInPelvis;
         auto T = out.translations(f);
         auto Q = out.rotations(f);
         for (int j = 0; j < tj; ++j) {

@@ -17,8 +17,10 @@
 //   reference pose; every source frame then gives the anatomical frames and so
 //   the target's world rotations. Rest poses are never assumed to be T-poses
 //   (LAFAN1's rest pose has every bone along +X).
-// - Scaling: the root (pelvis) trajectory, height included, is scaled by the
-//   ratio of the leg lengths (hip-knee-ankle); bone lengths are the target's.
+// - Scaling: the trajectory of the hip joints' midpoint, height included, is
+//   scaled by the ratio of the leg lengths (hip-knee-ankle); the pelvis joint
+//   is placed from it (sources put it at different heights above the hips);
+//   bone lengths are the target's.
 // - Feet: during each foot contact of the source (given, or detected from
 //   ankle height and speed) the target's ankle is held at one place and a
 //   two-bone IK (ik.h) on hip-knee-ankle reaches it; the ankle eases into and
