@@ -10,6 +10,7 @@
 #include "fray/io/bvh.h"
 #include "fbx_writer.h"
 #include "gltf_writer.h"
+#include "retarget_export.h"
 #include "sampled_scene.h"
 #include "summary.h"
 
@@ -132,6 +133,11 @@ Result<ExportReport> exportScene(const sim::Scene& scene, const sim::ActionLibra
     if (auto st = validateOptions(options); !st) return st.error();
     auto sampled = sampleScene(scene, lib, options.fps, scaled(progress, 0.0, 0.5));
     if (!sampled) return sampled.error();
+    std::vector<std::string> rigNotes;
+    if (options.rig) {
+        if (auto st = retargetCharacters(*sampled, *options.rig, rigNotes); !st) return st.error();
+    }
+    for (auto& c : sampled->characters) addRootBone(c.motion, options.rootMotion);
     const auto planned = plannedFiles(*sampled, options);
     if (auto st = prepareFolder(options.outDir); !st) return st.error();
     auto earlier = checkReplaceable(options.outDir, planned, summaryName(options), legacySummaryName(options));
@@ -139,6 +145,7 @@ Result<ExportReport> exportScene(const sim::Scene& scene, const sim::ActionLibra
 
     ExportReport report;
     report.frames = sampled->frames;
+    report.notes = std::move(rigNotes);
     std::error_code ec;
     const fs::path legacy = options.outDir / legacySummaryName(options);
     if (fs::exists(legacy, ec) && earlierExportFiles(legacy)) {
