@@ -135,7 +135,11 @@ Result<ExportReport> exportScene(const sim::Scene& scene, const sim::ActionLibra
     if (!sampled) return sampled.error();
     std::vector<std::string> rigNotes;
     if (options.rig) {
-        if (auto st = retargetCharacters(*sampled, *options.rig, rigNotes); !st) return st.error();
+        std::vector<char> retargeted;
+        if (auto st = retargetCharacters(*sampled, *options.rig, rigNotes, &retargeted); !st) return st.error();
+        if (const int moved = landHits(*sampled, scene, retargeted); moved > 0)
+            rigNotes.push_back(std::to_string(moved) + " of " + std::to_string(scene.hits.size()) +
+                               " hits brought onto the defender's body by arm or leg IK (the rig's proportions left them off)");
     }
     for (auto& c : sampled->characters) addRootBone(c.motion, options.rootMotion);
     const auto planned = plannedFiles(*sampled, options);

@@ -1,9 +1,12 @@
 #include "retarget_export.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <glm/gtc/quaternion.hpp>
 
+#include "fray/core/body_mesh.h"
+#include "fray/core/ik.h"
 #include "fray/core/joint_guess.h"
 #include "fray/core/kinematics.h"
 
@@ -16,7 +19,9 @@ std::optional<RootMotion> parseRootMotion(std::string_view name) {
     return std::nullopt;
 }
 
-Status retargetCharacters(SampledScene& scene, const RetargetTarget& rig, std::vector<std::string>& notes) {
+Status retargetCharacters(SampledScene& scene, const RetargetTarget& rig, std::vector<std::string>& notes,
+                          std::vector<char>* retargeted) {
+    if (retargeted) retargeted->assign(scene.characters.size(), 0);
     int done = 0;
     std::string firstRefusal;
     for (CharacterTake& c : scene.characters) {
@@ -40,10 +45,79 @@ Status retargetCharacters(SampledScene& scene, const RetargetTarget& rig, std::v
         }
         c.motion = std::move(*out);
         notes.push_back(report.text());
+        if (retargeted) (*retargeted)[static_cast<std::size_t>(&c - scene.characters.data())] = 1;
         ++done;
     }
     if (done == 0) return makeError("--rig " + rig.name + ": no character of the scene can be retargeted: " + firstRefusal);
     return {};
+}
+
+namespace {
+
+// Closest point to p on the segment a-b.
+glm::vec3 closestOnSegment(const glm::vec3& p, const glm::vec3& a, const glm::vec3& b) {
+    const glm::vec3 d = b - a;
+    const float len2 = glm::dot(d, d);
+    const float t = len2 > 1e-12f ? std::clamp(glm::dot(p - a, d) / len2, 0.0f, 1.0f) : 0.0f;
+    return a + t * d;
+}
+
+}  // namespace
+
+int landHits(SampledScene& sampled, const sim::Scene& scene, const std::vector<char>& retargeted) {
+    int moved = 0;
+    const int frames = sampled.frames;
+    const int window = std::max(1, static_cast<int>(std::ceil(0.2 * sampled.fps)));
+    for (const sim::HitEvent& h : scene.hits) {
+        const auto ai = static_cast<std::size_t>(h.attacker), di = static_cast<std::size_t>(h.defender);
+        if (ai >= sampled.characters.size() || di >= sampled.characters.size() || !retargeted[ai]) continue;
+        Motion& a = sampled.characters[ai].motion;
+        const Motion& d = sampled.characters[di].motion;
+        const StandardJoints sj = guessStandardJoints(a.skeleton());
+        int upper = -1, mid = -1, end = -1, tip = -1;
+        switch (h.effector) {
+            case sim::kLeftForearm: upper = sj.leftShoulder, mid = sj.leftElbow, end = tip = sj.leftHand; break;
+            case sim::kRightForearm: upper = sj.rightShoulder, mid = sj.rightElbow, end = tip = sj.rightHand; break;
+            case sim::kLeftShin: upper = sj.leftHip, mid = sj.leftKnee, end = tip = sj.leftFoot; break;
+            case sim::kRightShin: upper = sj.rightHip, mid = sj.rightKnee, end = tip = sj.rightFoot; break;
+            case sim::kLeftFoot: upper = sj.leftHip, mid = sj.leftKnee, end = sj.leftFoot, tip = sj.leftToe >= 0 ? sj.leftToe : sj.leftFoot; break;
+            case sim::kRightFoot: upper = sj.rightHip, mid = sj.rightKnee, end = sj.rightFoot, tip = sj.rightToe >= 0 ? sj.rightToe : sj.rightFoot; break;
+            default: break;
+        }
+        if (upper < 0 || mid < 0 || end < 0 || tip < 0) continue;
+        // The hit's frame: the sample nearest the hit time.
+        int fh = 0;
+        for (int f = 1; f < frames; ++f)
+            if (std::abs(sampled.time(f) - h.time) < std::abs(sampled.time(fh) - h.time)) fh = f;
+        std::vector<glm::vec3> ap(static_cast<std::size_t>(a.jointCount())), dp(static_cast<std::size_t>(d.jointCount()));
+        std::vector<glm::quat> ar(ap.size()), dr(dp.size());
+        worldTransforms(a, fh, ap, ar);
+        worldTransforms(d, fh, dp, dr);
+        // The nearest point of the defender's body surface (its capsules).
+        const glm::vec3 t = ap[static_cast<std::size_t>(tip)];
+        float best = 1e30f;
+        glm::vec3 onSurface = t;
+        for (const BodyCapsule& c : bodyCapsules(d.skeleton())) {
+            const glm::vec3 q = closestOnSegment(t, dp[c.joint] + dr[c.joint] * c.a, dp[c.joint] + dr[c.joint] * c.b);
+            const float dist = glm::length(t - q) - c.radius;
+            if (dist < best) {
+                best = dist;
+                onSurface = dist > 0.0f ? q + (t - q) * (c.radius / glm::length(t - q)) : t;
+            }
+        }
+        const glm::vec3 delta = onSurface - t;
+        if (glm::length(delta) < 1e-4f) continue;
+        ++moved;
+        for (int f = std::max(0, fh - window); f <= std::min(frames - 1, fh + window); ++f) {
+            const float w = 1.0f - static_cast<float>(std::abs(f - fh)) / static_cast<float>(window + 1);
+            const float smooth = w * w * (3.0f - 2.0f * w);
+            worldTransforms(a, f, ap, ar);
+            const glm::quat endWorld = ar[static_cast<std::size_t>(end)];
+            applyTwoBoneIk(a.skeleton(), a.rotations(f), ap, ar, upper, mid, end,
+                           ap[static_cast<std::size_t>(end)] + smooth * delta, &endWorld);
+        }
+    }
+    return moved;
 }
 
 void addRootBone(Motion& motion, RootMotion mode) {
