@@ -135,8 +135,12 @@ void addRootBone(Motion& motion, RootMotion mode) {
         std::vector<Channel> channels = old.channels[u];
         if (j == 0 && !old.hasPositionChannels(0))
             channels.insert(channels.begin(), {Channel::Xposition, Channel::Yposition, Channel::Zposition});
-        sk.addJoint(old.names[u], old.parents[u] < 0 ? 0 : old.parents[u] + 1, j == 0 ? glm::vec3(0) : old.offsets[u],
-                    std::move(channels), old.rotationOrders[u]);
+        // The old root's rest offset: where it stands above the floor at the
+        // start (a bone of length zero would confuse importers).
+        glm::vec3 rest = old.offsets[u];
+        if (j == 0) rest = motion.frameCount() > 0 ? glm::vec3(0.0f, motion.translations(0)[0].y, 0.0f) : glm::vec3(0);
+        sk.addJoint(old.names[u], old.parents[u] < 0 ? 0 : old.parents[u] + 1, rest, std::move(channels),
+                    old.rotationOrders[u]);
         sk.endSites.back() = old.endSites[u];
     }
     const StandardJoints sj = guessStandardJoints(old);

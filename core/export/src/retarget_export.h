@@ -28,7 +28,8 @@ int landHits(SampledScene& sampled, const sim::Scene& scene, const std::vector<c
 
 // Adds a root bone above the skeleton's root (see RootMotion). Its name is
 // kRootBoneName, or "fray_root" when that is taken. The old root keeps its
-// position channels and gets a zero rest offset (no capsule from the floor).
+// position channels; its rest offset is its height at the first frame (no
+// capsule is drawn from the floor: fray::bodyCapsules skips bones above the pelvis).
 void addRootBone(Motion& motion, RootMotion mode);
 
 }  // namespace fray::exporter
