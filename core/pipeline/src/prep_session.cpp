@@ -54,7 +54,8 @@ Result<std::vector<prep::LoadedMotion>> loadSessionMotions(const prep::Project& 
         if (reports && !sameSkeleton(at->motion.skeleton(), target->skeleton)) reports->push_back(std::move(report));
         return r;
     };
-    auto retargeted = prep::loadProjectMotions(project, projectFile, onto, {});
+    // Progress runs again from 0 for this pass ("load <id>"); cancelling still works.
+    auto retargeted = prep::loadProjectMotions(project, projectFile, onto, progress);
     if (!retargeted) return retargeted;
     // Their derived data depends on the project skeleton too.
     const std::uint64_t fp = skeletonFingerprint(target->skeleton) ^ prep::hashString("retarget 1");
