@@ -39,6 +39,18 @@ sed 's/"crowd": [0-9]*/"crowd": 20/' "$repo/resources/demo/rat.json" > "$tmp/rat
 "$cli" export "$tmp/rat.frayscene" --format glb --out "$tmp/out" -q > /dev/null
 GLTF_VALIDATOR_DIR=$validator node "$repo/scripts/validate-gltf.mjs" "$tmp/out/duel.gltf" "$tmp/out/duel.glb" "$tmp/out/rat.glb" | tee "$tmp/report.txt"
 check "all three files validated" "[ \$(grep -c ': 0 errors, 0 warnings' '$tmp/report.txt') -eq 3 ]"
+# The duel retargeted onto the CMU base skeleton (FBX, no mesh) with a root
+# bone on the floor, as .gltf and .glb (export --rig, --root-motion).
+base="$repo/../shared/mocap/cmu_fbx/Base.fbx"
+if [ -f "$base" ]; then
+  for f in gltf glb; do
+    "$cli" export "$tmp/duel.frayscene" --format $f --out "$tmp/rig" --rig "$base" --root-motion floor -q > /dev/null
+  done
+  GLTF_VALIDATOR_DIR=$validator node "$repo/scripts/validate-gltf.mjs" "$tmp/rig/duel.gltf" "$tmp/rig/duel.glb" | tee "$tmp/rig.txt"
+  check "both rig exports validated" "[ \$(grep -c ': 0 errors, 0 warnings' '$tmp/rig.txt') -eq 2 ]"
+else
+  echo "SKIP (rig part only): $base not found"
+fi
 # The validator must be able to fail here: a cubic-spline sampler with one
 # output per key (it needs three) is an error.
 sed '0,/"LINEAR"/s//"CUBICSPLINE"/' "$tmp/out/duel.gltf" > "$tmp/broken.gltf"

@@ -1,6 +1,7 @@
 // fray-cli export: a planned scene as files other tools read (docs/EXPORT.md).
 //
 //   export SCENE.frayscene [--format gltf|glb|bvh|fbx] --out DIR [--fps N] [--name NAME]
+//          [--rig FILE] [--root-motion none|floor|in-place]
 //
 // glTF/GLB/FBX: one file with every character skinned and animated; BVH: one
 // file per character; always DIR/NAME.FORMAT.scene.json (who does what, when,
@@ -10,6 +11,7 @@
 #include <memory>
 
 #include "fray/export/export.h"
+#include "fray/io/rig_import.h"
 #include "cli_session.h"
 #include "verbs.h"
 
@@ -20,6 +22,7 @@ namespace fs = std::filesystem;
 
 struct ExportArgs {
     std::string scene, format = "gltf", out, name;
+    std::string rig, rootMotion = "none";
     double fps = 30.0;
     bool quiet = false;
 };
@@ -38,6 +41,16 @@ void runExport(const ExportArgs& a) {
     options.name = a.name.empty() ? exporter::fileSafeName(fs::path(a.scene).stem().string()) : a.name;
     options.source = fs::path(a.scene).filename().string();
     if (auto st = exporter::validateOptions(options); !st) return fail(st.error().message);
+    const auto rootMotion = exporter::parseRootMotion(a.rootMotion);
+    if (!rootMotion) return fail("export: --root-motion: expected none, floor or in-place, got '" + a.rootMotion + "'");
+    options.rootMotion = *rootMotion;
+    if (!a.rig.empty()) {
+        auto rig = loadRigSkeleton(a.rig);
+        if (!rig) return fail("export: --rig: " + rig.error().message);
+        if (!a.quiet)
+            for (const auto& w : rig->warnings) std::fprintf(stderr, "fray-cli: note: %s: %s\n", a.rig.c_str(), w.c_str());
+        options.rig = std::move(rig->target);
+    }
     const auto progress = stderrProgress(a.quiet);
     auto loaded = openScene(a.scene, progress);
     if (!loaded) return fail(loaded.error().message);
@@ -61,6 +74,12 @@ void registerExport(CLI::App& app) {
     cmd->add_option("--fps", args->fps, "Samples per second of scene time (1-1000, default 30)");
     cmd->add_option("--name", args->name,
                     "File stem: letters, digits, '_', '-', '.' (default: the scene file's, other characters as '_')");
+    cmd->add_option("--rig", args->rig,
+                    "Retarget every character onto this rig's skeleton (glTF/GLB, FBX, BVH, ...): its joint names, "
+                    "hierarchy, proportions and local frames");
+    cmd->add_option("--root-motion", args->rootMotion,
+                    "none (default), floor (a root bone on the floor carries the trajectory) or in-place (the root bone "
+                    "stays at the origin)");
     cmd->add_flag("-q,--quiet", args->quiet, "No progress on stderr");
     cmd->callback([args] { runExport(*args); });
 }

@@ -2,11 +2,13 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <set>
 
 #include <nlohmann/json.hpp>
 
 #include "fray/core/atomic_file.h"
+#include "fray/core/retarget.h"
 #include "fray/io/import.h"
 #include "fray/prep/annotations.h"
 #include "fray/prep/contacts.h"
@@ -23,6 +25,22 @@ namespace {
 namespace fs = std::filesystem;
 
 // ---- project new ----------------------------------------------------------
+// Takes on another skeleton than the first one's are retargeted onto it when
+// the project is loaded (pipeline::loadSessionMotions); say now what maps to
+// what, and refuse a take that cannot be retargeted.
+Status reportRetarget(const Motion& motion, const std::string& id, std::optional<RetargetTarget>& skeleton) {
+    if (!skeleton) {
+        skeleton = pipeline::projectSkeletonTarget(motion, id);
+        return {};
+    }
+    if (sameSkeleton(motion.skeleton(), skeleton->skeleton)) return {};
+    RetargetReport report;
+    auto r = retarget(motion, *skeleton, {}, &report);
+    if (!r) return r.error();
+    std::printf("%s\n", report.text().c_str());
+    return {};
+}
+
 struct NewArgs {
     std::string project;
     std::vector<std::string> files;
@@ -42,6 +60,7 @@ void runNew(const NewArgs& a) {
     if (!a.up.empty() && a.up != "y" && a.up != "z") return fail("--up: expected y or z, got '" + a.up + "'");
     if (!prep::isValidUtf8(file.string())) return fail(a.project + ": the project's file name must be UTF-8 text");
     prep::Project p = prep::makeProject(file.stem().string());
+    std::optional<RetargetTarget> skeleton;  // the project skeleton: the first motion's
     for (const auto& f : a.files) {
         std::error_code ec;
         if (fs::equivalent(f, file, ec)) return fail(a.project + ": is one of the imported captures; refusing to overwrite it");
@@ -61,6 +80,7 @@ void runNew(const NewArgs& a) {
         p.motions.push_back(std::move(m));
         std::fprintf(stderr, "fray-cli: imported %s (%d frames at %g fps)\n", f.c_str(), motion->frameCount(),
                      motion->fps());
+        if (auto st = reportRetarget(*motion, p.motions.back().id, skeleton); !st) return fail(st.error().message);
     }
     if (auto st = prep::saveProject(p, file); !st) return fail(st.error().message);
     std::printf("%s: %zu motions\n", a.project.c_str(), p.motions.size());

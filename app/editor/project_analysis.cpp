@@ -27,7 +27,7 @@ Result<ProjectAnalysis> analyseProject(const prep::Project& project, const std::
     std::optional<pipeline::Session> session(std::in_place);
     session->file = file;
     session->project = project;
-    auto motions = prep::loadProjectMotions(project, file, pipeline::loadProjectMotion, stage(0.0, 0.5));
+    auto motions = pipeline::loadSessionMotions(project, file, stage(0.0, 0.5));
     if (!motions) return motions.error();
     session->motions = std::move(*motions);
     std::string why;

@@ -10,6 +10,7 @@
 #include "fray/io/bvh.h"
 #include "fbx_writer.h"
 #include "gltf_writer.h"
+#include "retarget_export.h"
 #include "sampled_scene.h"
 #include "summary.h"
 
@@ -132,6 +133,15 @@ Result<ExportReport> exportScene(const sim::Scene& scene, const sim::ActionLibra
     if (auto st = validateOptions(options); !st) return st.error();
     auto sampled = sampleScene(scene, lib, options.fps, scaled(progress, 0.0, 0.5));
     if (!sampled) return sampled.error();
+    std::vector<std::string> rigNotes;
+    if (options.rig) {
+        std::vector<char> retargeted;
+        if (auto st = retargetCharacters(*sampled, *options.rig, rigNotes, &retargeted); !st) return st.error();
+        if (const int moved = landHits(*sampled, scene, retargeted); moved > 0)
+            rigNotes.push_back(std::to_string(moved) + " of " + std::to_string(scene.hits.size()) +
+                               " hits brought onto the defender's body by arm or leg IK (the rig's proportions left them off)");
+    }
+    for (auto& c : sampled->characters) addRootBone(c.motion, options.rootMotion);
     const auto planned = plannedFiles(*sampled, options);
     if (auto st = prepareFolder(options.outDir); !st) return st.error();
     auto earlier = checkReplaceable(options.outDir, planned, summaryName(options), legacySummaryName(options));
@@ -139,6 +149,7 @@ Result<ExportReport> exportScene(const sim::Scene& scene, const sim::ActionLibra
 
     ExportReport report;
     report.frames = sampled->frames;
+    report.notes = std::move(rigNotes);
     std::error_code ec;
     const fs::path legacy = options.outDir / legacySummaryName(options);
     if (fs::exists(legacy, ec) && earlierExportFiles(legacy)) {

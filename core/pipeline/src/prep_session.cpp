@@ -4,8 +4,10 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <optional>
 
 #include "fray/core/atomic_file.h"
+#include "fray/core/body_mesh.h"
 #include "fray/core/normalize.h"
 #include "fray/io/import.h"
 #include "fray/prep/contacts.h"
@@ -19,6 +21,48 @@ Result<Motion> loadProjectMotion(const std::filesystem::path& file, const prep::
     return loadMotion(file, o);
 }
 
+RetargetTarget projectSkeletonTarget(const Motion& first, const std::string& firstId) {
+    return retargetTargetFromMotion(first, 0, "the project skeleton (motion \"" + firstId + "\")");
+}
+
+Result<std::vector<prep::LoadedMotion>> loadSessionMotions(const prep::Project& project,
+                                                           const std::filesystem::path& projectFile,
+                                                           const ProgressFn& progress,
+                                                           std::vector<RetargetReport>* reports) {
+    // First pass: load as the files are; a project on one skeleton stops here.
+    std::optional<RetargetTarget> target;
+    bool mixed = false;
+    const auto plain = [&](const std::filesystem::path& f, const prep::ProjectMotion& entry) -> Result<Motion> {
+        auto m = loadProjectMotion(f, entry);
+        if (!m) return m;
+        if (!target) target = projectSkeletonTarget(*m, entry.id);
+        else if (!sameSkeleton(m->skeleton(), target->skeleton)) mixed = true;
+        return m;
+    };
+    auto motions = prep::loadProjectMotions(project, projectFile, plain, progress);
+    if (!motions || !mixed) return motions;
+    // Mixed skeletons: every take, those already on the project skeleton
+    // included, goes through the same retargeting, so poses from different
+    // sources compare alike in the motion graph (same held joints, same
+    // anatomical twist).
+    const auto onto = [&](const std::filesystem::path&, const prep::ProjectMotion& entry) -> Result<Motion> {
+        auto at = std::find_if(motions->begin(), motions->end(), [&](const auto& m) { return m.id == entry.id; });
+        if (at == motions->end()) return makeError("motion \"" + entry.id + "\" was not loaded");
+        RetargetReport report;
+        auto r = retarget(at->motion, *target, {}, &report);
+        if (!r) return r.error();
+        if (reports && !sameSkeleton(at->motion.skeleton(), target->skeleton)) reports->push_back(std::move(report));
+        return r;
+    };
+    // Progress runs again from 0 for this pass ("load <id>"); cancelling still works.
+    auto retargeted = prep::loadProjectMotions(project, projectFile, onto, progress);
+    if (!retargeted) return retargeted;
+    // Their derived data depends on the project skeleton too.
+    const std::uint64_t fp = skeletonFingerprint(target->skeleton) ^ prep::hashString("retarget 1");
+    for (auto& m : *retargeted) m.fileKey = prep::hashBytes(&fp, sizeof fp, m.fileKey);
+    return retargeted;
+}
+
 Result<Session> openSession(const std::filesystem::path& file, bool loadMotions, const ProgressFn& progress,
                             const NoteFn& note) {
     Session s;
@@ -28,7 +72,7 @@ Result<Session> openSession(const std::filesystem::path& file, bool loadMotions,
     s.project = std::move(*project);
     s.asLoaded = s.project;
     if (loadMotions) {
-        auto motions = prep::loadProjectMotions(s.project, file, loadProjectMotion, progress);
+        auto motions = loadSessionMotions(s.project, file, progress);
         if (!motions) return motions.error();
         s.motions = std::move(*motions);
         std::string why;

@@ -26,13 +26,30 @@
 // (Assimp's message), no mesh, no skinned mesh, bones that match no joint
 // (up to five names), vertices without weights.
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include "fray/core/result.h"
+#include "fray/core/retarget.h"
 #include "fray/core/skeleton.h"
 #include "fray/core/skinned_mesh.h"
 
 namespace fray {
 
 Result<SkinnedMesh> loadRig(const std::filesystem::path& path, const Skeleton& skeleton);
+
+// The skeleton of a rig file (glTF/GLB, FBX, DAE, ... through Assimp, or BVH)
+// as a retarget target for `export --rig` (docs/EXPORT.md): the subtree of
+// the joint its names give as the pelvis, each joint's local frame as in the
+// file, the bind pose (BVH: the rest pose) as the reference pose; units (m,
+// cm, mm, inch) and up axis (Y or Z) read from the head-above-ankles height.
+// Errors name the file and what is missing (no feet, no pelvis, ...). A rig
+// without a skinned mesh is used as a skeleton; a warning says so.
+struct RigSkeleton {
+    RetargetTarget target;
+    bool skinned = false;               // the file has a mesh with bone weights
+    std::vector<std::string> warnings;  // for the user
+};
+Result<RigSkeleton> loadRigSkeleton(const std::filesystem::path& path);
 
 }  // namespace fray

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "fray/core/progress.h"
+#include "fray/core/retarget.h"
 #include "fray/core/result.h"
 #include "fray/sim/action_library.h"
 #include "fray/sim/scene.h"
@@ -35,6 +36,15 @@ inline constexpr std::string_view kSummaryFormat = "fray-export";
 // per action "motion_fps" and per character "root_path" added.
 inline constexpr int kSummaryVersion = 2;
 
+// Root motion (docs/EXPORT.md): None keeps the skeleton's own root (the
+// pelvis, moving in scene space); Floor adds a root bone on the floor under
+// the pelvis that carries the trajectory (position on the floor, heading
+// about Y) with the pelvis relative to it; InPlace adds the same bone but
+// leaves it at the origin, so the character moves in place.
+enum class RootMotion { None, Floor, InPlace };
+std::optional<RootMotion> parseRootMotion(std::string_view name);  // "none", "floor", "in-place"
+inline constexpr std::string_view kRootBoneName = "root";         // "fray_root" when the skeleton has a "root"
+
 struct ExportOptions {
     Format format = Format::Gltf;
     std::filesystem::path outDir;  // created when missing
@@ -43,6 +53,11 @@ struct ExportOptions {
     // letters, digits, '_', '-' and '.' only, not starting with '.'.
     std::string name = "scene";
     std::string source;            // the scene file, recorded in the summary ("" = not recorded)
+    // The user's rig (fray::loadRigSkeleton): every character is retargeted
+    // onto its skeleton (joint names, hierarchy, proportions, local frames)
+    // before writing; the report goes to ExportReport::notes.
+    std::optional<RetargetTarget> rig;
+    RootMotion rootMotion = RootMotion::None;
 };
 
 // Checks fps and name; the error says which and why.

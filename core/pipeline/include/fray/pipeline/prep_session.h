@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "fray/core/progress.h"
+#include "fray/core/retarget.h"
 #include "fray/prep/motion_graph.h"
 #include "fray/prep/pipeline.h"
 #include "fray/prep/project.h"
@@ -25,6 +26,21 @@ using NoteFn = std::function<void(std::string_view note)>;
 
 // Loads a motion as the project entry says (units/up overrides).
 Result<Motion> loadProjectMotion(const std::filesystem::path& file, const prep::ProjectMotion& entry);
+
+// One project skeleton (docs/DATA_PREP.md, "Mixed skeletons"): the first
+// motion's skeleton, its first frame as the reference pose.
+RetargetTarget projectSkeletonTarget(const Motion& first, const std::string& firstId);
+
+// The project's motions as prep::loadProjectMotions loads them, on one
+// skeleton: a motion whose skeleton differs from the first motion's (joint
+// names or hierarchy) is retargeted onto it (fray/core/retarget.h) before its
+// signals are computed, so the motion graph and the planners work across
+// sources. A motion that cannot be retargeted (no feet, ...) is an error that
+// names it. `reports` (when given) gets one entry per retargeted motion.
+Result<std::vector<prep::LoadedMotion>> loadSessionMotions(const prep::Project& project,
+                                                           const std::filesystem::path& projectFile,
+                                                           const ProgressFn& progress,
+                                                           std::vector<RetargetReport>* reports = nullptr);
 
 struct Session {
     std::filesystem::path file;
