@@ -317,9 +317,31 @@ public:
                 opponentBodies_.emplace_back(*ctx_.lib, detail::bodyAt(playing(o), std::min(g_.time + tau, o.end)),
                                              kPenetrationShrink);
             }
-            const glm::vec2 pelvis = k < pelvisCount ? ctx_.testPelvis[pelvisBegin + k] : ctx_.lib->rootAt(a, tau).pos;
-            const detail::CoreBody me(*ctx_.lib, {a, tau, start_}, startRotation_, pelvis, kPenetrationShrink);
-            if (detail::coreBodiesOverlap(me, opponentBodies_[k], kPenetrationReach)) return false;
+            if (k >= pelvisCount) {  // (the table covers every time the loop reaches)
+                const detail::CoreBody me(*ctx_.lib, {a, tau, start_}, startRotation_, ctx_.lib->rootAt(a, tau).pos,
+                                          kPenetrationShrink);
+                if (detail::coreBodiesOverlap(me, opponentBodies_[k], kPenetrationReach)) return false;
+                continue;
+            }
+            // detail::coreBodiesOverlap with the boxes from the table, each
+            // box's axes placed only when its bounding sphere meets one of
+            // the opponent's (the same centres, radii and tests).
+            const detail::CoreBody& them = opponentBodies_[k];
+            const glm::vec2 d = start_.pos + startRotation_(ctx_.testPelvis[pelvisBegin + k]) - them.pelvis();
+            if (glm::dot(d, d) > kPenetrationReach * kPenetrationReach) continue;
+            const auto& body = ctx_.testBodies[pelvisBegin + k];
+            const auto& theirs = them.boxes();
+            for (std::size_t i = 0; i < body.boxes.size(); ++i) {
+                const glm::vec3 centre = body.boxes[i].placedCentre(start_, startRotation_);
+                std::optional<Obb> placed;
+                for (std::size_t j = 0; j < theirs.size(); ++j) {
+                    const glm::vec3 c = theirs[j].centre - centre;
+                    const float r = body.radii[i] + them.radii()[j];
+                    if (glm::dot(c, c) > r * r) continue;
+                    if (!placed) placed = body.boxes[i].placed(start_, startRotation_);
+                    if (overlapsBeyondSpheres(*placed, theirs[j])) return false;
+                }
+            }
         }
         return true;
     }
