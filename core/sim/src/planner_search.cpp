@@ -569,8 +569,12 @@ struct Pending {
     bool bound = false;  // key is an upper bound: the exact one is not computed yet
 };
 inline bool pendingBefore(const Pending& x, const Pending& y) { return x.key > y.key || (x.key == y.key && x.pos < y.pos); }
-// std heap order: the top is the element no other comes before.
-inline bool heapLess(const Pending& x, const Pending& y) { return pendingBefore(y, x); }
+// std heap order: the top is the element no other comes before (a function
+// object, so the heap's comparisons inline).
+struct HeapLess {
+    bool operator()(const Pending& x, const Pending& y) const { return pendingBefore(y, x); }
+};
+inline constexpr HeapLess heapLess{};
 
 // A node's state compared and hashed bit for bit (the same bits, the same
 // node: every rule of the search is a function of the state).
