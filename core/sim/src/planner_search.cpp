@@ -678,7 +678,7 @@ std::optional<Value> boundedFrontier(const Context& ctx, const GroupState& g, in
     auto stepValue = [&](const FrontierStep& st) {
         return Value{acc.comp + (mx ? st.e.comp : -st.e.comp), acc.coop + st.e.coop};
     };
-    if (const auto it = memo.entries.find(g); it != memo.entries.end()) {
+    if (const auto it = ctx.opt->reuseNodes ? memo.entries.find(g) : memo.entries.end(); it != memo.entries.end()) {
         // Replay: the same candidates in the same order with this visit's
         // path sum and window; the same counts as running the node again.
         Value best;
@@ -767,6 +767,11 @@ std::optional<Value> boundedFrontier(const Context& ctx, const GroupState& g, in
             ++stats.cutoffs;
             break;
         }
+    }
+    if (!ctx.opt->reuseNodes) {
+        memo.steps.clear();
+        if (!have) return std::nullopt;
+        return best;
     }
     auto& entry = memo.entries[g];
     entry.begin = recordBegin;
