@@ -130,7 +130,7 @@ double cpuSeconds() {
     return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
-void renderCrowd(benchmark::State& state, Quality quality, bool readback) {
+void renderCrowd(benchmark::State& state, Quality quality, bool readback, int farPixels = -1) {
     RenderBench& b = RenderBench::get();
     if (!b.device) {
         state.SkipWithError(b.error.c_str());
@@ -139,6 +139,7 @@ void renderCrowd(benchmark::State& state, Quality quality, bool readback) {
     const int n = static_cast<int>(state.range(0));
     RendererOptions options;
     options.quality = quality;
+    options.farPixels = farPixels;
     auto r = Renderer::create(b.device, options);
     if (!r) {
         state.SkipWithError(r.error().message.c_str());
@@ -179,6 +180,15 @@ void renderCrowd(benchmark::State& state, Quality quality, bool readback) {
 // blob shadows, cards for the characters below 96 px (all of them from 200 on).
 void BM_RenderFast720p(benchmark::State& state) { renderCrowd(state, Quality::Fast, false); }
 BENCHMARK(BM_RenderFast720p)->Arg(50)->Arg(200)->Arg(1000)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The far field (issue 27): Fast with far cards for the characters under 40 px
+// (Arg 1 = 1, the default) or without them (0: cards as before), on crowds
+// framed as above (at 2,000 characters all of them are far).
+void BM_RenderFast720pFarField(benchmark::State& state) {
+    renderCrowd(state, Quality::Fast, false, state.range(1) != 0 ? -1 : 0);
+}
+BENCHMARK(BM_RenderFast720pFarField)->Args({2000, 0})->Args({2000, 1})->Args({1000, 0})->Args({1000, 1})
+    ->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // Export quality (fray-cli render, Auto on GPUs): 4x MSAA, 2048 shadow map, 8-sided capsules.
 void BM_RenderHigh720p(benchmark::State& state) { renderCrowd(state, Quality::High, false); }

@@ -3,6 +3,9 @@
 #include <cmath>
 #include <numbers>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "fray/core/kinematics.h"
 #include "fray/render/motion_stage.h"
 
@@ -114,15 +117,23 @@ void SceneStage::pose(double t, Labels labels, int selected) {
     time_ = t;
     shown_.clear();
     shownIndex_.clear();
+    // Poses and forward kinematics in parallel over characters: each writes
+    // only its own slots, so the result does not depend on the threads.
+    tbb::parallel_for(tbb::blocked_range<int>(0, characterCount(), 32), [&](const tbb::blocked_range<int>& range) {
+        for (int c = range.begin(); c != range.end(); ++c) {
+            const auto k = static_cast<std::size_t>(c);
+            present_[k] = loaded_.scene.present(c, t) || loaded_.scene.isCreature(c) ? 1 : 0;
+            if (!present_[k]) continue;
+            poser_->pose(c, t, poses_[k]);
+            positions_[k].resize(poses_[k].translations.size());
+            rotations_[k].resize(poses_[k].translations.size());
+            forwardKinematics(poser_->skeleton(c), poses_[k].translations, poses_[k].rotations, positions_[k], rotations_[k]);
+        }
+    });
     for (int c = 0; c < characterCount(); ++c) {
         const auto k = static_cast<std::size_t>(c);
-        present_[k] = loaded_.scene.present(c, t) || loaded_.scene.isCreature(c) ? 1 : 0;
         if (!present_[k]) continue;
-        poser_->pose(c, t, poses_[k]);
         const Skeleton& sk = poser_->skeleton(c);
-        positions_[k].resize(poses_[k].translations.size());
-        rotations_[k].resize(poses_[k].translations.size());
-        forwardKinematics(sk, poses_[k].translations, poses_[k].rotations, positions_[k], rotations_[k]);
         const bool labelled = labels == Labels::All || (labels == Labels::Auto && characterCount() <= kAutoLabels) || c == selected;
         labels_[k] = labelled ? loaded_.scene.characters[k].name + ": " + currentAction(c) : std::string();
         shown_.push_back({&sk, positions_[k], rotations_[k], tint(c), labels_[k], c == selected});

@@ -72,9 +72,15 @@ struct CardVertex {
 static_assert(sizeof(CardVertex) == 32);
 
 // Levels of detail: [0] as configured, [1] 6-sided capsules with one cap ring,
-// [2] 4-sided ones, [3] cards (kCardLod; Fast quality only, in their own buffers).
-constexpr int kLevels = 4;
+// [2] 4-sided ones, [3] cards (kCardLod; Fast quality only, in their own
+// buffers), [4] far cards (kFarCardLod: the cards of the largest capsules,
+// the same vertices, fewer indices).
+constexpr int kLevels = 5;
 constexpr int kCardLod = 3;
+constexpr int kFarCardLod = 4;
+inline bool isCardLod(int lod) { return lod >= kCardLod; }
+// The share of a body's side-on capsule area its far cards keep.
+constexpr float kFarCardArea = 0.9f;
 
 // A skeleton's body in every level of detail.
 struct MeshEntry {
@@ -207,6 +213,7 @@ struct Renderer::Impl {
     std::vector<std::uint8_t> characterVisible;
     std::vector<DrawGroup> groups;
     std::array<float, 2> lodPixels{};  // below [k] pixels tall: level k + 1 (Fast: cards below [1])
+    float farPixels = 0;               // below: far cards (Fast only; 0: none)
     OverlayBuilder overlays;
     std::array<std::uint32_t, 3> overlayFirst{}, overlayCount{};
     bool shadowsThisFrame = false;
@@ -264,6 +271,9 @@ Status Renderer::Impl::init() {
     // Fast keeps full detail for close-ups only; High for anything of a useful size.
     const float lod1 = options.lodPixels >= 0 ? static_cast<float>(options.lodPixels) : (fast ? 240.0f : 60.0f);
     lodPixels = {lod1, lod1 * 0.4f};
+    farPixels = !fast || options.farPixels == 0 || (options.farPixels < 0 && options.lodPixels == 0)
+                    ? 0.0f
+                    : (options.farPixels > 0 ? static_cast<float>(options.farPixels) : 40.0f);
     for (int s : {8, 4, 2}) {
         if (s <= wanted && (supported & static_cast<VkSampleCountFlags>(s))) {
             samples = static_cast<VkSampleCountFlagBits>(s);
@@ -834,7 +844,8 @@ Status Renderer::Impl::registerMesh(const Skeleton& skeleton, std::uint64_t fing
     e.firstIndex[kCardLod] = static_cast<std::uint32_t>(cardIndices.size());
     e.vertexOffset[kCardLod] = static_cast<std::int32_t>(cardVertices.size());
     std::uint32_t base = 0;
-    for (const BodyCapsule& c : bodyCapsules(skeleton)) {
+    const std::vector<BodyCapsule> capsules = bodyCapsules(skeleton);
+    for (const BodyCapsule& c : capsules) {
         const std::uint32_t first = c.joint, second = c.joint | (1u << 26);
         for (std::uint32_t corner : {0u, 1u, 2u}) cardVertices.push_back({c.a, c.radius, c.b, first | corner << 24});
         for (std::uint32_t corner : {2u, 1u, 0u}) cardVertices.push_back({c.b, c.radius, c.a, second | corner << 24});
@@ -843,6 +854,40 @@ Status Renderer::Impl::registerMesh(const Skeleton& skeleton, std::uint64_t fing
         base += 6;
     }
     e.indexCount[kCardLod] = static_cast<std::uint32_t>(cardIndices.size()) - e.firstIndex[kCardLod];
+    // Far cards: the same card vertices, indices for the largest capsules
+    // (side-on area: length with the caps times the diameter) up to
+    // kFarCardArea of the whole, in the body's own order. Small bones
+    // (fingers, toes, clavicles, short spine links) go first.
+    {
+        std::vector<float> area(capsules.size());
+        std::vector<std::size_t> bySize(capsules.size());
+        float total = 0;
+        for (std::size_t k = 0; k < capsules.size(); ++k) {
+            const BodyCapsule& c = capsules[k];
+            area[k] = (glm::length(c.b - c.a) + 2.0f * c.radius) * 2.0f * c.radius;
+            total += area[k];
+            bySize[k] = k;
+        }
+        std::stable_sort(bySize.begin(), bySize.end(), [&](std::size_t x, std::size_t y) { return area[x] > area[y]; });
+        std::vector<std::uint8_t> keep(capsules.size(), 0);
+        float kept = 0;
+        for (std::size_t k : bySize) {
+            if (kept >= kFarCardArea * total) break;
+            keep[k] = 1;
+            kept += area[k];
+        }
+        e.firstIndex[kFarCardLod] = static_cast<std::uint32_t>(cardIndices.size());
+        e.vertexOffset[kFarCardLod] = e.vertexOffset[kCardLod];
+        for (std::size_t k = 0; k < capsules.size(); ++k) {
+            if (!keep[k]) continue;
+            const std::size_t from = e.firstIndex[kCardLod] + 12 * k;
+            for (std::size_t i = 0; i < 12; ++i) {
+                const std::uint32_t corner = cardIndices[from + i];
+                cardIndices.push_back(corner);
+            }
+        }
+        e.indexCount[kFarCardLod] = static_cast<std::uint32_t>(cardIndices.size()) - e.firstIndex[kFarCardLod];
+    }
     meshes.push_back(e);
     index = static_cast<int>(meshes.size()) - 1;
     if (meshVertices.empty() || meshIndices.empty()) return {};
@@ -1031,7 +1076,7 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
             characterVisible[i] = inside ? 1 : 0;
             const float ahead = glm::dot(c - eye, fwd);
             const float pixels = ahead > frame.camera.nearPlane ? 2.0f * r * focalPx / ahead : 1e9f;
-            const int coarsest = fast ? kCardLod : 2;
+            const int coarsest = fast ? (pixels < farPixels ? kFarCardLod : kCardLod) : 2;
             characterLod[i] = rig >= 0 ? 0 : (pixels < lodPixels[1] ? coarsest : (pixels < lodPixels[0] ? 1 : 0));
         }
     }
@@ -1104,7 +1149,7 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
         }
     }
     const bool rigsThisFrame = std::any_of(groups.begin(), groups.end(), [](const DrawGroup& g) { return g.rig; });
-    const bool cardsThisFrame = std::any_of(groups.begin(), groups.end(), [](const DrawGroup& g) { return g.lod == kCardLod; });
+    const bool cardsThisFrame = std::any_of(groups.begin(), groups.end(), [](const DrawGroup& g) { return isCardLod(g.lod); });
     for (std::size_t i = 0; i < n; ++i) stats.culled += characterVisible[i] ? 0 : 1;
 
     // The sun and the shadow volume around the characters.
@@ -1263,13 +1308,13 @@ void Renderer::Impl::recordBodies(VkCommandBuffer c, VkPipeline capsules, VkPipe
             vkCmdDrawIndexed(c, static_cast<std::uint32_t>(r.indices.size()), count, r.firstIndex, r.vertexOffset, g.firstInstance);
             continue;
         }
-        if (g.lod == kCardLod && !cardsBound) {
+        if (isCardLod(g.lod) && !cardsBound) {
             vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, cardPipe);
             vkCmdBindVertexBuffers(c, 0, 1, &cardVB.buffer, &zero);
             vkCmdBindIndexBuffer(c, cardIB.buffer, 0, VK_INDEX_TYPE_UINT32);
             cardsBound = true;
             capsulesBound = false;
-        } else if (g.lod != kCardLod && !capsulesBound) {
+        } else if (!isCardLod(g.lod) && !capsulesBound) {
             vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, capsules);
             vkCmdBindVertexBuffers(c, 0, 1, &meshVB.buffer, &zero);
             vkCmdBindIndexBuffer(c, meshIB.buffer, 0, VK_INDEX_TYPE_UINT32);

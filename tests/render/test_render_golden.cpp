@@ -4,6 +4,7 @@
 // growth, and input errors.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstdlib>
 
 #include <dlfcn.h>
@@ -413,6 +414,83 @@ TEST_F(RenderEngine, FastQualityDrawsSmallCharactersAsCards) {
     f.characters = v;
     ASSERT_TRUE((*fast)->render(f).ok());
     EXPECT_EQ((*fast)->stats().triangles, near + 28u * 4u);
+}
+
+// Far cards (the far field's level of detail in Fast) against full-detail
+// capsules, from near (a close-up, where the dropped small bones show most)
+// and from far (where they are drawn): the same body pixels within the IoU
+// thresholds, fewer triangles; the default thresholds use them only for
+// characters under farPixels.
+TEST_F(RenderEngine, FarCardsCoverFullDetailPixels) {
+    RendererOptions o;
+    o.width = kWidth;
+    o.height = kHeight;
+    o.quality = Quality::Fast;
+    o.lodPixels = 100000;
+    o.farPixels = 100000;  // everyone counts as far: far cards
+    auto far = Renderer::create(GpuEnvironment::device(), o);
+    o.lodPixels = 0;  // full-detail capsules
+    o.farPixels = 0;
+    auto full = Renderer::create(GpuEnvironment::device(), o);
+    ASSERT_TRUE(far.ok() && full.ok());
+    const Character c = posedCharacter({0.0f, 0.0f, 0.0f}, 30.0f, {{"RightArm", aboutAxis(-60.0f, {0, 0, 1})}});
+    const std::vector<CharacterInstance> one{instanceOf(c, kRed)};
+    struct View {
+        float distance, pitch, minIou;
+    };
+    for (const View v : {View{6.0f, 0.32f, 0.85}, View{6.0f, 1.5f, 0.85}, View{30.0f, 0.32f, 0.75}}) {
+        FrameDescription f;
+        f.camera = goldenCamera();
+        f.camera.distance = v.distance;
+        f.camera.pitch = v.pitch;
+        f.settings.shadows = false;
+        Image empty, withFar, withFull;
+        ASSERT_TRUE((*far)->render(f, &empty).ok());
+        f.characters = one;
+        ASSERT_TRUE((*far)->render(f, &withFar).ok());
+        const std::uint64_t farTriangles = (*far)->stats().triangles;
+        ASSERT_TRUE((*full)->render(f, &withFull).ok());
+        EXPECT_EQ((*full)->stats().triangles, 28u * 64u);
+        EXPECT_GT(farTriangles, 0u);
+        EXPECT_LT(farTriangles, 28u * 4u) << "far cards are fewer than the cards";
+        int both = 0, either = 0;
+        for (int y = 0; y < kHeight; ++y)
+            for (int x = 0; x < kWidth; ++x) {
+                auto differs = [&](const Image& img) {
+                    for (int k = 0; k < 3; ++k)
+                        if (std::abs(int(img.pixel(x, y)[k]) - int(empty.pixel(x, y)[k])) > 8) return true;
+                    return false;
+                };
+                const bool a = differs(withFar), b = differs(withFull);
+                both += a && b;
+                either += a || b;
+            }
+        ASSERT_GT(either, 30) << "distance " << v.distance;
+        const double iou = static_cast<double>(both) / static_cast<double>(either);
+        std::printf("far cards: distance %.0f m, pitch %.2f: IoU %.3f over %d pixels, %llu triangles\n",
+                    static_cast<double>(v.distance), static_cast<double>(v.pitch), iou, either,
+                    static_cast<unsigned long long>(farTriangles));
+        EXPECT_GT(iou, v.minIou) << "far cards and capsules cover different pixels (distance " << v.distance << ", pitch " << v.pitch << ")";
+    }
+    // Default thresholds: a character 8 m back stays in cards, one 40 m back is far.
+    o.lodPixels = -1;
+    o.farPixels = -1;
+    auto fast = Renderer::create(GpuEnvironment::device(), o);
+    ASSERT_TRUE(fast.ok());
+    const Character mid = posedCharacter({0.0f, 0.0f, -8.0f}, 0.0f);
+    const Character distant = posedCharacter({0.0f, 0.0f, -40.0f}, 0.0f);
+    FrameDescription f;
+    f.camera = goldenCamera();
+    f.camera.yaw = 0.0f;
+    std::vector<CharacterInstance> v{instanceOf(mid, kRed)};
+    f.characters = v;
+    ASSERT_TRUE((*fast)->render(f).ok());
+    EXPECT_EQ((*fast)->stats().triangles, 28u * 4u);
+    v = {instanceOf(distant, kBlue)};
+    f.characters = v;
+    ASSERT_TRUE((*fast)->render(f).ok());
+    EXPECT_LT((*fast)->stats().triangles, 28u * 4u);
+    EXPECT_GT((*fast)->stats().triangles, 0u);
 }
 
 // Every overlay kind and a crowd: once warmed up (meshes built, buffers grown

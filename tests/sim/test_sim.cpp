@@ -172,6 +172,23 @@ TEST(SimPlanner, ArenaKeepsAChaseOnStage) {
     EXPECT_EQ(sceneToJson(*open, lib).find("\"arena\""), std::string::npos);
 }
 
+// The search's shortcuts (lazy child order, bounded frontier nodes replayed
+// when met again) change no decision and no count: with node reuse off the
+// same scene, statistics included, serial and parallel.
+TEST(SimPlanner, NodeReuseChangesNothing) {
+    const auto& lib = demoWorld().library;
+    auto parsed = parseSpec(duelSpec(4, 2, 3, 12.0));
+    ASSERT_TRUE(parsed.ok()) << parsed.error().message;
+    auto reused = simulate(lib, demoWorld().project.combos, *parsed);
+    ASSERT_TRUE(reused.ok()) << reused.error().message;
+    EXPECT_GT(reused->stats.leaves, 5000);
+    parsed->options.reuseNodes = false;
+    parsed->options.parallel = false;
+    auto fresh = simulate(lib, demoWorld().project.combos, *parsed);
+    ASSERT_TRUE(fresh.ok());
+    EXPECT_EQ(sceneToJson(*reused, lib), sceneToJson(*fresh, lib));
+}
+
 TEST(SimPlanner, DeterministicAndParallelIndependent) {
     const std::string spec = duelSpec(3, 3, 7, 6.0);
     auto a = runSpec(spec);

@@ -127,6 +127,12 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
         const double duration = lib.actions()[static_cast<std::size_t>(a)].duration;
         for (double tau = 0; tau <= duration + 1e-9; tau += kPenetrationStep) {
             base.testPelvis.push_back(lib.rootAt(a, tau).pos);
+            const Obb* local = lib.boxesAt(a, lib.sampleAt(a, tau));
+            auto& body = base.testBodies.emplace_back();
+            for (std::size_t k = 0; k < kCoreSegments.size(); ++k) {
+                body.boxes[k] = local[kCoreSegments[k]].shrunk(kPenetrationShrink);
+                body.radii[k] = body.boxes[k].radius();
+            }
         }
     }
     base.testPelvisBegin.push_back(base.testPelvis.size());

@@ -6,7 +6,9 @@
 #include <cmath>
 #include <numeric>
 #include <optional>
+#include <unordered_map>
 
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include "planner_state.h"
@@ -248,15 +250,24 @@ bool bodiesPenetrate(const Context& ctx, const RootXf& place, int action, double
 // (SPEC 2.4) as predicates, so the frontier can test them lazily.
 class Pruner {
 public:
-    Pruner(const Context& ctx, const GroupState& g, int who, bool root) : ctx_(ctx), g_(g), who_(who) {
+    // bodies: where to keep the opponent's placed bodies (reused storage), else the pruner's own.
+    Pruner(const Context& ctx, const GroupState& g, int who, bool root, std::vector<detail::CoreBody>* bodies = nullptr)
+        : ctx_(ctx), g_(g), who_(who), opponentBodies_(bodies ? *bodies : ownBodies_) {
+        opponentBodies_.clear();
         const auto& spec = specOf(ctx, who);
         const auto& s = g.c[static_cast<std::size_t>(who)];
         // Inside the tree with no stage, the variant-folded list is ready
         // made (on a stage the folding comes after the stage's filter).
         const auto& member = ctx.members[static_cast<std::size_t>(who)];
         bool folded = !root && ctx.opt->variants && !ctx.opt->arena.bounded();
-        base_ = (folded ? member.folded : member.legal)[static_cast<std::size_t>(s.action)];
-        if (base_.empty()) {
+        // The member's list itself unless this node changes it (no copy per node).
+        list_ = &(folded ? member.folded : member.legal)[static_cast<std::size_t>(s.action)];
+        const bool changes = list_->empty() || ctx.opt->arena.bounded() || (!root && ctx.opt->variants && !folded);
+        if (changes) {
+            base_ = *list_;
+            list_ = &base_;
+        }
+        if (base_.empty() && changes) {
             folded = false;
             // No legal action: an idle/guard one of its set (else any).
             fallback_ = true;
@@ -298,7 +309,7 @@ public:
     }
     bool fallback() const { return fallback_; }
     bool active() const { return opp_ >= 0; }
-    const std::vector<int>& base() const { return base_; }
+    const std::vector<int>& base() const { return *list_; }
 
     // 1. The bodies do not penetrate (over the time both actions are known).
     bool penetrationFree(int a, bool lastFrameOnly) const {
@@ -313,13 +324,34 @@ public:
         const std::size_t pelvisCount = ctx_.testPelvisBegin[ak + 1] - pelvisBegin;
         for (double tau = 0; tau <= T + 1e-9; tau += kPenetrationStep, ++k) {
             if (k == opponentBodies_.size()) {
-                if (k == 0) opponentBodies_.reserve(32);
                 opponentBodies_.emplace_back(*ctx_.lib, detail::bodyAt(playing(o), std::min(g_.time + tau, o.end)),
                                              kPenetrationShrink);
             }
-            const glm::vec2 pelvis = k < pelvisCount ? ctx_.testPelvis[pelvisBegin + k] : ctx_.lib->rootAt(a, tau).pos;
-            const detail::CoreBody me(*ctx_.lib, {a, tau, start_}, startRotation_, pelvis, kPenetrationShrink);
-            if (detail::coreBodiesOverlap(me, opponentBodies_[k], kPenetrationReach)) return false;
+            if (k >= pelvisCount) {  // (the table covers every time the loop reaches)
+                const detail::CoreBody me(*ctx_.lib, {a, tau, start_}, startRotation_, ctx_.lib->rootAt(a, tau).pos,
+                                          kPenetrationShrink);
+                if (detail::coreBodiesOverlap(me, opponentBodies_[k], kPenetrationReach)) return false;
+                continue;
+            }
+            // detail::coreBodiesOverlap with the boxes from the table, each
+            // box's axes placed only when its bounding sphere meets one of
+            // the opponent's (the same centres, radii and tests).
+            const detail::CoreBody& them = opponentBodies_[k];
+            const glm::vec2 d = start_.pos + startRotation_(ctx_.testPelvis[pelvisBegin + k]) - them.pelvis();
+            if (glm::dot(d, d) > kPenetrationReach * kPenetrationReach) continue;
+            const auto& body = ctx_.testBodies[pelvisBegin + k];
+            const auto& theirs = them.boxes();
+            for (std::size_t i = 0; i < body.boxes.size(); ++i) {
+                const glm::vec3 centre = body.boxes[i].placedCentre(start_, startRotation_);
+                std::optional<Obb> placed;
+                for (std::size_t j = 0; j < theirs.size(); ++j) {
+                    const glm::vec3 c = theirs[j].centre - centre;
+                    const float r = body.radii[i] + them.radii()[j];
+                    if (glm::dot(c, c) > r * r) continue;
+                    if (!placed) placed = body.boxes[i].placed(start_, startRotation_);
+                    if (overlapsBeyondSpheres(*placed, theirs[j])) return false;
+                }
+            }
         }
         return true;
     }
@@ -354,7 +386,7 @@ public:
     // The full rule: criteria in priority order, each skipped when it would
     // leave nothing (criterion 1 first falls back to its last-frame form).
     void prune(std::vector<int>& out, Stats& stats) const {
-        out = base_;
+        out = base();
         stats.choices += static_cast<std::int64_t>(out.size());
         if (!active()) return;
         const std::size_t before = out.size();
@@ -456,12 +488,14 @@ private:
     const Context& ctx_;
     const GroupState& g_;
     int who_;
+    const std::vector<int>* list_ = nullptr;  // the candidates: a member's list, or base_
     std::vector<int> base_;
     bool fallback_ = false;
     int opp_ = -1;
     RootXf start_;
     FloorRotation startRotation_{0.0};
-    mutable std::vector<detail::CoreBody> opponentBodies_;
+    mutable std::vector<detail::CoreBody> ownBodies_;
+    std::vector<detail::CoreBody>& opponentBodies_;
     mutable std::optional<glm::vec2> oppEnd_;  // the opponent where its action ends (facing)
     double r_ = 0;
     bool oppAttacking_ = false;
@@ -479,6 +513,7 @@ struct Child {
     int action = 0;
     GroupState state;
     Value acc;
+    Value edge;  // the edge score of the launch (acc is the parent's plus or minus it)
     double order = 0;
 };
 
@@ -493,6 +528,7 @@ void makeChild(const Context& ctx, const GroupState& g, int who, int action, con
     Events ev;
     advance(ctx, ch.state, ev, nullptr);
     const Value e = edgeScore(ctx, g, ch.state, who, action, ev, oppAt);
+    ch.edge = e;
     ch.acc.comp = acc.comp + (mx ? e.comp : -e.comp);
     ch.acc.coop = acc.coop + e.coop;
     ch.order = mx ? ch.acc.comp + ch.acc.coop : -(ch.acc.comp - ch.acc.coop);
@@ -502,6 +538,120 @@ void makeChild(const Context& ctx, const GroupState& g, int who, int action, con
 bool better(bool mx, const Value& a, const Value& b) {
     return mx ? (a.comp + a.coop > b.comp + b.coop) : (a.comp - a.coop < b.comp - b.coop);
 }
+
+// An upper bound of the edge score `who` would get by launching `action` at
+// g in a duel scored by blows (Context::boundedFrontier): its combination
+// and recency terms, the fastest blow it can land and nothing else (the
+// movement and stage terms are never positive, a blow received only costs).
+// A small slack covers the different order of the floating-point sums.
+double edgeBound(const Context& ctx, const GroupState& g, int who, int action) {
+    const auto& w = specOf(ctx, who).weights;
+    const auto& x = act(ctx, action);
+    double bound = -w.wRecency * recency(ctx, g.c[static_cast<std::size_t>(who)], action);
+    if (ctx.combo) {
+        bound += w.wCombo * static_cast<double>((*ctx.combo)[static_cast<std::size_t>(action) * static_cast<std::size_t>(ctx.comboN) +
+                                                  static_cast<std::size_t>(g.c[static_cast<std::size_t>(1 - who)].action)]);
+    }
+    if (x.is(kAttack) && x.effector >= 0) bound += (x.is(kKick) ? w.wHitLong : w.wHitShort) * ctx.maxHitSpeed[static_cast<std::size_t>(action)];
+    return bound;
+}
+double withSlack(double bound) { return bound + 1e-6 * (1.0 + std::fabs(bound)); }
+
+// Candidates in the order std::stable_sort would put them by descending key,
+// where some keys are known at first only as upper bounds: the first in
+// that order is the top of a heap (largest key, then first position), and a
+// bound on top is replaced by its exact key before anything is taken. A
+// bound is never below its key, so nothing is taken out of order, and only
+// the keys that can come first are computed.
+struct Pending {
+    double key = 0;
+    int pos = 0;
+    bool bound = false;  // key is an upper bound: the exact one is not computed yet
+};
+inline bool pendingBefore(const Pending& x, const Pending& y) { return x.key > y.key || (x.key == y.key && x.pos < y.pos); }
+// std heap order: the top is the element no other comes before (a function
+// object, so the heap's comparisons inline).
+struct HeapLess {
+    bool operator()(const Pending& x, const Pending& y) const { return pendingBefore(y, x); }
+};
+inline constexpr HeapLess heapLess{};
+
+// A node's state compared and hashed bit for bit (the same bits, the same
+// node: every rule of the search is a function of the state).
+bool sameBits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
+bool sameBits(float a, float b) { return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b); }
+bool sameState(const GroupState& x, const GroupState& y) {
+    if (x.n != y.n || !sameBits(x.time, y.time)) return false;
+    for (int i = 0; i < x.n; ++i) {
+        const auto& a = x.c[static_cast<std::size_t>(i)];
+        const auto& b = y.c[static_cast<std::size_t>(i)];
+        if (a.action != b.action || !sameBits(a.start, b.start) || !sameBits(a.offset, b.offset) || !sameBits(a.end, b.end) ||
+            !sameBits(a.root.pos.x, b.root.pos.x) || !sameBits(a.root.pos.y, b.root.pos.y) ||
+            !sameBits(a.root.heading, b.root.heading) || a.checkpoint != b.checkpoint || a.attackDone != b.attackDone ||
+            a.caught != b.caught || a.reacting != b.reacting || a.recent != b.recent || a.recentCount != b.recentCount) {
+            return false;
+        }
+    }
+    return true;
+}
+struct StateHash {
+    static std::uint64_t mix(std::uint64_t h, std::uint64_t x) { return (h ^ (x + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2))) * 0x100000001b3ull; }
+    std::size_t operator()(const GroupState& g) const {
+        std::uint64_t h = mix(static_cast<std::uint64_t>(g.n), std::bit_cast<std::uint64_t>(g.time));
+        for (int i = 0; i < g.n; ++i) {
+            const auto& c = g.c[static_cast<std::size_t>(i)];
+            h = mix(h, static_cast<std::uint64_t>(c.action));
+            h = mix(h, std::bit_cast<std::uint64_t>(c.start));
+            h = mix(h, std::bit_cast<std::uint64_t>(c.offset));
+            h = mix(h, std::bit_cast<std::uint64_t>(c.root.heading));
+            h = mix(h, (static_cast<std::uint64_t>(std::bit_cast<std::uint32_t>(c.root.pos.x)) << 32) |
+                           std::bit_cast<std::uint32_t>(c.root.pos.y));
+            h = mix(h, static_cast<std::uint64_t>(static_cast<std::uint16_t>(c.recent[0])) |
+                           (static_cast<std::uint64_t>(static_cast<std::uint16_t>(c.recent[1])) << 16));
+        }
+        return static_cast<std::size_t>(h ^ (h >> 29));
+    }
+};
+struct StateEq {
+    bool operator()(const GroupState& x, const GroupState& y) const { return sameState(x, y); }
+};
+
+// What a bounded frontier node (boundedFrontier) found, for when the search
+// meets the same state again in this decision (different actions that end
+// in the same blow lead to the same node; about 40 % of the demo duel's
+// frontier visits): its candidates in key order as far as it went, each
+// with its key, whether it passed pruning and its edge score. A later visit
+// replays the loop over them with its own path sum and window, and runs the
+// node afresh when it needs a candidate the first visit did not reach.
+struct FrontierStep {
+    double key = 0;
+    Value e;                // the edge score (when examined and legal)
+    bool examined = false;  // false: only its key is known (the first visit stopped at it)
+    bool legal = false;
+};
+struct FrontierMemo {
+    struct Entry {
+        std::uint32_t begin = 0, count = 0;
+        bool complete = false;  // every candidate is in the steps
+    };
+    std::unordered_map<GroupState, Entry, StateHash, StateEq> entries;
+    std::vector<FrontierStep> steps;
+};
+
+// Storage one search reuses from node to node (no allocation per node once
+// warm): per remaining depth the inner node's children and their order, the
+// opponent's placed bodies of its pruner; a frontier's keys and child.
+struct SearchScratch {
+    std::vector<std::vector<Child>> children;
+    std::vector<std::vector<Pending>> pending;
+    std::vector<std::vector<detail::CoreBody>> bodies;
+    Child child;
+    FrontierMemo frontier;
+    void reserveDepth(int depth) {
+        const auto n = static_cast<std::size_t>(std::max(depth, 1)) + 1;
+        if (children.size() < n) children.resize(n), pending.resize(n), bodies.resize(n);
+    }
+};
 
 // A frontier node of a duel scored by blows (Context::boundedFrontier), under
 // alpha-beta. The chooser maximises its own edge score e, so each candidate
@@ -516,57 +666,101 @@ bool better(bool mx, const Value& a, const Value& b) {
 // the plain frontier. Returns nothing when no candidate passes every
 // criterion (the caller then applies the full rule with its fallbacks).
 std::optional<Value> boundedFrontier(const Context& ctx, const GroupState& g, int who, bool mx, const Pruner& pruner,
-                                     double alpha, double beta, const Value& acc, Stats& stats, PlacementMemo& oppAt) {
+                                     double alpha, double beta, const Value& acc, Stats& stats, PlacementMemo& oppAt,
+                                     SearchScratch& scratch) {
     const int opp = 1 - who;
     const auto& o = g.c[static_cast<std::size_t>(opp)];
     const auto& oa = act(ctx, o.action);
     const bool oppCanHit = oa.is(kAttack) && oa.effector >= 0 && !o.attackDone &&
                            o.start + oa.activeEnd / kSampleRate - o.offset >= g.time;
-    const auto& w = specOf(ctx, who).weights;
-    struct Key {
-        double key;
-        int action;
-        bool exact;
+    FrontierMemo& memo = scratch.frontier;
+    // The value of an examined legal step, as the loop below computes it.
+    auto stepValue = [&](const FrontierStep& st) {
+        return Value{acc.comp + (mx ? st.e.comp : -st.e.comp), acc.coop + st.e.coop};
     };
-    thread_local std::vector<Key> keys;
+    if (const auto it = ctx.opt->reuseNodes ? memo.entries.find(g) : memo.entries.end(); it != memo.entries.end()) {
+        // Replay: the same candidates in the same order with this visit's
+        // path sum and window; the same counts as running the node again.
+        Value best;
+        bool have = false;
+        bool done = false;
+        std::int64_t leaves = 0, cutoffs = 0;
+        const auto& entry = it->second;
+        std::uint32_t i = 0;
+        for (; i < entry.count && !done; ++i) {
+            const FrontierStep& st = memo.steps[entry.begin + i];
+            if (have && (mx ? acc.comp + st.key <= best.comp : acc.comp - st.key >= best.comp)) {
+                done = true;
+                break;
+            }
+            if (!st.examined) break;  // the first visit did not get this far
+            if (!st.legal) continue;
+            ++leaves;
+            const Value v = stepValue(st);
+            if (!have || better(mx, v, best)) best = v, have = true;
+            if (mx ? best.comp >= beta : best.comp <= alpha) {
+                ++cutoffs;
+                done = true;
+            }
+        }
+        if (done || (i == entry.count && entry.complete)) {
+            stats.leaves += leaves;
+            stats.cutoffs += cutoffs;
+            if (!have) return std::nullopt;
+            return best;
+        }
+        // Otherwise the node runs again below (and records further).
+    }
+    const auto recordBegin = static_cast<std::uint32_t>(memo.steps.size());
+    // Keys: the edge score itself when nothing can land (computed only when
+    // it may come first: its bound until then), else the bound (final).
+    std::vector<Pending>& keys = scratch.pending[0];
     keys.clear();
-    for (int a : pruner.base()) {
+    const auto& base = pruner.base();
+    for (std::size_t i = 0; i < base.size(); ++i) {
+        const int a = base[i];
         const auto& x = act(ctx, a);
         const bool attack = x.is(kAttack) && x.effector >= 0;
-        if (!attack && !oppCanHit) {
+        const bool exactKey = !attack && !oppCanHit;
+        const double bound = edgeBound(ctx, g, who, a);
+        keys.push_back({exactKey ? withSlack(bound) : bound, static_cast<int>(i), exactKey});
+    }
+    std::make_heap(keys.begin(), keys.end(), heapLess);
+    Value best;
+    bool have = false;
+    Child& ch = scratch.child;
+    while (!keys.empty()) {
+        std::pop_heap(keys.begin(), keys.end(), heapLess);
+        Pending k = keys.back();
+        const int action = base[static_cast<std::size_t>(k.pos)];
+        if (k.bound) {
             // Only the exact key needs the launched state.
             // (No checkpoints to update: alpha-beta runs without cooperative terms.)
             GroupState after = g;
-            launch(ctx, after, who, a, g.time);
+            launch(ctx, after, who, action, g.time);
             after.time = std::min(after.c[0].end, after.c[1].end);
-            keys.push_back({edgeScore(ctx, g, after, who, a, Events{}, oppAt).comp, a, true});
+            keys.back() = {edgeScore(ctx, g, after, who, action, Events{}, oppAt).comp, k.pos, false};
+            std::push_heap(keys.begin(), keys.end(), heapLess);
             continue;
         }
-        // The scoring-free part of the edge, without movement, stage and path
-        // (a blow either way moves someone) plus the best blow it can land.
-        double bound = -w.wRecency * recency(ctx, g.c[static_cast<std::size_t>(who)], a);
-        if (ctx.combo) {
-            bound += w.wCombo * static_cast<double>((*ctx.combo)[static_cast<std::size_t>(a) * static_cast<std::size_t>(ctx.comboN) +
-                                                      static_cast<std::size_t>(o.action)]);
-        }
-        if (attack) bound += (x.is(kKick) ? w.wHitLong : w.wHitShort) * ctx.maxHitSpeed[static_cast<std::size_t>(a)];
-        keys.push_back({bound, a, false});
-    }
-    std::stable_sort(keys.begin(), keys.end(), [](const Key& x, const Key& y) { return x.key > y.key; });
-    Value best;
-    bool have = false;
-    Child ch;
-    for (const Key& k : keys) {
+        keys.pop_back();
+        const bool exact = !(act(ctx, action).is(kAttack) && act(ctx, action).effector >= 0) && !oppCanHit;
+        FrontierStep& step = memo.steps.emplace_back();
+        step.key = k.key;
         if (have && (mx ? acc.comp + k.key <= best.comp : acc.comp - k.key >= best.comp)) break;
-        if (!pruner.cheapCriteria(k.action) || !pruner.penetrationFree(k.action, false)) continue;
+        step.examined = true;
+        if (!pruner.cheapCriteria(action) || !pruner.penetrationFree(action, false)) continue;
+        step.legal = true;
         ++stats.leaves;
         Value v;
-        if (k.exact) {
+        if (exact) {
             v.comp = mx ? acc.comp + k.key : acc.comp - k.key;
             v.coop = acc.coop;
+            step.e = {k.key, 0.0};
         } else {
-            makeChild(ctx, g, who, k.action, acc, mx, ch, oppAt);
+            makeChild(ctx, g, who, action, acc, mx, ch, oppAt);
             v = ch.acc;
+            step.e = ch.edge;
         }
         if (!have || better(mx, v, best)) best = v, have = true;
         if (mx ? best.comp >= beta : best.comp <= alpha) {
@@ -574,6 +768,15 @@ std::optional<Value> boundedFrontier(const Context& ctx, const GroupState& g, in
             break;
         }
     }
+    if (!ctx.opt->reuseNodes) {
+        memo.steps.clear();
+        if (!have) return std::nullopt;
+        return best;
+    }
+    auto& entry = memo.entries[g];
+    entry.begin = recordBegin;
+    entry.count = static_cast<std::uint32_t>(memo.steps.size()) - recordBegin;
+    entry.complete = keys.empty();
     if (!have) return std::nullopt;
     return best;
 }
@@ -584,7 +787,7 @@ std::optional<Value> boundedFrontier(const Context& ctx, const GroupState& g, in
 // saves the remaining edges, and inner nodes try their children in the order
 // of their immediate scores.
 Value search(const Context& ctx, const GroupState& g, int depth, double alpha, double beta, const Value& acc,
-             int rootSide, Stats& stats) {
+             int rootSide, Stats& stats, SearchScratch& scratch) {
     ++stats.nodes;
     if (stats.leaves > stats.budget) {
         stats.exhausted = true;
@@ -593,16 +796,17 @@ Value search(const Context& ctx, const GroupState& g, int depth, double alpha, d
     const int who = chooserOf(g);
     const bool mx = isMax(ctx, who, rootSide);
     const bool ab = ctx.opt->alphaBeta && !ctx.cooperative;
-    const Pruner pruner(ctx, g, who, false);
-    Child ch;
+    const auto level = static_cast<std::size_t>(std::max(depth, 1));
+    const Pruner pruner(ctx, g, who, false, &scratch.bodies[level]);
     PlacementMemo oppAt;
     if (depth <= 1) {
         if (ab && ctx.boundedFrontier && pruner.active()) {
-            if (auto v = boundedFrontier(ctx, g, who, mx, pruner, alpha, beta, acc, stats, oppAt)) return *v;
+            if (auto v = boundedFrontier(ctx, g, who, mx, pruner, alpha, beta, acc, stats, oppAt, scratch)) return *v;
         }
         // Frontier: when some action passes every criterion, the pruned set
         // is exactly those actions, so each is tested only when reached and a
         // cutoff skips the rest. Otherwise the full rule with its fallbacks.
+        Child& ch = scratch.child;
         Value best;
         bool have = false;
         auto visit = [&](int a) {
@@ -634,33 +838,64 @@ Value search(const Context& ctx, const GroupState& g, int depth, double alpha, d
     // alpha-beta a cutoff skips the rest, so when some action passes every
     // criterion (the pruned set is then exactly those) the penetration test
     // waits until a child is reached; otherwise the full rule.
-    std::vector<Child> children;
-    auto searchChildren = [&](bool testPenetration) {
-        std::stable_sort(children.begin(), children.end(), [](const Child& a, const Child& b) { return a.order > b.order; });
-        Value best;
-        bool have = false;
-        for (const auto& c : children) {
-            if (testPenetration && !pruner.penetrationFree(c.action, false)) continue;
-            const Value v = search(ctx, c.state, depth - 1, alpha, beta, c.acc, rootSide, stats);
-            if (!have || better(mx, v, best)) best = v, have = true;
-            if (ab) {
-                if (mx) alpha = std::max(alpha, v.comp);
-                else beta = std::min(beta, v.comp);
-                if (alpha >= beta) {
-                    ++stats.cutoffs;
-                    break;
-                }
+    std::vector<Child>& children = scratch.children[level];
+    std::vector<Pending>& pending = scratch.pending[level];
+    Value best;
+    bool have = false;
+    // Searches one child; false on a cutoff.
+    auto visit = [&](const Child& c) {
+        const Value v = search(ctx, c.state, depth - 1, alpha, beta, c.acc, rootSide, stats, scratch);
+        if (!have || better(mx, v, best)) best = v, have = true;
+        if (ab) {
+            if (mx) alpha = std::max(alpha, v.comp);
+            else beta = std::min(beta, v.comp);
+            if (alpha >= beta) {
+                ++stats.cutoffs;
+                return false;
             }
         }
-        return have ? std::optional<Value>(best) : std::nullopt;
+        return true;
     };
     if (ab && pruner.active()) {
+        // The children in the order of their immediate scores, made only
+        // when they can come next: in a duel scored by blows each starts
+        // with the bound of its order (edgeBound); otherwise all are made.
+        children.clear();
+        pending.clear();
         for (int a : pruner.base()) {
             if (!pruner.cheapCriteria(a)) continue;
-            makeChild(ctx, g, who, a, acc, mx, children.emplace_back(), oppAt);
+            const int pos = static_cast<int>(children.size());
+            Child& c = children.emplace_back();
+            if (ctx.boundedFrontier) {
+                // The order of makeChild with the bound for the edge score
+                // (no cooperative terms under alpha-beta; the sums are
+                // monotone in it, so this bounds the order).
+                const double e = withSlack(edgeBound(ctx, g, who, a));
+                const double comp = acc.comp + (mx ? e : -e);
+                const double coop = acc.coop;
+                c.action = a;
+                pending.push_back({mx ? comp + coop : -(comp - coop), pos, true});
+            } else {
+                makeChild(ctx, g, who, a, acc, mx, c, oppAt);
+                pending.push_back({c.order, pos, false});
+            }
         }
-        if (auto v = searchChildren(true)) return *v;
-        children.clear();
+        std::make_heap(pending.begin(), pending.end(), heapLess);
+        while (!pending.empty()) {
+            std::pop_heap(pending.begin(), pending.end(), heapLess);
+            const Pending k = pending.back();
+            Child& c = children[static_cast<std::size_t>(k.pos)];
+            if (k.bound) {
+                makeChild(ctx, g, who, c.action, acc, mx, c, oppAt);
+                pending.back() = {c.order, k.pos, false};
+                std::push_heap(pending.begin(), pending.end(), heapLess);
+                continue;
+            }
+            pending.pop_back();
+            if (!pruner.penetrationFree(c.action, false)) continue;
+            if (!visit(c)) break;
+        }
+        if (have) return best;
     }
     std::vector<int> cands;
     Stats ignored;  // choices and pruning are counted at the real decisions
@@ -668,7 +903,11 @@ Value search(const Context& ctx, const GroupState& g, int depth, double alpha, d
     if (cands.empty()) return acc;
     children.resize(cands.size());
     for (std::size_t i = 0; i < cands.size(); ++i) makeChild(ctx, g, who, cands[i], acc, mx, children[i], oppAt);
-    return searchChildren(false).value_or(acc);
+    std::stable_sort(children.begin(), children.end(), [](const Child& a, const Child& b) { return a.order > b.order; });
+    for (const auto& c : children) {
+        if (!visit(c)) break;
+    }
+    return have ? best : acc;
 }
 
 }  // namespace
@@ -715,20 +954,25 @@ int decide(const Context& ctx, const GroupState& g, int depth, Stats& stats, boo
     std::vector<std::size_t> order(children.size());
     std::iota(order.begin(), order.end(), std::size_t{0});
     std::size_t chosen = 0;
+    tbb::enumerable_thread_specific<SearchScratch> scratch;  // per thread, for this decision's searches
     for (int d = 2; d <= depth; ++d) {
         std::vector<Value> values(children.size());
         std::vector<double> floor(children.size(), -kInf);
         std::vector<Stats> childStats(children.size());
         for (auto& cs : childStats) cs.budget = share;
         const std::size_t first = order[0];
-        values[first] = search(ctx, children[first].state, d - 1, -kInf, kInf, children[first].acc, rootSide, childStats[first]);
+        auto& mine = scratch.local();
+        mine.reserveDepth(d);
+        values[first] = search(ctx, children[first].state, d - 1, -kInf, kInf, children[first].acc, rootSide, childStats[first], mine);
         const double alpha = ab ? values[first].comp : -kInf;
         for (std::size_t i = 0; i < children.size(); ++i) {
             if (ab && i != first) floor[i] = i < first ? std::nextafter(alpha, -kInf) : alpha;
         }
         auto run = [&](std::size_t k) {
             const std::size_t i = order[k];
-            values[i] = search(ctx, children[i].state, d - 1, floor[i], kInf, children[i].acc, rootSide, childStats[i]);
+            auto& local = scratch.local();
+            local.reserveDepth(d);
+            values[i] = search(ctx, children[i].state, d - 1, floor[i], kInf, children[i].acc, rootSide, childStats[i], local);
         };
         if (ctx.opt->parallel) {
             tbb::parallel_for(std::size_t{1}, children.size(), run);

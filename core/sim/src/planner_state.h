@@ -96,6 +96,16 @@ struct Context {
     // candidates at these same times.
     std::vector<std::size_t> testPelvisBegin;
     std::vector<glm::vec2> testPelvis;
+    // At the same index: its core boxes (kCoreSegments) at that clip time in
+    // the clip's frame, shrunk by kPenetrationShrink, with their bounding
+    // radii. Placing a box does not change its half extents, so these are
+    // the shrunk placed boxes' radii, and a placed box is placed(local) of
+    // these, bit for bit.
+    struct TestBody {
+        std::array<Obb, kCoreSegments.size()> boxes;
+        std::array<float, kCoreSegments.size()> radii;
+    };
+    std::vector<TestBody> testBodies;
     bool duel = false;                   // two members on opposite sides: each one's opponent is the other
     bool boundedFrontier = false;        // a duel scored by blows: frontier edges can be bounded (boundedFrontier)
 };

@@ -44,6 +44,11 @@ struct RendererOptions {
     // (6-sided capsules; below 40 % of it 4-sided ones in High, camera-facing
     // cards in Fast); -1: from the quality (Fast 240, High 60), 0: always full detail.
     int lodPixels = -1;
+    // Far field (Fast quality): characters smaller than this on screen
+    // (pixels, the same measure) are drawn as far cards, the cards of their
+    // largest capsules only (those covering 90 % of the body's side-on
+    // area); -1: 40 in Fast unless lodPixels is 0, none in High; 0: never.
+    int farPixels = -1;
 };
 
 struct RenderStats {

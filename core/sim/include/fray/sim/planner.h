@@ -76,6 +76,11 @@ struct SimOptions {
     // same end node: e.g. the 30 captured jabs) are represented by one of
     // them. The root still weighs every variant.
     bool variants = true;
+    // Within a decision, a frontier node the search meets again (different
+    // actions ending in the same blow lead to the same state) replays what
+    // its first visit found instead of running again. Results do not depend
+    // on it (a test compares both); off only to check that.
+    bool reuseNodes = true;
     // Leaves one decision may visit. Deeper levels are searched one at a time
     // (iterative deepening); when one would exceed the budget the last
     // complete depth decides (counted in PlannerStats::shallower).
