@@ -1,6 +1,7 @@
 #include "fray/posture/posture.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -13,7 +14,9 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <ode/ode.h>
+#include <ode/threading_impl.h>
 #include <tbb/parallel_for.h>
+#include <dlfcn.h>
 
 #include "fray/core/kinematics.h"
 
@@ -46,9 +49,53 @@ constexpr double kPinSlideFast = 0.003;      // m per frame: the same while the 
 constexpr double kHitDepth = 0.01;           // m: a blow is aimed this far inside the target's box
 constexpr double kPinMaxHeight = 0.3;        // m: a supported ankle higher than this is not pinned
 
+// ODE's QuickStep reorders constraints with dRandInt, which draws from one
+// process-wide generator (dRand). Two islands stepping at once would take
+// numbers from each other's sequence, so the result would depend on thread
+// timing. dRand is defined below with the same generator (the same
+// sequence for the same seed) kept per thread while an island steps: each
+// step seeds its own thread's generator, and islands step in parallel with
+// no lock. Outside a step it calls ODE's own dRand. Where the definition
+// does not take the place of ODE's (an ODE built to bind its own calls), the
+// steps run one at a time under a lock, seeding ODE's generator: the same
+// numbers, the same results, only slower (checked once at start).
+struct StepRandom {
+    bool active = false;
+    std::uint32_t seed = 0;
+    std::uint64_t draws = 0;
+};
+thread_local StepRandom stepRandom;
+bool perThreadRandom = false;
+
+std::uint32_t nextRandom(std::uint32_t seed) { return seed * 1664525u + 1013904223u; }  // ODE's dRand
+
+// While alive, this thread's dRand draws from `seed` onwards.
+class StepRandomScope {
+public:
+    explicit StepRandomScope(std::uint32_t seed) { stepRandom.active = true, stepRandom.seed = seed; }
+    ~StepRandomScope() { stepRandom.active = false; }
+    StepRandomScope(const StepRandomScope&) = delete;
+    StepRandomScope& operator=(const StepRandomScope&) = delete;
+};
+
 void initOde() {
     static std::once_flag once;
-    std::call_once(once, [] { dInitODE2(0); });
+    std::call_once(once, [] {
+        dInitODE2(0);
+        // Does QuickStep's dRandInt reach the dRand below? Draw once and see,
+        // and that it is the same sequence as ODE's.
+        const unsigned long saved = dRandGetSeed();
+        dRandSetSeed(12345);
+        const unsigned long ode = dRandInt(1000);
+        dRandSetSeed(saved);
+        unsigned long mine = 0;
+        {
+            StepRandomScope scope(12345);
+            stepRandom.draws = 0;
+            mine = dRandInt(1000);
+        }
+        perThreadRandom = stepRandom.draws == 1 && mine == ode;
+    });
 }
 
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
@@ -178,6 +225,7 @@ struct Island {
     dWorldID world = nullptr;
     dJointGroupID contacts = nullptr;
     dGeomID floor = nullptr;
+    dThreadingImplementationID threading = nullptr;  // its own: ODE's default one is shared by all worlds
     std::vector<int> members;
     int contactsThisStep = 0;  // contacts between characters in the current step
     Report report;
@@ -221,6 +269,7 @@ struct Simulator::Impl {
             if (is.floor) dGeomDestroy(is.floor);
             if (is.contacts) dJointGroupDestroy(is.contacts);
             if (is.world) dWorldDestroy(is.world);
+            if (is.threading) dThreadingFreeImplementation(is.threading);
         }
     }
 
@@ -469,6 +518,10 @@ struct Simulator::Impl {
         for (auto& is : islands) {
             is.index = static_cast<int>(&is - islands.data());
             is.world = dWorldCreate();
+            // Each world steps with its own (self-threaded) job list, so
+            // islands can step at the same time on different threads.
+            is.threading = dThreadingAllocateSelfThreadedImplementation();
+            dWorldSetStepThreadingImplementation(is.world, dThreadingImplementationGetFunctions(is.threading), is.threading);
             dWorldSetGravity(is.world, 0, -9.81, 0);
             dWorldSetERP(is.world, 0.3);
             dWorldSetCFM(is.world, 1e-7);
@@ -875,15 +928,18 @@ struct Simulator::Impl {
                 }
                 const double ts = (f - 1) / opt.fps + s * h;
                 pushBlows(is, ts, ts + h);
-                {
-                    // ODE's QuickStep reorders constraints with one global
-                    // random generator: each step gets its own seed, one
-                    // island at a time, so the result does not depend on
-                    // threads or on what ran before.
+                // Each step draws QuickStep's constraint order from its own
+                // seed, so the result does not depend on threads or on what
+                // ran before (see StepRandom).
+                const unsigned long seed = static_cast<unsigned long>(is.index) * 1000003ul +
+                                           static_cast<unsigned long>(f) * 64ul + static_cast<unsigned long>(s);
+                dWorldSetQuickStepNumIterations(is.world, is.contactsThisStep > 0 ? opt.iterations : opt.freeIterations);
+                if (perThreadRandom) {
+                    StepRandomScope scope(static_cast<std::uint32_t>(seed));
+                    dWorldQuickStep(is.world, h);
+                } else {
                     const std::lock_guard<std::mutex> lock(stepMutex());
-                    dRandSetSeed(static_cast<unsigned long>(is.index) * 1000003ul +
-                                 static_cast<unsigned long>(f) * 64ul + static_cast<unsigned long>(s));
-                    dWorldSetQuickStepNumIterations(is.world, is.contactsThisStep > 0 ? opt.iterations : opt.freeIterations);
+                    dRandSetSeed(seed);
                     dWorldQuickStep(is.world, h);
                 }
                 dJointGroupEmpty(is.contacts);
@@ -1033,3 +1089,23 @@ void localPose(const Skeleton& skeleton, std::span<const glm::vec3> world, std::
 }
 
 }  // namespace fray::posture
+
+// ODE's generator, per thread while an island steps (see StepRandom above).
+extern "C" unsigned long dRand(void) {
+    using fray::posture::stepRandom;
+    if (stepRandom.active) {
+        stepRandom.seed = fray::posture::nextRandom(stepRandom.seed);
+        ++stepRandom.draws;
+        return stepRandom.seed;
+    }
+    using Fn = unsigned long (*)(void);
+    static const Fn ode = reinterpret_cast<Fn>(dlsym(RTLD_NEXT, "dRand"));
+    if (ode) return ode();
+    // No ODE dRand found after this one: the same generator, process-wide.
+    static std::atomic<std::uint32_t> seed{0};
+    std::uint32_t now = seed.load(), next = 0;
+    do {
+        next = fray::posture::nextRandom(now);
+    } while (!seed.compare_exchange_weak(now, next));
+    return next;
+}
