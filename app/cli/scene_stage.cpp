@@ -76,6 +76,17 @@ SceneStage::SceneStage(pipeline::LoadedScene scene) : loaded_(std::move(scene)) 
     }
 }
 
+Status SceneStage::setPosture(posture::Mode mode, const ProgressFn& progress) {
+    if (mode == posture::Mode::Kinematic) {
+        physics_.reset();
+        return {};
+    }
+    auto poses = posture::ScenePoses::make(mode, loaded_.scene, loaded_.session->library, {}, progress);
+    if (!poses) return poses.error();
+    physics_ = std::make_unique<posture::ScenePoses>(std::move(*poses));
+    return {};
+}
+
 render::Bounds SceneStage::stageBounds() const {
     render::Bounds b;
     const sim::Arena& a = loaded_.scene.arena;
@@ -118,11 +129,15 @@ void SceneStage::pose(double t, Labels labels, int selected) {
         const auto k = static_cast<std::size_t>(c);
         present_[k] = loaded_.scene.present(c, t) || loaded_.scene.isCreature(c) ? 1 : 0;
         if (!present_[k]) continue;
-        poser_->pose(c, t, poses_[k]);
         const Skeleton& sk = poser_->skeleton(c);
-        positions_[k].resize(poses_[k].translations.size());
-        rotations_[k].resize(poses_[k].translations.size());
-        forwardKinematics(sk, poses_[k].translations, poses_[k].rotations, positions_[k], rotations_[k]);
+        if (physics_) {
+            physics_->world(c, t, positions_[k], rotations_[k]);
+        } else {
+            poser_->pose(c, t, poses_[k]);
+            positions_[k].resize(poses_[k].translations.size());
+            rotations_[k].resize(poses_[k].translations.size());
+            forwardKinematics(sk, poses_[k].translations, poses_[k].rotations, positions_[k], rotations_[k]);
+        }
         const bool labelled = labels == Labels::All || (labels == Labels::Auto && characterCount() <= kAutoLabels) || c == selected;
         labels_[k] = labelled ? loaded_.scene.characters[k].name + ": " + currentAction(c) : std::string();
         shown_.push_back({&sk, positions_[k], rotations_[k], tint(c), labels_[k], c == selected});

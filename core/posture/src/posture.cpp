@@ -1033,7 +1033,8 @@ Status checkOptions(const sim::Scene& scene, const Options& o) {
 
 }  // namespace
 
-Result<Frames> simulate(const sim::Scene& scene, const sim::ActionLibrary& lib, const Options& options) {
+Result<Frames> simulate(const sim::Scene& scene, const sim::ActionLibrary& lib, const Options& options,
+                        const ProgressFn& progress) {
     if (auto st = checkOptions(scene, options); !st) return st.error();
     Simulator s(scene, lib, options);
     Frames out;
@@ -1050,6 +1051,9 @@ Result<Frames> simulate(const sim::Scene& scene, const sim::ActionLibrary& lib, 
         out.rotations[c].reserve(jc * static_cast<std::size_t>(s.frameCount()));
     }
     for (int f = 0; f < s.frameCount(); ++f) {
+        if (f % 16 == 0 && !reportProgress(progress, static_cast<double>(f) / s.frameCount(), "posture")) {
+            return cancelled("posture");
+        }
         s.step();
         for (std::size_t c = 0; c < n; ++c) {
             const auto p = s.positions(static_cast<int>(c));
@@ -1068,6 +1072,81 @@ Result<sim::JointTracks> tracks(Mode mode, const sim::Scene& scene, const sim::A
     auto frames = simulate(scene, lib, options);
     if (!frames) return frames.error();
     return std::move(frames->world);
+}
+
+struct ScenePoses::Impl {
+    Mode mode = Mode::Kinematic;
+    const sim::Scene& scene;
+    sim::ScenePoser poser;
+    Frames frames;  // physics mode only
+
+    Impl(Mode m, const sim::Scene& s, const sim::ActionLibrary& lib) : mode(m), scene(s), poser(s, lib) {}
+
+    bool simulated(int c) const {
+        return mode == Mode::Physics && c >= 0 && static_cast<std::size_t>(c) < frames.world.joints.size() &&
+               frames.world.jointCount[static_cast<std::size_t>(c)] > 0 && frames.world.frames > 0;
+    }
+};
+
+ScenePoses::ScenePoses(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+ScenePoses::ScenePoses(ScenePoses&&) noexcept = default;
+ScenePoses& ScenePoses::operator=(ScenePoses&&) noexcept = default;
+ScenePoses::~ScenePoses() = default;
+
+Result<ScenePoses> ScenePoses::make(Mode mode, const sim::Scene& scene, const sim::ActionLibrary& lib,
+                                    const Options& options, const ProgressFn& progress) {
+    auto impl = std::make_unique<Impl>(mode, scene, lib);
+    if (mode == Mode::Physics) {
+        auto frames = simulate(scene, lib, options, progress);
+        if (!frames) return frames.error();
+        impl->frames = std::move(*frames);
+    }
+    return ScenePoses(std::move(impl));
+}
+
+Mode ScenePoses::mode() const { return impl_->mode; }
+const Skeleton& ScenePoses::skeleton(int character) const { return impl_->poser.skeleton(character); }
+const Report& ScenePoses::report() const { return impl_->frames.report; }
+
+void ScenePoses::world(int character, double t, std::vector<glm::vec3>& positions, std::vector<glm::quat>& rotations) const {
+    const Impl& m = *impl_;
+    if (!m.simulated(character)) {
+        Pose pose;
+        m.poser.pose(character, t, pose);
+        positions.resize(pose.translations.size());
+        rotations.resize(pose.translations.size());
+        forwardKinematics(m.poser.skeleton(character), pose.translations, pose.rotations, positions, rotations);
+        return;
+    }
+    const auto c = static_cast<std::size_t>(character);
+    const auto n = static_cast<std::size_t>(m.frames.world.jointCount[c]);
+    const int last = m.frames.world.frames - 1;
+    double x = std::isfinite(t) ? t * m.frames.world.fps : 0.0;
+    x = std::clamp(x, 0.0, static_cast<double>(last));
+    const int f0 = std::min(static_cast<int>(std::floor(x)), last);
+    const int f1 = std::min(f0 + 1, last);
+    const auto a = static_cast<float>(x - f0);
+    const glm::vec3* p0 = &m.frames.world.joints[c][static_cast<std::size_t>(f0) * n];
+    const glm::vec3* p1 = &m.frames.world.joints[c][static_cast<std::size_t>(f1) * n];
+    const glm::quat* r0 = &m.frames.rotations[c][static_cast<std::size_t>(f0) * n];
+    const glm::quat* r1 = &m.frames.rotations[c][static_cast<std::size_t>(f1) * n];
+    positions.resize(n);
+    rotations.resize(n);
+    for (std::size_t j = 0; j < n; ++j) {
+        positions[j] = p0[j] + (p1[j] - p0[j]) * a;
+        rotations[j] = a == 0.0f ? r0[j] : glm::normalize(glm::slerp(r0[j], r1[j], a));
+    }
+}
+
+void ScenePoses::pose(int character, double t, Pose& out) const {
+    if (!impl_->simulated(character)) {
+        impl_->poser.pose(character, t, out);
+        return;
+    }
+    std::vector<glm::vec3> positions;
+    std::vector<glm::quat> rotations;
+    world(character, t, positions, rotations);
+    localPose(impl_->poser.skeleton(character), positions, rotations, out);
 }
 
 void localPose(const Skeleton& skeleton, std::span<const glm::vec3> world, std::span<const glm::quat> worldRotations,

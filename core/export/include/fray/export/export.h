@@ -10,11 +10,13 @@
 // and with each, <name>.<format>.scene.json: who does which action when and where.
 // Deterministic: the same scene and options give byte-identical files.
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "fray/core/motion.h"
 #include "fray/core/progress.h"
 #include "fray/core/result.h"
 #include "fray/sim/action_library.h"
@@ -43,6 +45,10 @@ struct ExportOptions {
     // letters, digits, '_', '-' and '.' only, not starting with '.'.
     std::string name = "scene";
     std::string source;            // the scene file, recorded in the summary ("" = not recorded)
+    // Where each character's pose at a scene time comes from (local pose,
+    // root in scene space): empty = sim::ScenePoser (kinematic playback);
+    // e.g. posture::ScenePoses::pose for the physics postures (docs/POSTURE.md).
+    std::function<void(int character, double t, Pose& out)> poses;
 };
 
 // Checks fps and name; the error says which and why.
