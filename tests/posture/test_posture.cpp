@@ -8,6 +8,7 @@
 #include <cstring>
 #include <limits>
 
+#include "fray/core/kinematics.h"
 #include "fray/posture/posture.h"
 #include "fray/sim/metrics.h"
 #include "posture/posture_fixture.h"
@@ -263,3 +264,66 @@ TEST(PostureSolver, ChaseAndLuggageKeepFeetAndPose) {
 }
 
 }  // namespace
+
+// posture::ScenePoses, what render, export and fray-play read: the solver's
+// frames at their times, linear in between, clamped outside the scene; the
+// local poses rebuild the same joints; kinematic mode is the scene poser's;
+// cancel stops it.
+TEST(PostureScenePoses, FramesAtAnyTimeLocalPosesAndCancel) {
+    const auto& lib = demoWorld().library;
+    sim::Scene scene = duel();
+    scene.duration = 3.0;
+    const auto frames = posture::simulate(scene, lib);
+    ASSERT_TRUE(frames) << frames.error().message;
+    auto poses = posture::ScenePoses::make(posture::Mode::Physics, scene, lib);
+    ASSERT_TRUE(poses) << poses.error().message;
+    EXPECT_EQ(poses->mode(), posture::Mode::Physics);
+    std::vector<glm::vec3> pos, fkPos;
+    std::vector<glm::quat> rot, fkRot;
+    const int last = frames->world.frames - 1;
+    for (int c = 0; c < 2; ++c) {
+        for (int f : {0, 10, 90, last}) {
+            poses->world(c, f / 60.0, pos, rot);
+            const auto want = frames->world.at(c, f);
+            ASSERT_EQ(pos.size(), want.size());
+            for (std::size_t j = 0; j < pos.size(); ++j) EXPECT_EQ(pos[j], want[j]) << "character " << c << " frame " << f;
+        }
+        // Half way between frames 10 and 11.
+        poses->world(c, 10.5 / 60.0, pos, rot);
+        for (std::size_t j = 0; j < pos.size(); ++j) {
+            const glm::vec3 mid = 0.5f * (frames->world.at(c, 10)[j] + frames->world.at(c, 11)[j]);
+            EXPECT_LT(glm::length(pos[j] - mid), 1e-5f);
+        }
+        // Outside the scene: its ends.
+        poses->world(c, -5.0, pos, rot);
+        EXPECT_EQ(pos[0], frames->world.at(c, 0)[0]);
+        poses->world(c, 99.0, pos, rot);
+        EXPECT_EQ(pos[0], frames->world.at(c, last)[0]);
+        poses->world(c, std::numeric_limits<double>::quiet_NaN(), pos, rot);
+        EXPECT_TRUE(std::isfinite(pos[0].x));
+        // The local pose rebuilds the joints (segment lengths kept by the
+        // ball joints to well under a centimetre).
+        Pose local;
+        poses->pose(c, 1.5, local);
+        poses->world(c, 1.5, pos, rot);
+        const auto& sk = poses->skeleton(c);
+        fkPos.resize(pos.size());
+        fkRot.resize(pos.size());
+        forwardKinematics(sk, local.translations, local.rotations, fkPos, fkRot);
+        for (std::size_t j = 0; j < pos.size(); ++j) EXPECT_LT(glm::length(fkPos[j] - pos[j]), 0.01f) << sk.names[j];
+    }
+    // Kinematic: the scene poser's poses.
+    auto kin = posture::ScenePoses::make(posture::Mode::Kinematic, scene, lib);
+    ASSERT_TRUE(kin);
+    const sim::ScenePoser poser(scene, lib);
+    Pose a, b;
+    kin->pose(1, 2.25, a);
+    poser.pose(1, 2.25, b);
+    EXPECT_EQ(a.translations, b.translations);
+    EXPECT_EQ(a.rotations, b.rotations);
+    // Cancelled through progress.
+    const auto stopped = posture::ScenePoses::make(posture::Mode::Physics, scene, lib, {},
+                                                   [](double f, std::string_view) { return f < 0.3; });
+    ASSERT_FALSE(stopped);
+    EXPECT_TRUE(stopped.error().isCancelled());
+}
