@@ -327,3 +327,41 @@ TEST(PostureScenePoses, FramesAtAnyTimeLocalPosesAndCancel) {
     ASSERT_FALSE(stopped);
     EXPECT_TRUE(stopped.error().isCancelled());
 }
+
+// Parry (SPEC 5): before an unblocked blow on a defender who is not attacking,
+// the defender's forearm nearer to the striking segment moves towards it.
+TEST(PostureSolver, ParryMovesTheFreeForearmTowardsTheBlow) {
+    const auto& lib = demoWorld().library;
+    sim::Scene scene = duel();
+    const sim::HitEvent* hit = nullptr;
+    for (const auto& h : scene.hits) {
+        const int inst = scene.instanceAt(h.defender, h.time);
+        if (h.blocked || inst < 0) continue;
+        const auto& track = scene.characters[static_cast<std::size_t>(h.defender)].track;
+        if (lib.action(track[static_cast<std::size_t>(inst)].action).is(sim::kAttack)) continue;
+        hit = &h;
+        break;
+    }
+    ASSERT_NE(hit, nullptr) << "an unblocked blow on a defender who is not attacking";
+    scene.duration = std::min(scene.duration, hit->time + 0.3);
+    posture::Options on, off;
+    off.parry = false;
+    const auto withParry = posture::simulate(scene, lib, on);
+    const auto without = posture::simulate(scene, lib, off);
+    ASSERT_TRUE(withParry && without);
+    // The striking segment where the capture has it 0.1 s before the blow.
+    const int frame = static_cast<int>(std::lround((hit->time - 0.1) * 60.0));
+    const auto& sj = lib.motion(lib.action(scene.characters[static_cast<std::size_t>(hit->attacker)].track[0].action).motion).joints;
+    const auto& dj = lib.motion(lib.action(scene.characters[static_cast<std::size_t>(hit->defender)].track[0].action).motion).joints;
+    const auto strike = sim::segmentBoxes(without->world.at(hit->attacker, frame), sj)[static_cast<std::size_t>(hit->effector)].centre;
+    auto nearest = [&](const posture::Frames& f) {
+        const auto p = f.world.at(hit->defender, frame);
+        return std::min(glm::length(strike - p[static_cast<std::size_t>(dj.leftHand)]),
+                        glm::length(strike - p[static_cast<std::size_t>(dj.rightHand)]));
+    };
+    const float a = nearest(*withParry), b = nearest(*without);
+    std::printf("hit at %.2f s: nearest hand to the striking segment %.1f cm with parry, %.1f cm without\n", hit->time,
+                100.0 * static_cast<double>(a), 100.0 * static_cast<double>(b));
+    EXPECT_LT(a, b - 0.02f);
+    EXPECT_TRUE(allFinite(withParry->world));
+}

@@ -424,6 +424,48 @@ struct Simulator::Impl {
             pullsOf[static_cast<std::size_t>(hit.attacker)].push_back(static_cast<int>(pulls.size()));
             pulls.push_back(std::move(p));
         }
+        // Parry: before an unblocked blow, the defender's forearm nearer to
+        // the striking segment moves part way towards it, when the defender
+        // is not attacking itself (its arms are free).
+        for (const auto& hit : scene.hits) {
+            if (!opt.parry || hit.blocked || !person(hit.attacker) || !person(hit.defender) || hit.effector < 0 ||
+                hit.effector >= sim::kSegmentCount) {
+                continue;
+            }
+            const int inst = scene.instanceAt(hit.defender, hit.time);
+            const auto& track = scene.characters[static_cast<std::size_t>(hit.defender)].track;
+            if (inst < 0 || static_cast<std::size_t>(inst) >= track.size()) continue;
+            if (lib.action(track[static_cast<std::size_t>(inst)].action).is(sim::kAttack)) continue;
+            const auto& att = chars[static_cast<std::size_t>(hit.attacker)];
+            const auto& def = chars[static_cast<std::size_t>(hit.defender)];
+            kinematic(hit.attacker, hit.time, pa, ra);
+            kinematic(hit.defender, hit.time, pb, rb);
+            const auto strike = sim::segmentBoxes(pa, att.roles)[static_cast<std::size_t>(hit.effector)].centre;
+            int hand = -1, elbow = -1;
+            float best = std::numeric_limits<float>::max();
+            for (const auto& [hj, ej] : {std::pair{def.roles.leftHand, def.roles.leftElbow},
+                                         std::pair{def.roles.rightHand, def.roles.rightElbow}}) {
+                if (hj < 0 || ej < 0 || !finite(pb[static_cast<std::size_t>(hj)])) continue;
+                const float d = glm::length(strike - pb[static_cast<std::size_t>(hj)]);
+                if (d < best) best = d, hand = hj, elbow = ej;
+            }
+            if (hand < 0 || !finite(strike)) continue;
+            glm::vec3 offset = (strike - pb[static_cast<std::size_t>(hand)]) * static_cast<float>(opt.parryShare);
+            const float len = glm::length(offset);
+            if (len > static_cast<float>(opt.parryReach)) offset *= static_cast<float>(opt.parryReach) / len;
+            Pull p;
+            p.character = hit.defender;
+            p.peak = hit.time;
+            p.lead = opt.hitLead;
+            p.tail = opt.hitTail;
+            p.offset = offset;
+            p.joints = limbJoints(def, elbow, 0.5f);
+            for (auto& [j, w] : p.joints) {
+                if (j == elbow) w = 0.6f;  // the hand leads, the elbow follows part way
+            }
+            pullsOf[static_cast<std::size_t>(hit.defender)].push_back(static_cast<int>(pulls.size()));
+            pulls.push_back(std::move(p));
+        }
         for (const auto& k : scene.catches) {
             if (!person(k.chaser) || !person(k.runaway)) continue;
             const auto& ch = chars[static_cast<std::size_t>(k.chaser)];

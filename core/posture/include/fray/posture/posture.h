@@ -62,6 +62,9 @@ struct Options {
     double hitForce = 0.3;       // share of the striker's momentum pushed into the victim
     double catchLead = 0.4;      // s: hands reach out before a catch
     double catchReach = 0.7;     // m: farthest a catching hand is pulled
+    bool parry = true;           // a defender's free forearm moves towards an unblocked incoming blow
+    double parryShare = 0.35;    // share of the way from the hand to the striking segment
+    double parryReach = 0.25;    // m: the farthest a parrying hand is pulled
     bool collisions = true;      // segments of different characters collide
     bool footPins = true;        // pin supported feet
     bool hitTargets = true;      // pull blows onto the victim's surface
