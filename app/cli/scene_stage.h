@@ -34,6 +34,10 @@ public:
     // default) or physics (the posture solver runs over the whole scene here,
     // once; poses are then read from its frames). Errors: cancelled.
     Status setPosture(posture::Mode mode, const ProgressFn& progress = {});
+    // Installs poses made elsewhere: posture::ScenePoses::make(mode, scene(),
+    // library(), options, progress) run in a worker thread (it takes seconds),
+    // then this on the thread that calls pose().
+    void setPosture(posture::ScenePoses poses) { physics_ = std::make_unique<posture::ScenePoses>(std::move(poses)); }
     posture::Mode postureMode() const { return physics_ ? physics_->mode() : posture::Mode::Kinematic; }
     // What the solver clamped or refused (nullptr in kinematic mode).
     const posture::Report* postureReport() const { return physics_ ? &physics_->report() : nullptr; }
