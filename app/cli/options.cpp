@@ -16,6 +16,26 @@ void addImportFlags(CLI::App* cmd, ImportFlags& flags) {
     cmd->add_flag("--raw", flags.raw, "Keep file units and axes (no normalisation)");
 }
 
+void addPostureFlag(CLI::App* cmd, std::string& mode, const std::string& help) {
+    cmd->add_option("--posture", mode, help);
+}
+
+Result<posture::Mode> postureMode(const std::string& flag) {
+    const auto mode = posture::parseMode(flag.empty() ? "kinematic" : flag);
+    if (!mode) return makeError("--posture: '" + flag + "' is not kinematic or physics");
+    return *mode;
+}
+
+void printPostureNotes(const posture::Report& r, bool quiet) {
+    if (quiet) return;
+    if (r.refusedPins + r.releasedPins + r.nonFiniteTargets + r.resets + r.initialOverlaps > 0) {
+        std::fprintf(stderr,
+                     "posture: %d foot pins refused, %d let go, %d non-finite targets held, %d resets, %d pairs starting inside each other\n",
+                     r.refusedPins, r.releasedPins, r.nonFiniteTargets, r.resets, r.initialOverlaps);
+    }
+    for (const auto& n : r.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
+}
+
 namespace {
 
 CLI::Validator numberCheck(double lo, double hi, bool openLow) {

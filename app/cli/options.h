@@ -6,6 +6,7 @@
 
 #include "fray/core/result.h"
 #include "fray/io/import.h"
+#include "fray/posture/posture.h"
 
 namespace fray::cli {
 
@@ -28,5 +29,12 @@ CLI::Validator finitePositive(double hi);
 // Largest frame rate convert resamples to (docs/FILES.md).
 inline constexpr double kMaxFps = 1000.0;
 void addImportFlags(CLI::App* cmd, ImportFlags& flags);
+
+// --posture kinematic|physics (docs/POSTURE.md) of render, export and metrics.
+void addPostureFlag(CLI::App* cmd, std::string& mode, const std::string& help);
+// The mode named by --posture ("" = kinematic); the error names the flag.
+Result<posture::Mode> postureMode(const std::string& flag);
+// The solver's report as "note:" lines (to stderr; nothing when quiet or empty).
+void printPostureNotes(const posture::Report& report, bool quiet);
 
 }  // namespace fray::cli

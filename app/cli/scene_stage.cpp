@@ -79,6 +79,17 @@ SceneStage::SceneStage(pipeline::LoadedScene scene) : loaded_(std::move(scene)) 
     }
 }
 
+Status SceneStage::setPosture(posture::Mode mode, const ProgressFn& progress) {
+    if (mode == posture::Mode::Kinematic) {
+        physics_.reset();
+        return {};
+    }
+    auto poses = posture::ScenePoses::make(mode, loaded_.scene, loaded_.session->library, {}, progress);
+    if (!poses) return poses.error();
+    physics_ = std::make_unique<posture::ScenePoses>(std::move(*poses));
+    return {};
+}
+
 render::Bounds SceneStage::stageBounds() const {
     render::Bounds b;
     const sim::Arena& a = loaded_.scene.arena;
@@ -124,6 +135,10 @@ void SceneStage::pose(double t, Labels labels, int selected) {
             const auto k = static_cast<std::size_t>(c);
             present_[k] = loaded_.scene.present(c, t) || loaded_.scene.isCreature(c) ? 1 : 0;
             if (!present_[k]) continue;
+            if (physics_) {
+                physics_->world(c, t, positions_[k], rotations_[k]);  // const: safe from any thread
+                continue;
+            }
             poser_->pose(c, t, poses_[k]);
             positions_[k].resize(poses_[k].translations.size());
             rotations_[k].resize(poses_[k].translations.size());

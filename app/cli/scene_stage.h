@@ -8,6 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "fray/core/progress.h"
+#include "fray/core/result.h"
+#include "fray/posture/posture.h"
 #include "fray/render/camera.h"
 #include "fray/render/frame.h"
 #include "fray/sim/scene.h"
@@ -26,6 +29,18 @@ public:
     const Skeleton& skeleton(int c) const { return poser_->skeleton(c); }
     // Every character's skeleton, in character order (for --rig).
     std::vector<const Skeleton*> skeletons() const;
+
+    // The posture mode (docs/POSTURE.md): kinematic (the scene poser, the
+    // default) or physics (the posture solver runs over the whole scene here,
+    // once; poses are then read from its frames). Errors: cancelled.
+    Status setPosture(posture::Mode mode, const ProgressFn& progress = {});
+    // Installs poses made elsewhere: posture::ScenePoses::make(mode, scene(),
+    // library(), options, progress) run in a worker thread (it takes seconds),
+    // then this on the thread that calls pose().
+    void setPosture(posture::ScenePoses poses) { physics_ = std::make_unique<posture::ScenePoses>(std::move(poses)); }
+    posture::Mode postureMode() const { return physics_ ? physics_->mode() : posture::Mode::Kinematic; }
+    // What the solver clamped or refused (nullptr in kinematic mode).
+    const posture::Report* postureReport() const { return physics_ ? &physics_->report() : nullptr; }
 
     // Which characters get a "name: action" label: everyone, nobody, or
     // everyone in scenes of up to kAutoLabels characters (a crowd's labels
@@ -65,6 +80,7 @@ public:
 private:
     pipeline::LoadedScene loaded_;
     std::unique_ptr<sim::ScenePoser> poser_;
+    std::unique_ptr<posture::ScenePoses> physics_;  // physics mode only
     double time_ = 0;
     std::vector<Pose> poses_;
     std::vector<std::vector<glm::vec3>> positions_;

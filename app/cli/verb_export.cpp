@@ -2,6 +2,7 @@
 //
 //   export SCENE.frayscene [--format gltf|glb|bvh|fbx] --out DIR [--fps N] [--name NAME]
 //          [--rig FILE] [--root-motion none|floor|in-place]
+//          [--posture kinematic|physics]
 //
 // glTF/GLB/FBX: one file with every character skinned and animated; BVH: one
 // file per character; always DIR/NAME.FORMAT.scene.json (who does what, when,
@@ -9,10 +10,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 
 #include "fray/export/export.h"
 #include "fray/io/rig_import.h"
+
+#include "fray/posture/posture.h"
 #include "cli_session.h"
+#include "options.h"
 #include "verbs.h"
 
 namespace fray::cli {
@@ -21,7 +26,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct ExportArgs {
-    std::string scene, format = "gltf", out, name;
+    std::string scene, format = "gltf", out, name, posture;
     std::string rig, rootMotion = "none";
     double fps = 30.0;
     bool quiet = false;
@@ -52,14 +57,27 @@ void runExport(const ExportArgs& a) {
         options.rig = std::move(rig->target);
     }
     const auto progress = stderrProgress(a.quiet);
+    const auto mode = postureMode(a.posture);
+    if (!mode) return fail(mode.error().message);
     auto loaded = openScene(a.scene, progress);
     if (!loaded) return fail(loaded.error().message);
+    // --posture physics: the solver's poses (docs/POSTURE.md), simulated once
+    // at 60 fps and sampled at the export rate.
+    std::optional<posture::ScenePoses> physics;
+    if (*mode == posture::Mode::Physics) {
+        auto poses = posture::ScenePoses::make(*mode, loaded->scene, loaded->session->library, {}, progress);
+        if (!poses) return fail(poses.error().message);
+        physics.emplace(std::move(*poses));
+        printPostureNotes(physics->report(), a.quiet);
+        options.poses = [&physics](int c, double t, Pose& out) { physics->pose(c, t, out); };
+    }
     auto report = exporter::exportScene(loaded->scene, loaded->session->library, options, progress);
     if (!report) return fail(report.error().message);
     std::printf("%s: %zu characters, %d frames at %g fps (%.1f s) as %s:\n", a.scene.c_str(),
                 loaded->scene.characters.size(), report->frames, options.fps, loaded->scene.duration, a.format.c_str());
     for (const auto& f : report->files) std::printf("  %s\n", f.string().c_str());
     for (const auto& n : report->notes) std::printf("note: %s\n", n.c_str());
+    if (physics) std::printf("posture: physics (the posture solver's poses)\n");
 }
 
 }  // namespace
@@ -80,6 +98,8 @@ void registerExport(CLI::App& app) {
     cmd->add_option("--root-motion", args->rootMotion,
                     "none (default), floor (a root bone on the floor carries the trajectory) or in-place (the root bone "
                     "stays at the origin)");
+    addPostureFlag(cmd, args->posture,
+                   "Posture mode: kinematic (the captured clips; default) or physics (the posture solver, docs/POSTURE.md)");
     cmd->add_flag("-q,--quiet", args->quiet, "No progress on stderr");
     cmd->callback([args] { runExport(*args); });
 }

@@ -62,6 +62,7 @@ struct RenderArgs {
     bool validate = false;
     bool quiet = false;
     std::string rig;
+    std::string posture;  // scenes: kinematic | physics
     ImportFlags flags;
 };
 
@@ -297,6 +298,7 @@ constexpr double kSceneFps = 30.0;
 
 void runScene(const RenderArgs& a, const FrameRange& range, std::pair<int, int> size) {
     if (a.contactSheet) return fail("--contact-sheet: takes motions or a project, not a scene", 2);
+    if (const auto mode = postureMode(a.posture); !mode) return fail(mode.error().message, 2);
     auto loaded = openScene(a.inputs[0], stderrProgress(a.quiet));
     if (!loaded) return fail(loaded.error().message);
     const int frames = static_cast<int>(std::floor(loaded->scene.duration * kSceneFps)) + 1;
@@ -306,6 +308,8 @@ void runScene(const RenderArgs& a, const FrameRange& range, std::pair<int, int> 
                     2);
     const int first = range.first, last = range.last.value_or(frames - 1);
     SceneStage stage(std::move(*loaded));
+    if (Status s = stage.setPosture(*postureMode(a.posture), stderrProgress(a.quiet)); !s) return fail(s.error().message);
+    if (const auto* report = stage.postureReport()) printPostureNotes(*report, a.quiet);
     const auto rigs = loadRigOption(a, stage.skeletons());
     if (!rigs) return fail(rigs.error().message);
     if (Status s = ensureDir(a.out); !s) return fail(s.error().message);
@@ -405,6 +409,7 @@ void run(const RenderArgs& a) {
         return fail("--camera " + a.camera + ": expected auto, fixed or follow", 2);
     if (a.columns < 0 || a.maxCells < 1) return fail("--columns must be >= 0 and --max-cells >= 1", 2);
     if (a.inputs.size() == 1 && fs::path(a.inputs[0]).extension() == ".frayscene") return runScene(a, *range, *size);
+    if (!a.posture.empty()) return fail("--posture: only for a scene (.frayscene); motions and projects are drawn as captured", 2);
     auto clips = loadClips(a);
     if (!clips) return fail(clips.error().message);
 
@@ -573,6 +578,9 @@ void registerRender(CLI::App& app) {
     cmd->add_option("--rig", a->rig,
                     "Draw the characters as this skinned rig (glTF/GLB, FBX, ...) instead of capsules; its bones are matched "
                     "to the motion's joints by name (e.g. a GLB from 'fray-cli export')");
+    addPostureFlag(cmd, a->posture,
+                   "A scene's posture mode: kinematic (the captured clips; default) or physics (the posture solver, "
+                   "docs/POSTURE.md)");
     addImportFlags(cmd, a->flags);
     cmd->callback([a] { run(*a); });
 }

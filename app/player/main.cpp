@@ -4,6 +4,10 @@
 // writes.
 //
 //   fray-play [MOTION... | PROJECT.frayproj | SCENE.frayscene] [--frames N] [--screenshot out.png] [--rig FILE]
+//             [--posture kinematic|physics]
+//
+// --posture physics plays a scene with the posture solver's poses
+// (docs/POSTURE.md), simulated over the whole scene before the window opens.
 //
 // --rig FILE draws the characters as a skinned rig (glTF/GLB, FBX, ...) instead
 // of capsules.
@@ -54,6 +58,7 @@ struct Args {
     bool validate = false;
     bool noVsync = false;
     std::string rig;
+    std::string posture;  // a scene's: kinematic | physics
 };
 
 // Mouse: left drag orbits, right or middle drag pans, the wheel zooms.
@@ -99,8 +104,12 @@ int main(int argc, char** argv) {
     cli.add_option("--rig", args.rig,
                    "Draw the characters as this skinned rig (glTF/GLB, FBX, ...) instead of capsules; bones are matched to "
                    "joints by name");
+    cli.add_option("--posture", args.posture,
+                   "A scene's posture mode: kinematic (the captured clips; default) or physics (the posture solver)");
     CLI11_PARSE(cli, argc, argv);
     if (args.frames < 0) return fail("--frames must be >= 0", 2);
+    const auto postureMode = fray::posture::parseMode(args.posture.empty() ? "kinematic" : args.posture);
+    if (!postureMode) return fail("--posture: '" + args.posture + "' is not kinematic or physics", 2);
     int width = 1280, height = 720;
     if (std::sscanf(args.size.c_str(), "%dx%d", &width, &height) != 2 || width < 64 || height < 64)
         return fail("--size " + args.size + ": expected WIDTHxHEIGHT, at least 64x64", 2);
@@ -127,7 +136,13 @@ int main(int argc, char** argv) {
         });
         if (!loaded) return fail(loaded.error().message);
         scene = std::make_unique<cli::SceneStage>(std::move(*loaded));
+        if (*postureMode == fray::posture::Mode::Physics) {
+            std::fprintf(stderr, "fray-play: posture solver over the scene...\n");
+            if (Status st = scene->setPosture(*postureMode); !st) return fail(st.error().message);
+            for (const auto& n : scene->postureReport()->notes) std::fprintf(stderr, "fray-play: note: %s\n", n.c_str());
+        }
     } else {
+        if (!args.posture.empty()) return fail("--posture: only for a scene (.frayscene)", 2);
         auto takes = app::loadTakes(args.inputs);
         if (!takes) return fail(takes.error().message);
         takeList = std::move(*takes);

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # `fray-cli metrics --posture`: the physics posture metrics of a planned duel
-# on a small demo project, the same bytes twice, and a bad mode named.
+# on a small demo project, the same bytes twice, and a bad mode named;
+# `export --posture physics` writes the same bytes twice and differs from the
+# kinematic export; `render --posture physics` draws the scene.
 set -eu
 cli=$1
 . "$(dirname "$0")/../cli_lib.sh"
@@ -16,4 +18,20 @@ check "same scene, same bytes" "cmp -s '$tmp/physics.json' '$tmp/again.json'"
 "$cli" metrics "$tmp/duel.frayscene" --posture kinematic -q > "$tmp/kinematic.txt"
 check "text: scene metrics then posture" "grep -q '^scene:' '$tmp/kinematic.txt' && grep -q '^posture:' '$tmp/kinematic.txt'"
 expect_fail "bad mode" "--posture: 'ragdoll' is not kinematic or physics" "$cli" metrics "$tmp/duel.frayscene" --posture ragdoll -q
+# export: physics twice, byte-identical; kinematic differs.
+"$cli" export "$tmp/duel.frayscene" --format glb --out "$tmp/phys1" --posture physics -q > "$tmp/export.txt"
+check "export says physics" "grep -q '^posture: physics' '$tmp/export.txt'"
+"$cli" export "$tmp/duel.frayscene" --format glb --out "$tmp/phys2" --posture physics -q > /dev/null
+"$cli" export "$tmp/duel.frayscene" --format glb --out "$tmp/kin" --posture kinematic -q > /dev/null
+"$cli" export "$tmp/duel.frayscene" --format glb --out "$tmp/plain" -q > /dev/null
+check "physics export: same bytes twice" "cmp -s '$tmp/phys1/duel.glb' '$tmp/phys2/duel.glb'"
+check "kinematic is the default" "cmp -s '$tmp/kin/duel.glb' '$tmp/plain/duel.glb'"
+check "physics differs from kinematic" "! cmp -s '$tmp/phys1/duel.glb' '$tmp/kin/duel.glb'"
+"$cli" export "$tmp/duel.frayscene" --format bvh --out "$tmp/bvh" --posture physics -q > /dev/null
+check "physics BVH finite" "! grep -qi 'nan\\|inf' '$tmp'/bvh/*.bvh"
+expect_fail "export: bad mode" "--posture: 'ragdoll' is not kinematic or physics" "$cli" export "$tmp/duel.frayscene" --out "$tmp/bad" --posture ragdoll -q
+# render: one frame with physics.
+"$cli" render "$tmp/duel.frayscene" --out "$tmp/frames" --frames 60 --size 160x90 --fast --posture physics --quiet > /dev/null
+check "render: a frame" "[ -s '$tmp/frames/scene_000060.png' ] || ls '$tmp/frames' | grep -q png"
+expect_fail "render: bad mode" "--posture: 'ragdoll' is not kinematic or physics" "$cli" render "$tmp/duel.frayscene" --out "$tmp/frames" --posture ragdoll --quiet
 echo "cli posture: ok"

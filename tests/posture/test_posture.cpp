@@ -8,6 +8,7 @@
 #include <cstring>
 #include <limits>
 
+#include "fray/core/kinematics.h"
 #include "fray/posture/posture.h"
 #include "fray/sim/metrics.h"
 #include "fray/sim/compose/luggage.h"
@@ -261,3 +262,104 @@ TEST(PostureSolver, ChaseAndLuggageKeepFeetAndPose) {
 }
 
 }  // namespace
+
+// posture::ScenePoses, what render, export and fray-play read: the solver's
+// frames at their times, linear in between, clamped outside the scene; the
+// local poses rebuild the same joints; kinematic mode is the scene poser's;
+// cancel stops it.
+TEST(PostureScenePoses, FramesAtAnyTimeLocalPosesAndCancel) {
+    const auto& lib = demoWorld().library;
+    sim::Scene scene = duel();
+    scene.duration = 3.0;
+    const auto frames = posture::simulate(scene, lib);
+    ASSERT_TRUE(frames) << frames.error().message;
+    auto poses = posture::ScenePoses::make(posture::Mode::Physics, scene, lib);
+    ASSERT_TRUE(poses) << poses.error().message;
+    EXPECT_EQ(poses->mode(), posture::Mode::Physics);
+    std::vector<glm::vec3> pos, fkPos;
+    std::vector<glm::quat> rot, fkRot;
+    const int last = frames->world.frames - 1;
+    for (int c = 0; c < 2; ++c) {
+        for (int f : {0, 10, 90, last}) {
+            poses->world(c, f / 60.0, pos, rot);
+            const auto want = frames->world.at(c, f);
+            ASSERT_EQ(pos.size(), want.size());
+            for (std::size_t j = 0; j < pos.size(); ++j) EXPECT_EQ(pos[j], want[j]) << "character " << c << " frame " << f;
+        }
+        // Half way between frames 10 and 11.
+        poses->world(c, 10.5 / 60.0, pos, rot);
+        for (std::size_t j = 0; j < pos.size(); ++j) {
+            const glm::vec3 mid = 0.5f * (frames->world.at(c, 10)[j] + frames->world.at(c, 11)[j]);
+            EXPECT_LT(glm::length(pos[j] - mid), 1e-5f);
+        }
+        // Outside the scene: its ends.
+        poses->world(c, -5.0, pos, rot);
+        EXPECT_EQ(pos[0], frames->world.at(c, 0)[0]);
+        poses->world(c, 99.0, pos, rot);
+        EXPECT_EQ(pos[0], frames->world.at(c, last)[0]);
+        poses->world(c, std::numeric_limits<double>::quiet_NaN(), pos, rot);
+        EXPECT_TRUE(std::isfinite(pos[0].x));
+        // The local pose rebuilds the joints (segment lengths kept by the
+        // ball joints to well under a centimetre).
+        Pose local;
+        poses->pose(c, 1.5, local);
+        poses->world(c, 1.5, pos, rot);
+        const auto& sk = poses->skeleton(c);
+        fkPos.resize(pos.size());
+        fkRot.resize(pos.size());
+        forwardKinematics(sk, local.translations, local.rotations, fkPos, fkRot);
+        for (std::size_t j = 0; j < pos.size(); ++j) EXPECT_LT(glm::length(fkPos[j] - pos[j]), 0.01f) << sk.names[j];
+    }
+    // Kinematic: the scene poser's poses.
+    auto kin = posture::ScenePoses::make(posture::Mode::Kinematic, scene, lib);
+    ASSERT_TRUE(kin);
+    const sim::ScenePoser poser(scene, lib);
+    Pose a, b;
+    kin->pose(1, 2.25, a);
+    poser.pose(1, 2.25, b);
+    EXPECT_EQ(a.translations, b.translations);
+    EXPECT_EQ(a.rotations, b.rotations);
+    // Cancelled through progress.
+    const auto stopped = posture::ScenePoses::make(posture::Mode::Physics, scene, lib, {},
+                                                   [](double f, std::string_view) { return f < 0.3; });
+    ASSERT_FALSE(stopped);
+    EXPECT_TRUE(stopped.error().isCancelled());
+}
+
+// Parry (SPEC 5): before an unblocked blow on a defender who is not attacking,
+// the defender's forearm nearer to the striking segment moves towards it.
+TEST(PostureSolver, ParryMovesTheFreeForearmTowardsTheBlow) {
+    const auto& lib = demoWorld().library;
+    sim::Scene scene = duel();
+    const sim::HitEvent* hit = nullptr;
+    for (const auto& h : scene.hits) {
+        const int inst = scene.instanceAt(h.defender, h.time);
+        if (h.blocked || inst < 0) continue;
+        const auto& track = scene.characters[static_cast<std::size_t>(h.defender)].track;
+        if (lib.action(track[static_cast<std::size_t>(inst)].action).is(sim::kAttack)) continue;
+        hit = &h;
+        break;
+    }
+    ASSERT_NE(hit, nullptr) << "an unblocked blow on a defender who is not attacking";
+    scene.duration = std::min(scene.duration, hit->time + 0.3);
+    posture::Options on, off;
+    off.parry = false;
+    const auto withParry = posture::simulate(scene, lib, on);
+    const auto without = posture::simulate(scene, lib, off);
+    ASSERT_TRUE(withParry && without);
+    // The striking segment where the capture has it 0.1 s before the blow.
+    const int frame = static_cast<int>(std::lround((hit->time - 0.1) * 60.0));
+    const auto& sj = lib.motion(lib.action(scene.characters[static_cast<std::size_t>(hit->attacker)].track[0].action).motion).joints;
+    const auto& dj = lib.motion(lib.action(scene.characters[static_cast<std::size_t>(hit->defender)].track[0].action).motion).joints;
+    const auto strike = sim::segmentBoxes(without->world.at(hit->attacker, frame), sj)[static_cast<std::size_t>(hit->effector)].centre;
+    auto nearest = [&](const posture::Frames& f) {
+        const auto p = f.world.at(hit->defender, frame);
+        return std::min(glm::length(strike - p[static_cast<std::size_t>(dj.leftHand)]),
+                        glm::length(strike - p[static_cast<std::size_t>(dj.rightHand)]));
+    };
+    const float a = nearest(*withParry), b = nearest(*without);
+    std::printf("hit at %.2f s: nearest hand to the striking segment %.1f cm with parry, %.1f cm without\n", hit->time,
+                100.0 * static_cast<double>(a), 100.0 * static_cast<double>(b));
+    EXPECT_LT(a, b - 0.02f);
+    EXPECT_TRUE(allFinite(withParry->world));
+}

@@ -131,7 +131,7 @@ Status validateOptions(const ExportOptions& o) {
 Result<ExportReport> exportScene(const sim::Scene& scene, const sim::ActionLibrary& lib, const ExportOptions& options,
                                  const ProgressFn& progress) {
     if (auto st = validateOptions(options); !st) return st.error();
-    auto sampled = sampleScene(scene, lib, options.fps, scaled(progress, 0.0, 0.5));
+    auto sampled = sampleScene(scene, lib, options.fps, scaled(progress, 0.0, 0.5), options.poses);
     if (!sampled) return sampled.error();
     std::vector<std::string> rigNotes;
     if (options.rig) {

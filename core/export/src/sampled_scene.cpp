@@ -22,10 +22,18 @@ bool finite(const glm::quat& q) { return std::isfinite(q.x) && std::isfinite(q.y
 
 // Fills every frame of `out`; fails at the first pose that is not finite
 // (written as it is, it would make invalid files in every format).
-Status sampleCharacter(const sim::ScenePoser& poser, int c, const SampledScene& s, Motion& out) {
+Status sampleCharacter(const sim::ScenePoser& poser, const PoseFn& poses, int c, const SampledScene& s, Motion& out) {
     Pose pose;
     for (int f = 0; f < out.frameCount(); ++f) {
-        poser.pose(c, s.time(f), pose);
+        if (poses) {
+            poses(c, s.time(f), pose);
+        } else {
+            poser.pose(c, s.time(f), pose);
+        }
+        if (pose.translations.size() != out.translations(f).size() || pose.rotations.size() != pose.translations.size()) {
+            return makeError("the pose at " + std::to_string(s.time(f)) + " s has " + std::to_string(pose.translations.size()) +
+                             " joints, the skeleton " + std::to_string(out.translations(f).size()));
+        }
         auto t = out.translations(f);
         auto r = out.rotations(f);
         for (std::size_t j = 0; j < t.size(); ++j) {
@@ -81,7 +89,7 @@ int exportFrameCount(double duration, double fps) {
 }
 
 Result<SampledScene> sampleScene(const sim::Scene& scene, const sim::ActionLibrary& lib, double fps,
-                                 const ProgressFn& progress) {
+                                 const ProgressFn& progress, const PoseFn& poses) {
     if (scene.characters.empty()) return makeError("the scene has no characters: nothing to export");
     for (const auto& c : scene.characters) {
         if (c.track.empty() && c.body.empty()) return makeError("character '" + c.name + "' has no action: nothing to export");
@@ -98,7 +106,7 @@ Result<SampledScene> sampleScene(const sim::Scene& scene, const sim::ActionLibra
         const auto& sc = scene.characters[static_cast<std::size_t>(c)];
         CharacterTake take{sc.name, names[static_cast<std::size_t>(c)], sc.side, sc.group,
                            Motion(poser.skeleton(c), fps, out.frames)};
-        if (auto st = sampleCharacter(poser, c, out, take.motion); !st) {
+        if (auto st = sampleCharacter(poser, poses, c, out, take.motion); !st) {
             return makeError("character '" + sc.name + "': " + st.error().message);
         }
         out.characters.push_back(std::move(take));

@@ -1,6 +1,7 @@
 #pragma once
 // A scene sampled for export: per character its skeleton and a Motion at the
 // export rate whose root joint is in scene space (what every writer needs).
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -41,7 +42,10 @@ std::vector<std::string> fileSafeNames(const sim::Scene& scene);
 // kept in one hemisphere from frame to frame, so importers that interpolate
 // component-wise do not spin the long way round. Fails on a scene without
 // characters or with a character that has no action.
+// `poses`, when set, gives the poses instead of the scene poser (see
+// ExportOptions::poses).
+using PoseFn = std::function<void(int character, double t, Pose& out)>;
 Result<SampledScene> sampleScene(const sim::Scene& scene, const sim::ActionLibrary& lib, double fps,
-                                 const ProgressFn& progress);
+                                 const ProgressFn& progress, const PoseFn& poses = {});
 
 }  // namespace fray::exporter

@@ -1,6 +1,7 @@
 #include "fray/posture/posture.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -13,7 +14,9 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <ode/ode.h>
+#include <ode/threading_impl.h>
 #include <tbb/parallel_for.h>
+#include <dlfcn.h>
 
 #include "fray/core/kinematics.h"
 
@@ -46,9 +49,53 @@ constexpr double kPinSlideFast = 0.003;      // m per frame: the same while the 
 constexpr double kHitDepth = 0.01;           // m: a blow is aimed this far inside the target's box
 constexpr double kPinMaxHeight = 0.3;        // m: a supported ankle higher than this is not pinned
 
+// ODE's QuickStep reorders constraints with dRandInt, which draws from one
+// process-wide generator (dRand). Two islands stepping at once would take
+// numbers from each other's sequence, so the result would depend on thread
+// timing. dRand is defined below with the same generator (the same
+// sequence for the same seed) kept per thread while an island steps: each
+// step seeds its own thread's generator, and islands step in parallel with
+// no lock. Outside a step it calls ODE's own dRand. Where the definition
+// does not take the place of ODE's (an ODE built to bind its own calls), the
+// steps run one at a time under a lock, seeding ODE's generator: the same
+// numbers, the same results, only slower (checked once at start).
+struct StepRandom {
+    bool active = false;
+    std::uint32_t seed = 0;
+    std::uint64_t draws = 0;
+};
+thread_local StepRandom stepRandom;
+bool perThreadRandom = false;
+
+std::uint32_t nextRandom(std::uint32_t seed) { return seed * 1664525u + 1013904223u; }  // ODE's dRand
+
+// While alive, this thread's dRand draws from `seed` onwards.
+class StepRandomScope {
+public:
+    explicit StepRandomScope(std::uint32_t seed) { stepRandom.active = true, stepRandom.seed = seed; }
+    ~StepRandomScope() { stepRandom.active = false; }
+    StepRandomScope(const StepRandomScope&) = delete;
+    StepRandomScope& operator=(const StepRandomScope&) = delete;
+};
+
 void initOde() {
     static std::once_flag once;
-    std::call_once(once, [] { dInitODE2(0); });
+    std::call_once(once, [] {
+        dInitODE2(0);
+        // Does QuickStep's dRandInt reach the dRand below? Draw once and see,
+        // and that it is the same sequence as ODE's.
+        const unsigned long saved = dRandGetSeed();
+        dRandSetSeed(12345);
+        const unsigned long ode = dRandInt(1000);
+        dRandSetSeed(saved);
+        unsigned long mine = 0;
+        {
+            StepRandomScope scope(12345);
+            stepRandom.draws = 0;
+            mine = dRandInt(1000);
+        }
+        perThreadRandom = stepRandom.draws == 1 && mine == ode;
+    });
 }
 
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
@@ -178,6 +225,7 @@ struct Island {
     dWorldID world = nullptr;
     dJointGroupID contacts = nullptr;
     dGeomID floor = nullptr;
+    dThreadingImplementationID threading = nullptr;  // its own: ODE's default one is shared by all worlds
     std::vector<int> members;
     int contactsThisStep = 0;  // contacts between characters in the current step
     Report report;
@@ -221,6 +269,7 @@ struct Simulator::Impl {
             if (is.floor) dGeomDestroy(is.floor);
             if (is.contacts) dJointGroupDestroy(is.contacts);
             if (is.world) dWorldDestroy(is.world);
+            if (is.threading) dThreadingFreeImplementation(is.threading);
         }
     }
 
@@ -375,6 +424,48 @@ struct Simulator::Impl {
             pullsOf[static_cast<std::size_t>(hit.attacker)].push_back(static_cast<int>(pulls.size()));
             pulls.push_back(std::move(p));
         }
+        // Parry: before an unblocked blow, the defender's forearm nearer to
+        // the striking segment moves part way towards it, when the defender
+        // is not attacking itself (its arms are free).
+        for (const auto& hit : scene.hits) {
+            if (!opt.parry || hit.blocked || !person(hit.attacker) || !person(hit.defender) || hit.effector < 0 ||
+                hit.effector >= sim::kSegmentCount) {
+                continue;
+            }
+            const int inst = scene.instanceAt(hit.defender, hit.time);
+            const auto& track = scene.characters[static_cast<std::size_t>(hit.defender)].track;
+            if (inst < 0 || static_cast<std::size_t>(inst) >= track.size()) continue;
+            if (lib.action(track[static_cast<std::size_t>(inst)].action).is(sim::kAttack)) continue;
+            const auto& att = chars[static_cast<std::size_t>(hit.attacker)];
+            const auto& def = chars[static_cast<std::size_t>(hit.defender)];
+            kinematic(hit.attacker, hit.time, pa, ra);
+            kinematic(hit.defender, hit.time, pb, rb);
+            const auto strike = sim::segmentBoxes(pa, att.roles)[static_cast<std::size_t>(hit.effector)].centre;
+            int hand = -1, elbow = -1;
+            float best = std::numeric_limits<float>::max();
+            for (const auto& [hj, ej] : {std::pair{def.roles.leftHand, def.roles.leftElbow},
+                                         std::pair{def.roles.rightHand, def.roles.rightElbow}}) {
+                if (hj < 0 || ej < 0 || !finite(pb[static_cast<std::size_t>(hj)])) continue;
+                const float d = glm::length(strike - pb[static_cast<std::size_t>(hj)]);
+                if (d < best) best = d, hand = hj, elbow = ej;
+            }
+            if (hand < 0 || !finite(strike)) continue;
+            glm::vec3 offset = (strike - pb[static_cast<std::size_t>(hand)]) * static_cast<float>(opt.parryShare);
+            const float len = glm::length(offset);
+            if (len > static_cast<float>(opt.parryReach)) offset *= static_cast<float>(opt.parryReach) / len;
+            Pull p;
+            p.character = hit.defender;
+            p.peak = hit.time;
+            p.lead = opt.hitLead;
+            p.tail = opt.hitTail;
+            p.offset = offset;
+            p.joints = limbJoints(def, elbow, 0.5f);
+            for (auto& [j, w] : p.joints) {
+                if (j == elbow) w = 0.6f;  // the hand leads, the elbow follows part way
+            }
+            pullsOf[static_cast<std::size_t>(hit.defender)].push_back(static_cast<int>(pulls.size()));
+            pulls.push_back(std::move(p));
+        }
         for (const auto& k : scene.catches) {
             if (!person(k.chaser) || !person(k.runaway)) continue;
             const auto& ch = chars[static_cast<std::size_t>(k.chaser)];
@@ -469,6 +560,10 @@ struct Simulator::Impl {
         for (auto& is : islands) {
             is.index = static_cast<int>(&is - islands.data());
             is.world = dWorldCreate();
+            // Each world steps with its own (self-threaded) job list, so
+            // islands can step at the same time on different threads.
+            is.threading = dThreadingAllocateSelfThreadedImplementation();
+            dWorldSetStepThreadingImplementation(is.world, dThreadingImplementationGetFunctions(is.threading), is.threading);
             dWorldSetGravity(is.world, 0, -9.81, 0);
             dWorldSetERP(is.world, 0.3);
             dWorldSetCFM(is.world, 1e-7);
@@ -875,15 +970,18 @@ struct Simulator::Impl {
                 }
                 const double ts = (f - 1) / opt.fps + s * h;
                 pushBlows(is, ts, ts + h);
-                {
-                    // ODE's QuickStep reorders constraints with one global
-                    // random generator: each step gets its own seed, one
-                    // island at a time, so the result does not depend on
-                    // threads or on what ran before.
+                // Each step draws QuickStep's constraint order from its own
+                // seed, so the result does not depend on threads or on what
+                // ran before (see StepRandom).
+                const unsigned long seed = static_cast<unsigned long>(is.index) * 1000003ul +
+                                           static_cast<unsigned long>(f) * 64ul + static_cast<unsigned long>(s);
+                dWorldSetQuickStepNumIterations(is.world, is.contactsThisStep > 0 ? opt.iterations : opt.freeIterations);
+                if (perThreadRandom) {
+                    StepRandomScope scope(static_cast<std::uint32_t>(seed));
+                    dWorldQuickStep(is.world, h);
+                } else {
                     const std::lock_guard<std::mutex> lock(stepMutex());
-                    dRandSetSeed(static_cast<unsigned long>(is.index) * 1000003ul +
-                                 static_cast<unsigned long>(f) * 64ul + static_cast<unsigned long>(s));
-                    dWorldSetQuickStepNumIterations(is.world, is.contactsThisStep > 0 ? opt.iterations : opt.freeIterations);
+                    dRandSetSeed(seed);
                     dWorldQuickStep(is.world, h);
                 }
                 dJointGroupEmpty(is.contacts);
@@ -977,7 +1075,8 @@ Status checkOptions(const sim::Scene& scene, const Options& o) {
 
 }  // namespace
 
-Result<Frames> simulate(const sim::Scene& scene, const sim::ActionLibrary& lib, const Options& options) {
+Result<Frames> simulate(const sim::Scene& scene, const sim::ActionLibrary& lib, const Options& options,
+                        const ProgressFn& progress) {
     if (auto st = checkOptions(scene, options); !st) return st.error();
     Simulator s(scene, lib, options);
     Frames out;
@@ -994,6 +1093,9 @@ Result<Frames> simulate(const sim::Scene& scene, const sim::ActionLibrary& lib, 
         out.rotations[c].reserve(jc * static_cast<std::size_t>(s.frameCount()));
     }
     for (int f = 0; f < s.frameCount(); ++f) {
+        if (f % 16 == 0 && !reportProgress(progress, static_cast<double>(f) / s.frameCount(), "posture")) {
+            return cancelled("posture");
+        }
         s.step();
         for (std::size_t c = 0; c < n; ++c) {
             const auto p = s.positions(static_cast<int>(c));
@@ -1012,6 +1114,81 @@ Result<sim::JointTracks> tracks(Mode mode, const sim::Scene& scene, const sim::A
     auto frames = simulate(scene, lib, options);
     if (!frames) return frames.error();
     return std::move(frames->world);
+}
+
+struct ScenePoses::Impl {
+    Mode mode = Mode::Kinematic;
+    const sim::Scene& scene;
+    sim::ScenePoser poser;
+    Frames frames;  // physics mode only
+
+    Impl(Mode m, const sim::Scene& s, const sim::ActionLibrary& lib) : mode(m), scene(s), poser(s, lib) {}
+
+    bool simulated(int c) const {
+        return mode == Mode::Physics && c >= 0 && static_cast<std::size_t>(c) < frames.world.joints.size() &&
+               frames.world.jointCount[static_cast<std::size_t>(c)] > 0 && frames.world.frames > 0;
+    }
+};
+
+ScenePoses::ScenePoses(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+ScenePoses::ScenePoses(ScenePoses&&) noexcept = default;
+ScenePoses& ScenePoses::operator=(ScenePoses&&) noexcept = default;
+ScenePoses::~ScenePoses() = default;
+
+Result<ScenePoses> ScenePoses::make(Mode mode, const sim::Scene& scene, const sim::ActionLibrary& lib,
+                                    const Options& options, const ProgressFn& progress) {
+    auto impl = std::make_unique<Impl>(mode, scene, lib);
+    if (mode == Mode::Physics) {
+        auto frames = simulate(scene, lib, options, progress);
+        if (!frames) return frames.error();
+        impl->frames = std::move(*frames);
+    }
+    return ScenePoses(std::move(impl));
+}
+
+Mode ScenePoses::mode() const { return impl_->mode; }
+const Skeleton& ScenePoses::skeleton(int character) const { return impl_->poser.skeleton(character); }
+const Report& ScenePoses::report() const { return impl_->frames.report; }
+
+void ScenePoses::world(int character, double t, std::vector<glm::vec3>& positions, std::vector<glm::quat>& rotations) const {
+    const Impl& m = *impl_;
+    if (!m.simulated(character)) {
+        Pose pose;
+        m.poser.pose(character, t, pose);
+        positions.resize(pose.translations.size());
+        rotations.resize(pose.translations.size());
+        forwardKinematics(m.poser.skeleton(character), pose.translations, pose.rotations, positions, rotations);
+        return;
+    }
+    const auto c = static_cast<std::size_t>(character);
+    const auto n = static_cast<std::size_t>(m.frames.world.jointCount[c]);
+    const int last = m.frames.world.frames - 1;
+    double x = std::isfinite(t) ? t * m.frames.world.fps : 0.0;
+    x = std::clamp(x, 0.0, static_cast<double>(last));
+    const int f0 = std::min(static_cast<int>(std::floor(x)), last);
+    const int f1 = std::min(f0 + 1, last);
+    const auto a = static_cast<float>(x - f0);
+    const glm::vec3* p0 = &m.frames.world.joints[c][static_cast<std::size_t>(f0) * n];
+    const glm::vec3* p1 = &m.frames.world.joints[c][static_cast<std::size_t>(f1) * n];
+    const glm::quat* r0 = &m.frames.rotations[c][static_cast<std::size_t>(f0) * n];
+    const glm::quat* r1 = &m.frames.rotations[c][static_cast<std::size_t>(f1) * n];
+    positions.resize(n);
+    rotations.resize(n);
+    for (std::size_t j = 0; j < n; ++j) {
+        positions[j] = p0[j] + (p1[j] - p0[j]) * a;
+        rotations[j] = a == 0.0f ? r0[j] : glm::normalize(glm::slerp(r0[j], r1[j], a));
+    }
+}
+
+void ScenePoses::pose(int character, double t, Pose& out) const {
+    if (!impl_->simulated(character)) {
+        impl_->poser.pose(character, t, out);
+        return;
+    }
+    std::vector<glm::vec3> positions;
+    std::vector<glm::quat> rotations;
+    world(character, t, positions, rotations);
+    localPose(impl_->poser.skeleton(character), positions, rotations, out);
 }
 
 void localPose(const Skeleton& skeleton, std::span<const glm::vec3> world, std::span<const glm::quat> worldRotations,
@@ -1033,3 +1210,23 @@ void localPose(const Skeleton& skeleton, std::span<const glm::vec3> world, std::
 }
 
 }  // namespace fray::posture
+
+// ODE's generator, per thread while an island steps (see StepRandom above).
+extern "C" unsigned long dRand(void) {
+    using fray::posture::stepRandom;
+    if (stepRandom.active) {
+        stepRandom.seed = fray::posture::nextRandom(stepRandom.seed);
+        ++stepRandom.draws;
+        return stepRandom.seed;
+    }
+    using Fn = unsigned long (*)(void);
+    static const Fn ode = reinterpret_cast<Fn>(dlsym(RTLD_NEXT, "dRand"));
+    if (ode) return ode();
+    // No ODE dRand found after this one: the same generator, process-wide.
+    static std::atomic<std::uint32_t> seed{0};
+    std::uint32_t now = seed.load(), next = 0;
+    do {
+        next = fray::posture::nextRandom(now);
+    } while (!seed.compare_exchange_weak(now, next));
+    return next;
+}

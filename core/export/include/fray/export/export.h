@@ -10,11 +10,13 @@
 // and with each, <name>.<format>.scene.json: who does which action when and where.
 // Deterministic: the same scene and options give byte-identical files.
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "fray/core/motion.h"
 #include "fray/core/progress.h"
 #include "fray/core/retarget.h"
 #include "fray/core/result.h"
@@ -58,6 +60,10 @@ struct ExportOptions {
     // before writing; the report goes to ExportReport::notes.
     std::optional<RetargetTarget> rig;
     RootMotion rootMotion = RootMotion::None;
+    // Where each character's pose at a scene time comes from (local pose,
+    // root in scene space): empty = sim::ScenePoser (kinematic playback);
+    // e.g. posture::ScenePoses::pose for the physics postures (docs/POSTURE.md).
+    std::function<void(int character, double t, Pose& out)> poses;
 };
 
 // Checks fps and name; the error says which and why.

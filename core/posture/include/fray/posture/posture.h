@@ -24,6 +24,7 @@
 #include <glm/vec3.hpp>
 
 #include "fray/core/motion.h"
+#include "fray/core/progress.h"
 #include "fray/core/result.h"
 #include "fray/sim/action_library.h"
 #include "fray/sim/metrics.h"
@@ -61,6 +62,9 @@ struct Options {
     double hitForce = 0.3;       // share of the striker's momentum pushed into the victim
     double catchLead = 0.4;      // s: hands reach out before a catch
     double catchReach = 0.7;     // m: farthest a catching hand is pulled
+    bool parry = true;           // a defender's free forearm moves towards an unblocked incoming blow
+    double parryShare = 0.35;    // share of the way from the hand to the striking segment
+    double parryReach = 0.25;    // m: the farthest a parrying hand is pulled
     bool collisions = true;      // segments of different characters collide
     bool footPins = true;        // pin supported feet
     bool hitTargets = true;      // pull blows onto the victim's surface
@@ -115,11 +119,44 @@ private:
 };
 
 // Checks the scene and options (errors name the field) and runs the whole
-// scene. Same input, same bytes.
-Result<Frames> simulate(const sim::Scene& scene, const sim::ActionLibrary& lib, const Options& options = {});
+// scene. Same input, same bytes. Progress is reported every few frames
+// (stage "posture"); a false return stops it with fray::cancelled().
+Result<Frames> simulate(const sim::Scene& scene, const sim::ActionLibrary& lib, const Options& options = {},
+                        const ProgressFn& progress = {});
 
 // The displayed joint positions in either mode at options.fps.
 Result<sim::JointTracks> tracks(Mode mode, const sim::Scene& scene, const sim::ActionLibrary& lib, const Options& options = {});
+
+// The displayed poses of a scene at any time, in either mode: what
+// renderers, exporters and viewers draw. Kinematic: the scene poser's.
+// Physics: the whole scene simulated once at options.fps when made, then
+// joint positions interpolated linearly and rotations spherically between
+// the two frames around t (times outside the scene are clamped to it).
+// Creatures (a rat, a bag) are always the scene poser's. Keeps references
+// to the scene and the library, which must outlive it. Thread-safe to read.
+class ScenePoses {
+public:
+    // Errors: bad options (naming the field), or cancelled through progress.
+    static Result<ScenePoses> make(Mode mode, const sim::Scene& scene, const sim::ActionLibrary& lib,
+                                   const Options& options = {}, const ProgressFn& progress = {});
+    ScenePoses(ScenePoses&&) noexcept;
+    ScenePoses& operator=(ScenePoses&&) noexcept;
+    ~ScenePoses();
+
+    Mode mode() const;
+    const Skeleton& skeleton(int character) const;
+    // World joint positions and rotations of a character at t (s).
+    void world(int character, double t, std::vector<glm::vec3>& positions, std::vector<glm::quat>& rotations) const;
+    // The local pose (root in scene coordinates) of a character at t.
+    void pose(int character, double t, Pose& out) const;
+    // What the solver clamped or refused (empty in kinematic mode).
+    const Report& report() const;
+
+private:
+    struct Impl;
+    explicit ScenePoses(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
+};
 
 // The local pose (root joint in scene coordinates) of a skeleton from its
 // world joint positions and rotations, for exporters and renderers.
