@@ -9,6 +9,8 @@
 
 #include "fray/authoring/commands.h"
 #include "fray/authoring/project_document.h"
+#include "fray/core/atomic_file.h"
+#include "fray/setup/convert.h"
 #include "fray/prep/json_reader.h"  // FRAY_TRY
 
 namespace fray::authoring {
@@ -147,6 +149,39 @@ Status ProjectDocument::duplicateSetup(const std::string& name, const std::strin
     if (!s) return s.error();
     s->name = copyName;
     return addSetup(std::move(*s));
+}
+
+namespace {
+// A two-colour image as a floor bitmap, read with Qt's image readers.
+Result<setup::FloorPaint> readFloorImage(const fs::path& file, double metresPerPixel, setup::Point origin) {
+    std::error_code ec;
+    if (!fs::is_regular_file(file, ec)) return makeError(file.string() + ": no such file");
+    QImage image;
+    if (!image.load(QString::fromStdString(file.string()))) {
+        return makeError(file.string() + ": not an image Fray can read (PNG, BMP, JPEG...); nothing was imported");
+    }
+    const QImage rgba = image.convertToFormat(QImage::Format_RGBA8888);
+    std::vector<std::uint8_t> pixels(static_cast<std::size_t>(rgba.width()) * static_cast<std::size_t>(rgba.height()) * 4);
+    for (int y = 0; y < rgba.height(); ++y) {
+        const auto* row = rgba.constScanLine(y);
+        std::copy(row, row + rgba.width() * 4, pixels.begin() + static_cast<std::ptrdiff_t>(y) * rgba.width() * 4);
+    }
+    return setup::floorFromRgba(rgba.width(), rgba.height(), pixels.data(), metresPerPixel, origin, file.string());
+}
+}  // namespace
+
+Status ProjectDocument::importSetupFromSpec(const std::string& name, const fs::path& specFile) {
+    auto text = readWholeFile(specFile, "the scene spec");
+    if (!text) return text.error();
+    auto imported = setup::importSpec(name, *text, specFile, [](const fs::path& file, double mpp, glm::vec2 origin) -> Result<sim::FloorBitmap> {
+        auto paint = readFloorImage(file, mpp, {static_cast<double>(origin.x), static_cast<double>(origin.y)});
+        if (!paint) return paint.error();
+        sim::FloorBitmap floor = setup::toFloorBitmap(*paint);
+        floor.origin = origin;
+        return floor;
+    });
+    if (!imported) return imported.error();
+    return addSetup(std::move(*imported));
 }
 
 Status ProjectDocument::replaceSetup(const std::string& name, SceneSetup replacement, const QString& text) {
@@ -428,19 +463,7 @@ Status ProjectDocument::setFloor(const std::string& name, std::optional<setup::F
 }
 
 Status ProjectDocument::importFloorImage(const std::string& name, const fs::path& file, double metresPerPixel, setup::Point origin) {
-    std::error_code ec;
-    if (!fs::is_regular_file(file, ec)) return makeError(file.string() + ": no such file");
-    QImage image;
-    if (!image.load(QString::fromStdString(file.string()))) {
-        return makeError(file.string() + ": not an image Fray can read (PNG, BMP, JPEG...); nothing was imported");
-    }
-    const QImage rgba = image.convertToFormat(QImage::Format_RGBA8888);
-    std::vector<std::uint8_t> pixels(static_cast<std::size_t>(rgba.width()) * static_cast<std::size_t>(rgba.height()) * 4);
-    for (int y = 0; y < rgba.height(); ++y) {
-        const auto* row = rgba.constScanLine(y);
-        std::copy(row, row + rgba.width() * 4, pixels.begin() + static_cast<std::ptrdiff_t>(y) * rgba.width() * 4);
-    }
-    auto floor = setup::floorFromRgba(rgba.width(), rgba.height(), pixels.data(), metresPerPixel, origin, file.string());
+    auto floor = readFloorImage(file, metresPerPixel, origin);
     if (!floor) return floor.error();
     return setFloor(name, std::move(*floor), QStringLiteral("Import floor bitmap"));
 }

@@ -131,6 +131,10 @@ public:
     Status removeSetup(const std::string& name);
     Status renameSetup(const std::string& from, const std::string& to);
     Status duplicateSetup(const std::string& name, const std::string& copyName);
+    // A setup made from a --spec file (and the PNG its domino floor names,
+    // beside the spec), as `fray-cli setup P import` makes it. Errors name the
+    // file and the JSON path, or the bitmap that is not a two-colour image.
+    Status importSetupFromSpec(const std::string& name, const std::filesystem::path& specFile);
     // Any parameter by JSON pointer into the --spec form ("/duration",
     // "/characters/1/preset", "/characters/0/weights/r_d"); `json` is the
     // value as JSON text, "null" removes it. setup::setParameter's rules.
