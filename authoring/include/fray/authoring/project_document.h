@@ -225,9 +225,9 @@ private:
     Status pushCutEdit(const std::string& motionId, Result<prep::CutEdit> edit, const QString& text, DragId drag);
     Status pushVocabulary(const prep::Project& after, const QString& text);
 
-    using SetupChange = std::function<Status(std::vector<setup::SceneSetup>&)>;
-    // Reads the setups, lets `change` edit them (or refuse), checks the
-    // result and pushes one SectionCommand when anything changed.
+    using SetupChange = std::function<Status(std::vector<setup::SceneSetup>&, std::vector<ChangeEvent>&)>;
+    // Reads the setups, lets `change` edit them (or refuse; it may fill in the
+    // events), checks what changed and pushes one SectionCommand when anything did.
     Status editSetups(const QString& text, const std::string& key, DragId drag, std::vector<ChangeEvent> events,
                       const SetupChange& change);
     Status editSetup(const std::string& name, const QString& text, const std::string& key, DragId drag, ChangeEvent event,
