@@ -28,6 +28,9 @@
 namespace fray::setup {
 
 inline constexpr const char* kSetupSection = "scene";
+// Section version 1. The floor's "data" is packed bits since f5a5a8a; a
+// project saved by the very first setups commit (one byte a pixel) reads as
+// damaged floor data: import the bitmap again.
 
 // duel and chase are planned by tree expansion (fray-cli simulate); the
 // others are composed from Interaction Patches (fray-cli compose).
