@@ -207,6 +207,11 @@ Status addHandMadePatch(const ActionLibrary& lib, const PatternList& pattern, co
 // whenever it changes.
 void buildConnections(const ActionLibrary& lib, PatchLibrary& out);
 
+// The library less the patches `removed` (ids into lib.patches(); a scene
+// setup's rejected ones): links into them dropped, the rest renumbered, as
+// complete as `lib`. An id outside the library is an error.
+Result<PatchLibrary> withoutPatches(const PatchLibrary& lib, std::vector<int> removed);
+
 // Fingerprint of a library's actions (identity of the patch library file).
 std::uint64_t libraryFingerprint(const ActionLibrary& lib);
 
