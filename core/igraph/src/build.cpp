@@ -147,7 +147,7 @@ void forEachChild(const Rules& rules, const Node& node, bool folded, Fn&& fn) {
 
 std::size_t Graph::memoryBytes() const {
     return states.capacity() * sizeof(InteractionState) + firstEdge.capacity() * sizeof(std::uint32_t) +
-           edges.capacity() * sizeof(Edge) + buckets_.capacity() * sizeof(Bucket) + coarse_.capacity() * sizeof(coarse_[0]) +
+           edges.capacity() * sizeof(Edge) + buckets_.capacity() * sizeof(Bucket) + states.size() * sizeof(std::uint32_t) +
            actions.capacity() * sizeof(int);
 }
 
@@ -171,7 +171,12 @@ void Graph::index() {
         i = j;
     }
     std::sort(buckets_.begin(), buckets_.end(), [](const Bucket& a, const Bucket& b) { return a.key < b.key; });
-    coarse_.clear();
+    int sets = 0;
+    for (const auto& s : states) sets = std::max(sets, s.nextSet + 1);
+    withEdges_.assign(static_cast<std::size_t>(std::max(sets, 1)), {});
+    for (std::uint32_t i = 0; i < states.size(); ++i) {
+        if (firstEdge.size() == states.size() + 1 && firstEdge[i + 1] > firstEdge[i]) withEdges_[static_cast<std::size_t>(states[i].nextSet)].push_back(i);
+    }
 }
 
 int Graph::find(const InteractionState& s, bool withinOnly) const {
@@ -193,18 +198,19 @@ int Graph::find(const InteractionState& s, bool withinOnly) const {
     }
     if (best >= 0 && bestD <= options.joinRadius) return best;
     if (withinOnly) return -1;
-    // Any frame of the same (Next set, B's action).
-    const std::uint64_t lo = bucketKey(s.nextSet, s.actionB, 0), hi = bucketKey(s.nextSet, s.actionB, 0xffff);
-    auto it = std::lower_bound(buckets_.begin(), buckets_.end(), lo, [](const Bucket& b, std::uint64_t k) { return b.key < k; });
+    // Off the graph: the nearest state with edges of the same Next set, B in
+    // the same action (frames apart count as the distance says, one
+    // frameSigma per unit) before any other action of B.
+    if (s.nextSet < 0 || static_cast<std::size_t>(s.nextSet) >= withEdges_.size()) return -1;
+    const auto& candidates = withEdges_[static_cast<std::size_t>(s.nextSet)];
     bestD = std::numeric_limits<double>::infinity();
     best = -1;
-    for (; it != buckets_.end() && it->key <= hi; ++it) {
-        for (std::uint32_t i = it->begin; i < it->end; ++i) {
-            InteractionState probe = s;
-            probe.frameB = states[i].frameB;
-            const double d = distance(probe, states[i], options.scale) + std::fabs(s.frameB - states[i].frameB) / options.scale.frameSigma;
-            if (d < bestD) bestD = d, best = static_cast<int>(i);
-        }
+    for (const std::uint32_t i : candidates) {
+        const auto& t = states[i];
+        const double d = std::fabs(s.r - t.r) / options.scale.sigmaR + std::fabs(sim::wrapAngle(s.thetaA - t.thetaA)) / options.scale.sigmaTheta +
+                         std::fabs(sim::wrapAngle(s.thetaB - t.thetaB)) / options.scale.sigmaTheta +
+                         (t.actionB == s.actionB ? std::fabs(s.frameB - t.frameB) / options.scale.frameSigma : 1000.0);
+        if (d < bestD) bestD = d, best = static_cast<int>(i);
     }
     return best;
 }
@@ -399,8 +405,30 @@ Result<Graph> buildGraph(const Rules& rules, const BuildOptions& o, const Progre
     const std::size_t n = g.states.size();
     // Chunks of states in parallel, appended in order; the edge list is
     // reserved at its bound (every action of every Next set) so it never moves.
+    std::vector<std::vector<int>> edgeActions(static_cast<std::size_t>(rules.nextSetCount()));
+    for (int set = 0; set < rules.nextSetCount(); ++set) {
+        const auto& all = rules.nextSet(set);
+        if (o.variantsPerClass <= 0) {
+            edgeActions[static_cast<std::size_t>(set)] = all;
+            continue;
+        }
+        std::vector<int> classes;
+        for (int a : all) classes.push_back(lib.variantClass()[static_cast<std::size_t>(a)]);
+        for (std::size_t k = 0; k < all.size(); ++k) {
+            // The members of this action's class, in order; keep evenly spaced ones.
+            std::vector<std::size_t> members;
+            for (std::size_t m = 0; m < all.size(); ++m) {
+                if (classes[m] == classes[k]) members.push_back(m);
+            }
+            const std::size_t count = members.size(), keep = std::min<std::size_t>(count, static_cast<std::size_t>(o.variantsPerClass));
+            const std::size_t rank = static_cast<std::size_t>(std::find(members.begin(), members.end(), k) - members.begin());
+            for (std::size_t j = 0; j < keep; ++j) {
+                if (rank == j * count / keep) edgeActions[static_cast<std::size_t>(set)].push_back(all[k]);
+            }
+        }
+    }
     std::size_t bound = 0;
-    for (const auto& s : g.states) bound += rules.nextSet(s.nextSet).size();
+    for (const auto& s : g.states) bound += edgeActions[static_cast<std::size_t>(s.nextSet)].size();
     g.edges.reserve(bound);
     g.firstEdge.assign(n + 1, 0);
     constexpr std::size_t kChunk = 4096;
@@ -420,7 +448,7 @@ Result<Graph> buildGraph(const Rules& rules, const BuildOptions& o, const Progre
             node.b[0].action = rules.idle().front();
             node.b[0].root = lib.action(node.b[0].action).end.inverse();
             node.b[0].end = 0;
-            for (int a : rules.nextSet(s.nextSet)) {
+            for (int a : edgeActions[static_cast<std::size_t>(s.nextSet)]) {
                 std::array<Body, 2> b = node.b;
                 detail::launch(lib, b[0], a, 0.0);
                 detail::Outcome oc;
@@ -456,6 +484,7 @@ Result<Graph> buildGraph(const Rules& rules, const BuildOptions& o, const Progre
     }
     g.firstEdge[n] = static_cast<std::uint32_t>(g.edges.size());
     out = {};
+    g.index();
 
     // ---- coverage ---------------------------------------------------------------
     if (o.coverageDepth > 0 && o.coverageStarts > 0) {

@@ -54,7 +54,7 @@ void writeOptions(Writer& w, const BuildOptions& o) {
     w.put(static_cast<std::int32_t>(o.startStates)), w.put(static_cast<std::int32_t>(o.maxFrontier)), w.put(o.maxDistance);
     w.put(o.scale.sigmaR), w.put(o.scale.sigmaTheta), w.put(o.scale.frameSigma), w.put(o.cellScale);
     w.put(static_cast<std::int32_t>(o.kmeansIterations)), w.put(o.joinRadius), w.put(static_cast<std::int32_t>(o.coverageDepth));
-    w.put(static_cast<std::int32_t>(o.coverageStarts));
+    w.put(static_cast<std::int32_t>(o.coverageStarts)), w.put(static_cast<std::int32_t>(o.variantsPerClass));
 }
 
 void readOptions(Reader& r, BuildOptions& o) {
@@ -64,6 +64,7 @@ void readOptions(Reader& r, BuildOptions& o) {
     o.scale.sigmaR = r.get<double>(), o.scale.sigmaTheta = r.get<double>(), o.scale.frameSigma = r.get<double>();
     o.cellScale = r.get<double>(), o.kmeansIterations = r.get<std::int32_t>(), o.joinRadius = r.get<double>();
     o.coverageDepth = r.get<std::int32_t>(), o.coverageStarts = r.get<std::int32_t>();
+    o.variantsPerClass = r.get<std::int32_t>();
 }
 
 bool finite(double v) { return std::isfinite(v); }

@@ -48,11 +48,11 @@ Result<RewardWeights> stylePreset(std::string_view name) {
     RewardWeights w;
     if (name == "general") return w;
     if (name == "infighter") {  // close in and trade blows
-        w.dP = 0.7, w.wD = 2, w.wA = 3, w.wR = 1;
+        w.dP = 0.6, w.wD = 2, w.wA = 3, w.wR = 1;
         return w;
     }
     if (name == "outboxer") {  // keep the distance, avoid blows
-        w.dP = 1.6, w.wD = 2, w.wA = 1.5, w.wR = 4;
+        w.dP = 1.3, w.wD = 2, w.wA = 1.5, w.wR = 4;
         return w;
     }
     return makeError("no boxing style named '" + std::string(name) + "' (general, infighter, outboxer)");
@@ -103,38 +103,60 @@ Result<Policy> computePolicy(const Graph& g, const RewardWeights& w, int depth, 
     Policy p;
     p.weights = w;
     p.depth = depth;
-    std::vector<double> vm(n, 0.0), vt(n, 0.0), nm(n), nt(n);
+    // Per state, packed so an edge reads one cache line: the movement terms
+    // of the reward for whoever is A there and B there, V where the
+    // controlled character chooses there (vm) and where the opponent does (vt).
+    struct alignas(32) Cell {
+        double moveA, moveB, vm, vt;
+    };
+    std::vector<Cell> cur(n), nxt(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const auto& s = g.states[i];
+        const double d = s.r - w.dP;
+        cur[i] = {-w.wTheta * s.thetaA * s.thetaA - w.wD * d * d, -w.wTheta * s.thetaB * s.thetaB - w.wD * d * d, 0.0, 0.0};
+    }
+    nxt = cur;
     p.best.assign(n, -1);
     for (int d = 0; d < depth; ++d) {
         if (!reportProgress(progress, static_cast<double>(d) / depth, "policy")) return cancelled();
         const bool last = d + 1 == depth;
-        if (last) p.mineBelow = vm, p.theirsBelow = vt;
+        if (last) {
+            p.mineBelow.resize(n), p.theirsBelow.resize(n);
+            for (std::size_t i = 0; i < n; ++i) p.mineBelow[i] = cur[i].vm, p.theirsBelow[i] = cur[i].vt;
+        }
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 2048), [&](const tbb::blocked_range<std::size_t>& range) {
             for (std::size_t i = range.begin(); i < range.end(); ++i) {
                 const Edge* b = g.edgesBegin(static_cast<int>(i));
                 const Edge* e = g.edgesEnd(static_cast<int>(i));
                 if (b == e) {
-                    nm[i] = nt[i] = 0.0;
+                    // A dead end (no action lands in a state): valued as
+                    // staying where it is, so it is neither a refuge nor a trap.
+                    nxt[i].vm = cur[i].moveA + w.gamma * cur[i].vm;
+                    nxt[i].vt = cur[i].moveB + w.gamma * cur[i].vt;
                     continue;
                 }
                 double best = -std::numeric_limits<double>::infinity(), worst = std::numeric_limits<double>::infinity();
                 std::int32_t bestEdge = -1;
                 for (const Edge* x = b; x != e; ++x) {
-                    const auto to = static_cast<std::size_t>(x->to);
-                    const double mine = edgeReward(g, *x, w, true) + w.gamma * (x->sameChooser() ? vm[to] : vt[to]);
+                    const Cell& t = cur[static_cast<std::size_t>(x->to)];
+                    const double given = x->given(), received = x->received();
+                    // = edgeReward(g, *x, w, true / false) + gamma V(next), inlined.
+                    const double mine = x->sameChooser() ? t.moveA + w.wA * given - w.wR * received + w.gamma * t.vm
+                                                         : t.moveB + w.wA * given - w.wR * received + w.gamma * t.vt;
                     if (mine > best) best = mine, bestEdge = static_cast<std::int32_t>(x - g.edges.data());
-                    const double theirs = edgeReward(g, *x, w, false) + w.gamma * (x->sameChooser() ? vt[to] : vm[to]);
+                    const double theirs = x->sameChooser() ? t.moveB + w.wA * received - w.wR * given + w.gamma * t.vt
+                                                           : t.moveA + w.wA * received - w.wR * given + w.gamma * t.vm;
                     worst = std::min(worst, theirs);
                 }
-                nm[i] = best;
-                nt[i] = worst;
+                nxt[i].vm = best;
+                nxt[i].vt = worst;
                 if (last) p.best[i] = bestEdge;
             }
         });
-        std::swap(vm, nm);
-        std::swap(vt, nt);
+        std::swap(cur, nxt);
     }
-    p.value = std::move(vm);
+    p.value.resize(n);
+    for (std::size_t i = 0; i < n; ++i) p.value[i] = cur[i].vm;
     p.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     reportProgress(progress, 1.0, "policy");
     return p;

@@ -189,18 +189,21 @@ struct Match::Impl {
         return best;
     }
 
+    // A static target stays where it is: the idle action of its Next set
+    // that moves it least (else a block, else anything but an attack).
     int staticChoice(int set) const {
         const auto& next = rules->nextSet(set);
-        for (int a : next) {
-            if (lib().action(a).is(sim::kIdle)) return a;
+        int best = -1;
+        double bestMove = std::numeric_limits<double>::infinity();
+        for (int pass = 0; pass < 3 && best < 0; ++pass) {
+            for (int a : next) {
+                const auto& la = lib().action(a);
+                if (la.is(sim::kAttack) || (pass == 0 && !la.is(sim::kIdle)) || (pass == 1 && !la.is(sim::kBlock))) continue;
+                const double move = static_cast<double>(glm::length(la.end.pos)) + std::fabs(la.end.heading);
+                if (move < bestMove) bestMove = move, best = a;
+            }
         }
-        for (int a : next) {
-            if (lib().action(a).is(sim::kBlock)) return a;
-        }
-        for (int a : next) {
-            if (!lib().action(a).is(sim::kAttack)) return a;
-        }
-        return next.front();
+        return best >= 0 ? best : next.front();
     }
 
     // One decision of character c at time `at` (its action's end).

@@ -111,6 +111,10 @@ struct BuildOptions {
     DistanceScale scale;
     double cellScale = 1.0;        // archive cells are this fraction of the sigmas (1: one sigma wide)
     int kmeansIterations = 4;
+    // Edges per variant class of a Next set (variants: the same name and end
+    // node, e.g. the 30 captured jabs): at most this many, spread over the
+    // class; 0: every action of the Next set (SPEC 3.3 to the letter).
+    int variantsPerClass = 2;
     double joinRadius = 1.5;       // a simulated result within this D of a state falls in it (half a sigma-wide cluster in each term)
     // Coverage: states visited by full tree expansion to this depth from
     // coverageStarts of the start states (0: not measured).
@@ -160,8 +164,9 @@ public:
     const Edge* edgesBegin(int s) const { return edges.data() + firstEdge[static_cast<std::size_t>(s)]; }
     const Edge* edgesEnd(int s) const { return edges.data() + firstEdge[static_cast<std::size_t>(s) + 1]; }
     // The state an interaction state falls in: the nearest within joinRadius
-    // of its group, else (withinOnly false) the nearest of its group of any
-    // frame, else -1.
+    // of its group (-1: none). withinOnly false: else the nearest state with
+    // edges of the same Next set (B's action alike first), for a character
+    // that has left the graph; -1 only when that Next set has none.
     int find(const InteractionState& s, bool withinOnly = true) const;
     // Builds the look-up index (done by buildGraph and loadGraph).
     void index();
@@ -169,7 +174,7 @@ public:
 private:
     struct Bucket { std::uint64_t key; std::uint32_t begin, end; };
     std::vector<Bucket> buckets_;          // sorted by key
-    std::vector<std::pair<std::uint64_t, std::uint32_t>> coarse_;  // (nextSet, actionB) -> first state, sorted
+    std::vector<std::vector<std::uint32_t>> withEdges_;  // per Next set: its states with edges
     std::uint64_t bucketKey(int nextSet, int actionB, int frameBucket) const;
     int frameBucket(double frame) const;
 };
@@ -194,7 +199,7 @@ Result<Graph> readGraphUnbound(std::string_view bytes, std::string_view fileName
 // W = -w_theta*theta^2 - w_d*(d - d_p)^2 + w_a*D_plus - w_r*D_minus, per edge,
 // from the controlled character's side; D in m/s of unblocked blows.
 struct RewardWeights {
-    double wTheta = 1, wD = 1, dP = 1.0, wA = 2, wR = 2;
+    double wTheta = 1, wD = 1, dP = 0.8, wA = 2, wR = 2;
     double gamma = 1;
     friend bool operator==(const RewardWeights&, const RewardWeights&) = default;
 };
