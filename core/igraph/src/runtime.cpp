@@ -249,6 +249,16 @@ struct Match::Impl {
                 ++stats.commandsTaken;
                 return bestAction;
             }
+            // None can start now (a punch from standing idle): a way into a
+            // Next set that has one, the command kept for the decision after.
+            for (int a : rules->nextSet(set)) {
+                for (int b : rules->nextSet(rules->nextSetOf(a))) {
+                    if (fulfils(lib(), b, s, cmd)) {
+                        pendingUntil[uc] = std::max(pendingUntil[uc], at + lib().action(a).duration + 1e-9);
+                        return a;
+                    }
+                }
+            }
         }
         if (f.mind == Mind::Static || !policy) return staticChoice(set);
         if (state >= 0 && static_cast<std::size_t>(state) < policy->best.size() && policy->best[static_cast<std::size_t>(state)] >= 0) {
@@ -374,7 +384,8 @@ int Match::opponent(int c) const { return impl_->opponent[static_cast<std::size_
 void Match::command(int c, Command cmd) {
     if (c < 0 || c >= size()) return;
     impl_->pending[static_cast<std::size_t>(c)] = cmd;
-    impl_->pendingUntil[static_cast<std::size_t>(c)] = impl_->t + options_.commandHold;
+    // Its next decision always sees it; later ones within commandHold too.
+    impl_->pendingUntil[static_cast<std::size_t>(c)] = std::max(impl_->t + options_.commandHold, impl_->bodies[static_cast<std::size_t>(c)].end + 1e-9);
     ++impl_->stats.commands;
 }
 

@@ -55,7 +55,7 @@ struct FighterSpec {
 struct MatchOptions {
     double duration = 30;
     double step = 1.0 / 60.0;  // s per simulation step (blows are found within a step, decisions are exact)
-    double commandHold = 1.0;  // s a command waits for a decision that can carry it out
+    double commandHold = 1.0;  // s a command waits for a decision that can carry it out (the next decision always sees it)
     std::uint64_t seed = 1;
     std::string record;        // the match's description, kept as the scene's spec text
 };
@@ -76,7 +76,8 @@ public:
     int size() const;
     double time() const;
     bool finished() const { return time() >= options_.duration - 1e-9; }
-    // The user's command for a character, carried out at its next decision that can (held commandHold s).
+    // The user's command for a character, carried out at its next decision,
+    // or a later one within commandHold s when the next cannot.
     void command(int character, Command c);
     // Swaps a character's policy (a recomputed one); taken from its next decision on.
     void setPolicy(int character, std::shared_ptr<const Policy> policy);
