@@ -198,10 +198,28 @@ int Graph::find(const InteractionState& s, bool withinOnly) const {
     }
     if (best >= 0 && bestD <= options.joinRadius) return best;
     if (withinOnly) return -1;
-    // Off the graph: the nearest state with edges of the same Next set, B in
-    // the same action (frames apart count as the distance says, one
-    // frameSigma per unit) before any other action of B.
+    // Off the graph: the nearest state with edges of the same Next set and
+    // B in the same action (frames apart count one frameSigma per unit),
+    // else of any action of B.
     if (s.nextSet < 0 || static_cast<std::size_t>(s.nextSet) >= withEdges_.size()) return -1;
+    // B in the same action, any frame: its buckets are contiguous.
+    bestD = std::numeric_limits<double>::infinity();
+    best = -1;
+    {
+        const std::uint64_t lo = bucketKey(s.nextSet, s.actionB, 0), hi = bucketKey(s.nextSet, s.actionB, 0xffff);
+        auto it = std::lower_bound(buckets_.begin(), buckets_.end(), lo, [](const Bucket& b, std::uint64_t k) { return b.key < k; });
+        for (; it != buckets_.end() && it->key <= hi; ++it) {
+            for (std::uint32_t i = it->begin; i < it->end; ++i) {
+                if (firstEdge[i + 1] == firstEdge[i]) continue;
+                const auto& t = states[i];
+                const double d = std::fabs(s.r - t.r) / options.scale.sigmaR + std::fabs(sim::wrapAngle(s.thetaA - t.thetaA)) / options.scale.sigmaTheta +
+                                 std::fabs(sim::wrapAngle(s.thetaB - t.thetaB)) / options.scale.sigmaTheta +
+                                 std::fabs(s.frameB - t.frameB) / options.scale.frameSigma;
+                if (d < bestD) bestD = d, best = static_cast<int>(i);
+            }
+        }
+        if (best >= 0) return best;
+    }
     const auto& candidates = withEdges_[static_cast<std::size_t>(s.nextSet)];
     bestD = std::numeric_limits<double>::infinity();
     best = -1;

@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include <nlohmann/json.hpp>
+#include <tbb/parallel_for.h>
 
 #include "fray/igraph/runtime.h"
 #include "game.h"
@@ -139,10 +140,14 @@ struct Match::Impl {
     static std::int64_t cellKey(int x, int z) { return (static_cast<std::int64_t>(x) << 32) ^ static_cast<std::int64_t>(static_cast<std::uint32_t>(z)); }
     glm::vec2 pos(int c, double at) const { return bodies[static_cast<std::size_t>(c)].placement(lib(), at).pos; }
 
+    std::vector<glm::vec2> here;  // every pelvis at the step's start
+
     void rebuildGrid() {
         grid.clear();
+        here.resize(bodies.size());
+        for (int c = 0; c < static_cast<int>(bodies.size()); ++c) here[static_cast<std::size_t>(c)] = pos(c, t);
         for (int c = 0; c < static_cast<int>(bodies.size()); ++c) {
-            const glm::vec2 p = pos(c, t);
+            const glm::vec2 p = here[static_cast<std::size_t>(c)];
             grid[cellKey(cellOf(p.x), cellOf(p.y))].push_back(c);
         }
     }
@@ -294,12 +299,23 @@ struct Match::Impl {
             launchAt(who, decide(who, at), at);
         }
         stats.decideSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        // Blows within [t, t1] between nearby enemies, earliest first.
-        std::vector<detail::Blow> blows;
+        // Blows within [t, t1] between nearby enemies, earliest first: only
+        // attackers whose clip is in its active window then, in parallel
+        // (each attacker's list apart, joined in order).
+        std::vector<int> attackers;
         for (int a = 0; a < static_cast<int>(bodies.size()); ++a) {
             const auto& ab = bodies[static_cast<std::size_t>(a)];
-            if (ab.spent || !lib().action(ab.action).is(sim::kAttack)) continue;
-            const glm::vec2 p = pos(a, t);
+            const auto& act = lib().action(ab.action);
+            if (ab.spent || !act.is(sim::kAttack) || act.effector < 0) continue;
+            const double s0 = ab.clipTime(t) * sim::kSampleRate, s1 = ab.clipTime(t1) * sim::kSampleRate;
+            if (s1 < act.activeBegin - 1 || s0 > act.activeEnd + 1) continue;
+            attackers.push_back(a);
+        }
+        std::vector<std::vector<detail::Blow>> found(attackers.size());
+        auto search = [&](std::size_t k) {
+            const int a = attackers[k];
+            const auto& ab = bodies[static_cast<std::size_t>(a)];
+            const glm::vec2 p = here[static_cast<std::size_t>(a)];
             const int cx = cellOf(p.x), cz = cellOf(p.y);
             for (int dx = -1; dx <= 1; ++dx) {
                 for (int dz = -1; dz <= 1; ++dz) {
@@ -307,15 +323,22 @@ struct Match::Impl {
                     if (it == grid.end()) continue;
                     for (int d : it->second) {
                         if (fighters[static_cast<std::size_t>(d)].side == fighters[static_cast<std::size_t>(a)].side) continue;
-                        const glm::vec2 diff = pos(d, t) - p;
+                        const glm::vec2 diff = here[static_cast<std::size_t>(d)] - p;
                         if (glm::dot(diff, diff) > kStrikeReach * kStrikeReach) continue;
                         const auto& db = bodies[static_cast<std::size_t>(d)];
                         const auto h = rules->engine().strike(ab.playing(), ab.spent, db.playing(), db.reacting, t, t1);
-                        if (h.time >= 0) blows.push_back({h.time, a, d, h});
+                        if (h.time >= 0) found[k].push_back({h.time, a, d, h});
                     }
                 }
             }
+        };
+        if (attackers.size() > 16) {
+            tbb::parallel_for(std::size_t{0}, attackers.size(), search);
+        } else {
+            for (std::size_t k = 0; k < attackers.size(); ++k) search(k);
         }
+        std::vector<detail::Blow> blows;
+        for (auto& f : found) blows.insert(blows.end(), f.begin(), f.end());
         std::sort(blows.begin(), blows.end(), [](const detail::Blow& x, const detail::Blow& y) {
             if (x.time != y.time) return x.time < y.time;
             if (x.attacker != y.attacker) return x.attacker < y.attacker;
