@@ -285,8 +285,8 @@ struct Match::Impl {
 
     void step(double dt, double duration) {
         const double t1 = std::min(t + dt, duration);
-        const auto start = std::chrono::steady_clock::now();
         rebuildGrid();
+        const auto start = std::chrono::steady_clock::now();
         // Decisions in time order (ties: character order), each at its action's end.
         for (;;) {
             int who = -1;
