@@ -177,6 +177,9 @@ void Graph::index() {
     for (std::uint32_t i = 0; i < states.size(); ++i) {
         if (firstEdge.size() == states.size() + 1 && firstEdge[i + 1] > firstEdge[i]) withEdges_[static_cast<std::size_t>(states[i].nextSet)].push_back(i);
     }
+    for (auto& list : withEdges_) {
+        std::stable_sort(list.begin(), list.end(), [&](std::uint32_t a, std::uint32_t b) { return states[a].r < states[b].r; });
+    }
 }
 
 int Graph::find(const InteractionState& s, bool withinOnly) const {
@@ -202,35 +205,59 @@ int Graph::find(const InteractionState& s, bool withinOnly) const {
     // B in the same action (frames apart count one frameSigma per unit),
     // else of any action of B.
     if (s.nextSet < 0 || static_cast<std::size_t>(s.nextSet) >= withEdges_.size()) return -1;
-    // B in the same action, any frame: its buckets are contiguous.
+    // B in the same action, any frame: its buckets are contiguous; visit
+    // them outwards from this frame's and stop when the frame difference
+    // alone exceeds the best found (a bucket k away is >= k - 1 units off).
     bestD = std::numeric_limits<double>::infinity();
     best = -1;
     {
         const std::uint64_t lo = bucketKey(s.nextSet, s.actionB, 0), hi = bucketKey(s.nextSet, s.actionB, 0xffff);
-        auto it = std::lower_bound(buckets_.begin(), buckets_.end(), lo, [](const Bucket& b, std::uint64_t k) { return b.key < k; });
-        for (; it != buckets_.end() && it->key <= hi; ++it) {
-            for (std::uint32_t i = it->begin; i < it->end; ++i) {
+        const auto cmp = [](const Bucket& x, std::uint64_t k) { return x.key < k; };
+        const auto first = std::lower_bound(buckets_.begin(), buckets_.end(), lo, cmp);
+        auto last = first;
+        while (last != buckets_.end() && last->key <= hi) ++last;
+        auto scanBucket = [&](const Bucket& bk) {
+            for (std::uint32_t i = bk.begin; i < bk.end; ++i) {
                 if (firstEdge[i + 1] == firstEdge[i]) continue;
                 const auto& t = states[i];
                 const double d = std::fabs(s.r - t.r) / options.scale.sigmaR + std::fabs(sim::wrapAngle(s.thetaA - t.thetaA)) / options.scale.sigmaTheta +
                                  std::fabs(sim::wrapAngle(s.thetaB - t.thetaB)) / options.scale.sigmaTheta +
                                  std::fabs(s.frameB - t.frameB) / options.scale.frameSigma;
-                if (d < bestD) bestD = d, best = static_cast<int>(i);
+                if (d < bestD || (d == bestD && static_cast<int>(i) < best)) bestD = d, best = static_cast<int>(i);
             }
+        };
+        const auto mid = std::lower_bound(first, last, bucketKey(s.nextSet, s.actionB, fb), cmp);
+        auto up = mid;
+        auto down = mid;
+        auto gap = [&](const Bucket& bk) { return std::abs(static_cast<int>(bk.key & 0xffff) - fb) - 1.0; };
+        while (up != last || down != first) {
+            const bool takeUp = up != last && (down == first || gap(*up) <= gap(*(down - 1)));
+            const Bucket& bk = takeUp ? *up : *(down - 1);
+            if (best >= 0 && gap(bk) >= bestD) break;
+            scanBucket(bk);
+            if (takeUp) ++up; else --down;
         }
         if (best >= 0) return best;
     }
+    // Any action of B (none alike has edges): the candidates are sorted by
+    // r, so scan a window of r that widens until the best found is nearer
+    // than anything outside it can be (the same answer as a full scan).
     const auto& candidates = withEdges_[static_cast<std::size_t>(s.nextSet)];
-    bestD = std::numeric_limits<double>::infinity();
-    best = -1;
-    for (const std::uint32_t i : candidates) {
-        const auto& t = states[i];
-        const double d = std::fabs(s.r - t.r) / options.scale.sigmaR + std::fabs(sim::wrapAngle(s.thetaA - t.thetaA)) / options.scale.sigmaTheta +
-                         std::fabs(sim::wrapAngle(s.thetaB - t.thetaB)) / options.scale.sigmaTheta +
-                         (t.actionB == s.actionB ? std::fabs(s.frameB - t.frameB) / options.scale.frameSigma : 1000.0);
-        if (d < bestD) bestD = d, best = static_cast<int>(i);
+    if (candidates.empty()) return -1;
+    auto rOf = [&](std::uint32_t i) { return states[i].r; };
+    for (double window = 0.25;; window *= 2) {
+        bestD = std::numeric_limits<double>::infinity();
+        best = -1;
+        auto lo = std::lower_bound(candidates.begin(), candidates.end(), s.r - window, [&](std::uint32_t i, double r) { return rOf(i) < r; });
+        for (auto it = lo; it != candidates.end() && rOf(*it) <= s.r + window; ++it) {
+            const auto& t = states[*it];
+            const double d = std::fabs(s.r - t.r) / options.scale.sigmaR + std::fabs(sim::wrapAngle(s.thetaA - t.thetaA)) / options.scale.sigmaTheta +
+                             std::fabs(sim::wrapAngle(s.thetaB - t.thetaB)) / options.scale.sigmaTheta;
+            if (d < bestD || (d == bestD && static_cast<int>(*it) < best)) bestD = d, best = static_cast<int>(*it);
+        }
+        const bool all = lo == candidates.begin() && rOf(candidates.back()) <= s.r + window;
+        if ((best >= 0 && bestD <= window / options.scale.sigmaR) || all) return best;
     }
-    return best;
 }
 
 Result<Graph> buildGraph(const Rules& rules, const BuildOptions& o, const ProgressFn& progress) {
