@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
     fray::cli::registerSim(app);
     fray::cli::registerPatches(app);
     fray::cli::registerSetup(app);
+    fray::cli::registerIgraph(app);
     fray::cli::registerRender(app);
     fray::cli::registerExport(app);
 #ifdef FRAY_CLI_EDIT

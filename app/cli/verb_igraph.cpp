@@ -1,0 +1,492 @@
+// Interaction Graph verbs (SPEC 3): igraph build | stats | policy | play | table | bench.
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "fray/core/atomic_file.h"
+#include "fray/igraph/igraph.h"
+#include "fray/igraph/runtime.h"
+#include "cli_session.h"
+#include "verbs.h"
+
+namespace fray::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// Peak resident memory of this process so far (MiB).
+double peakMiB() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return static_cast<double>(u.ru_maxrss) / 1024.0;
+}
+
+// The graph of a project lives beside it: demo.frayproj -> demo.frayproj.igraph.
+fs::path defaultGraphFile(const std::string& project) { return fs::path(project + ".igraph"); }
+// What the build measured (time, memory): beside the graph, as the graph's
+// bytes depend on the data and seed alone.
+fs::path buildReportFile(const fs::path& graph) { return fs::path(graph.string() + ".build.json"); }
+
+// A graph file may only replace a graph file.
+Status checkGraphOutput(const fs::path& out) {
+    std::error_code ec;
+    if (!fs::exists(out, ec)) return {};
+    auto head = readWholeFile(out, "the output file");
+    if (!head) return head.error();
+    if (head->size() < 8 || std::memcmp(head->data(), "FRAYIGPH", 8) != 0) {
+        return makeError(out.string() + ": exists and is not an interaction graph file: not overwriting it");
+    }
+    return {};
+}
+
+struct Loaded {
+    std::unique_ptr<SimSession> session;
+    std::shared_ptr<const igraph::Rules> rules;
+    std::shared_ptr<const igraph::Graph> graph;
+};
+
+Result<Loaded> openGraph(const std::string& project, const std::string& graphFile, bool quiet) {
+    Loaded l;
+    auto ss = openSimSession(project, stderrProgress(quiet));
+    if (!ss) return ss.error();
+    l.session = std::move(*ss);
+    auto rules = igraph::Rules::make(l.session->library);
+    if (!rules) return makeError(project + ": " + rules.error().message);
+    l.rules = *rules;
+    auto g = igraph::loadGraph(graphFile.empty() ? defaultGraphFile(project) : fs::path(graphFile), *l.rules);
+    if (!g) return g.error();
+    l.graph = std::make_shared<const igraph::Graph>(std::move(*g));
+    return l;
+}
+
+Result<igraph::RewardWeights> weightsFor(const std::string& preset, const std::vector<std::string>& edits) {
+    auto w = igraph::stylePreset(preset);
+    if (!w) return w.error();
+    for (const auto& e : edits) {
+        if (auto st = igraph::applyRewardEdit(*w, e); !st) return st.error();
+    }
+    return w;
+}
+
+// ---- build ----------------------------------------------------------------------------
+struct BuildArgs {
+    std::string project, out;
+    std::int64_t maxStates = 80000;
+    std::uint64_t seed = 1;
+    double fraction = 0.2;
+    bool quiet = false;
+};
+
+void runBuild(const BuildArgs& a) {
+    const fs::path out = a.out.empty() ? defaultGraphFile(a.project) : fs::path(a.out);
+    if (auto st = checkGraphOutput(out); !st) return fail(st.error().message);
+    const auto progress = stderrProgress(a.quiet);
+    auto ss = openSimSession(a.project, progress);
+    if (!ss) return fail(ss.error().message);
+    auto rules = igraph::Rules::make((*ss)->library);
+    if (!rules) return fail(a.project + ": " + rules.error().message);
+    igraph::BuildOptions o;
+    o.seed = a.seed;
+    o.maxSamples = a.maxStates;
+    o.expandFraction = a.fraction;
+    const auto t0 = Clock::now();
+    auto g = igraph::buildGraph(**rules, o, progress);
+    if (!g) return fail(a.project + ": " + g.error().message);
+    const double seconds = since(t0);
+    if (auto st = igraph::saveGraph(*g, out); !st) return fail(st.error().message);
+    nlohmann::ordered_json report;
+    report["build_seconds"] = seconds;
+    report["peak_mib"] = peakMiB();
+    report["threads"] = std::thread::hardware_concurrency();
+    if (auto st = writeFileAtomically(buildReportFile(out), report.dump(2) + "\n"); !st) return fail(st.error().message);
+    std::printf("%s: %zu states, %zu edges, %.1f MiB in memory, %lld samples in %lld rounds, coverage %.1f %% of %lld tree-expansion states; "
+                "%.1f s, peak %.0f MiB\n",
+                out.string().c_str(), g->stateCount(), g->edgeCount(), static_cast<double>(g->memoryBytes()) / (1024.0 * 1024.0),
+                static_cast<long long>(g->stats.samples), static_cast<long long>(g->stats.rounds), 100.0 * g->stats.coverage,
+                static_cast<long long>(g->stats.coverageVisited), seconds, peakMiB());
+}
+
+// ---- stats ------------------------------------------------------------------------------
+struct StatsArgs {
+    std::string graph;
+    bool json = false;
+};
+
+void runStats(const StatsArgs& a) {
+    auto bytes = readWholeFile(a.graph, "the interaction graph");
+    if (!bytes) return fail(bytes.error().message);
+    auto g = igraph::readGraphUnbound(*bytes, a.graph);
+    if (!g) return fail(g.error().message);
+    double buildSeconds = -1, buildPeak = -1;
+    if (auto r = readWholeFile(buildReportFile(a.graph), "the build report")) {
+        const auto j = nlohmann::json::parse(*r, nullptr, false);
+        if (j.is_object() && j.contains("build_seconds") && j["build_seconds"].is_number()) buildSeconds = j["build_seconds"].get<double>();
+        if (j.is_object() && j.contains("peak_mib") && j["peak_mib"].is_number()) buildPeak = j["peak_mib"].get<double>();
+    }
+    std::size_t withEdges = 0;
+    for (std::size_t i = 0; i < g->stateCount(); ++i) withEdges += g->firstEdge[i + 1] > g->firstEdge[i] ? 1 : 0;
+    if (a.json) {
+        nlohmann::ordered_json j;
+        j["states"] = g->stateCount();
+        j["edges"] = g->edgeCount();
+        j["states_with_edges"] = withEdges;
+        j["memory_bytes"] = g->memoryBytes();
+        j["file_bytes"] = bytes->size();
+        j["samples"] = g->stats.samples;
+        j["rounds"] = g->stats.rounds;
+        j["coverage"] = g->stats.coverage;
+        j["coverage_visited"] = g->stats.coverageVisited;
+        j["seed"] = g->options.seed;
+        j["build_seconds"] = buildSeconds >= 0 ? nlohmann::ordered_json(buildSeconds) : nlohmann::ordered_json(nullptr);
+        j["build_peak_mib"] = buildPeak >= 0 ? nlohmann::ordered_json(buildPeak) : nlohmann::ordered_json(nullptr);
+        std::printf("%s\n", j.dump(2).c_str());
+        return;
+    }
+    std::printf("%s\n  states %zu (%zu with edges), edges %zu (%.1f per state)\n  memory %.1f MiB, file %.1f MiB\n",
+                a.graph.c_str(), g->stateCount(), withEdges, g->edgeCount(),
+                g->stateCount() ? static_cast<double>(g->edgeCount()) / static_cast<double>(g->stateCount()) : 0.0,
+                static_cast<double>(g->memoryBytes()) / (1024.0 * 1024.0), static_cast<double>(bytes->size()) / (1024.0 * 1024.0));
+    std::printf("  sampling: %lld samples in %lld rounds (seed %llu)\n", static_cast<long long>(g->stats.samples),
+                static_cast<long long>(g->stats.rounds), static_cast<unsigned long long>(g->options.seed));
+    if (g->stats.coverage >= 0) {
+        std::printf("  coverage: %.1f %% of %lld states visited by tree expansion to depth %d\n", 100.0 * g->stats.coverage,
+                    static_cast<long long>(g->stats.coverageVisited), g->options.coverageDepth);
+    }
+    if (buildSeconds >= 0) std::printf("  build: %.1f s, peak %.0f MiB\n", buildSeconds, buildPeak);
+    else std::printf("  build: time unknown (no %s)\n", buildReportFile(a.graph).string().c_str());
+}
+
+// ---- policy -------------------------------------------------------------------------------
+struct PolicyArgs {
+    std::string graph, preset = "general";
+    std::vector<std::string> set;
+    int depth = 3;
+    bool json = false;
+};
+
+void runPolicy(const PolicyArgs& a) {
+    auto w = weightsFor(a.preset, a.set);
+    if (!w) return fail(w.error().message);
+    auto bytes = readWholeFile(a.graph, "the interaction graph");
+    if (!bytes) return fail(bytes.error().message);
+    auto g = igraph::readGraphUnbound(*bytes, a.graph);
+    if (!g) return fail(g.error().message);
+    auto p = igraph::computePolicy(*g, *w, a.depth);
+    if (!p) return fail(p.error().message);
+    std::size_t decided = 0, attacks = 0;
+    double mean = 0;
+    for (std::size_t i = 0; i < g->stateCount(); ++i) {
+        if (p->best[i] < 0) continue;
+        ++decided;
+        mean += p->value[i];
+        const auto& e = g->edges[static_cast<std::size_t>(p->best[i])];
+        attacks += e.given() > 0 ? 1 : 0;
+    }
+    if (decided) mean /= static_cast<double>(decided);
+    if (a.json) {
+        nlohmann::ordered_json j;
+        j["preset"] = a.preset;
+        j["depth"] = a.depth;
+        j["seconds"] = p->seconds;
+        j["states_decided"] = decided;
+        j["mean_value"] = mean;
+        j["states_choosing_a_landing_blow"] = attacks;
+        std::printf("%s\n", j.dump(2).c_str());
+        return;
+    }
+    std::printf("%s: policy %s depth %d over %zu states in %.3f s; mean value %.2f, %zu states choose a blow that lands\n",
+                a.graph.c_str(), a.preset.c_str(), a.depth, decided, p->seconds, mean, attacks);
+}
+
+// ---- play -------------------------------------------------------------------------------
+struct PlayArgs {
+    std::string project, graph, kind = "duel", input, out, preset = "general", opponentPreset = "general", you = "graph", opponent = "graph";
+    int characters = 2, depth = 3, opponentDepth = 3;
+    double seconds = 20;
+    std::uint64_t seed = 1;
+    bool quiet = false;
+};
+
+Result<igraph::Mind> mindOf(const std::string& s, const char* flag) {
+    if (s == "graph") return igraph::Mind::Graph;
+    if (s == "static") return igraph::Mind::Static;
+    return makeError(std::string(flag) + ": '" + s + "' is not graph or static");
+}
+
+void runPlay(const PlayArgs& a) {
+    const fs::path outFile(a.out);
+    if (Status st = checkSceneOutput(outFile); !st) return fail(st.error().message);
+    if (a.kind != "duel" && a.kind != "teams") return fail("--kind: '" + a.kind + "' is not duel or teams");
+    if (!(a.seconds > 0 && a.seconds <= sim::kMaxSceneSeconds)) return fail("--seconds must be in (0, 3600]");
+    if (a.characters < 2 || a.characters > 10000) return fail("--characters must be between 2 and 10000");
+    auto you = mindOf(a.you, "--you");
+    if (!you) return fail(you.error().message);
+    auto them = mindOf(a.opponent, "--opponent");
+    if (!them) return fail(them.error().message);
+    std::vector<igraph::TimedCommand> commands;
+    if (!a.input.empty()) {
+        auto text = readWholeFile(a.input, "the command file");
+        if (!text) return fail(text.error().message);
+        auto c = igraph::parseCommands(*text, a.input);
+        if (!c) return fail(c.error().message);
+        commands = std::move(*c);
+    }
+    auto wy = weightsFor(a.preset, {});
+    if (!wy) return fail("--preset: " + wy.error().message);
+    auto wt = weightsFor(a.opponentPreset, {});
+    if (!wt) return fail("--opponent-preset: " + wt.error().message);
+    auto l = openGraph(a.project, a.graph, a.quiet);
+    if (!l) return fail(l.error().message);
+    auto py = igraph::computePolicy(*l->graph, *wy, a.depth);
+    if (!py) return fail(py.error().message);
+    auto pt = igraph::computePolicy(*l->graph, *wt, a.opponentDepth);
+    if (!pt) return fail(pt.error().message);
+    const auto policyYou = std::make_shared<const igraph::Policy>(std::move(*py));
+    const auto policyThem = std::make_shared<const igraph::Policy>(std::move(*pt));
+    const int n = a.kind == "duel" ? 2 : a.characters;
+    const auto starts = a.kind == "duel" ? igraph::duelStarts(1.3, a.seed, 0.3) : igraph::teamStarts(n, a.seed, 0.2);
+    std::vector<igraph::FighterSpec> fighters;
+    for (int c = 0; c < n; ++c) {
+        igraph::FighterSpec f;
+        const bool mine = c % 2 == 0;
+        f.side = c % 2;
+        f.name = (mine ? "blue " : "red ") + std::to_string(c / 2 + 1);
+        if (n == 2) f.name = mine ? "you" : "opponent";
+        f.mind = c == 0 ? *you : (mine ? igraph::Mind::Graph : *them);
+        f.policy = mine ? policyYou : policyThem;
+        f.style = mine ? a.preset : a.opponentPreset;
+        f.start = starts[static_cast<std::size_t>(c)];
+        fighters.push_back(std::move(f));
+    }
+    nlohmann::ordered_json record;
+    record["igraph"] = {{"kind", a.kind}, {"characters", n}, {"seconds", a.seconds}, {"seed", a.seed}, {"preset", a.preset},
+                        {"depth", a.depth}, {"opponent", a.opponent}, {"opponent_preset", a.opponentPreset},
+                        {"opponent_depth", a.opponentDepth}, {"you", a.you}, {"input", a.input}};
+    igraph::MatchOptions mo;
+    mo.duration = a.seconds;
+    mo.seed = a.seed;
+    mo.record = record.dump();
+    igraph::Match match(l->rules, l->graph, std::move(fighters), mo);
+    const auto t0 = Clock::now();
+    if (auto st = match.run(commands, stderrProgress(a.quiet)); !st) return fail(st.error().message);
+    const double wall = since(t0);
+    sim::Scene scene = match.scene();
+    scene.project = sceneProjectReference(outFile, a.project);
+    scene.stats.seconds = wall;
+    scene.stats.decisions = match.stats().decisions;
+    if (auto st = sim::saveScene(scene, l->session->library, outFile); !st) return fail(st.error().message);
+    const auto landed = match.landed();
+    int side0 = 0, side1 = 0;
+    for (int c = 0; c < n; ++c) (c % 2 == 0 ? side0 : side1) += landed[static_cast<std::size_t>(c)];
+    const auto& st = match.stats();
+    std::printf("%s: %d characters, %.1f s, %lld decisions (%lld off the graph, %lld fallbacks), %zu blows, landed %d (blue) vs %d (red), "
+                "%lld of %lld commands carried out; %.2f s wall clock\n",
+                a.out.c_str(), n, a.seconds, static_cast<long long>(st.decisions), static_cast<long long>(st.offGraph),
+                static_cast<long long>(st.fallbacks), scene.hits.size(), side0, side1, static_cast<long long>(st.commandsTaken),
+                static_cast<long long>(st.commands), wall);
+}
+
+// ---- table (thesis table 5.1) ----------------------------------------------------------------
+struct TableArgs {
+    std::string project, graph, preset = "general";
+    int matches = 20;
+    double seconds = 30;
+    std::vector<int> depths = {1, 3, 5};
+    bool quiet = false;
+};
+
+void runTable(const TableArgs& a) {
+    if (a.matches < 1 || !(a.seconds > 0 && a.seconds <= 600)) return fail("--matches must be >= 1 and --seconds in (0, 600]");
+    auto w = weightsFor(a.preset, {});
+    if (!w) return fail(w.error().message);
+    auto l = openGraph(a.project, a.graph, a.quiet);
+    if (!l) return fail(l.error().message);
+    std::printf("| graph depth | vs static-target boxer: mean score | min | max | landed | received | off-graph decisions |\n|---|---|---|---|---|---|---|\n");
+    for (int depth : a.depths) {
+        auto p = igraph::computePolicy(*l->graph, *w, depth);
+        if (!p) return fail(p.error().message);
+        const auto policy = std::make_shared<const igraph::Policy>(std::move(*p));
+        double sum = 0, lo = 1e9, hi = -1e9, given = 0, got = 0, off = 0, decisions = 0;
+        for (int m = 0; m < a.matches; ++m) {
+            const auto seed = static_cast<std::uint64_t>(m + 1);
+            const auto starts = igraph::duelStarts(1.3, seed, 0.3);
+            std::vector<igraph::FighterSpec> f(2);
+            f[0] = {"graph", 0, igraph::Mind::Graph, policy, a.preset, starts[0]};
+            f[1] = {"static target", 1, igraph::Mind::Static, nullptr, "static", starts[1]};
+            igraph::MatchOptions mo;
+            mo.duration = a.seconds;
+            mo.seed = seed;
+            igraph::Match match(l->rules, l->graph, std::move(f), mo);
+            if (auto st = match.run(); !st) return fail(st.error().message);
+            const auto landed = match.landed();
+            const double score = landed[0] - landed[1];
+            sum += score, lo = std::min(lo, score), hi = std::max(hi, score), given += landed[0], got += landed[1];
+            off += static_cast<double>(match.stats().offGraph), decisions += static_cast<double>(match.stats().lookups);
+        }
+        std::printf("| %d | %.1f | %.0f | %.0f | %.1f | %.1f | %.1f %% |\n", depth, sum / a.matches, lo, hi, given / a.matches, got / a.matches,
+                    decisions > 0 ? 100.0 * off / decisions : 0.0);
+        std::fflush(stdout);
+    }
+    std::printf("(%d seeded matches of %.0f s per depth, style %s; score = unblocked blows landed by the graph boxer minus the target's)\n",
+                a.matches, a.seconds, a.preset.c_str());
+}
+
+// ---- bench ----------------------------------------------------------------------------------
+struct BenchArgs {
+    std::string project, graph;
+    int characters = 1000;
+    double seconds = 10;
+    bool quiet = false;
+};
+
+void runBench(const BenchArgs& a) {
+    auto l = openGraph(a.project, a.graph, a.quiet);
+    if (!l) return fail(l.error().message);
+    const auto& g = *l->graph;
+    // Policy recompute at depth 5 (best of 3).
+    double best5 = 1e9;
+    std::shared_ptr<const igraph::Policy> policy;
+    for (int k = 0; k < 3; ++k) {
+        auto p = igraph::computePolicy(g, igraph::RewardWeights{}, 5);
+        if (!p) return fail(p.error().message);
+        best5 = std::min(best5, p->seconds);
+        policy = std::make_shared<const igraph::Policy>(std::move(*p));
+    }
+    std::printf("policy depth 5 over %zu states, %zu edges: %.3f s (best of 3)\n", g.stateCount(), g.edgeCount(), best5);
+    // A decision: look-up of a state and its policy's choice, over the states of the graph.
+    {
+        const std::size_t n = std::min<std::size_t>(g.stateCount(), 200000);
+        const auto t0 = Clock::now();
+        std::int64_t sum = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            igraph::InteractionState s = g.states[(i * 7919) % g.stateCount()];
+            s.r += 0.05;  // not exactly a state
+            const int k = g.find(s, false);
+            if (k >= 0 && policy->best[static_cast<std::size_t>(k)] >= 0) sum += g.edges[static_cast<std::size_t>(policy->best[static_cast<std::size_t>(k)])].action();
+        }
+        const double us = 1e6 * since(t0) / static_cast<double>(n);
+        std::printf("decision (look-up + policy): %.2f us mean over %zu look-ups (checksum %lld)\n", us, n, static_cast<long long>(sum));
+    }
+    // Many characters in two teams: decisions, blows and posing every frame at 60 fps.
+    const auto starts = igraph::teamStarts(a.characters, 1, 0.2);
+    std::vector<igraph::FighterSpec> fighters;
+    for (int c = 0; c < a.characters; ++c) {
+        fighters.push_back({"c" + std::to_string(c), c % 2, igraph::Mind::Graph, policy, "general", starts[static_cast<std::size_t>(c)]});
+    }
+    igraph::MatchOptions mo;
+    mo.duration = a.seconds;
+    igraph::Match match(l->rules, l->graph, std::move(fighters), mo);
+    sim::ScenePoser poser(match.scene(), l->session->library);
+    Pose pose;
+    double stepS = 0, poseS = 0, worst = 0;
+    int frames = 0;
+    while (!match.finished()) {
+        const auto t0 = Clock::now();
+        match.step();
+        const double s1 = since(t0);
+        const auto t1 = Clock::now();
+        for (int c = 0; c < a.characters; ++c) poser.pose(c, match.time(), pose);
+        const double s2 = since(t1);
+        stepS += s1, poseS += s2, worst = std::max(worst, s1 + s2);
+        ++frames;
+    }
+    const auto landed = match.landed();
+    int total = 0;
+    for (int x : landed) total += x;
+    std::printf("%d characters, two teams, %.0f s at 60 steps/s: step (decisions + blows) %.2f ms, posing %.2f ms per frame; "
+                "%.0f fps mean, worst frame %.1f ms; %lld decisions (%lld off the graph; %.1f us each with the closest-enemy search), "
+                "%d blows landed\n",
+                a.characters, a.seconds, 1e3 * stepS / frames, 1e3 * poseS / frames, frames / (stepS + poseS), 1e3 * worst,
+                static_cast<long long>(match.stats().decisions), static_cast<long long>(match.stats().offGraph),
+                1e6 * match.stats().decideSeconds / static_cast<double>(std::max<std::int64_t>(1, match.stats().decisions)), total);
+}
+
+}  // namespace
+
+void registerIgraph(CLI::App& app) {
+    auto* ig = app.add_subcommand("igraph", "Interaction Graph (SPEC 3): build, stats, policy, play, table, bench");
+    ig->require_subcommand(1);
+    {
+        auto a = std::make_shared<BuildArgs>();
+        auto* cmd = ig->add_subcommand("build", "Sample, cluster and connect the interaction graph of a project");
+        cmd->add_option("project", a->project, "Project file (*.frayproj)")->required();
+        cmd->add_option("-o,--out", a->out, "Graph file (default: PROJECT.igraph)");
+        cmd->add_option("--max-states", a->maxStates, "Archive size limit (samples one sigma apart: about the states)")->check(CLI::Range(16, 10000000));
+        cmd->add_option("--seed", a->seed, "Sampling seed");
+        cmd->add_option("--expand", a->fraction, "Share of a node's children expanded (0, 1]")->check(CLI::Range(0.001, 1.0));
+        cmd->add_flag("-q,--quiet", a->quiet, "No progress on stderr");
+        cmd->callback([a] { runBuild(*a); });
+    }
+    {
+        auto a = std::make_shared<StatsArgs>();
+        auto* cmd = ig->add_subcommand("stats", "States, edges, memory, build time and coverage of a graph file");
+        cmd->add_option("graph", a->graph, "Graph file")->required();
+        cmd->add_flag("--json", a->json, "JSON output");
+        cmd->callback([a] { runStats(*a); });
+    }
+    {
+        auto a = std::make_shared<PolicyArgs>();
+        auto* cmd = ig->add_subcommand("policy", "Compute a min-max policy over a graph and report it");
+        cmd->add_option("graph", a->graph, "Graph file")->required();
+        cmd->add_option("--preset", a->preset, "Boxing style: general | infighter | outboxer");
+        cmd->add_option("--depth", a->depth, "Min-max depth")->check(CLI::Range(1, 64));
+        cmd->add_option("--set", a->set, "Reward edits name=value (w_theta, w_d, d_p, w_a, w_r, gamma)");
+        cmd->add_flag("--json", a->json, "JSON output");
+        cmd->callback([a] { runPolicy(*a); });
+    }
+    {
+        auto a = std::make_shared<PlayArgs>();
+        auto* cmd = ig->add_subcommand("play", "A graph-driven duel or team fight, written as a scene");
+        cmd->add_option("project", a->project, "Project file")->required();
+        cmd->add_option("--graph", a->graph, "Graph file (default: PROJECT.igraph)");
+        cmd->add_option("--kind", a->kind, "duel | teams");
+        cmd->add_option("--characters", a->characters, "Characters in a team fight (two teams)");
+        cmd->add_option("--seconds", a->seconds, "Duration");
+        cmd->add_option("--seed", a->seed, "Seed of the start placements");
+        cmd->add_option("--input", a->input, "Timed user commands (JSON) for the controlled character(s)");
+        cmd->add_option("--preset", a->preset, "Style of character 0 and its team");
+        cmd->add_option("--depth", a->depth, "Policy depth of character 0 and its team")->check(CLI::Range(1, 64));
+        cmd->add_option("--you", a->you, "Character 0 between commands: graph | static");
+        cmd->add_option("--opponent", a->opponent, "The other side: graph | static (a static target)");
+        cmd->add_option("--opponent-preset", a->opponentPreset, "Style of the other side");
+        cmd->add_option("--opponent-depth", a->opponentDepth, "Policy depth of the other side")->check(CLI::Range(1, 64));
+        cmd->add_option("-o,--out", a->out, "Scene file to write (*.frayscene)")->required();
+        cmd->add_flag("-q,--quiet", a->quiet, "No progress on stderr");
+        cmd->callback([a] { runPlay(*a); });
+    }
+    {
+        auto a = std::make_shared<TableArgs>();
+        auto* cmd = ig->add_subcommand("table", "Thesis table 5.1: graph depths against a static-target boxer");
+        cmd->add_option("project", a->project, "Project file")->required();
+        cmd->add_option("--graph", a->graph, "Graph file (default: PROJECT.igraph)");
+        cmd->add_option("--matches", a->matches, "Seeded matches per depth");
+        cmd->add_option("--seconds", a->seconds, "Seconds per match");
+        cmd->add_option("--depths", a->depths, "Graph depths");
+        cmd->add_option("--preset", a->preset, "Style of the graph boxer");
+        cmd->add_flag("-q,--quiet", a->quiet, "No progress on stderr");
+        cmd->callback([a] { runTable(*a); });
+    }
+    {
+        auto a = std::make_shared<BenchArgs>();
+        auto* cmd = ig->add_subcommand("bench", "Policy recompute, decision time and a many-character team fight");
+        cmd->add_option("project", a->project, "Project file")->required();
+        cmd->add_option("--graph", a->graph, "Graph file (default: PROJECT.igraph)");
+        cmd->add_option("--characters", a->characters, "Characters in the team fight")->check(CLI::Range(2, 100000));
+        cmd->add_option("--seconds", a->seconds, "Seconds of the team fight");
+        cmd->add_flag("-q,--quiet", a->quiet, "No progress on stderr");
+        cmd->callback([a] { runBench(*a); });
+    }
+}
+
+}  // namespace fray::cli

@@ -1,0 +1,276 @@
+// The Interaction Graph (SPEC 3) on the demo project: sampling and the graph
+// file are deterministic, bad files are refused with clear messages, deeper
+// policies are not worse, a scripted command launches its kind of action,
+// and bad input (no attacks, non-finite weights) gives clear errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <memory>
+#include <string>
+
+#include "fray/igraph/igraph.h"
+#include "fray/igraph/runtime.h"
+#include "sim/demo_world.h"
+
+namespace fray::test {
+namespace {
+
+struct IgWorld {
+    std::shared_ptr<const igraph::Rules> rules;
+    std::shared_ptr<const igraph::Graph> graph;
+    std::string bytes;
+};
+
+igraph::BuildOptions smallOptions() {
+    igraph::BuildOptions o;
+    o.maxSamples = 6000;
+    o.coverageStarts = 2;
+    return o;
+}
+
+const IgWorld& igWorld() {
+    static const std::unique_ptr<IgWorld> w = [] {
+        auto out = std::make_unique<IgWorld>();
+        auto rules = igraph::Rules::make(demoWorld().library);
+        if (!rules) throw std::runtime_error(rules.error().message);
+        out->rules = *rules;
+        auto g = igraph::buildGraph(*out->rules, smallOptions());
+        if (!g) throw std::runtime_error(g.error().message);
+        auto bytes = igraph::graphBytes(*g);
+        if (!bytes) throw std::runtime_error(bytes.error().message);
+        out->bytes = *bytes;
+        out->graph = std::make_shared<const igraph::Graph>(std::move(*g));
+        return out;
+    }();
+    return *w;
+}
+
+TEST(IgraphBuild, GraphHasStatesEdgesAndCoverage) {
+    const auto& g = *igWorld().graph;
+    EXPECT_GT(g.stateCount(), 1000u);
+    EXPECT_GT(g.edgeCount(), 10 * g.stateCount());
+    EXPECT_GT(g.stats.coverage, 0.3);  // a small graph: the full one covers 96 % (docs/IGRAPH.md)
+    EXPECT_LE(g.stats.coverage, 1.0);
+    // Every edge leads to a state; every state's Next set holds its edges' actions.
+    for (std::size_t i = 0; i < g.stateCount(); ++i) {
+        const auto& next = igWorld().rules->nextSet(g.states[i].nextSet);
+        for (const auto* e = g.edgesBegin(static_cast<int>(i)); e != g.edgesEnd(static_cast<int>(i)); ++e) {
+            ASSERT_LT(static_cast<std::size_t>(e->to), g.stateCount());
+            ASSERT_TRUE(std::binary_search(next.begin(), next.end(), e->action()));
+        }
+    }
+}
+
+TEST(IgraphBuild, SameSeedSameBytesAnyThreads) {
+    auto o = smallOptions();
+    o.parallel = false;
+    auto g = igraph::buildGraph(*igWorld().rules, o);
+    ASSERT_TRUE(g) << g.error().message;
+    auto bytes = igraph::graphBytes(*g);
+    ASSERT_TRUE(bytes);
+    EXPECT_TRUE(*bytes == igWorld().bytes) << "a serial build differs from the parallel one";
+    o.seed = 2;
+    o.parallel = true;
+    auto other = igraph::buildGraph(*igWorld().rules, o);
+    ASSERT_TRUE(other);
+    EXPECT_FALSE(*igraph::graphBytes(*other) == igWorld().bytes) << "another seed gave the same graph";
+}
+
+TEST(IgraphBuild, CancelStopsTheBuild) {
+    int calls = 0;
+    auto g = igraph::buildGraph(*igWorld().rules, smallOptions(), [&](double, std::string_view) { return ++calls < 3; });
+    ASSERT_FALSE(g);
+    EXPECT_TRUE(g.error().isCancelled());
+}
+
+TEST(IgraphFile, RoundTrip) {
+    auto g = igraph::readGraph(igWorld().bytes, "g.igraph", *igWorld().rules);
+    ASSERT_TRUE(g) << g.error().message;
+    EXPECT_EQ(g->stateCount(), igWorld().graph->stateCount());
+    EXPECT_EQ(g->edgeCount(), igWorld().graph->edgeCount());
+    EXPECT_TRUE(*igraph::graphBytes(*g) == igWorld().bytes);
+}
+
+TEST(IgraphFile, DamagedForeignStaleRefused) {
+    const auto& rules = *igWorld().rules;
+    std::string damaged = igWorld().bytes;
+    damaged[damaged.size() / 2] ^= 0x5a;
+    auto a = igraph::readGraph(damaged, "g.igraph", rules);
+    ASSERT_FALSE(a);
+    EXPECT_NE(a.error().message.find("g.igraph: the graph file is truncated or corrupt"), std::string::npos) << a.error().message;
+    auto b = igraph::readGraph(igWorld().bytes.substr(0, 100), "g.igraph", rules);
+    ASSERT_FALSE(b);
+    EXPECT_NE(b.error().message.find("g.igraph:"), std::string::npos);
+    auto c = igraph::readGraph("{\"format\": \"fray-scene\"}", "scene.json", rules);
+    ASSERT_FALSE(c);
+    EXPECT_NE(c.error().message.find("scene.json: not a Fray interaction graph file"), std::string::npos);
+    // Another file version.
+    std::string newer = igWorld().bytes;
+    newer[8] = 9;
+    auto d = igraph::readGraph(newer, "g.igraph", rules);
+    ASSERT_FALSE(d);
+    EXPECT_TRUE(d.error().is(ErrorKind::Unsupported));
+    EXPECT_NE(d.error().message.find("version 9"), std::string::npos);
+    // Built for another choice of actions: stale.
+    std::vector<int> fewer(rules.actions().begin(), rules.actions().end() - 1);
+    auto other = igraph::Rules::make(demoWorld().library, fewer);
+    ASSERT_TRUE(other);
+    auto e = igraph::readGraph(igWorld().bytes, "g.igraph", **other);
+    ASSERT_FALSE(e);
+    EXPECT_TRUE(e.error().is(ErrorKind::Stale));
+    EXPECT_NE(e.error().message.find("another choice of actions"), std::string::npos);
+}
+
+TEST(IgraphPolicy, StylesDepthsAndBadWeights) {
+    const auto& g = *igWorld().graph;
+    for (const auto& name : igraph::styleNames()) {
+        auto w = igraph::stylePreset(name);
+        ASSERT_TRUE(w);
+        auto p = igraph::computePolicy(g, *w, 3);
+        ASSERT_TRUE(p) << p.error().message;
+        ASSERT_EQ(p->best.size(), g.stateCount());
+    }
+    EXPECT_FALSE(igraph::stylePreset("brawler"));
+    igraph::RewardWeights bad;
+    bad.wA = std::numeric_limits<double>::quiet_NaN();
+    auto p = igraph::computePolicy(g, bad, 3);
+    ASSERT_FALSE(p);
+    EXPECT_NE(p.error().message.find("w_a is not a finite number"), std::string::npos) << p.error().message;
+    igraph::RewardWeights w;
+    auto st = igraph::applyRewardEdit(w, "w_r=inf");
+    ASSERT_FALSE(st);
+    EXPECT_NE(st.error().message.find("w_r is not a finite number"), std::string::npos);
+    EXPECT_FALSE(igraph::applyRewardEdit(w, "w_q=1"));
+    EXPECT_FALSE(igraph::applyRewardEdit(w, "w_d=abc"));
+    EXPECT_TRUE(igraph::applyRewardEdit(w, "w_d=3"));
+    EXPECT_EQ(w.wD, 3);
+    EXPECT_FALSE(igraph::computePolicy(g, w, 0));
+}
+
+// A changed weight recomputes the policy in the background; the old one
+// serves until the new one is ready.
+TEST(IgraphPolicy, BackgroundRecompute) {
+    const auto& g = igWorld().graph;
+    auto first = igraph::computePolicy(*g, igraph::RewardWeights{}, 1);
+    ASSERT_TRUE(first);
+    igraph::PolicyService service(g, std::make_shared<const igraph::Policy>(std::move(*first)));
+    EXPECT_EQ(service.current()->depth, 1);
+    igraph::RewardWeights w;
+    w.wR = 5;
+    ASSERT_TRUE(service.request(w, 4));
+    EXPECT_TRUE(service.current() != nullptr);  // never empty while it computes
+    ASSERT_TRUE(service.wait());
+    EXPECT_EQ(service.current()->depth, 4);
+    EXPECT_EQ(service.current()->weights.wR, 5);
+    w.wA = std::numeric_limits<double>::infinity();
+    EXPECT_FALSE(service.request(w, 4));
+    EXPECT_EQ(service.current()->depth, 4);
+}
+
+// Deeper policies score no lower against a static target over seeded
+// matches (thesis table 5.1: deeper graph policies score higher).
+TEST(IgraphPolicy, DeeperPolicyNotWorse) {
+    auto w = igraph::stylePreset("general");
+    ASSERT_TRUE(w);
+    auto score = [&](int depth) {
+        auto p = igraph::computePolicy(*igWorld().graph, *w, depth);
+        EXPECT_TRUE(p);
+        auto policy = std::make_shared<const igraph::Policy>(std::move(*p));
+        int total = 0;
+        for (std::uint64_t seed = 1; seed <= 12; ++seed) {
+            const auto starts = igraph::duelStarts(1.3, seed, 0.3);
+            std::vector<igraph::FighterSpec> f(2);
+            f[0] = {"graph", 0, igraph::Mind::Graph, policy, "general", starts[0]};
+            f[1] = {"target", 1, igraph::Mind::Static, nullptr, "static", starts[1]};
+            igraph::MatchOptions mo;
+            mo.duration = 20;
+            mo.seed = seed;
+            igraph::Match m(igWorld().rules, igWorld().graph, std::move(f), mo);
+            EXPECT_TRUE(m.run());
+            const auto landed = m.landed();
+            total += landed[0] - landed[1];
+        }
+        return total;
+    };
+    const int d1 = score(1), d3 = score(3);
+    std::printf("score over 12 matches: depth 1 %d, depth 3 %d\n", d1, d3);
+    EXPECT_GE(d3, d1) << "depth 3 scored " << d3 << ", depth 1 " << d1;
+}
+
+TEST(IgraphRuntime, ScriptedPunchLaunchesAPunch) {
+    const auto& lib = demoWorld().library;
+    auto commands = igraph::parseCommands(R"({"version": 1, "commands": [{"time": 2.0, "command": "punch"}]})", "cmd.json");
+    ASSERT_TRUE(commands) << commands.error().message;
+    auto run = [&](const std::vector<igraph::TimedCommand>& cmds) {
+        const auto starts = igraph::duelStarts(1.0, 3, 0.0);
+        std::vector<igraph::FighterSpec> f(2);
+        // Both static between commands: only a command can make character 0 attack.
+        f[0] = {"you", 0, igraph::Mind::Static, nullptr, "user", starts[0]};
+        f[1] = {"target", 1, igraph::Mind::Static, nullptr, "static", starts[1]};
+        igraph::MatchOptions mo;
+        mo.duration = 5;
+        auto m = std::make_unique<igraph::Match>(igWorld().rules, igWorld().graph, std::move(f), mo);
+        EXPECT_TRUE(m->run(cmds));
+        return m;
+    };
+    auto firstPunch = [&](const igraph::Match& m) {
+        for (const auto& inst : m.scene().characters[0].track) {
+            if (lib.action(inst.action).is(sim::kPunch)) return inst.start;
+        }
+        return -1.0;
+    };
+    const auto with = run(*commands);
+    const double t = firstPunch(*with);
+    EXPECT_GE(t, 2.0);
+    EXPECT_LE(t, 3.0);
+    EXPECT_EQ(with->stats().commandsTaken, 1);
+    const auto without = run({});
+    EXPECT_LT(firstPunch(*without), 0.0) << "a static character punched without a command";
+}
+
+TEST(IgraphRuntime, TeamsFightTheirClosestEnemy) {
+    auto p = igraph::computePolicy(*igWorld().graph, igraph::RewardWeights{}, 2);
+    ASSERT_TRUE(p);
+    auto policy = std::make_shared<const igraph::Policy>(std::move(*p));
+    const int n = 12;
+    const auto starts = igraph::teamStarts(n, 1, 0.2);
+    std::vector<igraph::FighterSpec> f;
+    for (int c = 0; c < n; ++c) f.push_back({"c" + std::to_string(c), c % 2, igraph::Mind::Graph, policy, "general", starts[static_cast<std::size_t>(c)]});
+    igraph::MatchOptions mo;
+    mo.duration = 6;
+    igraph::Match m(igWorld().rules, igWorld().graph, std::move(f), mo);
+    ASSERT_TRUE(m.run());
+    for (int c = 0; c < n; ++c) {
+        const int o = m.opponent(c);
+        ASSERT_GE(o, 0);
+        EXPECT_NE(o % 2, c % 2);
+        EXPECT_FALSE(m.scene().characters[static_cast<std::size_t>(c)].track.empty());
+    }
+    // The scene is ordinary: it saves and reads back against the library.
+    const std::string text = sim::sceneToJson(m.scene(), demoWorld().library);
+    auto back = sim::sceneFromJson(text, "teams.frayscene", demoWorld().library);
+    ASSERT_TRUE(back) << back.error().message;
+    EXPECT_EQ(back->characters.size(), static_cast<std::size_t>(n));
+}
+
+TEST(IgraphBadInput, NoAttackActionsAndBadCommands) {
+    const auto& lib = demoWorld().library;
+    std::vector<int> noAttacks;
+    for (int a = 0; a < lib.size(); ++a) {
+        if (lib.action(a).is(sim::kIdle | sim::kStep) && !lib.action(a).is(sim::kAttack | sim::kReactive)) noAttacks.push_back(a);
+    }
+    ASSERT_FALSE(noAttacks.empty());
+    auto r = igraph::Rules::make(lib, noAttacks);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message.find("no attack actions"), std::string::npos) << r.error().message;
+    auto c = igraph::parseCommands(R"({"version": 1, "commands": [{"time": 1, "command": "uppercutt"}]})", "cmd.json");
+    ASSERT_FALSE(c);
+    EXPECT_NE(c.error().message.find("cmd.json: /commands/0/command"), std::string::npos) << c.error().message;
+    EXPECT_FALSE(igraph::parseCommands(R"({"version": 1, "commands": [{"time": -1, "command": "punch"}]})", "cmd.json"));
+    EXPECT_FALSE(igraph::parseCommands("not json", "cmd.json"));
+}
+
+}  // namespace
+}  // namespace fray::test
