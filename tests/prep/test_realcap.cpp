@@ -9,6 +9,7 @@
 #include "fray/prep/annotations.h"
 #include "fray/prep/contacts.h"
 #include "fray/prep/learning.h"
+#include "fray/prep/warnings.h"
 #include "fray/prep/segmentation.h"
 #include "realcap_fixture.h"
 
@@ -289,4 +290,37 @@ TEST(Learning, MergeKeepsConfirmedCutsAndExamplesSpanConfirmedRuns) {
     const RefitReport none = refitSegmentation({});
     EXPECT_EQ(none.tried, 0);
     EXPECT_EQ(none.params.thresholdFactor, SegmentationParams{}.thresholdFactor);
+}
+
+TEST(Warnings, ReactionsUnknownAnnotationsAndProposalsOnly) {
+    Project p = makeProject("w");
+    EXPECT_TRUE(projectWarnings(p).empty());
+    ProjectMotion m;
+    m.id = "jabs";
+    m.actions = recut(MotionActions::whole(100), {50});
+    m.actions.actions[0].proposed = {"punch"};
+    m.actions.actions[1].proposed = {"falling"};
+    p.motions.push_back(m);
+    auto codes = [](const std::vector<PrepWarning>& ws) {
+        std::vector<std::string> out;
+        for (const auto& w : ws) out.push_back(w.code);
+        return out;
+    };
+    auto w = projectWarnings(p);
+    EXPECT_EQ(codes(w), (std::vector<std::string>{"no-reactions", "proposals-only"}));
+    EXPECT_NE(w[0].message.find("falling?/pushed? proposal"), std::string::npos) << w[0].message;
+    EXPECT_NE(w[1].message.find("punch? x1"), std::string::npos) << w[1].message;
+    p.motions[0].actions.actions[0].annotations = {"punch"};
+    p.motions[0].actions.actions[0].proposed.clear();
+    p.combos.set({"@block", "@punch", 1.0});
+    w = projectWarnings(p, {{"dodge", "duel.json: /a/actions"}});
+    EXPECT_EQ(codes(w), (std::vector<std::string>{"no-reactions", "unknown-annotation", "unknown-annotation"}));
+    EXPECT_NE(w[1].message.find("\"dodge\" is used by duel.json: /a/actions"), std::string::npos) << w[1].message;
+    EXPECT_NE(w[2].message.find("\"block\" is used by combination record (@block, @punch)"), std::string::npos)
+        << w[2].message;
+    p.motions[0].actions.actions[1].annotations = {"falling"};
+    p.motions[0].actions.actions.push_back({});
+    p.motions[0].actions.cuts.push_back(80);
+    p.motions[0].actions.actions[2].annotations = {"block"};
+    EXPECT_EQ(codes(projectWarnings(p, {{"dodge", "duel.json"}})), (std::vector<std::string>{"unknown-annotation"}));
 }
