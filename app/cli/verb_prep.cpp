@@ -13,8 +13,10 @@
 #include "fray/prep/annotations.h"
 #include "fray/prep/contacts.h"
 #include "fray/prep/json_reader.h"
+#include "fray/prep/learning.h"
 #include "fray/prep/motion_graph.h"
 #include "fray/prep/segmentation.h"
+#include "fray/prep/warnings.h"
 #include "options.h"
 #include "cli_session.h"
 #include "verbs.h"
@@ -121,6 +123,13 @@ void runContacts(const ContactsArgs& a) {
     if (auto st = saveSession(*s); !st) return fail(st.error().message);
 }
 
+// Prints the project's warnings (prep::projectWarnings) on stderr.
+void printWarnings(const prep::Project& project) {
+    for (const auto& w : prep::projectWarnings(project)) {
+        std::fprintf(stderr, "fray-cli: warning: %s\n", w.message.c_str());
+    }
+}
+
 // ---- segment ----------------------------------------------------------------
 struct SegmentArgs {
     std::string project, labels;
@@ -138,7 +147,22 @@ void runSegment(const SegmentArgs& a) {
     if (a.thresholdFactor > 0) s->project.settings.segmentThresholdFactor = a.thresholdFactor;
     auto summary = computeContacts(*s, a.heuristic, progress);
     if (!summary) return fail(summary.error().message);
-    const auto params = prep::segmentationParams(s->project.settings);
+    auto params = prep::segmentationParams(s->project.settings);
+    // Learning from the user: actions they named or annotated keep their cuts
+    // and refit the parameters used for everything else.
+    std::vector<prep::SegmentationExample> examples;
+    for (std::size_t i = 0; i < s->motions.size(); ++i) {
+        auto e = prep::confirmedExamples(s->project.motions[i].actions, s->motions[i].signals, s->motions[i].contacts);
+        examples.insert(examples.end(), e.begin(), e.end());
+    }
+    if (!examples.empty()) {
+        const auto refit = prep::refitSegmentation(examples, params);
+        params = refit.params;
+        std::printf("learned from %d confirmed stretch%s (%d cuts): boundary F1 on them %.3f -> %.3f "
+                    "(threshold factor %g, basin prominence %g, onset cap %g)\n",
+                    refit.examples, refit.examples == 1 ? "" : "es", refit.trueCuts, refit.before.f1(),
+                    refit.after.f1(), params.thresholdFactor, params.basinProminence, params.onsetCapFraction);
+    }
     std::printf("%-24s %8s %8s %10s\n", "motion", "frames", "actions", "mean (s)");
     int total = 0;
     for (std::size_t i = 0; i < s->motions.size(); ++i) {
@@ -146,13 +170,14 @@ void runSegment(const SegmentArgs& a) {
         auto& entry = s->project.motions[i];
         reportProgress(progress, double(i) / double(s->motions.size()), "segment");
         const auto r = prep::segment(m.signals, m.contacts, params);
-        entry.actions = prep::recut(entry.actions, r.cuts);
+        entry.actions = prep::recut(entry.actions, prep::mergeWithConfirmed(entry.actions, r.cuts));
         prep::proposeAll(entry.actions, m.motion, m.joints, m.signals);
         total += entry.actions.actionCount();
         std::printf("%-24s %8d %8d %10.2f\n", entry.id.c_str(), m.signals.frameCount, entry.actions.actionCount(),
                     m.signals.frameCount / m.signals.fps / entry.actions.actionCount());
     }
     std::printf("total: %d actions\n", total);
+    printWarnings(s->project);
     if (auto st = saveSession(*s); !st) return fail(st.error().message);
 }
 
@@ -235,6 +260,7 @@ void runGraph(const GraphArgs& a) {
                     presetName.c_str(), options.threshold, st.nodes, st.edges, st.meanOutDegree, st.maxOutDegree,
                     st.largestSccActions, 100.0 * st.sccShare, st.deadEnds, graph.naturalEdges, cached ? " (cached)" : "");
     }
+    printWarnings(s->project);
     if (cached) return;
     if (auto w = prep::writeCache(s->file, s->cache); !w) {
         std::fprintf(stderr, "fray-cli: warning: could not write the cache: %s\n", w.error().message.c_str());

@@ -145,15 +145,19 @@ Result<std::vector<Clip>> loadClips(const RenderArgs& a) {
             }
             for (int i = 0; i < acts.actionCount(); ++i) {
                 const prep::ActionInfo& info = acts.actions[static_cast<std::size_t>(i)];
-                if (!a.action.empty() && info.name != a.action && !info.has(a.action)) continue;
+                // Proposals count too, so they can be reviewed; their cells say so.
+                const bool proposed = !a.action.empty() && std::find(info.proposed.begin(), info.proposed.end(),
+                                                                     a.action) != info.proposed.end();
+                if (!a.action.empty() && info.name != a.action && !info.has(a.action) && !proposed) continue;
                 const int last = std::min(acts.lastFrame(i), motion->frameCount() - 1);
                 if (acts.firstFrame(i) > last) continue;
                 std::string name = info.name.empty() ? pm.id + " #" + std::to_string(i) : info.name;
+                if (proposed && info.name != a.action && !info.has(a.action)) name += " (" + a.action + "?)";
                 clips.push_back({motion, name, acts.firstFrame(i), last, {}});
             }
         }
         if (clips.empty())
-            return makeError(a.inputs[0] + ": no actions to show" + (a.action.empty() ? "" : " named or annotated '" + a.action + "'"));
+            return makeError(a.inputs[0] + ": no actions to show" + (a.action.empty() ? "" : " named, annotated or proposed '" + a.action + "'"));
     } else {
         auto opts = toLoadOptions(a.flags);
         if (!opts) return opts.error();
@@ -559,7 +563,7 @@ void registerRender(CLI::App& app) {
     cmd->add_flag("--contact-sheet", a->contactSheet, "One grid image per frame: a cell per motion file, or per action of a project");
     cmd->add_option("--columns", a->columns, "Contact sheet columns (default: about square)");
     cmd->add_option("--max-cells", a->maxCells, "Contact sheet: at most this many cells")->capture_default_str();
-    cmd->add_option("--action", a->action, "Contact sheet of a project: only actions with this name or annotation");
+    cmd->add_option("--action", a->action, "Contact sheet of a project: only actions with this name, annotation or proposal (marked 'WORD?')");
     cmd->add_option("--yaw", a->yawDeg, "Camera heading in degrees (0: looking along -Z)")
         ->capture_default_str()
         ->check(finiteRange(-3600, 3600));

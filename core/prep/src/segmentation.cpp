@@ -87,6 +87,7 @@ SegmentationResult segment(const MotionSignals& signals, const FootContacts& con
     const int apex = framesOf(params.attackApexSeconds, fps);
     const double prominence = params.basinProminence * r.threshold;
     auto acc = [&](int f) { return double(r.smoothed[static_cast<std::size_t>(f)]); };
+    auto resting = [&](int f) { return acc(f) <= restLevel; };
     auto quiet = [&](int f) { return r.highAccel[static_cast<std::size_t>(f)] == 0; };
     // Standing pelvis height: the 90th percentile over the take.
     double standing = 0.0;
@@ -107,7 +108,7 @@ SegmentationResult segment(const MotionSignals& signals, const FootContacts& con
         for (int f = a; f <= b; ++f) {
             if (acc(f) < acc(at)) at = f;
         }
-        const double level = acc(at) + params.onsetFraction * std::max(0.0, peak - acc(at));
+        const double level = acc(at) + std::min(params.onsetFraction * std::max(0.0, peak - acc(at)), params.onsetCapFraction * r.threshold);
         while (at < b && acc(at + 1) <= level) ++at;
         return at;
     };
@@ -134,7 +135,7 @@ SegmentationResult segment(const MotionSignals& signals, const FootContacts& con
                    // Rests; a long one is an idle of its own, starting after
                    // the recovery beat of the action that came to rest.
                    int restFrames = 0, restEnd = -1;
-                   forEachRun(last - first + 1, [&](int i) { return acc(first + i) <= restLevel; },
+                   forEachRun(last - first + 1, [&](int i) { return resting(first + i); },
                               [&](int a, int b) {
                                   if (b - a + 1 < minRest) return;
                                   restFrames = std::max(restFrames, b - a + 1);

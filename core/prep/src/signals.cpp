@@ -114,6 +114,16 @@ Result<MotionSignals> computeSignals(const Motion& motion, const StandardJoints&
                                                       at(f, joints.rightHand).y - pelvis.y};
         }
     }
+    // Body height.
+    {
+        const double floorY = std::min(s.ankleFloor[0], s.ankleFloor[1]);
+        if (joints.head >= 0) {
+            s.bodyHeight = double(percentile(heights(joints.head), 0.9)) - floorY;
+        } else if (joints.pelvis >= 0) {
+            s.bodyHeight = 1.9 * (double(percentile(heights(joints.pelvis), 0.9)) - floorY);
+        }
+        if (!(s.bodyHeight > 1e-6) || !std::isfinite(s.bodyHeight)) s.bodyHeight = 1.7;
+    }
     return s;
 }
 

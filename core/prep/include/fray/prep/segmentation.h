@@ -52,7 +52,10 @@ struct SegmentationParams {
     // between two punches) is split at its basins: a peak of the profile that
     // rises and falls by basinProminence x the threshold separates two basins,
     // and each basin is cut where the profile rises out of it (onsetFraction of
-    // the way from the basin's floor to the next peak, looked for up to
+    // the way from the basin's floor to the next peak, but no more than
+    // onsetCapFraction x the threshold above the floor: a real attack's peak
+    // is tens of times the threshold, and a share of it lands the cut deep in
+    // the attack's wind-up; looked for up to
     // onsetWindowSeconds past the phase). A split cut lies at least
     // attackApexSeconds after an attack (the still apex of a punch is no
     // boundary) and is not taken while the pelvis is below groundedFraction of
@@ -60,6 +63,7 @@ struct SegmentationParams {
     // basinProminence 0 disables the split.
     double basinProminence = 0.1;
     double onsetFraction = 0.2;
+    double onsetCapFraction = 0.1;
     double onsetWindowSeconds = 0.3;
     double attackApexSeconds = 0.2;
     double groundedFraction = 0.6;

@@ -36,6 +36,11 @@ struct MotionSignals {
     // uses it to prefer cuts at recurring postures. Empty when the skeleton
     // lacks a head or hands.
     std::vector<std::array<float, 5>> posture;
+    // Size of the performer (m): the standing head height above the floor
+    // (90th percentile of the head's height over the take; without a head,
+    // 1.9 x the pelvis height). Speeds "in body heights per second" divide by
+    // it, so thresholds carry over between skeletons, units and performers.
+    double bodyHeight = 1.7;
 };
 
 // Computes the signals. Fails when the feet cannot be identified or the

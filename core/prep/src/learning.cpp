@@ -1,0 +1,117 @@
+#include "fray/prep/learning.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace fray::prep {
+namespace {
+
+bool confirmed(const ActionInfo& a) { return !a.name.empty() || !a.annotations.empty(); }
+
+// Runs of consecutive confirmed actions as [first action, last action].
+std::vector<std::pair<int, int>> confirmedRuns(const MotionActions& doc) {
+    std::vector<std::pair<int, int>> runs;
+    for (int a = 0; a < doc.actionCount(); ++a) {
+        if (!confirmed(doc.actions[static_cast<std::size_t>(a)])) continue;
+        if (!runs.empty() && runs.back().second == a - 1) {
+            runs.back().second = a;
+        } else {
+            runs.emplace_back(a, a);
+        }
+    }
+    return runs;
+}
+
+}  // namespace
+
+std::vector<SegmentationExample> confirmedExamples(const MotionActions& doc, const MotionSignals& signals,
+                                                   const FootContacts& contacts) {
+    std::vector<SegmentationExample> out;
+    for (const auto& [a, b] : confirmedRuns(doc)) {
+        SegmentationExample e;
+        e.signals = &signals;
+        e.contacts = &contacts;
+        e.first = doc.firstFrame(a);
+        e.last = doc.lastFrame(b);
+        for (int c : doc.cuts) {
+            if (c >= e.first && c <= e.last + 1) e.cuts.push_back(c);
+        }
+        out.push_back(std::move(e));
+    }
+    return out;
+}
+
+RefitReport refitSegmentation(const std::vector<SegmentationExample>& examples, const SegmentationParams& base) {
+    RefitReport report;
+    report.params = base;
+    report.examples = static_cast<int>(examples.size());
+    // Segment each motion once per candidate (examples of one motion share it).
+    auto score = [&](const SegmentationParams& p) {
+        BoundaryScore total;
+        const MotionSignals* lastSignals = nullptr;
+        std::vector<int> cuts;
+        for (const auto& e : examples) {
+            if (!e.signals || !e.contacts) continue;
+            if (e.signals != lastSignals) {
+                cuts = segment(*e.signals, *e.contacts, p).cuts;
+                lastSignals = e.signals;
+            }
+            std::vector<int> predicted, actual;
+            for (int c : cuts) {
+                if (c >= e.first && c <= e.last + 1) predicted.push_back(c);
+            }
+            for (int c : e.cuts) actual.push_back(c);
+            total += scoreBoundaries(predicted, actual, static_cast<int>(std::lround(0.1 * e.signals->fps)));
+        }
+        return total;
+    };
+    for (const auto& e : examples) report.trueCuts += static_cast<int>(e.cuts.size());
+    report.before = score(base);
+    report.after = report.before;
+    if (report.trueCuts == 0) return report;
+    const double factors[] = {0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 4.0};
+    const double prominences[] = {0.0, 0.05, 0.1, 0.2, 0.4};
+    const double caps[] = {0.03, 0.1, 0.3, 1e9};
+    for (double f : factors) {
+        for (double pr : prominences) {
+            for (double cap : caps) {
+                SegmentationParams p = base;
+                p.thresholdFactor = base.thresholdFactor * f;
+                if (base.highAccelThreshold) p.highAccelThreshold = *base.highAccelThreshold * f;
+                p.basinProminence = pr;
+                p.onsetCapFraction = cap;
+                ++report.tried;
+                const BoundaryScore s = score(p);
+                if (s.f1() > report.after.f1() + 1e-9) {
+                    report.after = s;
+                    report.params = p;
+                }
+            }
+        }
+    }
+    return report;
+}
+
+std::vector<int> mergeWithConfirmed(const MotionActions& doc, const std::vector<int>& automatic) {
+    const auto runs = confirmedRuns(doc);
+    std::vector<std::pair<int, int>> spans;  // frames, inclusive
+    for (const auto& [a, b] : runs) spans.emplace_back(doc.firstFrame(a), doc.lastFrame(b));
+    auto inside = [&](int frame) {
+        for (const auto& [first, last] : spans) {
+            if (frame >= first && frame <= last + 1) return true;
+        }
+        return false;
+    };
+    std::vector<int> out;
+    for (int c : doc.cuts) {
+        if (inside(c)) out.push_back(c);
+    }
+    for (int c : automatic) {
+        if (!inside(c)) out.push_back(c);
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+}
+
+}  // namespace fray::prep
