@@ -19,6 +19,7 @@
 #include <QTimer>
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <chrono>
 #include <memory>
 #include <optional>
@@ -62,8 +63,10 @@ namespace fray::editor {
 inline constexpr int kRoleMotion = Qt::UserRole + 1;
 inline constexpr int kRoleAction = Qt::UserRole + 2;
 
+class GanttView;
 class InspectorPanel;
 class Viewport;
+struct GeneratedScene;
 class GraphView;
 class TimelineView;
 
@@ -78,6 +81,7 @@ struct EditorOptions {
     enum class Recovery { Ask, Recover, Discard } recovery = Recovery::Ask;
     int autosaveSeconds = -1;       // -1: the setting (default 2 minutes); 0: off
     bool noDialogs = false;         // errors go to the status bar and stderr only (tests)
+    QString generateSpec;           // a scene spec generated once the window is up (--generate)
 };
 
 class MainWindow : public QMainWindow {
@@ -107,6 +111,23 @@ public:
     void importMotionFiles(const QStringList& files);
     // The last error shown to the user (dialog or status bar).
     const QString& lastError() const { return lastError_; }
+
+    // ---- Generate and preview (window_scene.cpp)
+    // The scene specs offered by the Scene panel (the demo specs, files opened).
+    QStringList sceneSources() const;
+    // Selects a spec file (adding it to the list when new); false when unreadable.
+    bool selectSceneSource(const QString& specFile);
+    // Plans or composes the selected spec in the background; the result plays.
+    void generate();
+    // The scene playing (null: none); whether it is a generated preview.
+    const cli::SceneStage* scene() const { return scene_.get(); }
+    bool busy() const { return jobThread_ != nullptr; }
+    double playTime() const { return time_; }
+    int selectedCharacter() const { return selected_; }
+    // Ends a generated preview: the viewport plays the library's motions again.
+    void stopPreview();
+    // Writes the scene playing in the background (the Export dialog's work).
+    void exportScene(const QString& format, double fps, const QString& dir, const QString& name);
 
 protected:
     void closeEvent(QCloseEvent* event) override;
@@ -169,6 +190,18 @@ private:
     void finish();
     void fail(const QString& message);
 
+    // Background jobs other than the analysis (generate, export, patches):
+    // one at a time, with the status bar's progress and Cancel. `work` runs on
+    // a worker thread; `done` on the UI thread after it.
+    bool startJob(const QString& what, std::function<void(const ProgressFn&)> work, std::function<void()> done);
+    void jobFinished();
+    void updateBusy();
+    void buildSceneDocks();
+    void buildSceneMenu();
+    void showGenerated(GeneratedScene generated);
+    void ganttBarClicked(int row, int bar);
+    void exportDialog();
+
     Viewport* viewport_;
     QWidget* viewportContainer_;
     std::vector<app::LoadedTake> takes_;
@@ -230,6 +263,28 @@ private:
     QDoubleSpinBox* graphThreshold_ = nullptr;
     QProgressBar* progress_ = nullptr;
     QPushButton* cancelButton_ = nullptr;
+
+    // Generate and preview.
+    QThread* jobThread_ = nullptr;
+    QString jobName_;
+    std::function<void()> jobDone_;
+    std::atomic<bool> jobCancel_{false};
+    bool sceneIsPreview_ = false;     // scene_ was generated here (the library still lists motions)
+    QDockWidget* sceneDock_ = nullptr;
+    QDockWidget* ganttDock_ = nullptr;
+    QDockWidget* metricsDock_ = nullptr;
+    QComboBox* sceneSource_ = nullptr;
+    QPushButton* generateButton_ = nullptr;
+    QLabel* sceneInfo_ = nullptr;
+    GanttView* gantt_ = nullptr;
+    QLabel* metricsSummary_ = nullptr;
+    QTableView* metrics_ = nullptr;
+    QStandardItemModel* metricsModel_ = nullptr;
+    QAction* generateAction_ = nullptr;
+    QAction* exportAction_ = nullptr;
+    QAction* stopPreviewAction_ = nullptr;
+    double lastGenerateSeconds_ = 0;
+    int sceneShownAtFrame_ = 0;       // viewport frames presented when the generated scene began playing  // wall clock of the last generate, request to result shown
 
     QToolButton* playButton_;
     QSlider* scrub_;

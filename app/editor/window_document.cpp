@@ -41,6 +41,7 @@
 #include "fray/prep/segmentation.h"
 #include "fray/prep/annotations.h"
 #include "fray/prep/motion_graph.h"
+#include "gantt_view.h"
 #include "graph_view.h"
 #include "inspector_panel.h"
 #include "main_window.h"
@@ -515,7 +516,7 @@ void MainWindow::fillLibrary() {
     // Refilling never changes what is selected: the current motion (or action) stays selected.
     const QSignalBlocker quiet(library_);
     library_->clear();
-    if (scene_) {
+    if (scene_ && !sceneIsPreview_) {
         for (int c = 0; c < scene_->characterCount(); ++c) {
             const glm::vec3 tint = scene_->tint(c);
             QPixmap swatch(12, 12);
@@ -580,7 +581,14 @@ void MainWindow::filterLibrary(const QString& text) {
 
 void MainWindow::librarySelectionChanged() {
     const auto rows = library_->selectedItems();
-    if (scene_) {
+    if (scene_ && sceneIsPreview_ && !rows.empty() && !jobThread_) {
+        // Picking a motion ends the preview of a generated scene.
+        scene_.reset();
+        sceneIsPreview_ = false;
+        selected_ = -1;
+        gantt_->setData({});
+    }
+    if (scene_ && !sceneIsPreview_) {
         // Selecting a character highlights it; the time keeps running.
         selected_ = rows.empty() ? -1 : rows.front()->data(0, kRoleMotion).toInt();
         return;

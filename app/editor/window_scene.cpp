@@ -1,0 +1,464 @@
+// MainWindow: generate and preview (issue 23). The Scene panel picks a scene
+// spec and generates it in the background (progress and Cancel in the status
+// bar); the result plays in the viewport, its action track shows in the Gantt
+// panel below it and its `fray-cli metrics` figures in the Metrics panel.
+// File > Export scene writes the scene playing, in the background too.
+#include <QApplication>
+#include <QComboBox>
+#include <QCoreApplication>
+#include <QDialog>
+#include <QDialogButtonBox>
+#include <QDir>
+#include <QDockWidget>
+#include <QDoubleSpinBox>
+#include <QElapsedTimer>
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QFormLayout>
+#include <QHBoxLayout>
+#include <QHeaderView>
+#include <QLabel>
+#include <QLineEdit>
+#include <QMenuBar>
+#include <QProgressBar>
+#include <QPushButton>
+#include <QSlider>
+#include <QStandardItemModel>
+#include <QStatusBar>
+#include <QTableView>
+#include <QThread>
+#include <QToolButton>
+#include <QTreeWidget>
+#include <QVBoxLayout>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "fray/authoring/project_document.h"
+#include "fray/export/export.h"
+#include "gantt_view.h"
+#include "main_window.h"
+#include "scene_generation.h"
+#include "viewport.h"
+
+namespace fray::editor {
+
+namespace {
+
+QString qs(const std::string& s) { return QString::fromStdString(s); }
+
+// Where the demo scene specs are: the source tree's resources/demo (a build
+// runs from the tree), else beside the executable.
+QString demoSpecDir() {
+#ifdef FRAY_DEMO_SPEC_DIR
+    if (QFileInfo(FRAY_DEMO_SPEC_DIR).isDir()) return FRAY_DEMO_SPEC_DIR;
+#endif
+    const QString beside = QCoreApplication::applicationDirPath() + "/../../resources/demo";
+    return QFileInfo(beside).isDir() ? QFileInfo(beside).canonicalFilePath() : QString();
+}
+
+constexpr int kRoleSpecFile = Qt::UserRole + 10;
+
+}  // namespace
+
+void MainWindow::buildSceneDocks() {
+    // Scene: which spec to generate.
+    auto* panel = new QWidget;
+    panel->setObjectName("scenePanel");
+    auto* layout = new QVBoxLayout(panel);
+    layout->setContentsMargins(2, 2, 2, 2);
+    sceneSource_ = new QComboBox;
+    sceneSource_->setObjectName("sceneSource");
+    sceneSource_->setToolTip("The scene to generate: a demo spec (resources/demo) or a spec file you opened");
+    const QString dir = demoSpecDir();
+    if (!dir.isEmpty()) {
+        const QStringList specs = QDir(dir).entryList({"*.json"}, QDir::Files, QDir::Name);
+        for (const QString& f : specs) {
+            const QString path = QDir(dir).filePath(f);
+            sceneSource_->addItem("demo: " + QFileInfo(f).completeBaseName(), path);
+        }
+    }
+    auto* open = new QPushButton("Open spec...");
+    open->setObjectName("sceneOpenSpec");
+    connect(open, &QPushButton::clicked, this, [this] {
+        const QString f = QFileDialog::getOpenFileName(this, "Scene spec", demoSpecDir(), "Scene specs (*.json)");
+        if (!f.isEmpty()) selectSceneSource(f);
+    });
+    generateButton_ = new QPushButton("Generate");
+    generateButton_->setObjectName("sceneGenerate");
+    generateButton_->setToolTip("Plan (tree expansion) or compose (Interaction Patches) the scene in the background and play it (F5)");
+    connect(generateButton_, &QPushButton::clicked, this, &MainWindow::generate);
+    auto* row = new QHBoxLayout;
+    row->addWidget(sceneSource_, 1);
+    row->addWidget(open);
+    layout->addLayout(row);
+    auto* row2 = new QHBoxLayout;
+    row2->addWidget(generateButton_);
+    auto* stop = new QPushButton("Stop preview");
+    stop->setObjectName("sceneStopPreview");
+    connect(stop, &QPushButton::clicked, this, &MainWindow::stopPreview);
+    row2->addWidget(stop);
+    row2->addStretch(1);
+    layout->addLayout(row2);
+    sceneInfo_ = new QLabel("Pick a scene and Generate: it plays in the viewport, its action track below it.");
+    sceneInfo_->setObjectName("sceneInfo");
+    sceneInfo_->setWordWrap(true);
+    layout->addWidget(sceneInfo_);
+    layout->addStretch(1);
+    sceneDock_ = new QDockWidget("Scene", this);
+    sceneDock_->setObjectName("SceneDock");
+    sceneDock_->setWidget(panel);
+    addDockWidget(Qt::LeftDockWidgetArea, sceneDock_);
+    splitDockWidget(libraryDock_, sceneDock_, Qt::Vertical);
+
+    // Gantt (made in buildDocks, above the timeline): the action track of the scene playing.
+    connect(gantt_, &GanttView::barClicked, this, &MainWindow::ganttBarClicked);
+    connect(gantt_, &GanttView::seekRequested, this, [this](double t) {
+        if (!scene_) return;
+        time_ = std::clamp(t, 0.0, scene_->duration());
+        gantt_->setTime(time_);
+        if (playing_) togglePlay();
+        showTime();
+    });
+
+    // Metrics of the scene playing (`fray-cli metrics`).
+    auto* metricsPanel = new QWidget;
+    metricsPanel->setObjectName("metricsPanel");
+    auto* ml = new QVBoxLayout(metricsPanel);
+    ml->setContentsMargins(2, 2, 2, 2);
+    metricsSummary_ = new QLabel("No scene generated yet.");
+    metricsSummary_->setObjectName("metricsSummary");
+    metricsSummary_->setWordWrap(true);
+    metricsModel_ = new QStandardItemModel(0, 0, this);
+    metrics_ = new QTableView;
+    metrics_->setObjectName("metrics");
+    metrics_->setModel(metricsModel_);
+    metrics_->setSortingEnabled(true);
+    metrics_->verticalHeader()->hide();
+    metrics_->setEditTriggers(QAbstractItemView::NoEditTriggers);
+    metrics_->setSelectionBehavior(QAbstractItemView::SelectRows);
+    ml->addWidget(metricsSummary_);
+    ml->addWidget(metrics_, 1);
+    metricsDock_ = new QDockWidget("Metrics", this);
+    metricsDock_->setObjectName("MetricsDock");
+    metricsDock_->setWidget(metricsPanel);
+    addDockWidget(Qt::RightDockWidgetArea, metricsDock_);
+    tabifyDockWidget(historyDock_, metricsDock_);
+    inspectorDock_->raise();
+    resizeDocks({ganttDock_, timelineDock_}, {130, 200}, Qt::Vertical);
+    resizeDocks({libraryDock_, sceneDock_}, {480, 170}, Qt::Vertical);
+}
+
+void MainWindow::buildSceneMenu() {
+    QMenu* menu = menuBar()->addMenu("&Scene");
+    menu->setObjectName("SceneMenu");
+    generateAction_ = menu->addAction("&Generate", this, &MainWindow::generate);
+    generateAction_->setObjectName("actionGenerate");
+    generateAction_->setShortcut(Qt::Key_F5);
+    QAction* open = menu->addAction("&Open scene spec...", this, [this] {
+        const QString f = QFileDialog::getOpenFileName(this, "Scene spec", demoSpecDir(), "Scene specs (*.json)");
+        if (!f.isEmpty()) selectSceneSource(f);
+    });
+    open->setObjectName("actionOpenSpec");
+    stopPreviewAction_ = menu->addAction("&Stop preview", this, &MainWindow::stopPreview);
+    stopPreviewAction_->setObjectName("actionStopPreview");
+    menu->addSeparator();
+    exportAction_ = menu->addAction("&Export scene...", this, &MainWindow::exportDialog);
+    exportAction_->setObjectName("actionExportScene");
+    exportAction_->setShortcut(QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_E));
+}
+
+QStringList MainWindow::sceneSources() const {
+    QStringList out;
+    for (int i = 0; i < sceneSource_->count(); ++i) out << sceneSource_->itemData(i).toString();
+    return out;
+}
+
+bool MainWindow::selectSceneSource(const QString& specFile) {
+    const QFileInfo info(specFile);
+    if (!info.isFile() || !info.isReadable()) {
+        showError("Scene spec", specFile + ": cannot read the file");
+        return false;
+    }
+    const QString path = info.absoluteFilePath();
+    int index = -1;
+    for (int i = 0; i < sceneSource_->count(); ++i)
+        if (QFileInfo(sceneSource_->itemData(i).toString()).absoluteFilePath() == path) index = i;
+    if (index < 0) {
+        sceneSource_->addItem(info.fileName(), path);
+        index = sceneSource_->count() - 1;
+    }
+    sceneSource_->setCurrentIndex(index);
+    return true;
+}
+
+// ---- background jobs
+
+bool MainWindow::startJob(const QString& what, std::function<void(const ProgressFn&)> work, std::function<void()> done) {
+    if (jobThread_) {
+        statusBar()->showMessage(QString("%1 is running: wait for it or Cancel it first").arg(jobName_), 8000);
+        return false;
+    }
+    jobCancel_ = false;
+    jobName_ = what;
+    jobDone_ = std::move(done);
+    progress_->setValue(0);
+    progress_->setFormat(what + " %p%");
+    progress_->show();
+    cancelButton_->show();
+    auto posted = std::make_shared<std::atomic<double>>(-1.0);
+    ProgressFn progress = [this, posted](double f, std::string_view stage) {
+        if (f - posted->load() >= 0.005 || f >= 1.0 || f < posted->load()) {
+            posted->store(f);
+            const QString name = QString::fromUtf8(stage.data(), static_cast<int>(stage.size()));
+            QMetaObject::invokeMethod(this, [this, f, name] { analysisProgress(f, name); }, Qt::QueuedConnection);
+        }
+        return !jobCancel_.load();
+    };
+    jobThread_ = QThread::create([work = std::move(work), progress] { work(progress); });
+    connect(jobThread_, &QThread::finished, this, &MainWindow::jobFinished);
+    jobThread_->start(QThread::LowPriority);
+    updateBusy();
+    return true;
+}
+
+void MainWindow::jobFinished() {
+    jobThread_->deleteLater();
+    jobThread_ = nullptr;
+    auto done = std::move(jobDone_);
+    jobDone_ = nullptr;
+    updateBusy();
+    if (done) done();
+}
+
+void MainWindow::updateBusy() {
+    const bool any = jobThread_ || analysisThread_;
+    progress_->setVisible(any);
+    cancelButton_->setVisible(any);
+    if (generateButton_) generateButton_->setEnabled(!jobThread_);
+    if (generateAction_) generateAction_->setEnabled(!jobThread_);
+}
+
+// ---- generate
+
+void MainWindow::generate() {
+    if (!doc_) {
+        showError("Generate", "Open a project first: scenes are planned on a project's actions (File > Open)");
+        return;
+    }
+    const QString specFile = sceneSource_->currentData().toString();
+    if (specFile.isEmpty()) {
+        showError("Generate", "Pick a scene spec first (Scene > Open scene spec)");
+        return;
+    }
+    std::ifstream in(specFile.toStdString(), std::ios::binary);
+    if (!in) {
+        showError("Generate", specFile + ": cannot read the file");
+        return;
+    }
+    std::stringstream text;
+    text << in.rdbuf();
+    auto input = std::make_shared<GenerateInput>();
+    input->projectFile = projectFile_.toStdString();
+    input->project = doc_->project();
+    input->specText = text.str();
+    input->specName = QFileInfo(specFile).fileName().toStdString();
+    input->specDir = QFileInfo(specFile).absolutePath().toStdString();
+    auto result = std::make_shared<std::optional<Result<GeneratedScene>>>();
+    auto clock = std::make_shared<QElapsedTimer>();
+    clock->start();
+    sceneInfo_->setText("Generating " + QFileInfo(specFile).fileName() + "...");
+    startJob(
+        "generating " + QFileInfo(specFile).completeBaseName(),
+        [input, result](const ProgressFn& progress) { result->emplace(generateScene(*input, progress)); },
+        [this, result, clock, specFile] {
+            if (!*result || !**result) {
+                const bool wasCancelled = *result && (*result)->error().isCancelled();
+                const QString why = *result ? qs((*result)->error().message) : QString("no result");
+                sceneInfo_->setText(wasCancelled ? "Generating cancelled." : "Generating failed: " + why);
+                if (wasCancelled) statusBar()->showMessage("Generating cancelled", 8000);
+                else showError("Generate", why);
+                if (options_.quitAfter > 0 && !options_.generateSpec.isEmpty()) fail("generate: " + why);
+                return;
+            }
+            showGenerated(std::move((*result)->value()));
+            lastGenerateSeconds_ = static_cast<double>(clock->elapsed()) / 1000.0;
+            std::printf("fray: generated %s in %.2f s\n", QFileInfo(specFile).fileName().toUtf8().constData(), lastGenerateSeconds_);
+            std::fflush(stdout);
+        });
+}
+
+void MainWindow::showGenerated(GeneratedScene generated) {
+    const QString summary = generated.summary;
+    const sim::SceneMetrics metrics = generated.metrics;
+    scene_ = std::make_unique<cli::SceneStage>(std::move(generated.loaded));
+    sceneIsPreview_ = true;
+    sceneShownAtFrame_ = viewport_ ? viewport_->framesPresented() : 0;
+    selected_ = -1;
+    time_ = 0.0;
+    scrub_->blockSignals(true);
+    scrub_->setRange(0, std::max(0, static_cast<int>(std::ceil(scene_->duration() * kSceneSteps))));
+    scrub_->setValue(0);
+    scrub_->blockSignals(false);
+    if (!playing_) togglePlay();
+    gantt_->setData(ganttFromScene(scene_->scene(), scene_->library(), [this](int c) {
+        const glm::vec3 t = scene_->tint(c);
+        return QColor::fromRgbF(t.x, t.y, t.z);
+    }));
+    gantt_->setTime(0.0);
+    gantt_->setSelectedRow(-1);
+    ganttDock_->show();
+    ganttDock_->raise();
+    // Metrics.
+    metricsModel_->clear();
+    metricsModel_->setHorizontalHeaderLabels(metricsHeader());
+    for (const QStringList& r : metricsRows(metrics)) {
+        QList<QStandardItem*> items;
+        for (int k = 0; k < r.size(); ++k) {
+            auto* item = new QStandardItem;
+            bool number = false;
+            const double v = r[k].toDouble(&number);
+            if (k > 0 && number) item->setData(v, Qt::DisplayRole);
+            else item->setText(r[k]);
+            items << item;
+        }
+        metricsModel_->appendRow(items);
+    }
+    metrics_->resizeColumnsToContents();
+    metricsSummary_->setText("Scene: " + metricsSummary(metrics));
+    sceneInfo_->setText(summary + QString(" (%1 s)").arg(generated.seconds, 0, 'f', 2));
+    statusBar()->showMessage("Generated " + summary, 15000);
+    frameAll();
+    showTime();
+}
+
+void MainWindow::stopPreview() {
+    if (!scene_ || !sceneIsPreview_) return;
+    if (jobThread_) {
+        statusBar()->showMessage(jobName_ + " is using the scene: wait for it or Cancel it first", 8000);
+        return;
+    }
+    scene_.reset();
+    sceneIsPreview_ = false;
+    selected_ = -1;
+    gantt_->setData({});
+    librarySelectionChanged();
+}
+
+void MainWindow::ganttBarClicked(int row, int bar) {
+    if (!scene_) return;
+    selected_ = row;
+    gantt_->setSelectedRow(row);
+    if (bar >= 0) {
+        const auto& track = scene_->scene().characters[static_cast<std::size_t>(row)].track;
+        if (bar < static_cast<int>(track.size())) time_ = track[static_cast<std::size_t>(bar)].start;
+        if (playing_) togglePlay();
+        gantt_->setTime(time_);
+    }
+    showTime();
+}
+
+// ---- export
+
+void MainWindow::exportScene(const QString& format, double fps, const QString& dir, const QString& name) {
+    if (!scene_) {
+        showError("Export", "There is no scene to export: generate one (Scene > Generate) or open a .frayscene");
+        return;
+    }
+    exporter::ExportOptions options;
+    const auto f = exporter::parseFormat(format.toStdString());
+    if (!f) {
+        showError("Export", "unknown format '" + format + "' (expected " + qs(std::string(exporter::kFormatNames)) + ")");
+        return;
+    }
+    options.format = *f;
+    options.outDir = dir.toStdString();
+    options.fps = fps;
+    options.name = name.toStdString();
+    options.source = "fray editor";
+    if (Status st = exporter::validateOptions(options); !st) {
+        showError("Export", qs(st.error().message));
+        return;
+    }
+    if (dir.isEmpty()) {
+        showError("Export", "Choose the folder to export into");
+        return;
+    }
+    // The worker reads the scene and the library: a copy of the scene, and
+    // no generate can replace the stage while the job runs (one job at a time).
+    const cli::SceneStage* stage = scene_.get();
+    auto report = std::make_shared<std::optional<Result<exporter::ExportReport>>>();
+    startJob(
+        "exporting " + format,
+        [stage, options, report](const ProgressFn& progress) {
+            report->emplace(exporter::exportScene(stage->scene(), stage->library(), options, progress));
+        },
+        [this, report, dir] {
+            if (!*report || !**report) {
+                const bool wasCancelled = *report && (*report)->error().isCancelled();
+                if (wasCancelled) statusBar()->showMessage("Export cancelled (files already written stay)", 8000);
+                else showError("Export", *report ? qs((*report)->error().message) : QString("no result"));
+                return;
+            }
+            const auto& r = ***report;
+            QString msg = QString("Exported %1 files (%2 frames) to %3").arg(r.files.size()).arg(r.frames).arg(dir);
+            for (const std::string& n : r.notes) msg += "; " + qs(n);
+            statusBar()->showMessage(msg, 15000);
+            std::printf("fray: %s\n", msg.toUtf8().constData());
+            std::fflush(stdout);
+        });
+}
+
+void MainWindow::exportDialog() {
+    if (!scene_) {
+        showError("Export", "There is no scene to export: generate one (Scene > Generate) or open a .frayscene");
+        return;
+    }
+    QDialog dialog(this);
+    dialog.setObjectName("exportDialog");
+    dialog.setWindowTitle("Export scene");
+    auto* form = new QFormLayout(&dialog);
+    auto* format = new QComboBox;
+    format->setObjectName("exportFormat");
+    format->addItem("glTF 2.0 (.gltf, one file, buffer embedded)", "gltf");
+    format->addItem("GLB (binary glTF)", "glb");
+    format->addItem("BVH (one file per character)", "bvh");
+    format->addItem("FBX (binary, centimetres)", "fbx");
+    auto* fps = new QDoubleSpinBox;
+    fps->setObjectName("exportFps");
+    fps->setRange(1, 1000);
+    fps->setValue(30);
+    fps->setSuffix(" fps");
+    auto* dir = new QLineEdit(QFileInfo(projectFile_).absolutePath() + "/export");
+    dir->setObjectName("exportDir");
+    auto* browse = new QPushButton("...");
+    connect(browse, &QPushButton::clicked, &dialog, [&dialog, dir] {
+        const QString d = QFileDialog::getExistingDirectory(&dialog, "Export folder", dir->text());
+        if (!d.isEmpty()) dir->setText(d);
+    });
+    auto* dirRow = new QHBoxLayout;
+    dirRow->addWidget(dir, 1);
+    dirRow->addWidget(browse);
+    auto* name = new QLineEdit(sceneSource_->currentIndex() >= 0
+                                   ? qs(exporter::fileSafeName(QFileInfo(sceneSource_->currentData().toString()).completeBaseName().toStdString()))
+                                   : QString("scene"));
+    name->setObjectName("exportName");
+    form->addRow("Format", format);
+    form->addRow("Frame rate", fps);
+    form->addRow("Folder", dirRow);
+    form->addRow("File name", name);
+    auto* note = new QLabel("Characters are written as capsule bodies on their skeletons (docs/EXPORT.md); binding a "
+                            "rig is for the viewport only (fray --rig), the exporters take none yet.");
+    note->setWordWrap(true);
+    form->addRow(note);
+    auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel);
+    buttons->button(QDialogButtonBox::Ok)->setText("Export");
+    form->addRow(buttons);
+    connect(buttons, &QDialogButtonBox::accepted, &dialog, &QDialog::accept);
+    connect(buttons, &QDialogButtonBox::rejected, &dialog, &QDialog::reject);
+    if (dialog.exec() != QDialog::Accepted) return;
+    exportScene(format->currentData().toString(), fps->value(), dir->text(), name->text());
+}
+
+}  // namespace fray::editor
