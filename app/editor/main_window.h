@@ -66,7 +66,7 @@ inline constexpr int kRoleAction = Qt::UserRole + 2;
 class GanttView;
 class InspectorPanel;
 class Viewport;
-struct GeneratedScene;
+struct PreparedPreview;
 class GraphView;
 class TimelineView;
 
@@ -198,7 +198,7 @@ private:
     void updateBusy();
     void buildSceneDocks();
     void buildSceneMenu();
-    void showGenerated(GeneratedScene generated);
+    void showGenerated(PreparedPreview generated);
     void ganttBarClicked(int row, int bar);
     void exportDialog();
 

@@ -23,6 +23,7 @@
 #include "fray/sim/patches.h"
 #include "fray/sim/scene.h"
 #include "gantt_view.h"
+#include "scene_stage.h"
 
 namespace fray::editor {
 
@@ -52,6 +53,15 @@ struct GeneratedScene {
     std::shared_ptr<const sim::PatchLibrary> patches;  // the library composed from (may be generated here)
     QString summary;                                  // one line for the status bar
     double seconds = 0;                               // planning or composing, wall clock
+};
+
+// A generated scene as the window shows it, prepared in the worker thread:
+// the posed stage, the Gantt rows, the metrics.
+struct PreparedPreview {
+    std::unique_ptr<cli::SceneStage> stage;
+    GanttData gantt;
+    sim::SceneMetrics metrics;
+    QString summary;
 };
 
 // True when the spec text is a compose spec (it has a "kind").

@@ -266,13 +266,28 @@ void MainWindow::generate() {
     input->specName = QFileInfo(specFile).fileName().toStdString();
     input->specDir = QFileInfo(specFile).absolutePath().toStdString();
     auto result = std::make_shared<std::optional<Result<GeneratedScene>>>();
+    auto shown = std::make_shared<PreparedPreview>();
     auto clock = std::make_shared<QElapsedTimer>();
     clock->start();
     sceneInfo_->setText("Generating " + QFileInfo(specFile).fileName() + "...");
     startJob(
         "generating " + QFileInfo(specFile).completeBaseName(),
-        [input, result](const ProgressFn& progress) { result->emplace(generateScene(*input, progress)); },
-        [this, result, clock, specFile] {
+        [input, result, shown](const ProgressFn& progress) {
+            result->emplace(generateScene(*input, progress));
+            // What the UI thread shows, prepared here: the posed stage and the track.
+            if (*result && **result) {
+                GeneratedScene& g = (*result)->value();
+                shown->summary = g.summary + QString(" (%1 s)").arg(g.seconds, 0, 'f', 2);
+                shown->metrics = g.metrics;
+                shown->stage = std::make_unique<cli::SceneStage>(std::move(g.loaded));
+                const cli::SceneStage& stage = *shown->stage;
+                shown->gantt = ganttFromScene(stage.scene(), stage.library(), [&stage](int c) {
+                    const glm::vec3 t = stage.tint(c);
+                    return QColor::fromRgbF(t.x, t.y, t.z);
+                });
+            }
+        },
+        [this, result, clock, specFile, shown] {
             if (!*result || !**result) {
                 const bool wasCancelled = *result && (*result)->error().isCancelled();
                 const QString why = *result ? qs((*result)->error().message) : QString("no result");
@@ -282,17 +297,17 @@ void MainWindow::generate() {
                 if (options_.quitAfter > 0 && !options_.generateSpec.isEmpty()) fail("generate: " + why);
                 return;
             }
-            showGenerated(std::move((*result)->value()));
+            showGenerated(std::move(*shown));
             lastGenerateSeconds_ = static_cast<double>(clock->elapsed()) / 1000.0;
             std::printf("fray: generated %s in %.2f s\n", QFileInfo(specFile).fileName().toUtf8().constData(), lastGenerateSeconds_);
             std::fflush(stdout);
         });
 }
 
-void MainWindow::showGenerated(GeneratedScene generated) {
+void MainWindow::showGenerated(PreparedPreview generated) {
     const QString summary = generated.summary;
-    const sim::SceneMetrics metrics = generated.metrics;
-    scene_ = std::make_unique<cli::SceneStage>(std::move(generated.loaded));
+    const sim::SceneMetrics& metrics = generated.metrics;
+    scene_ = std::move(generated.stage);
     sceneIsPreview_ = true;
     sceneShownAtFrame_ = viewport_ ? viewport_->framesPresented() : 0;
     selected_ = -1;
@@ -302,10 +317,7 @@ void MainWindow::showGenerated(GeneratedScene generated) {
     scrub_->setValue(0);
     scrub_->blockSignals(false);
     if (!playing_) togglePlay();
-    gantt_->setData(ganttFromScene(scene_->scene(), scene_->library(), [this](int c) {
-        const glm::vec3 t = scene_->tint(c);
-        return QColor::fromRgbF(t.x, t.y, t.z);
-    }));
+    gantt_->setData(std::move(generated.gantt));
     gantt_->setTime(0.0);
     gantt_->setSelectedRow(-1);
     ganttDock_->show();
@@ -327,7 +339,7 @@ void MainWindow::showGenerated(GeneratedScene generated) {
     }
     metrics_->resizeColumnsToContents();
     metricsSummary_->setText("Scene: " + metricsSummary(metrics));
-    sceneInfo_->setText(summary + QString(" (%1 s)").arg(generated.seconds, 0, 'f', 2));
+    sceneInfo_->setText(summary);
     statusBar()->showMessage("Generated " + summary, 15000);
     frameAll();
     showTime();
