@@ -1,0 +1,173 @@
+// MainWindow: the PatternList editor and the patch browser (issue 23). The
+// PatternLists are the project's (its "pattern_lists" section); patches are
+// generated from them in the background and kept in memory with the action
+// library they were made from; selecting one plays it looping in the viewport;
+// a compose spec composes from them, without the rejected ones.
+#include <QDockWidget>
+#include <QElapsedTimer>
+#include <QFileInfo>
+#include <QStatusBar>
+#include <cstdio>
+
+#include "fray/authoring/project_document.h"
+#include "gantt_view.h"
+#include "main_window.h"
+#include "patch_browser.h"
+#include "patterns_panel.h"
+#include "scene_generation.h"
+
+namespace fray::editor {
+
+namespace {
+
+QString qs(const std::string& s) { return QString::fromStdString(s); }
+
+}  // namespace
+
+void MainWindow::buildPatchDocks() {
+    patterns_ = new PatternsPanel;
+    patterns_->setObjectName("patternsPanel");
+    patternsDock_ = new QDockWidget("PatternLists", this);
+    patternsDock_->setObjectName("PatternsDock");
+    patternsDock_->setWidget(patterns_);
+    addDockWidget(Qt::RightDockWidgetArea, patternsDock_);
+    tabifyDockWidget(inspectorDock_, patternsDock_);
+
+    patchBrowser_ = new PatchBrowser;
+    patchBrowser_->setObjectName("patchBrowser");
+    patchesDock_ = new QDockWidget("Patches", this);
+    patchesDock_->setObjectName("PatchesDock");
+    patchesDock_->setWidget(patchBrowser_);
+    addDockWidget(Qt::BottomDockWidgetArea, patchesDock_);
+    tabifyDockWidget(combosDock_, patchesDock_);
+    inspectorDock_->raise();
+    timelineDock_->raise();
+
+    connect(patterns_, &PatternsPanel::editRequested, this,
+            [this](const sim::PatternSet& next, const QString& text) { applyPatternSet(next, text); });
+    connect(patterns_, &PatternsPanel::generateRequested, this, &MainWindow::generatePatches);
+    connect(patchBrowser_, &PatchBrowser::patchSelected, this, &MainWindow::previewPatch);
+    connect(patchBrowser_, &PatchBrowser::rejectRequested, this,
+            [this](const std::vector<int>& patches, bool reject) { setPatchesRejected(patches, reject); });
+}
+
+void MainWindow::fillPatterns() {
+    if (!patterns_) return;
+    if (!doc_) {
+        patterns_->setPatterns({}, {});
+        return;
+    }
+    auto set = sim::projectPatterns(doc_->project(), QFileInfo(projectFile_).fileName().toStdString());
+    if (!set) {
+        patterns_->setPatterns({}, {});
+        patterns_->setReport("The project's PatternLists cannot be read: " + qs(set.error().message));
+        return;
+    }
+    QStringList words;
+    for (const std::string& w : doc_->project().vocabulary) words << qs(w);
+    for (const char* group : {"attack", "defence", "fall", "any"})
+        if (!words.contains(group)) words << group;
+    patterns_->setPatterns(*set, words);
+    patterns_->setGenerating(jobThread_ != nullptr);
+}
+
+void MainWindow::generatePatches(const QStringList& names) {
+    if (!doc_) return;
+    auto set = sim::projectPatterns(doc_->project(), QFileInfo(projectFile_).fileName().toStdString());
+    if (!set) {
+        showError("Generate patches", qs(set.error().message));
+        return;
+    }
+    std::vector<std::string> chosen;
+    for (const QString& n : names) chosen.push_back(n.toStdString());
+    const prep::Project snapshot = doc_->project();
+    const std::filesystem::path file = projectFile_.toStdString();
+    struct Out {
+        std::optional<Result<PatchGeneration>> generated;
+        std::shared_ptr<pipeline::SimSession> session;
+    };
+    auto out = std::make_shared<Out>();
+    auto clock = std::make_shared<QElapsedTimer>();
+    clock->start();
+    patterns_->setReport("Generating patches...");
+    const bool started = startJob(
+        "generating patches",
+        [out, snapshot, file, set = *set, chosen](const ProgressFn& progress) {
+            const auto prepare = [&](double f, std::string_view s) { return progress ? progress(0.3 * f, s) : true; };
+            auto session = prepareSimSession(snapshot, file, prepare);
+            if (!session) {
+                out->generated.emplace(session.error());
+                return;
+            }
+            const auto work = [&](double f, std::string_view s) { return progress ? progress(0.3 + 0.7 * f, s) : true; };
+            out->generated.emplace(generatePatchLibrary((*session)->library, set, chosen, work));
+            out->session = std::move(*session);
+        },
+        [this, out, clock] {
+            patterns_->setGenerating(false);
+            if (!out->generated || !*out->generated) {
+                const bool wasCancelled = out->generated && out->generated->error().isCancelled();
+                const QString why = out->generated ? qs(out->generated->error().message) : QString("no result");
+                patterns_->setReport(wasCancelled ? "Generating patches cancelled." : "Generating patches failed: " + why);
+                if (!wasCancelled) showError("Generate patches", why);
+                return;
+            }
+            PatchGeneration& g = out->generated->value();
+            patchSession_ = out->session;
+            patchLibrary_ = g.library;
+            QStringList lines;
+            for (const auto& [name, stats] : g.perPattern) lines << "<b>" + qs(name).toHtmlEscaped() + "</b>: " + discardReasons(stats);
+            patterns_->setReport(lines.join("<br>") + QString("<br>%1 patches in %2 s").arg(g.library->patches.size()).arg(
+                                                          static_cast<double>(clock->elapsed()) / 1000.0, 0, 'f', 2));
+            patchBrowser_->setPatches(patchLibrary_, &patchSession_->library);
+            patchBrowser_->setRejected(rejectedPatches());
+            patchesDock_->show();
+            patchesDock_->raise();
+            statusBar()->showMessage(QString("Generated %1 patches").arg(g.library->patches.size()), 10000);
+            std::printf("fray: generated %zu patches\n", g.library->patches.size());
+            std::fflush(stdout);
+        });
+    if (started) patterns_->setGenerating(true);
+}
+
+void MainWindow::previewPatch(int patch) {
+    if (patch < 0 || !patchLibrary_ || !patchSession_ || patch >= static_cast<int>(patchLibrary_->patches.size())) return;
+    if (jobThread_) {
+        statusBar()->showMessage(jobName_ + " is running: the patch plays once it is done", 5000);
+        return;
+    }
+    const sim::Patch& p = patchLibrary_->patches[static_cast<std::size_t>(patch)];
+    // The patch as a two-character scene (its own frame: character 1 starts at
+    // the origin facing +Z); playback loops over its duration.
+    pipeline::LoadedScene loaded;
+    loaded.session = std::make_unique<pipeline::SimSession>();
+    loaded.session->library = patchSession_->library;
+    sim::Scene& scene = loaded.scene;
+    scene.duration = p.duration;
+    for (int c = 0; c < 2; ++c) {
+        sim::SceneCharacter ch;
+        ch.name = "character " + std::to_string(c + 1);
+        ch.side = c;
+        ch.group = 0;
+        ch.track = p.tracks[static_cast<std::size_t>(c)];
+        scene.characters.push_back(std::move(ch));
+    }
+    scene.hits = p.hits;
+    const QString title = QString("patch %1 (%2, score %3)")
+                              .arg(patch)
+                              .arg(qs(patchLibrary_->patterns[static_cast<std::size_t>(p.pattern)].name))
+                              .arg(p.score, 0, 'f', 2);
+    PreparedPreview preview;
+    preview.metrics = sim::computeMetrics(scene, loaded.session->library);
+    preview.stage = std::make_unique<cli::SceneStage>(std::move(loaded));
+    const cli::SceneStage& stage = *preview.stage;
+    preview.gantt = ganttFromScene(stage.scene(), stage.library(), [&stage](int c) {
+        const glm::vec3 t = stage.tint(c);
+        return QColor::fromRgbF(t.x, t.y, t.z);
+    });
+    preview.summary = title + ", looping";
+    showGenerated(std::move(preview));
+    previewedPatch_ = patch;
+}
+
+}  // namespace fray::editor
