@@ -1,5 +1,7 @@
 #include "fray/authoring/commands.h"
 
+#include <algorithm>
+
 #include "fray/prep/project_edits.h"
 
 namespace fray::authoring {
@@ -114,5 +116,55 @@ void VocabularyCommand::restore(const Words& words) {
 
 void VocabularyCommand::redo() { restore(after_); }
 void VocabularyCommand::undo() { restore(before_); }
+
+// ---- sections -----------------------------------------------------------------
+
+SectionCommand::SectionCommand(ProjectDocument* document, const QString& text, std::string section,
+                               std::optional<std::string> after, std::string key, std::vector<ChangeEvent> events,
+                               DragId drag)
+    : DocumentCommand(document, text),
+      section_(std::move(section)),
+      after_(std::move(after)),
+      key_(std::move(key)),
+      events_(std::move(events)),
+      drag_(drag) {
+    const auto& sections = project().laterSections;
+    if (const auto it = sections.find(section_); it != sections.end()) before_ = it->second;
+}
+
+void SectionCommand::redo() { set(after_); }
+void SectionCommand::undo() { set(before_); }
+
+bool SectionCommand::mergeWith(const QUndoCommand* other) {
+    const auto* next = dynamic_cast<const SectionCommand*>(other);
+    if (!next || next->drag_ != drag_ || next->key_ != key_ || next->section_ != section_) return false;
+    after_ = next->after_;
+    // Views refresh what either step named.
+    for (const auto& e : next->events_) {
+        auto same = std::find_if(events_.begin(), events_.end(), [&](const ChangeEvent& x) {
+            return x.kind == e.kind && x.setup == e.setup && x.character == e.character && x.index == e.index;
+        });
+        if (same == events_.end()) {
+            events_.push_back(e);
+        } else if (e.kind == ChangeKind::SetupFloor && !same->pixels.empty() && !e.pixels.empty()) {
+            // One stroke dragged on: the union of the changed rectangles.
+            const int x0 = std::min(same->pixels.x, e.pixels.x), y0 = std::min(same->pixels.y, e.pixels.y);
+            const int x1 = std::max(same->pixels.x + same->pixels.width, e.pixels.x + e.pixels.width);
+            const int y1 = std::max(same->pixels.y + same->pixels.height, e.pixels.y + e.pixels.height);
+            same->pixels = {x0, y0, x1 - x0, y1 - y0};
+        } else if (e.kind == ChangeKind::SetupFloor) {
+            same->pixels = {};  // all of it
+        }
+    }
+    setObsolete(after_ == before_);
+    return true;
+}
+
+void SectionCommand::set(const std::optional<std::string>& value) {
+    auto& sections = project().laterSections;
+    if (value) sections[section_] = *value;
+    else sections.erase(section_);
+    for (const auto& e : events_) notify(e);
+}
 
 }  // namespace fray::authoring

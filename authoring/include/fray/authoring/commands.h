@@ -9,6 +9,7 @@
 #include <cassert>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -24,6 +25,7 @@ namespace fray::authoring {
 enum CommandId : int {
     kChangeValueCommand = 1,
     kMoveCutCommand = 2,
+    kSectionCommand = 3,
 };
 
 class DocumentCommand : public QUndoCommand {
@@ -145,6 +147,34 @@ private:
     static Words capture(const prep::Project& project);
     void restore(const Words& words);
     Words before_, after_;
+};
+
+// Replaces one of the project's later sections ("scene": the setups,
+// "pattern_lists") with a new text, keeping the old one for undo, so undo
+// gives back the very bytes (issue 23). `key` names the edited value (e.g.
+// "setup/duel/start/red"): commands of the same key and the same non-zero
+// drag merge, and a merge that lands back on the old text drops the step.
+// Several events may be told (a rename is a removal and an addition to views
+// that key on names).
+class SectionCommand : public DocumentCommand {
+public:
+    SectionCommand(ProjectDocument* document, const QString& text, std::string section, std::optional<std::string> after,
+                   std::string key, std::vector<ChangeEvent> events, DragId drag = 0);
+    void redo() override;
+    void undo() override;
+    int id() const override { return drag_ != 0 ? kSectionCommand : -1; }
+    bool mergeWith(const QUndoCommand* other) override;
+    // The section before the first and after the last merged step (nullopt: absent).
+    const std::optional<std::string>& before() const { return before_; }
+    const std::optional<std::string>& after() const { return after_; }
+
+private:
+    void set(const std::optional<std::string>& value);
+    std::string section_;
+    std::optional<std::string> before_, after_;
+    std::string key_;
+    std::vector<ChangeEvent> events_;
+    DragId drag_;
 };
 
 }  // namespace fray::authoring

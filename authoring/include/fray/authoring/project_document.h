@@ -23,6 +23,9 @@
 #include "fray/authoring/change_event.h"
 #include "fray/core/result.h"
 #include "fray/prep/project.h"
+#include "fray/setup/paint.h"
+#include "fray/setup/scene_setup.h"
+#include "fray/sim/patterns.h"
 
 namespace fray::authoring {
 
@@ -116,6 +119,83 @@ public:
     Status setComboRecord(const prep::ComboRecord& record, DragId drag = 0);
     Status removeComboRecord(const std::string& mine, const std::string& theirs);
 
+    // ---- scene setups (issue 23; the model is fray/setup/scene_setup.h, stored
+    // in the project's "scene" section). Errors name the setup, the character
+    // or the index and change nothing; drags (DragId) merge into one step.
+    // The setups as stored now (an error when the section is damaged: it
+    // names the file and the JSON path).
+    Result<std::vector<setup::SceneSetup>> setups() const;
+    Result<setup::SceneSetup> sceneSetup(const std::string& name) const;
+    Status addSetup(setup::SceneSetup setup);                       // appended; the name must be new
+    Status addSetup(const std::string& name, setup::SetupKind kind);  // setup::makeSetup
+    Status removeSetup(const std::string& name);
+    Status renameSetup(const std::string& from, const std::string& to);
+    Status duplicateSetup(const std::string& name, const std::string& copyName);
+    // Any parameter by JSON pointer into the --spec form ("/duration",
+    // "/characters/1/preset", "/characters/0/weights/r_d"); `json` is the
+    // value as JSON text, "null" removes it. setup::setParameter's rules.
+    Status setSetupParameter(const std::string& setup, const std::string& pointer, const std::string& json, DragId drag = 0);
+    // A whole setup replaced at once (an import, a reset to defaults): one step named `text`.
+    Status replaceSetup(const std::string& name, setup::SceneSetup setup, const QString& text);
+    // Placements.
+    Status setCharacterStart(const std::string& setup, const std::string& character, const setup::Placement& start,
+                             DragId drag = 0);
+    Status moveTeam(const std::string& setup, int side, double dx, double dz, DragId drag = 0);
+    Status setDominoStarts(const std::string& setup, std::vector<setup::DominoStartPoint> starts, DragId drag = 0);
+    // Paths of compose kinds.
+    Status setRatPath(const std::string& setup, std::vector<setup::Point> path, DragId drag = 0);
+    Status setRunDirections(const std::string& setup, std::vector<setup::RunDirection> directions, DragId drag = 0);
+    Status setTimedCommands(const std::string& setup, std::vector<setup::TimedCommand> commands);
+    // Trajectories (duel and chase; one per character).
+    Status addTrajectory(const std::string& setup, setup::Trajectory trajectory);
+    Status removeTrajectory(const std::string& setup, const std::string& character);
+    Status addTrajectoryPoint(const std::string& setup, const std::string& character, int index, setup::Point point);
+    Status removeTrajectoryPoint(const std::string& setup, const std::string& character, int index);
+    Status moveTrajectoryPoint(const std::string& setup, const std::string& character, int index, setup::Point point,
+                               DragId drag = 0);
+    // Checkpoints stay in the order they are passed along the trajectory: an
+    // added one goes where it lies along it; returns its index.
+    Result<int> addCheckpoint(const std::string& setup, const std::string& character, setup::SetupCheckpoint checkpoint);
+    Status removeCheckpoint(const std::string& setup, const std::string& character, int index);
+    Status moveCheckpoint(const std::string& setup, const std::string& character, int index, setup::Point point,
+                          DragId drag = 0);
+    Status setCheckpointTime(const std::string& setup, const std::string& character, int index, std::optional<double> time,
+                             DragId drag = 0);
+    // "" clears it; otherwise "@annotation" (a word of the vocabulary) or an action name of the project.
+    Status setCheckpointAction(const std::string& setup, const std::string& character, int index, const std::string& action);
+    // The floor bitmap: one stroke is one undo step holding the pixels it
+    // changed (strokes passed the same drag merge); undo restores the bitmap
+    // bit for bit. A stroke's start time also adds a domino chain start.
+    Result<std::vector<setup::PixelChange>> paintFloor(const std::string& setup, const setup::FloorStroke& stroke,
+                                                       DragId drag = 0);
+    // A floor bitmap read from an image file (dark pixels painted); a file
+    // that is not a two-colour image is refused, naming the file.
+    Status importFloorImage(const std::string& setup, const std::filesystem::path& file, double metresPerPixel,
+                            setup::Point origin);
+    Status setFloor(const std::string& setup, std::optional<setup::FloorPaint> floor, const QString& text);
+    // Pins of edited generated interactions.
+    Status addPin(const std::string& setup, const setup::Pin& pin);
+    Status removePin(const std::string& setup, int index);
+    // Patch verdicts (indices of the project's patch library).
+    enum class Verdict { None, Keep, Reject };
+    Status setPatchVerdict(const std::string& setup, int patch, Verdict verdict);
+
+    // ---- PatternLists (SPEC 4.1; the project's "pattern_lists" section)
+    Result<sim::PatternSet> patternSet() const;
+    Status addPattern(sim::PatternList pattern);
+    Status removePattern(const std::string& name);
+    Status renamePattern(const std::string& from, const std::string& to);
+    // Rows: (character 0|1, annotation). The annotation must be carried by
+    // an action of the project (or be a group: attack, defence, fall, any).
+    Status addPatternRow(const std::string& pattern, int index, sim::PatternEntry row);
+    Status removePatternRow(const std::string& pattern, int index);
+    Status movePatternRow(const std::string& pattern, int from, int to);
+    Status setPatternRow(const std::string& pattern, int index, sim::PatternEntry row);
+    Status setPatternWeights(const std::string& pattern, sim::PatternWeights weights, DragId drag = 0);
+    Status setPatternThreshold(const std::string& pattern, double threshold, DragId drag = 0);
+    // The initial-condition ranges of an annotation (nullopt: back to the default).
+    Status setInitialRange(const std::string& annotation, std::optional<sim::InitialRange> range, DragId drag = 0);
+
 Q_SIGNALS:
     void changed(const fray::authoring::ChangeEvent& event);
     void dirtyChanged(bool dirty);
@@ -139,6 +219,19 @@ private:
                              const std::string& key, DragId drag);
     Status pushCutEdit(const std::string& motionId, Result<prep::CutEdit> edit, const QString& text, DragId drag);
     Status pushVocabulary(const prep::Project& after, const QString& text);
+
+    using SetupChange = std::function<Status(std::vector<setup::SceneSetup>&)>;
+    // Reads the setups, lets `change` edit them (or refuse), checks the
+    // result and pushes one SectionCommand when anything changed.
+    Status editSetups(const QString& text, const std::string& key, DragId drag, std::vector<ChangeEvent> events,
+                      const SetupChange& change);
+    Status editSetup(const std::string& name, const QString& text, const std::string& key, DragId drag, ChangeEvent event,
+                     const std::function<Status(setup::SceneSetup&)>& change);
+    Status editTrajectory(const std::string& name, const std::string& character, const QString& text, const std::string& key,
+                          DragId drag, const std::function<Status(setup::Trajectory&)>& change);
+    Status editPatterns(const QString& text, const std::string& key, DragId drag, const std::string& pattern,
+                        const std::function<Status(sim::PatternSet&)>& change);
+    Status checkPatternAnnotation(const std::string& annotation, const std::string& where) const;
 
     Status writeLocked(const std::filesystem::path& file, const std::string& bytes, bool checkUnchanged);
 

@@ -1,0 +1,233 @@
+// Setup <-> spec conversions (convert.h): the one place that knows how a
+// setup's fields map onto the --spec formats of simulate and compose.
+#include "fray/setup/convert.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
+#include "fray/core/atomic_file.h"
+#include "fray/prep/json_reader.h"
+
+namespace fray::setup {
+namespace {
+
+using json = nlohmann::ordered_json;
+using prep::JsonReader;
+
+void putNumber(json& slot, double v) {
+    if (slot.is_number() && slot.get<double>() == v) return;
+    if (std::floor(v) == v && std::fabs(v) < 1e15) slot = static_cast<std::int64_t>(v);
+    else slot = v;
+}
+
+double mm(double x) { return std::round(x * 1000.0) / 1000.0; }
+
+std::string what(const SceneSetup& s) { return "setup '" + s.name + "'"; }
+
+// A trajectory as the planner's checkpoint path: the shape sampled every
+// metre, the user's checkpoints inserted where they lie along it (waypoints
+// closer than 0.3 m to a checkpoint are dropped).
+Result<json> pathJson(const Trajectory& t) {
+    FRAY_TRY(line, sampleTrajectory(t, 1.0));
+    std::vector<double> along(line.size(), 0);
+    for (std::size_t i = 1; i < line.size(); ++i) along[i] = along[i - 1] + std::hypot(line[i].x - line[i - 1].x, line[i].z - line[i - 1].z);
+    struct Item {
+        double s;
+        int order;  // waypoints before checkpoints at the same place
+        json value;
+    };
+    std::vector<Item> items;
+    std::vector<double> cps;
+    for (const auto& c : t.checkpoints) {
+        const double s = trajectoryParameter(line, c.pos);
+        cps.push_back(s);
+        json j{{"x", mm(c.pos.x)}, {"z", mm(c.pos.z)}};
+        if (c.time) j["time"] = *c.time;
+        if (!c.action.empty()) j["action"] = c.action;
+        items.push_back({s, 1, j});
+    }
+    for (std::size_t i = 0; i < line.size(); ++i) {
+        const bool near = std::any_of(cps.begin(), cps.end(), [&](double s) { return std::fabs(s - along[i]) < 0.3; });
+        if (near) continue;
+        items.push_back({along[i], 0, json{{"x", mm(line[i].x)}, {"z", mm(line[i].z)}}});
+    }
+    std::stable_sort(items.begin(), items.end(), [](const Item& a, const Item& b) { return a.s < b.s || (a.s == b.s && a.order < b.order); });
+    json path = json::array();
+    for (auto& it : items) path.push_back(std::move(it.value));
+    return path;
+}
+
+}  // namespace
+
+Result<std::string> setupSpecJson(const SceneSetup& setup) {
+    json j = json::parse(setup.spec, nullptr, false);
+    if (!j.is_object()) return makeError(what(setup) + ": the parameters are not a JSON object");
+    if (isTreeExpansion(setup.kind)) {
+        j.erase("kind");
+        for (const auto& t : setup.trajectories) {
+            auto cs = j.find("characters");
+            json* target = nullptr;
+            if (cs != j.end() && cs->is_array()) {
+                for (auto& c : *cs) {
+                    if (c.is_object() && c.value("name", std::string()) == t.character) target = &c;
+                }
+            }
+            if (!target) return makeError(what(setup) + ": a trajectory follows '" + t.character + "', who is not a character of the setup");
+            auto path = pathJson(t);
+            if (!path) return makeError(what(setup) + ": " + path.error().message);
+            (*target)["path"] = std::move(*path);
+            if (t.loop || target->contains("loop_path")) (*target)["loop_path"] = t.loop;
+        }
+    } else {
+        if (!setup.trajectories.empty()) {
+            return makeError(what(setup) + ": trajectories with checkpoints belong to duel and chase setups (a " +
+                             setupKindName(setup.kind) + " setup keeps its own paths in its parameters)");
+        }
+        if (auto k = j.find("kind"); k != j.end()) {
+            *k = setupKindName(setup.kind);
+        } else {
+            json withKind;
+            withKind["kind"] = setupKindName(setup.kind);
+            for (auto it = j.begin(); it != j.end(); ++it) withKind[it.key()] = it.value();
+            j = std::move(withKind);
+        }
+        if (setup.floor) {
+            json& fl = j["floor"];
+            if (!fl.is_object()) fl = json::object();
+            if (!fl.contains("bitmap") || !fl["bitmap"].is_string() || fl["bitmap"].get<std::string>().empty()) fl["bitmap"] = "(painted)";
+            putNumber(fl["metres_per_pixel"], setup.floor->metresPerPixel);
+            json& o = fl["origin"];
+            if (!o.is_array() || o.size() != 2) o = json::array({0, 0});
+            putNumber(o[0], setup.floor->origin.x);
+            putNumber(o[1], setup.floor->origin.z);
+        }
+    }
+    return prep::dumpJson(j, 2);
+}
+
+Result<sim::SceneSpec> toSceneSpec(const SceneSetup& setup, const sim::ActionLibrary& lib, const std::vector<sim::Preset>& presets) {
+    if (!isTreeExpansion(setup.kind)) {
+        return makeError(what(setup) + " is a " + std::string(setupKindName(setup.kind)) + " setup: run it with compose, not simulate");
+    }
+    FRAY_TRY(text, setupSpecJson(setup));
+    return sim::parseSceneSpec(text, what(setup), lib, presets);
+}
+
+Result<sim::ComposeSpec> toComposeSpec(const SceneSetup& setup, const sim::PatchLibrary& patches) {
+    if (isTreeExpansion(setup.kind)) {
+        return makeError(what(setup) + " is a " + std::string(setupKindName(setup.kind)) + " setup: run it with simulate, not compose");
+    }
+    FRAY_TRY(text, setupSpecJson(setup));
+    FRAY_TRY(spec, sim::parseComposeSpec(text, what(setup), patches));
+    if (setup.floor) {
+        spec.floorFile.clear();  // the pixels are the setup's, not a file's
+        spec.floor = toFloorBitmap(*setup.floor);
+    }
+    return spec;
+}
+
+Result<SceneSetup> importSpec(std::string name, std::string_view text, const std::filesystem::path& specFile,
+                              const FloorLoader& loadFloor) {
+    if (auto st = checkSetupName(name); !st) return st.error();
+    const std::string file = specFile.string();
+    FRAY_TRY(j, prep::parseJson(text, file));
+    const JsonReader rd(file);
+    if (!j.is_object()) return rd.error("", "must be a JSON object (a scene spec)");
+    SceneSetup s;
+    s.name = std::move(name);
+    if (auto k = j.find("kind"); k != j.end()) {
+        FRAY_TRY(kindName, rd.string(*k, "/kind"));
+        const auto kind = setupKindFromName(kindName);
+        if (!kind || isTreeExpansion(*kind)) {
+            return rd.error("/kind", "unknown scene kind '" + kindName + "' (one-vs-many, one-vs-one, domino, luggage, football, rat; "
+                                     "a simulate spec has no kind)");
+        }
+        s.kind = *kind;
+    } else {
+        FRAY_TRY(cs, rd.field(j, "", "characters"));
+        if (!cs->is_array() || cs->empty()) return rd.error("/characters", "must be a non-empty array");
+        bool chase = j.contains("stop_on_catch");
+        for (const auto& c : *cs) {
+            if (!c.is_object()) continue;
+            const std::string preset = c.value("preset", std::string());
+            if (preset.starts_with("chaser") || preset.starts_with("runaway")) chase = true;
+        }
+        s.kind = chase ? SetupKind::Chase : SetupKind::Duel;
+    }
+    if (auto f = j.find("floor"); f != j.end() && f->is_object()) {
+        FRAY_TRY(bitmapName, rd.stringAt(*f, "/floor", "bitmap"));
+        if (bitmapName.empty()) return rd.error("/floor/bitmap", "must name a PNG file");
+        double mpp = 0.1;
+        glm::vec2 origin(0.0f);
+        if (auto m = f->find("metres_per_pixel"); m != f->end()) {
+            FRAY_TRY(x, rd.number(*m, "/floor/metres_per_pixel"));
+            if (!(x > 0.001) || x > 10) return rd.error("/floor/metres_per_pixel", "must be in (0.001, 10]");
+            mpp = x;
+        }
+        if (auto o = f->find("origin"); o != f->end()) {
+            if (!o->is_array() || o->size() != 2) return rd.error("/floor/origin", "must be [x, z]");
+            FRAY_TRY(ox, rd.number((*o)[0], "/floor/origin/0"));
+            FRAY_TRY(oz, rd.number((*o)[1], "/floor/origin/1"));
+            origin = {static_cast<float>(ox), static_cast<float>(oz)};
+        }
+        std::filesystem::path bitmap(bitmapName);
+        if (bitmap.is_relative()) bitmap = specFile.parent_path() / bitmap;  // relative to the spec, as compose --spec reads it
+        if (!loadFloor) return rd.error("/floor/bitmap", "no bitmap reader given");
+        FRAY_TRY(floor, loadFloor(bitmap, mpp, origin));
+        FloorPaint paint = fromFloorBitmap(floor);
+        // The parser's float origin is what compose --spec uses; keep the written numbers.
+        paint.metresPerPixel = mpp;
+        if (auto o = f->find("origin"); o != f->end()) paint.origin = {(*o)[0].get<double>(), (*o)[1].get<double>()};
+        if (paint.width > kMaxFloorPixels || paint.height > kMaxFloorPixels) {
+            return rd.error("/floor/bitmap", "the bitmap is larger than " + std::to_string(kMaxFloorPixels) + " pixels a side");
+        }
+        s.floor = std::move(paint);
+    }
+    s.spec = prep::dumpJson(j);
+    return s;
+}
+
+Result<sim::PatchLibrary> withoutRejected(const sim::PatchLibrary& patches, const std::vector<int>& rejected) {
+    const int n = static_cast<int>(patches.patches.size());
+    for (int id : rejected) {
+        if (id < 0 || id >= n) {
+            return makeError("rejected patch " + std::to_string(id) + " is not in the patch library (it holds " + std::to_string(n) +
+                             " patches; generated again since?)");
+        }
+    }
+    if (rejected.empty()) return patches;
+    std::vector<int> newIndex(static_cast<std::size_t>(n), -1);
+    int next = 0;
+    for (int i = 0; i < n; ++i) {
+        if (!std::binary_search(rejected.begin(), rejected.end(), i)) newIndex[static_cast<std::size_t>(i)] = next++;
+    }
+    sim::PatchLibrary out;
+    out.patterns = patches.patterns;
+    out.standardPoses = patches.standardPoses;
+    out.stats = patches.stats;
+    out.libraryKey = patches.libraryKey;
+    const bool tables = patches.complete();
+    for (int i = 0; i < n; ++i) {
+        const auto ui = static_cast<std::size_t>(i);
+        if (newIndex[ui] < 0) continue;
+        out.patches.push_back(patches.patches[ui]);
+        if (!tables) continue;
+        std::vector<sim::TemporalLink> t;
+        for (const auto& l : patches.temporal[ui]) {
+            if (const int to = newIndex[static_cast<std::size_t>(l.to)]; to >= 0) t.push_back({to, l.roles, l.shared});
+        }
+        out.temporal.push_back(std::move(t));
+        std::vector<sim::SpatialLink> sp;
+        for (const auto& l : patches.spatial[ui]) {
+            if (const int to = newIndex[static_cast<std::size_t>(l.to)]; to >= 0) sp.push_back({to, l.sharedA, l.sharedB, l.offset, l.from});
+        }
+        out.spatial.push_back(std::move(sp));
+        out.initialPose.push_back(patches.initialPose[ui]);
+        out.finalPose.push_back(patches.finalPose[ui]);
+    }
+    return out;
+}
+
+}  // namespace fray::setup
