@@ -377,6 +377,7 @@ void MainWindow::buildDocks() {
     inspectorDock_->raise();
 
     buildSceneDocks();
+    buildPatchDocks();
 
     resizeDocks({libraryDock_}, {280}, Qt::Horizontal);
     resizeDocks({inspectorDock_}, {360}, Qt::Horizontal);
@@ -441,7 +442,7 @@ void MainWindow::buildMenus() {
     QMenu* view = menuBar()->addMenu("&View");
     view->setObjectName("ViewMenu");
     for (QDockWidget* d : {libraryDock_, timelineDock_, inspectorDock_, graphDock_, combosDock_, historyDock_, sceneDock_,
-                          ganttDock_, metricsDock_}) {
+                          ganttDock_, metricsDock_, patternsDock_, patchesDock_}) {
         QAction* toggle = d->toggleViewAction();
         toggle->setObjectName("toggle" + d->objectName());
         view->addAction(toggle);

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "fray/render/motion_stage.h"
+#include "fray/sim/patches.h"
 #include "project_analysis.h"
 #include "scene_stage.h"
 #include "takes.h"
@@ -33,6 +34,7 @@
 class QDockWidget;
 class QMenu;
 class QSettings;
+class QCheckBox;
 class QComboBox;
 class QDoubleSpinBox;
 class QLabel;
@@ -64,6 +66,8 @@ inline constexpr int kRoleMotion = Qt::UserRole + 1;
 inline constexpr int kRoleAction = Qt::UserRole + 2;
 
 class GanttView;
+class PatchBrowser;
+class PatternsPanel;
 class InspectorPanel;
 class Viewport;
 struct PreparedPreview;
@@ -117,11 +121,24 @@ public:
     QStringList sceneSources() const;
     // Selects a spec file (adding it to the list when new); false when unreadable.
     bool selectSceneSource(const QString& specFile);
+    // Selects one of the project's scene setups; false when there is none of that name.
+    bool selectSetup(const QString& name);
+    // The setup selected in the Scene panel ("" when a spec file is).
+    QString currentSetup() const;
+    // Imports the selected spec file as a new setup of the project (one undo step) and selects it.
+    bool importSpecAsSetup(const QString& name);
+    // The patch library generated in the PatternList panel (null: none yet).
+    const sim::PatchLibrary* patchLibrary() const { return patchLibrary_.get(); }
+    // The current setup's rejected patches.
+    std::vector<int> rejectedPatches() const;
     // Plans or composes the selected spec in the background; the result plays.
     void generate();
     // The scene playing (null: none); whether it is a generated preview.
     const cli::SceneStage* scene() const { return scene_.get(); }
     bool busy() const { return jobThread_ != nullptr; }
+    // Whether a live re-plan is waiting for its debounce or running.
+    bool replanPending() const;
+    static constexpr int kReplanDebounceMs = 250;
     double playTime() const { return time_; }
     int selectedCharacter() const { return selected_; }
     // Ends a generated preview: the viewport plays the library's motions again.
@@ -201,7 +218,16 @@ private:
     void showGenerated(PreparedPreview generated);
     void ganttBarClicked(int row, int bar);
     void exportDialog();
-
+    void buildPatchDocks();
+    void fillPatterns();
+    void fillSceneSources();
+    void generatePatches(const QStringList& names);
+    void previewPatch(int patch);
+    void setPatchesRejected(const std::vector<int>& patches, bool reject);
+    void reportStatus(const Status& s);
+    // A setup's parameters, placements, trajectories or floor changed: the
+    // overlays follow, and the live re-plan starts its debounce.
+    void setupEdited(const authoring::ChangeEvent& event);
     Viewport* viewport_;
     QWidget* viewportContainer_;
     std::vector<app::LoadedTake> takes_;
@@ -283,6 +309,16 @@ private:
     QAction* generateAction_ = nullptr;
     QAction* exportAction_ = nullptr;
     QAction* stopPreviewAction_ = nullptr;
+    QDockWidget* patternsDock_ = nullptr;
+    QDockWidget* patchesDock_ = nullptr;
+    PatternsPanel* patterns_ = nullptr;
+    PatchBrowser* patchBrowser_ = nullptr;
+    std::shared_ptr<const sim::PatchLibrary> patchLibrary_;      // generated here, also written to PROJECT.patches
+    std::shared_ptr<const pipeline::SimSession> patchSession_;   // the action library it was made from
+    int previewedPatch_ = -1;
+    QCheckBox* live_ = nullptr;        // re-plan after each edit of the current setup
+    QTimer* replanTimer_ = nullptr;    // the live re-plan's debounce
+    bool generatingReplan_ = false;    // the running generate is a live re-plan
     double lastGenerateSeconds_ = 0;
     int sceneShownAtFrame_ = 0;       // viewport frames presented when the generated scene began playing  // wall clock of the last generate, request to result shown
 

@@ -11,7 +11,6 @@
 #include <QListWidget>
 #include <QPushButton>
 #include <QSignalBlocker>
-#include <QSpinBox>
 #include <QTableWidget>
 #include <QTimer>
 #include <QVBoxLayout>
@@ -99,14 +98,8 @@ PatternsPanel::PatternsPanel(QWidget* parent) : QWidget(parent) {
     form->addRow("Weights", weights);
     auto* thresholds = new QHBoxLayout;
     threshold_ = spin("patternThreshold", 0, 1, 0.05, 2, "Score a path needs to become a patch (0-1)");
-    keepPerPath_ = new QSpinBox;
-    keepPerPath_->setObjectName("patternKeepPerPath");
-    keepPerPath_->setRange(0, 1000);
-    keepPerPath_->setKeyboardTracking(false);
-    keepPerPath_->setToolTip("Best patches kept per action sequence (0: all; a domino needs the whole grid)");
     thresholds->addWidget(threshold_);
-    thresholds->addWidget(new QLabel("keep per path"));
-    thresholds->addWidget(keepPerPath_);
+    thresholds->addStretch(1);
     form->addRow("Threshold", thresholds);
     layout->addLayout(form);
 
@@ -145,78 +138,50 @@ PatternsPanel::PatternsPanel(QWidget* parent) : QWidget(parent) {
     connect(addList_, &QPushButton::clicked, this, [this] {
         bool ok = false;
         const QString name = QInputDialog::getText(this, "New PatternList", "Name", QLineEdit::Normal, "pattern", &ok).trimmed();
-        if (!ok || name.isEmpty()) return;
-        sim::PatternSet next = set_;
-        if (next.find(name.toStdString())) {
-            report_->setText("A PatternList named '" + name + "' exists already: pick another name");
-            return;
-        }
-        sim::PatternList p;
-        p.name = name.toStdString();
-        next.patterns.push_back(p);
-        current_ = static_cast<int>(next.patterns.size()) - 1;
-        edit(std::move(next), "New PatternList '" + name + "'");
+        if (ok && !name.isEmpty()) Q_EMIT patternAddRequested(name);
     });
     connect(removeList_, &QPushButton::clicked, this, [this] {
-        if (current_ < 0 || current_ >= static_cast<int>(set_.patterns.size())) return;
-        sim::PatternSet next = set_;
-        const QString name = qs(next.patterns[static_cast<std::size_t>(current_)].name);
-        next.patterns.erase(next.patterns.begin() + current_);
-        current_ = std::min(current_, static_cast<int>(next.patterns.size()) - 1);
-        edit(std::move(next), "Delete PatternList '" + name + "'");
+        if (currentList()) Q_EMIT patternRemoveRequested(currentName());
     });
     connect(addRow_, &QPushButton::clicked, this, [this] {
-        sim::PatternSet next = set_;
-        sim::PatternList* p = currentList(next);
+        const sim::PatternList* p = currentList();
         const QString word = rowAnnotation_->currentText().trimmed();
         if (!p || word.isEmpty()) return;
-        sim::PatternEntry e{rowCharacter_->currentIndex(), word.toStdString()};
         // After the selected row, else at the end.
         const int at = rows_->currentRow() >= 0 ? rows_->currentRow() + 1 : static_cast<int>(p->entries.size());
-        p->entries.insert(p->entries.begin() + at, e);
-        edit(std::move(next), "Add row " + patternRowText(e) + " to '" + qs(p->name) + "'");
+        Q_EMIT rowAddRequested(currentName(), at, sim::PatternEntry{rowCharacter_->currentIndex(), word.toStdString()});
     });
     connect(removeRow_, &QPushButton::clicked, this, [this] {
-        sim::PatternSet next = set_;
-        sim::PatternList* p = currentList(next);
+        const sim::PatternList* p = currentList();
         const int r = rows_->currentRow();
-        if (!p || r < 0 || r >= static_cast<int>(p->entries.size())) return;
-        const QString text = patternRowText(p->entries[static_cast<std::size_t>(r)]);
-        p->entries.erase(p->entries.begin() + r);
-        edit(std::move(next), "Remove row " + text + " from '" + qs(p->name) + "'");
+        if (p && r >= 0 && r < static_cast<int>(p->entries.size())) Q_EMIT rowRemoveRequested(currentName(), r);
     });
-    // A drop reorders the list widget's items: read the new order back.
-    connect(rows_->model(), &QAbstractItemModel::rowsMoved, this, [this] {
-        if (!filling_) QTimer::singleShot(0, this, &PatternsPanel::rowsReordered);
-    });
-    const auto weightEdit = [this](const char* what, auto member) {
-        return [this, what, member](double v) {
-            if (filling_) return;
-            sim::PatternSet next = set_;
-            sim::PatternList* p = currentList(next);
-            if (!p) return;
-            p->weights.*member = v;
-            edit(std::move(next), QString("Set %1 weight of '%2'").arg(what).arg(qs(p->name)));
+    // A drop moves one row: report it, and show the set as it is until the
+    // document's change event brings the new order.
+    connect(rows_->model(), &QAbstractItemModel::rowsMoved, this,
+            [this](const QModelIndex&, int start, int, const QModelIndex&, int row) {
+                if (filling_) return;
+                const int to = row > start ? row - 1 : row;
+                const QString name = currentName();
+                QTimer::singleShot(0, this, [this, name, start, to] {
+                    fillRows();
+                    if (start != to) Q_EMIT rowMoveRequested(name, start, to);
+                });
+            });
+    const auto weightEdit = [this](auto member) {
+        return [this, member](double v) {
+            const sim::PatternList* p = currentList();
+            if (filling_ || !p) return;
+            sim::PatternWeights w = p->weights;
+            w.*member = v;
+            Q_EMIT weightsRequested(currentName(), w);
         };
     };
-    connect(wContact_, &QDoubleSpinBox::valueChanged, this, weightEdit("contact", &sim::PatternWeights::contact));
-    connect(wDistance_, &QDoubleSpinBox::valueChanged, this, weightEdit("distance", &sim::PatternWeights::distance));
-    connect(wTiming_, &QDoubleSpinBox::valueChanged, this, weightEdit("timing", &sim::PatternWeights::timing));
+    connect(wContact_, &QDoubleSpinBox::valueChanged, this, weightEdit(&sim::PatternWeights::contact));
+    connect(wDistance_, &QDoubleSpinBox::valueChanged, this, weightEdit(&sim::PatternWeights::distance));
+    connect(wTiming_, &QDoubleSpinBox::valueChanged, this, weightEdit(&sim::PatternWeights::timing));
     connect(threshold_, &QDoubleSpinBox::valueChanged, this, [this](double v) {
-        if (filling_) return;
-        sim::PatternSet next = set_;
-        sim::PatternList* p = currentList(next);
-        if (!p) return;
-        p->threshold = v;
-        edit(std::move(next), "Set threshold of '" + qs(p->name) + "'");
-    });
-    connect(keepPerPath_, &QSpinBox::valueChanged, this, [this](int v) {
-        if (filling_) return;
-        sim::PatternSet next = set_;
-        sim::PatternList* p = currentList(next);
-        if (!p) return;
-        p->keepPerPath = v;
-        edit(std::move(next), "Set patches kept per path of '" + qs(p->name) + "'");
+        if (!filling_ && currentList()) Q_EMIT thresholdRequested(currentName(), v);
     });
     connect(ranges_, &QTableWidget::cellChanged, this, &PatternsPanel::rangeEdited);
     connect(generate_, &QPushButton::clicked, this, [this] {
@@ -227,13 +192,14 @@ PatternsPanel::PatternsPanel(QWidget* parent) : QWidget(parent) {
     fill();
 }
 
-sim::PatternList* PatternsPanel::currentList(sim::PatternSet& set) const {
-    if (current_ < 0 || current_ >= static_cast<int>(set.patterns.size())) return nullptr;
-    return &set.patterns[static_cast<std::size_t>(current_)];
+const sim::PatternList* PatternsPanel::currentList() const {
+    if (current_ < 0 || current_ >= static_cast<int>(set_.patterns.size())) return nullptr;
+    return &set_.patterns[static_cast<std::size_t>(current_)];
 }
 
-void PatternsPanel::edit(sim::PatternSet next, const QString& text) {
-    Q_EMIT editRequested(next, text);
+QString PatternsPanel::currentName() const {
+    const sim::PatternList* p = currentList();
+    return p ? qs(p->name) : QString();
 }
 
 void PatternsPanel::setPatterns(const sim::PatternSet& set, const QStringList& words) {
@@ -281,7 +247,7 @@ void PatternsPanel::fillRows() {
                                     : nullptr;
     const bool has = p != nullptr;
     for (QWidget* w : std::initializer_list<QWidget*>{rows_, addRow_, removeRow_, wContact_, wDistance_, wTiming_, threshold_,
-                                                      keepPerPath_, ranges_, removeList_, generate_})
+                                                      ranges_, removeList_, generate_})
         w->setEnabled(has);
     if (p) {
         for (std::size_t e = 0; e < p->entries.size(); ++e) {
@@ -294,7 +260,6 @@ void PatternsPanel::fillRows() {
         wDistance_->setValue(p->weights.distance);
         wTiming_->setValue(p->weights.timing);
         threshold_->setValue(p->threshold);
-        keepPerPath_->setValue(p->keepPerPath);
     }
     generateAll_->setEnabled(!set_.patterns.empty());
     filling_ = false;
@@ -325,18 +290,6 @@ void PatternsPanel::fillRanges() {
     filling_ = false;
 }
 
-void PatternsPanel::rowsReordered() {
-    sim::PatternSet next = set_;
-    sim::PatternList* p = currentList(next);
-    if (!p || rows_->count() != static_cast<int>(p->entries.size())) return fillRows();
-    std::vector<sim::PatternEntry> order;
-    for (int i = 0; i < rows_->count(); ++i)
-        order.push_back(set_.patterns[static_cast<std::size_t>(current_)].entries[static_cast<std::size_t>(rows_->item(i)->data(kRoleEntry).toInt())]);
-    if (order == p->entries) return;
-    p->entries = std::move(order);
-    edit(std::move(next), "Reorder rows of '" + qs(p->name) + "'");
-}
-
 void PatternsPanel::rangeEdited(int row, int column) {
     if (filling_ || column < 1) return;
     const std::string word = ranges_->item(row, 0)->text().toStdString();
@@ -344,12 +297,7 @@ void PatternsPanel::rangeEdited(int row, int column) {
     const double v = ranges_->item(row, column)->data(Qt::DisplayRole).toDouble();
     double* fields[] = {&r.minDistance, &r.maxDistance, &r.minAngle, &r.maxAngle, &r.minDelay, &r.maxDelay};
     *fields[column - 1] = v;
-    sim::PatternSet next = set_;
-    bool found = false;
-    for (auto& [name, range] : next.ranges)
-        if (name == word) range = r, found = true;
-    if (!found) next.ranges.emplace_back(word, r);
-    edit(std::move(next), "Set initial conditions of '" + qs(word) + "'");
+    Q_EMIT rangeRequested(qs(word), r);
 }
 
 }  // namespace fray::editor

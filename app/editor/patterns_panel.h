@@ -6,9 +6,9 @@
 // "Generate patches" with the reasons paths were discarded.
 //
 // Like the other panels it holds no authoritative state: it shows a
-// PatternSet snapshot and reports every edit as the whole new set with the
-// undo text ("Add row to 'duel'"); the window turns that into one undo
-// command on the document, whose change event brings the new set back.
+// PatternSet snapshot and reports every edit as a request (add a row, move
+// one...); the window turns each into one undo command on the document,
+// whose change event brings the new set back.
 #include <QString>
 #include <QStringList>
 #include <QWidget>
@@ -20,7 +20,6 @@ class QDoubleSpinBox;
 class QLabel;
 class QListWidget;
 class QPushButton;
-class QSpinBox;
 class QTableWidget;
 
 namespace fray::editor {
@@ -42,8 +41,14 @@ public:
     void setGenerating(bool running);
 
 Q_SIGNALS:
-    // The whole set after one edit, and the edit's undo text.
-    void editRequested(const fray::sim::PatternSet& next, const QString& text);
+    void patternAddRequested(const QString& name);
+    void patternRemoveRequested(const QString& name);
+    void rowAddRequested(const QString& pattern, int index, const fray::sim::PatternEntry& row);
+    void rowRemoveRequested(const QString& pattern, int index);
+    void rowMoveRequested(const QString& pattern, int from, int to);
+    void weightsRequested(const QString& pattern, const fray::sim::PatternWeights& weights);
+    void thresholdRequested(const QString& pattern, double threshold);
+    void rangeRequested(const QString& annotation, const fray::sim::InitialRange& range);
     // Generate patches for these PatternLists (empty: all).
     void generateRequested(const QStringList& names);
 
@@ -51,9 +56,8 @@ private:
     void fill();
     void fillRows();
     void fillRanges();
-    void edit(sim::PatternSet next, const QString& text);
-    sim::PatternList* currentList(sim::PatternSet& set) const;
-    void rowsReordered();
+    const sim::PatternList* currentList() const;
+    QString currentName() const;
     void rangeEdited(int row, int column);
 
     sim::PatternSet set_;
@@ -73,7 +77,6 @@ private:
     QDoubleSpinBox* wDistance_ = nullptr;
     QDoubleSpinBox* wTiming_ = nullptr;
     QDoubleSpinBox* threshold_ = nullptr;
-    QSpinBox* keepPerPath_ = nullptr;
     QTableWidget* ranges_ = nullptr;
     QPushButton* generate_ = nullptr;
     QPushButton* generateAll_ = nullptr;

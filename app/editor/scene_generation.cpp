@@ -6,6 +6,7 @@
 #include "fray/prep/json_reader.h"
 #include "fray/prep/pipeline.h"
 #include "fray/render/image.h"
+#include "fray/setup/convert.h"
 #include "fray/sim/compose.h"
 #include "fray/sim/patterns.h"
 #include "fray/sim/planner.h"
@@ -22,16 +23,33 @@ ProgressFn stage(const ProgressFn& progress, double from, double to) {
     return [=](double f, std::string_view name) { return progress(from + (to - from) * f, name); };
 }
 
-// The library without the rejected patches, its connection tables rebuilt.
-sim::PatchLibrary withoutRejected(const sim::PatchLibrary& all, const std::vector<int>& rejected, const sim::ActionLibrary& lib) {
-    sim::PatchLibrary out;
-    out.patterns = all.patterns;
-    out.stats = all.stats;
-    out.libraryKey = all.libraryKey;
-    for (std::size_t i = 0; i < all.patches.size(); ++i)
-        if (std::find(rejected.begin(), rejected.end(), static_cast<int>(i)) == rejected.end()) out.patches.push_back(all.patches[i]);
-    sim::buildConnections(lib, out);
-    return out;
+// The patch library a composition draws on: the one given, else the
+// project's file, else generated from the project's PatternLists (or the
+// defaults the actions can play, as `fray-cli patches generate` does).
+Result<std::shared_ptr<const sim::PatchLibrary>> compositionPatches(const GenerateInput& in, pipeline::SimSession& s,
+                                                                    const ProgressFn& progress) {
+    if (in.patches) {
+        if (in.patches->libraryKey != sim::libraryFingerprint(s.library))
+            return makeError("the patches were generated from other actions than the project's now: generate patches again "
+                             "(PatternLists panel)");
+        return in.patches;
+    }
+    const fs::path file = patchLibraryFile(in.projectFile);
+    std::error_code ec;
+    if (fs::exists(file, ec)) {
+        auto loaded = sim::loadPatchLibrary(file, s.library);
+        if (!loaded) return loaded.error();
+        return std::shared_ptr<const sim::PatchLibrary>(std::make_shared<sim::PatchLibrary>(std::move(*loaded)));
+    }
+    auto set = sim::projectPatterns(s.session.project, in.projectFile.filename().string());
+    if (!set) return set.error();
+    if (set->patterns.empty()) {
+        for (auto& p : sim::defaultPatterns())
+            if (sim::checkPattern(p, *set, s.library)) set->patterns.push_back(std::move(p));
+    }
+    auto generated = generatePatchLibrary(s.library, *set, {}, progress);
+    if (!generated) return generated.error();
+    return std::shared_ptr<const sim::PatchLibrary>(generated->library);
 }
 
 }  // namespace
@@ -58,6 +76,8 @@ Result<std::unique_ptr<pipeline::SimSession>> prepareSimSession(const prep::Proj
     out->library = std::move(*lib);
     return out;
 }
+
+fs::path patchLibraryFile(const fs::path& projectFile) { return fs::path(projectFile.string() + ".patches"); }
 
 bool isComposeSpec(const std::string& specText) {
     auto j = prep::parseJson(specText, "spec");
@@ -139,34 +159,48 @@ QString discardReasons(const sim::GenerateStats& s) {
 }
 
 Result<GeneratedScene> generateScene(const GenerateInput& in, const ProgressFn& progress) {
-    // Syntax first (line and column), before any project work.
-    if (auto j = prep::parseJson(in.specText, in.specName); !j) return j.error();
+    // The spec text of a setup (its trajectories written in), or the file's.
+    std::string specText = in.specText;
+    std::string specName = in.specName;
+    if (in.setup) {
+        auto text = setup::setupSpecJson(*in.setup);
+        if (!text) return text.error();
+        specText = std::move(*text);
+        specName = "setup '" + in.setup->name + "'";
+    } else if (auto j = prep::parseJson(specText, specName); !j) {
+        return j.error();  // syntax first (line and column), before any project work
+    }
     auto session = prepareSimSession(in.project, in.projectFile, stage(progress, 0.0, 0.3));
     if (!session) return session.error();
     pipeline::SimSession& s = **session;
     GeneratedScene out;
     const auto t0 = std::chrono::steady_clock::now();
-    const ProgressFn work = stage(progress, 0.3, 0.95);
-    if (isComposeSpec(in.specText)) {
-        std::shared_ptr<const sim::PatchLibrary> patches = in.patches;
-        if (sim::composeNeedsPatches(in.specText) && !patches) {
-            // No library yet: the project's PatternLists, else the defaults the actions can play (as `fray-cli patches generate`).
-            auto set = sim::projectPatterns(s.session.project, in.projectFile.filename().string());
-            if (!set) return set.error();
-            if (set->patterns.empty()) {
-                for (auto& p : sim::defaultPatterns())
-                    if (sim::checkPattern(p, *set, s.library)) set->patterns.push_back(std::move(p));
-            }
-            auto generated = generatePatchLibrary(s.library, *set, {}, stage(progress, 0.3, 0.6));
-            if (!generated) return generated.error();
-            patches = generated->library;
+    const bool compose = in.setup ? !setup::isTreeExpansion(in.setup->kind) : isComposeSpec(specText);
+    if (compose) {
+        std::shared_ptr<const sim::PatchLibrary> patches;
+        if (sim::composeNeedsPatches(specText)) {
+            auto p = compositionPatches(in, s, stage(progress, 0.3, 0.6));
+            if (!p) return p.error();
+            patches = *p;
         }
         out.patches = patches;
+        std::vector<int> rejected = in.rejected;
+        if (in.setup) rejected.insert(rejected.end(), in.setup->patches.rejected.begin(), in.setup->patches.rejected.end());
+        std::sort(rejected.begin(), rejected.end());
+        rejected.erase(std::unique(rejected.begin(), rejected.end()), rejected.end());
         sim::PatchLibrary used;
-        if (patches) used = in.rejected.empty() ? *patches : withoutRejected(*patches, in.rejected, s.library);
-        auto spec = sim::parseComposeSpec(in.specText, in.specName, used);
+        if (patches) {
+            if (rejected.empty()) {
+                used = *patches;
+            } else {
+                auto kept = setup::withoutRejected(*patches, rejected);
+                if (!kept) return kept.error();
+                used = std::move(*kept);
+            }
+        }
+        Result<sim::ComposeSpec> spec = in.setup ? setup::toComposeSpec(*in.setup, used) : sim::parseComposeSpec(specText, specName, used);
         if (!spec) return spec.error();
-        if (!spec->floorFile.empty()) {
+        if (!in.setup && !spec->floorFile.empty()) {
             fs::path bitmap(spec->floorFile);
             if (bitmap.is_relative()) bitmap = in.specDir / bitmap;
             auto floor = loadFloorBitmapPng(bitmap, spec->metresPerPixel, spec->floorOrigin);
@@ -175,7 +209,7 @@ Result<GeneratedScene> generateScene(const GenerateInput& in, const ProgressFn& 
         }
         sim::ComposeStats st;
         auto scene = sim::compose(s.library, used, *spec, &st, stage(progress, 0.6, 0.95));
-        if (!scene) return makeError(in.specName + ": " + scene.error().message);
+        if (!scene) return makeError(specName + ": " + scene.error().message);
         out.summary = QString("%1: %2 characters, %3 s, %4 hits; %5 patches")
                           .arg(sim::sceneKindName(spec->kind))
                           .arg(scene->characters.size())
@@ -186,10 +220,11 @@ Result<GeneratedScene> generateScene(const GenerateInput& in, const ProgressFn& 
     } else {
         auto presets = sim::projectPresets(s.session.project, in.projectFile.filename().string());
         if (!presets) return presets.error();
-        auto spec = sim::parseSceneSpec(in.specText, in.specName, s.library, *presets);
+        auto spec = in.setup ? setup::toSceneSpec(*in.setup, s.library, *presets)
+                             : sim::parseSceneSpec(specText, specName, s.library, *presets);
         if (!spec) return spec.error();
-        auto scene = sim::simulate(s.library, s.session.project.combos, *spec, work);
-        if (!scene) return makeError(in.specName + ": " + scene.error().message);
+        auto scene = sim::simulate(s.library, s.session.project.combos, *spec, stage(progress, 0.3, 0.95));
+        if (!scene) return makeError(specName + ": " + scene.error().message);
         out.summary = QString("tree expansion: %1 characters, %2 s, %3 decisions, %4 hits")
                           .arg(scene->characters.size())
                           .arg(scene->duration, 0, 'f', 1)
@@ -197,6 +232,7 @@ Result<GeneratedScene> generateScene(const GenerateInput& in, const ProgressFn& 
                           .arg(scene->hits.size());
         out.loaded.scene = std::move(*scene);
     }
+    out.loaded.scene.project = in.projectFile.filename().string();
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (!reportProgress(progress, 0.96, "metrics")) return cancelled();
     out.metrics = sim::computeMetrics(out.loaded.scene, s.library);

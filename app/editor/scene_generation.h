@@ -19,6 +19,7 @@
 #include "fray/core/result.h"
 #include "fray/pipeline/sim_session.h"
 #include "fray/prep/project.h"
+#include "fray/setup/scene_setup.h"
 #include "fray/sim/metrics.h"
 #include "fray/sim/patches.h"
 #include "fray/sim/scene.h"
@@ -37,13 +38,18 @@ Result<std::unique_ptr<pipeline::SimSession>> prepareSimSession(const prep::Proj
 struct GenerateInput {
     std::filesystem::path projectFile;  // where the project lives (relative motion paths, the cache)
     prep::Project project;              // the document's project now
-    std::string specText;               // a simulate spec (characters...) or a compose spec ("kind")
+    // A scene setup of the project (planned or composed as its kind says), or
+    // else a spec file's text: a simulate spec (characters...) or a compose spec ("kind").
+    std::optional<setup::SceneSetup> setup;
+    std::string specText;
     std::string specName;               // for messages ("duel.json")
     std::filesystem::path specDir;      // a compose spec's floor bitmap is relative to it
-    // The patch library a compose spec draws on (null: generated here from the
-    // project's PatternLists, or the default ones, when the spec needs one).
+    // The patch library a compose spec draws on (null: the project's library
+    // file, PROJECT.patches, when there is one, else generated here from the
+    // project's PatternLists or the default ones).
     std::shared_ptr<const sim::PatchLibrary> patches;
-    // Patches (indices into `patches`) the compose must not use: rejected in the patch browser.
+    // Patches (indices into the library) the compose must not use; a setup's
+    // rejected patches are added to them.
     std::vector<int> rejected;
 };
 
@@ -63,6 +69,9 @@ struct PreparedPreview {
     sim::SceneMetrics metrics;
     QString summary;
 };
+
+// The project's patch library file (as `fray-cli patches` writes it).
+std::filesystem::path patchLibraryFile(const std::filesystem::path& projectFile);
 
 // True when the spec text is a compose spec (it has a "kind").
 bool isComposeSpec(const std::string& specText);

@@ -42,6 +42,7 @@
 #include "fray/prep/annotations.h"
 #include "fray/prep/motion_graph.h"
 #include "gantt_view.h"
+#include "patch_browser.h"
 #include "graph_view.h"
 #include "inspector_panel.h"
 #include "main_window.h"
@@ -459,6 +460,25 @@ void MainWindow::documentChanged(const authoring::ChangeEvent& event) {
     case ChangeKind::Combos:
         fillCombos();
         break;
+    case ChangeKind::PatternLists:
+        fillPatterns();
+        break;
+    case ChangeKind::SetupAdded:
+    case ChangeKind::SetupRemoved:
+    case ChangeKind::SetupRenamed:
+        fillSceneSources();
+        break;
+    case ChangeKind::SetupPatches:
+        if (patchBrowser_) patchBrowser_->setRejected(rejectedPatches());
+        break;
+    case ChangeKind::SetupParameters:
+    case ChangeKind::SetupPlacement:
+    case ChangeKind::SetupTrajectory:
+    case ChangeKind::SetupFloor:
+    case ChangeKind::SetupPaths:
+    case ChangeKind::SetupPins:
+        setupEdited(event);
+        break;
     case ChangeKind::Settings:
         refreshAll();
         // A new preset or threshold: rebuild the graph in the background.
@@ -482,6 +502,8 @@ void MainWindow::refreshAll() {
     fillLibrary();
     refreshTimeline();
     fillCombos();
+    fillPatterns();
+    fillSceneSources();
     if (currentMotion_ >= 0 && currentAction_ >= 0) showAction(currentMotion_, currentAction_);
     else showMotion(currentMotion_);
 }

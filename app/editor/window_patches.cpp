@@ -7,7 +7,9 @@
 #include <QElapsedTimer>
 #include <QFileInfo>
 #include <QStatusBar>
+#include <QUndoStack>
 #include <cstdio>
+#include <fstream>
 
 #include "fray/authoring/project_document.h"
 #include "gantt_view.h"
@@ -43,12 +45,78 @@ void MainWindow::buildPatchDocks() {
     inspectorDock_->raise();
     timelineDock_->raise();
 
-    connect(patterns_, &PatternsPanel::editRequested, this,
-            [this](const sim::PatternSet& next, const QString& text) { applyPatternSet(next, text); });
+    // Every request is one undo command on the document (its change event refills the panel).
+    const auto doc = [this] { return doc_.get(); };
+    const auto str = [](const QString& s) { return s.toStdString(); };
+    connect(patterns_, &PatternsPanel::patternAddRequested, this, [this, doc, str](const QString& name) {
+        if (!doc()) return;
+        sim::PatternList p;
+        p.name = str(name);
+        reportStatus(doc()->addPattern(p));
+    });
+    connect(patterns_, &PatternsPanel::patternRemoveRequested, this,
+            [this, doc, str](const QString& name) { if (doc()) reportStatus(doc()->removePattern(str(name))); });
+    connect(patterns_, &PatternsPanel::rowAddRequested, this,
+            [this, doc, str](const QString& name, int index, const sim::PatternEntry& row) {
+                if (doc()) reportStatus(doc()->addPatternRow(str(name), index, row));
+            });
+    connect(patterns_, &PatternsPanel::rowRemoveRequested, this,
+            [this, doc, str](const QString& name, int index) { if (doc()) reportStatus(doc()->removePatternRow(str(name), index)); });
+    connect(patterns_, &PatternsPanel::rowMoveRequested, this, [this, doc, str](const QString& name, int from, int to) {
+        if (doc()) reportStatus(doc()->movePatternRow(str(name), from, to));
+    });
+    connect(patterns_, &PatternsPanel::weightsRequested, this, [this, doc, str](const QString& name, const sim::PatternWeights& w) {
+        if (doc()) reportStatus(doc()->setPatternWeights(str(name), w));
+    });
+    connect(patterns_, &PatternsPanel::thresholdRequested, this, [this, doc, str](const QString& name, double t) {
+        if (doc()) reportStatus(doc()->setPatternThreshold(str(name), t));
+    });
+    connect(patterns_, &PatternsPanel::rangeRequested, this, [this, doc, str](const QString& word, const sim::InitialRange& r) {
+        if (doc()) reportStatus(doc()->setInitialRange(str(word), r));
+    });
     connect(patterns_, &PatternsPanel::generateRequested, this, &MainWindow::generatePatches);
     connect(patchBrowser_, &PatchBrowser::patchSelected, this, &MainWindow::previewPatch);
     connect(patchBrowser_, &PatchBrowser::rejectRequested, this,
             [this](const std::vector<int>& patches, bool reject) { setPatchesRejected(patches, reject); });
+}
+
+void MainWindow::reportStatus(const Status& s) {
+    if (s) return;
+    editFailed(qs(s.error().message));
+    lastError_ = qs(s.error().message);
+    fillPatterns();  // the panel shows the document's set again
+}
+
+std::vector<int> MainWindow::rejectedPatches() const {
+    if (!doc_) return {};
+    const QString name = currentSetup();
+    if (name.isEmpty()) return {};
+    auto s = doc_->sceneSetup(name.toStdString());
+    return s ? s->patches.rejected : std::vector<int>{};
+}
+
+void MainWindow::setPatchesRejected(const std::vector<int>& patches, bool reject) {
+    const QString name = currentSetup();
+    if (!doc_ || patches.empty()) return;
+    if (name.isEmpty()) {
+        showError("Patches", "Keep and reject are stored in a scene setup: select one in the Scene panel (or import a spec as one)");
+        return;
+    }
+    // Several patches: one undo step.
+    QUndoStack* stack = doc_->undoStack();
+    if (patches.size() > 1)
+        stack->beginMacro(QString("%1 %2 patches in '%3'").arg(reject ? "Reject" : "Keep").arg(patches.size()).arg(name));
+    for (int p : patches) {
+        const Status st = doc_->setPatchVerdict(name.toStdString(), p,
+                                                reject ? authoring::ProjectDocument::Verdict::Reject
+                                                       : authoring::ProjectDocument::Verdict::Keep);
+        if (!st) {
+            reportStatus(st);
+            break;
+        }
+    }
+    if (patches.size() > 1) stack->endMacro();
+    patchBrowser_->setRejected(rejectedPatches());
 }
 
 void MainWindow::fillPatterns() {
@@ -57,7 +125,7 @@ void MainWindow::fillPatterns() {
         patterns_->setPatterns({}, {});
         return;
     }
-    auto set = sim::projectPatterns(doc_->project(), QFileInfo(projectFile_).fileName().toStdString());
+    auto set = doc_->patternSet();
     if (!set) {
         patterns_->setPatterns({}, {});
         patterns_->setReport("The project's PatternLists cannot be read: " + qs(set.error().message));
@@ -73,7 +141,7 @@ void MainWindow::fillPatterns() {
 
 void MainWindow::generatePatches(const QStringList& names) {
     if (!doc_) return;
-    auto set = sim::projectPatterns(doc_->project(), QFileInfo(projectFile_).fileName().toStdString());
+    auto set = doc_->patternSet();
     if (!set) {
         showError("Generate patches", qs(set.error().message));
         return;
@@ -85,6 +153,7 @@ void MainWindow::generatePatches(const QStringList& names) {
     struct Out {
         std::optional<Result<PatchGeneration>> generated;
         std::shared_ptr<pipeline::SimSession> session;
+        std::string saveError;
     };
     auto out = std::make_shared<Out>();
     auto clock = std::make_shared<QElapsedTimer>();
@@ -102,6 +171,21 @@ void MainWindow::generatePatches(const QStringList& names) {
             const auto work = [&](double f, std::string_view s) { return progress ? progress(0.3 + 0.7 * f, s) : true; };
             out->generated.emplace(generatePatchLibrary((*session)->library, set, chosen, work));
             out->session = std::move(*session);
+            // The project's patch library file: setups' keep/reject verdicts
+            // name its patches (as `fray-cli patches list` numbers them).
+            if (*out->generated) {
+                const std::filesystem::path lib = patchLibraryFile(file);
+                std::error_code ec;
+                if (std::filesystem::exists(lib, ec)) {
+                    std::ifstream in(lib, std::ios::binary);
+                    char magic[8] = {};
+                    in.read(magic, 8);
+                    if (std::string(magic, 8) != "FRAYPTCH")
+                        out->saveError = lib.string() + ": exists and is not a Fray patch library; not overwritten";
+                }
+                if (out->saveError.empty())
+                    if (Status st = sim::savePatchLibrary(*(*out->generated)->library, lib); !st) out->saveError = st.error().message;
+            }
         },
         [this, out, clock] {
             patterns_->setGenerating(false);
@@ -119,6 +203,7 @@ void MainWindow::generatePatches(const QStringList& names) {
             for (const auto& [name, stats] : g.perPattern) lines << "<b>" + qs(name).toHtmlEscaped() + "</b>: " + discardReasons(stats);
             patterns_->setReport(lines.join("<br>") + QString("<br>%1 patches in %2 s").arg(g.library->patches.size()).arg(
                                                           static_cast<double>(clock->elapsed()) / 1000.0, 0, 'f', 2));
+            if (!out->saveError.empty()) showError("Generate patches", qs(out->saveError));
             patchBrowser_->setPatches(patchLibrary_, &patchSession_->library);
             patchBrowser_->setRejected(rejectedPatches());
             patchesDock_->show();

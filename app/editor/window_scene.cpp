@@ -4,7 +4,11 @@
 // panel below it and its `fray-cli metrics` figures in the Metrics panel.
 // File > Export scene writes the scene playing, in the background too.
 #include <QApplication>
+#include <QCheckBox>
 #include <QComboBox>
+#include <QInputDialog>
+#include <QSignalBlocker>
+#include <QTimer>
 #include <QCoreApplication>
 #include <QDialog>
 #include <QDialogButtonBox>
@@ -31,12 +35,14 @@
 #include <QTreeWidget>
 #include <QVBoxLayout>
 #include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
 
 #include "fray/authoring/project_document.h"
 #include "fray/export/export.h"
+#include "fray/setup/convert.h"
 #include "gantt_view.h"
 #include "main_window.h"
 #include "scene_generation.h"
@@ -58,7 +64,7 @@ QString demoSpecDir() {
     return QFileInfo(beside).isDir() ? QFileInfo(beside).canonicalFilePath() : QString();
 }
 
-constexpr int kRoleSpecFile = Qt::UserRole + 10;
+constexpr const char* kSetupPrefix = "setup:";
 
 }  // namespace
 
@@ -93,14 +99,45 @@ void MainWindow::buildSceneDocks() {
     row->addWidget(sceneSource_, 1);
     row->addWidget(open);
     layout->addLayout(row);
+    auto* importSpec = new QPushButton("Import as setup...");
+    importSpec->setObjectName("sceneImportSpec");
+    importSpec->setToolTip("Store the selected spec file (and its floor bitmap) in the project as a scene setup");
+    connect(importSpec, &QPushButton::clicked, this, [this] {
+        const QString file = sceneSource_->currentData().toString();
+        if (file.startsWith(kSetupPrefix)) return;
+        bool ok = false;
+        const QString name = QInputDialog::getText(this, "Import as setup", "Setup name", QLineEdit::Normal,
+                                                   QFileInfo(file).completeBaseName(), &ok);
+        if (ok && !name.trimmed().isEmpty()) importSpecAsSetup(name.trimmed());
+    });
     auto* row2 = new QHBoxLayout;
     row2->addWidget(generateButton_);
+    row2->addWidget(importSpec);
     auto* stop = new QPushButton("Stop preview");
     stop->setObjectName("sceneStopPreview");
     connect(stop, &QPushButton::clicked, this, &MainWindow::stopPreview);
     row2->addWidget(stop);
     row2->addStretch(1);
     layout->addLayout(row2);
+    live_ = new QCheckBox("Re-plan after each edit");
+    live_->setObjectName("sceneLive");
+    live_->setChecked(true);
+    live_->setToolTip("After an edit of the selected setup (a stroke, a moved checkpoint, a changed weight) the scene "
+                      "regenerates by itself once you pause for a moment");
+    layout->addWidget(live_);
+    replanTimer_ = new QTimer(this);
+    replanTimer_->setSingleShot(true);
+    replanTimer_->setInterval(kReplanDebounceMs);
+    connect(replanTimer_, &QTimer::timeout, this, [this] {
+        if (jobThread_) {
+            // A re-plan that is out of date already: cancel it and start again.
+            if (generatingReplan_) jobCancel_ = true;
+            replanTimer_->start(50);
+            return;
+        }
+        generatingReplan_ = true;
+        generate();
+    });
     sceneInfo_ = new QLabel("Pick a scene and Generate: it plays in the viewport, its action track below it.");
     sceneInfo_->setObjectName("sceneInfo");
     sceneInfo_->setWordWrap(true);
@@ -167,6 +204,69 @@ void MainWindow::buildSceneMenu() {
     exportAction_ = menu->addAction("&Export scene...", this, &MainWindow::exportDialog);
     exportAction_->setObjectName("actionExportScene");
     exportAction_->setShortcut(QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_E));
+}
+
+void MainWindow::fillSceneSources() {
+    if (!sceneSource_) return;
+    const QString selected = sceneSource_->currentData().toString();
+    const QSignalBlocker quiet(sceneSource_);
+    for (int i = sceneSource_->count() - 1; i >= 0; --i)
+        if (sceneSource_->itemData(i).toString().startsWith(kSetupPrefix)) sceneSource_->removeItem(i);
+    if (doc_) {
+        auto setups = doc_->setups();
+        if (setups) {
+            int at = 0;
+            for (const setup::SceneSetup& st : *setups)
+                sceneSource_->insertItem(at++, QString("setup: %1 (%2)").arg(qs(st.name)).arg(setup::setupKindName(st.kind)),
+                                         QString(kSetupPrefix) + qs(st.name));
+        } else {
+            sceneInfo_->setText("The project's setups cannot be read: " + qs(setups.error().message));
+        }
+    }
+    const int again = sceneSource_->findData(selected);
+    sceneSource_->setCurrentIndex(again >= 0 ? again : 0);
+}
+
+bool MainWindow::selectSetup(const QString& name) {
+    const int i = sceneSource_->findData(QString(kSetupPrefix) + name);
+    if (i < 0) return false;
+    sceneSource_->setCurrentIndex(i);
+    return true;
+}
+
+QString MainWindow::currentSetup() const {
+    const QString d = sceneSource_ ? sceneSource_->currentData().toString() : QString();
+    return d.startsWith(kSetupPrefix) ? d.mid(static_cast<int>(std::strlen(kSetupPrefix))) : QString();
+}
+
+bool MainWindow::importSpecAsSetup(const QString& name) {
+    const QString file = sceneSource_->currentData().toString();
+    if (!doc_ || file.isEmpty() || file.startsWith(kSetupPrefix)) return false;
+    std::ifstream in(file.toStdString(), std::ios::binary);
+    if (!in) {
+        showError("Import as setup", file + ": cannot read the file");
+        return false;
+    }
+    std::stringstream text;
+    text << in.rdbuf();
+    auto imported = setup::importSpec(name.toStdString(), text.str(), file.toStdString(), loadFloorBitmapPng);
+    if (!imported) {
+        showError("Import as setup", qs(imported.error().message));
+        return false;
+    }
+    if (Status st = doc_->addSetup(std::move(*imported)); !st) {
+        showError("Import as setup", qs(st.error().message));
+        return false;
+    }
+    fillSceneSources();
+    return selectSetup(name);
+}
+
+bool MainWindow::replanPending() const { return (replanTimer_ && replanTimer_->isActive()) || (jobThread_ && generatingReplan_); }
+
+void MainWindow::setupEdited(const authoring::ChangeEvent& event) {
+    if (!live_ || !live_->isChecked() || event.setup.empty() || qs(event.setup) != currentSetup()) return;
+    replanTimer_->start();
 }
 
 QStringList MainWindow::sceneSources() const {
@@ -247,29 +347,44 @@ void MainWindow::generate() {
         showError("Generate", "Open a project first: scenes are planned on a project's actions (File > Open)");
         return;
     }
-    const QString specFile = sceneSource_->currentData().toString();
-    if (specFile.isEmpty()) {
-        showError("Generate", "Pick a scene spec first (Scene > Open scene spec)");
+    const bool replan = generatingReplan_;
+    generatingReplan_ = false;
+    const QString source = sceneSource_->currentData().toString();
+    if (source.isEmpty()) {
+        showError("Generate", "Pick a scene setup or spec first (Scene > Open scene spec)");
         return;
     }
-    std::ifstream in(specFile.toStdString(), std::ios::binary);
-    if (!in) {
-        showError("Generate", specFile + ": cannot read the file");
-        return;
-    }
-    std::stringstream text;
-    text << in.rdbuf();
     auto input = std::make_shared<GenerateInput>();
     input->projectFile = projectFile_.toStdString();
     input->project = doc_->project();
-    input->specText = text.str();
-    input->specName = QFileInfo(specFile).fileName().toStdString();
-    input->specDir = QFileInfo(specFile).absolutePath().toStdString();
+    input->patches = patchLibrary_;
+    QString specFile = source;
+    if (source.startsWith(kSetupPrefix)) {
+        auto st = doc_->sceneSetup(currentSetup().toStdString());
+        if (!st) {
+            showError("Generate", qs(st.error().message));
+            return;
+        }
+        input->setup = std::move(*st);
+        specFile = currentSetup() + ".setup";
+    } else {
+        std::ifstream in(source.toStdString(), std::ios::binary);
+        if (!in) {
+            showError("Generate", source + ": cannot read the file");
+            return;
+        }
+        std::stringstream text;
+        text << in.rdbuf();
+        input->specText = text.str();
+        input->specName = QFileInfo(source).fileName().toStdString();
+        input->specDir = QFileInfo(source).absolutePath().toStdString();
+    }
     auto result = std::make_shared<std::optional<Result<GeneratedScene>>>();
     auto shown = std::make_shared<PreparedPreview>();
     auto clock = std::make_shared<QElapsedTimer>();
     clock->start();
     sceneInfo_->setText("Generating " + QFileInfo(specFile).fileName() + "...");
+    generatingReplan_ = replan;
     startJob(
         "generating " + QFileInfo(specFile).completeBaseName(),
         [input, result, shown](const ProgressFn& progress) {
@@ -288,10 +403,13 @@ void MainWindow::generate() {
             }
         },
         [this, result, clock, specFile, shown] {
+            const bool wasReplan = generatingReplan_;
+            generatingReplan_ = false;
             if (!*result || !**result) {
                 const bool wasCancelled = *result && (*result)->error().isCancelled();
                 const QString why = *result ? qs((*result)->error().message) : QString("no result");
                 sceneInfo_->setText(wasCancelled ? "Generating cancelled." : "Generating failed: " + why);
+                if (wasCancelled && wasReplan) return;  // a newer edit's re-plan follows
                 if (wasCancelled) statusBar()->showMessage("Generating cancelled", 8000);
                 else showError("Generate", why);
                 if (options_.quitAfter > 0 && !options_.generateSpec.isEmpty()) fail("generate: " + why);
@@ -299,7 +417,8 @@ void MainWindow::generate() {
             }
             showGenerated(std::move(*shown));
             lastGenerateSeconds_ = static_cast<double>(clock->elapsed()) / 1000.0;
-            std::printf("fray: generated %s in %.2f s\n", QFileInfo(specFile).fileName().toUtf8().constData(), lastGenerateSeconds_);
+            std::printf("fray: %s %s in %.2f s\n", wasReplan ? "re-planned" : "generated",
+                        QFileInfo(specFile).fileName().toUtf8().constData(), lastGenerateSeconds_);
             std::fflush(stdout);
         });
 }
