@@ -133,6 +133,8 @@ MainWindow::MainWindow(Viewport* viewport, std::vector<app::LoadedTake> takes, s
     }
     fillLibrary();
     fillCombos();
+    fillPatterns();
+    fillSceneSources();
     updateTitle();
     defaultLayout_ = saveState(kLayoutVersion);
     if (options_.restoreLayout) {

@@ -48,6 +48,8 @@ PatternsPanel::PatternsPanel(QWidget* parent) : QWidget(parent) {
     lists_->setObjectName("patternLists");
     lists_->setToolTip("The project's PatternLists");
     addList_ = new QPushButton("New...");
+    addList_->setToolTip("A new PatternList: character 1 plays the annotation of the row controls below, character 2 "
+                         "answers with any action; edit the rows from there");
     addList_->setObjectName("patternNew");
     removeList_ = new QPushButton("Delete");
     removeList_->setObjectName("patternDelete");
@@ -138,7 +140,9 @@ PatternsPanel::PatternsPanel(QWidget* parent) : QWidget(parent) {
     connect(addList_, &QPushButton::clicked, this, [this] {
         bool ok = false;
         const QString name = QInputDialog::getText(this, "New PatternList", "Name", QLineEdit::Normal, "pattern", &ok).trimmed();
-        if (ok && !name.isEmpty()) Q_EMIT patternAddRequested(name);
+        const QString word = rowAnnotation_->currentText().trimmed();
+        if (ok && !name.isEmpty() && !word.isEmpty())
+            Q_EMIT patternAddRequested(name, sim::PatternEntry{0, word.toStdString()});
     });
     connect(removeList_, &QPushButton::clicked, this, [this] {
         if (currentList()) Q_EMIT patternRemoveRequested(currentName());

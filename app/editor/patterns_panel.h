@@ -41,7 +41,9 @@ public:
     void setGenerating(bool running);
 
 Q_SIGNALS:
-    void patternAddRequested(const QString& name);
+    // A new PatternList starting with `firstRow` for character 1 and "any" for
+    // character 2 (a PatternList needs rows for both).
+    void patternAddRequested(const QString& name, const fray::sim::PatternEntry& firstRow);
     void patternRemoveRequested(const QString& name);
     void rowAddRequested(const QString& pattern, int index, const fray::sim::PatternEntry& row);
     void rowRemoveRequested(const QString& pattern, int index);

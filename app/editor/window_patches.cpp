@@ -48,10 +48,13 @@ void MainWindow::buildPatchDocks() {
     // Every request is one undo command on the document (its change event refills the panel).
     const auto doc = [this] { return doc_.get(); };
     const auto str = [](const QString& s) { return s.toStdString(); };
-    connect(patterns_, &PatternsPanel::patternAddRequested, this, [this, doc, str](const QString& name) {
+    connect(patterns_, &PatternsPanel::patternAddRequested, this,
+            [this, doc, str](const QString& name, const sim::PatternEntry& first) {
         if (!doc()) return;
         sim::PatternList p;
         p.name = str(name);
+        p.entries.push_back(first);
+        p.entries.push_back(sim::PatternEntry{1, "any"});
         reportStatus(doc()->addPattern(p));
     });
     connect(patterns_, &PatternsPanel::patternRemoveRequested, this,
@@ -148,6 +151,10 @@ void MainWindow::generatePatches(const QStringList& names) {
     }
     std::vector<std::string> chosen;
     for (const QString& n : names) chosen.push_back(n.toStdString());
+    // A project without PatternLists: the default ones its actions can play
+    // (as `fray-cli patches generate`), checked in the worker.
+    const bool defaults = set->patterns.empty();
+    if (defaults) set->patterns = sim::defaultPatterns();
     const prep::Project snapshot = doc_->project();
     const std::filesystem::path file = projectFile_.toStdString();
     struct Out {
@@ -161,7 +168,7 @@ void MainWindow::generatePatches(const QStringList& names) {
     patterns_->setReport("Generating patches...");
     const bool started = startJob(
         "generating patches",
-        [out, snapshot, file, set = *set, chosen](const ProgressFn& progress) {
+        [out, snapshot, file, set = *set, chosen, defaults](const ProgressFn& progress) mutable {
             const auto prepare = [&](double f, std::string_view s) { return progress ? progress(0.3 * f, s) : true; };
             auto session = prepareSimSession(snapshot, file, prepare);
             if (!session) {
@@ -169,6 +176,12 @@ void MainWindow::generatePatches(const QStringList& names) {
                 return;
             }
             const auto work = [&](double f, std::string_view s) { return progress ? progress(0.3 + 0.7 * f, s) : true; };
+            if (defaults) {
+                std::vector<sim::PatternList> playable;
+                for (auto& p : set.patterns)
+                    if (sim::checkPattern(p, set, (*session)->library)) playable.push_back(std::move(p));
+                set.patterns = std::move(playable);
+            }
             out->generated.emplace(generatePatchLibrary((*session)->library, set, chosen, work));
             out->session = std::move(*session);
             // The project's patch library file: setups' keep/reject verdicts
