@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
     fray::cli::registerPrep(app);
     fray::cli::registerSim(app);
     fray::cli::registerPatches(app);
+    fray::cli::registerSetup(app);
     fray::cli::registerRender(app);
     fray::cli::registerExport(app);
 #ifdef FRAY_CLI_EDIT

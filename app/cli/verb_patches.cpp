@@ -10,16 +10,46 @@
 #include "fray/sim/compose.h"
 #include "fray/sim/patches.h"
 #include "fray/sim/patterns.h"
+#include "fray/setup/convert.h"
+#include "fray/setup/paint.h"
 #include "cli_session.h"
+#include "compose_inputs.h"
 #include "verbs.h"
 
 namespace fray::cli {
-namespace {
 
 namespace fs = std::filesystem;
 
 // The patch library of a project lives beside it: demo.frayproj -> demo.frayproj.patches.
 fs::path defaultPatchFile(const std::string& project) { return fs::path(project + ".patches"); }
+
+Result<sim::PatchLibrary> openPatches(const std::string& project, const std::string& file, const sim::ActionLibrary& lib) {
+    const fs::path f = file.empty() ? defaultPatchFile(project) : fs::path(file);
+    if (!fs::exists(f)) {
+        return makeError(f.string() + ": no patch library (make it with: fray-cli patches generate " + project + ")");
+    }
+    sim::PatchFileOptions options;
+    options.notice = [](const std::string& note) { std::fprintf(stderr, "%s\n", note.c_str()); };
+    return sim::loadPatchLibrary(f, lib, options);
+}
+
+// A painted floor area from a two-colour PNG: dark pixels are painted, light or
+// transparent ones are not; anything in between is refused (it is not a mask).
+Result<sim::FloorBitmap> loadFloorBitmap(const fs::path& file, double metresPerPixel, glm::vec2 origin) {
+    auto image = render::readPng(file);
+    if (!image) return image.error();
+    auto paint = setup::floorFromRgba(image->width, image->height, image->rgba.data(), metresPerPixel,
+                                      {static_cast<double>(origin.x), static_cast<double>(origin.y)}, file.string());
+    if (!paint) return paint.error();
+    sim::FloorBitmap floor = setup::toFloorBitmap(*paint);
+    floor.origin = origin;  // as the spec parser read it
+    if (std::find(floor.painted.begin(), floor.painted.end(), 1) == floor.painted.end()) {
+        return makeError(file.string() + ": nothing is painted (paint the area in black on white)");
+    }
+    return floor;
+}
+
+namespace {
 
 // ---- patches generate | list ----------------------------------------------------
 struct PatchesArgs {
@@ -90,16 +120,6 @@ void runGenerate(const PatchesArgs& a, SimSession& s) {
                 file.string().c_str(), out.patches.size(), out.patterns.size(), temporal, spatial, out.standardPoses.size());
 }
 
-Result<sim::PatchLibrary> openPatches(const std::string& project, const std::string& file, const sim::ActionLibrary& lib) {
-    const fs::path f = file.empty() ? defaultPatchFile(project) : fs::path(file);
-    if (!fs::exists(f)) {
-        return makeError(f.string() + ": no patch library (make it with: fray-cli patches generate " + project + ")");
-    }
-    sim::PatchFileOptions options;
-    options.notice = [](const std::string& note) { std::fprintf(stderr, "%s\n", note.c_str()); };
-    return sim::loadPatchLibrary(f, lib, options);
-}
-
 void runList(const PatchesArgs& a, SimSession& s) {
     auto patches = openPatches(a.project, a.out, s.library);
     if (!patches) return fail(patches.error().message);
@@ -138,60 +158,58 @@ void runPatches(const PatchesArgs& a) {
 }
 
 // ---- compose --------------------------------------------------------------------
-// A painted floor area from a two-colour PNG: dark pixels are painted, light or
-// transparent ones are not; anything in between is refused (it is not a mask).
-Result<sim::FloorBitmap> loadFloorBitmap(const fs::path& file, double metresPerPixel, glm::vec2 origin) {
-    auto image = render::readPng(file);
-    if (!image) return image.error();
-    sim::FloorBitmap floor;
-    floor.width = image->width, floor.height = image->height;
-    floor.metresPerPixel = metresPerPixel;
-    floor.origin = origin;
-    floor.painted.assign(static_cast<std::size_t>(floor.width) * static_cast<std::size_t>(floor.height), 0);
-    std::size_t count = 0;
-    for (int y = 0; y < image->height; ++y) {
-        for (int x = 0; x < image->width; ++x) {
-            const std::uint8_t* px = image->pixel(x, y);
-            if (px[3] < 128) continue;  // transparent: not painted
-            const int luma = (299 * px[0] + 587 * px[1] + 114 * px[2]) / 1000;
-            if (luma > 64 && luma < 192) {
-                char colour[8];
-                std::snprintf(colour, sizeof colour, "#%02x%02x%02x", px[0], px[1], px[2]);
-                return makeError(file.string() + ": not a two-colour image: pixel (" + std::to_string(x) + ", " + std::to_string(y) +
-                                 ") is " + colour + "; paint the area in black on white (or on transparent)");
-            }
-            if (luma <= 64) {
-                floor.painted[static_cast<std::size_t>(y) * static_cast<std::size_t>(floor.width) + static_cast<std::size_t>(x)] = 1;
-                ++count;
-            }
-        }
-    }
-    if (count == 0) return makeError(file.string() + ": nothing is painted (paint the area in black on white)");
-    return floor;
-}
-
 struct ComposeArgs {
-    std::string project, spec, out, patches;
+    std::string project, spec, setup, out, patches;
     bool quiet = false;
 };
 
+// compose --setup NAME: the project's setup, its floor bitmap, and the patch
+// library without the patches the setup rejected.
+Result<sim::ComposeSpec> setupComposeSpec(const ComposeArgs& a, SimSession& s, Result<sim::PatchLibrary>& patches) {
+    auto setups = setup::projectSetups(s.session.project, a.project);
+    if (!setups) return setups.error();
+    const setup::SceneSetup* found = setup::findSetup(*setups, a.setup);
+    if (!found) return makeError(a.project + ": no setup named '" + a.setup + "' (fray-cli setup " + a.project + " list)");
+    if (setup::isTreeExpansion(found->kind)) return setup::toComposeSpec(*found, *patches);  // the error: use simulate
+    auto text = setup::setupSpecJson(*found);
+    if (!text) return text.error();
+    if (sim::composeNeedsPatches(*text)) {
+        patches = openPatches(a.project, a.patches, s.library);
+        if (!patches) return patches.error();
+        auto kept = setup::withoutRejected(*patches, found->patches.rejected);
+        if (!kept) return makeError("setup '" + a.setup + "': " + kept.error().message);
+        patches = std::move(*kept);
+    }
+    return setup::toComposeSpec(*found, *patches);
+}
+
 void runCompose(const ComposeArgs& a) {
+    if (a.spec.empty() == a.setup.empty()) return fail("compose: give either --spec FILE or --setup NAME");
+    const std::string label = a.setup.empty() ? a.spec : "setup '" + a.setup + "'";
     const fs::path outFile(a.out);
     if (Status st = checkSceneOutput(outFile); !st) return fail(st.error().message);
-    auto specText = readWholeFile(a.spec, "the compose spec");
-    if (!specText) return fail(specText.error().message);
-    // Syntax first (line and column), before any project or library work.
-    if (auto j = prep::parseJson(*specText, a.spec); !j) return fail(j.error().message);
+    Result<std::string> specText = std::string();
+    if (!a.spec.empty()) {
+        specText = readWholeFile(a.spec, "the compose spec");
+        if (!specText) return fail(specText.error().message);
+        // Syntax first (line and column), before any project or library work.
+        if (auto j = prep::parseJson(*specText, a.spec); !j) return fail(j.error().message);
+    }
     auto ss = openSimSession(a.project, stderrProgress(a.quiet));
     if (!ss) return fail(ss.error().message);
     auto& s = **ss;
-    // The rat scene generates its own patches for the rat's speed; the others draw on the patch library.
-    auto patches = sim::composeNeedsPatches(*specText) ? openPatches(a.project, a.patches, s.library)
-                                                        : Result<sim::PatchLibrary>(sim::PatchLibrary{});
-    if (!patches) return fail(patches.error().message);
-    auto spec = sim::parseComposeSpec(*specText, a.spec, *patches);
+    Result<sim::PatchLibrary> patches = sim::PatchLibrary{};
+    Result<sim::ComposeSpec> spec = sim::ComposeSpec{};
+    if (!a.setup.empty()) {
+        spec = setupComposeSpec(a, s, patches);
+    } else {
+        // The rat scene generates its own patches for the rat's speed; the others draw on the patch library.
+        if (sim::composeNeedsPatches(*specText)) patches = openPatches(a.project, a.patches, s.library);
+        if (!patches) return fail(patches.error().message);
+        spec = sim::parseComposeSpec(*specText, a.spec, *patches);
+    }
     if (!spec) return fail(spec.error().message);
-    if (!spec->floorFile.empty()) {
+    if (a.setup.empty() && !spec->floorFile.empty()) {
         fs::path bitmap(spec->floorFile);
         if (bitmap.is_relative()) bitmap = fs::path(a.spec).parent_path() / bitmap;  // relative to the spec
         auto floor = loadFloorBitmap(bitmap, spec->metresPerPixel, spec->floorOrigin);
@@ -200,7 +218,7 @@ void runCompose(const ComposeArgs& a) {
     }
     sim::ComposeStats st;
     auto scene = sim::compose(s.library, *patches, *spec, &st, stderrProgress(a.quiet));
-    if (!scene) return fail(a.spec + ": " + scene.error().message);
+    if (!scene) return fail(label + ": " + scene.error().message);
     scene->project = sceneProjectReference(outFile, a.project);
     if (auto saved = sim::saveScene(*scene, s.library, outFile); !saved) return fail(saved.error().message);
     std::printf("%s: %s, %zu characters, %.1f s, %zu hits; %d patches (%d by temporal connection, %d recycled through "
@@ -256,7 +274,9 @@ void registerPatches(CLI::App& app) {
         auto args = std::make_shared<ComposeArgs>();
         auto* cmd = app.add_subcommand("compose", "Compose a scene from Interaction Patches (one-vs-many, one-vs-one, domino, luggage, football, rat)");
         cmd->add_option("project", args->project, "Project file (*.frayproj)")->required();
-        cmd->add_option("--spec", args->spec, "Compose spec (JSON: kind and its inputs, e.g. enemies, commands, bitmap, porters, directions, rat; duration, seed; docs/PATCHES.md)")->required();
+        auto* spec = cmd->add_option("--spec", args->spec, "Compose spec (JSON: kind and its inputs, e.g. enemies, commands, bitmap, porters, directions, rat; duration, seed; docs/PATCHES.md)");
+        auto* setupOpt = cmd->add_option("--setup", args->setup, "A scene setup stored in the project (fray-cli setup P list); its rejected patches are left out");
+        spec->excludes(setupOpt);
         cmd->add_option("-o,--out", args->out, "Scene file to write (*.frayscene)")->required();
         cmd->add_option("--patches", args->patches, "Patch library (default: PROJECT.patches)");
         cmd->add_flag("-q,--quiet", args->quiet, "No progress on stderr");

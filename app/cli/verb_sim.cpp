@@ -8,6 +8,7 @@
 #include "fray/core/atomic_file.h"
 #include "fray/prep/json_reader.h"
 #include "fray/posture/posture.h"
+#include "fray/setup/convert.h"
 #include "fray/sim/action_library.h"
 #include "fray/sim/metrics.h"
 #include "fray/sim/planner.h"
@@ -22,25 +23,40 @@ namespace fs = std::filesystem;
 
 // ---- simulate -----------------------------------------------------------------
 struct SimulateArgs {
-    std::string project, spec, out;
+    std::string project, spec, setup, out;
     bool quiet = false;
 };
 
 void runSimulate(const SimulateArgs& a) {
+    if (a.spec.empty() == a.setup.empty()) return fail("simulate: give either --spec FILE or --setup NAME");
+    const std::string label = a.setup.empty() ? a.spec : "setup '" + a.setup + "'";
     const fs::path outFile(a.out);
     if (Status st = checkSceneOutput(outFile); !st) return fail(st.error().message);
-    auto specText = readWholeFile(a.spec, "the scene spec");
-    if (!specText) return fail(specText.error().message);
+    Result<std::string> specText = std::string();
+    if (!a.spec.empty()) {
+        specText = readWholeFile(a.spec, "the scene spec");
+        if (!specText) return fail(specText.error().message);
+    }
     const auto progress = stderrProgress(a.quiet);
     auto ss = openSimSession(a.project, progress);
     if (!ss) return fail(ss.error().message);
     auto& s = **ss;
     auto presets = sim::projectPresets(s.session.project, a.project);
     if (!presets) return fail(presets.error().message);
-    auto spec = sim::parseSceneSpec(*specText, a.spec, s.library, *presets);
+    Result<sim::SceneSpec> spec = sim::SceneSpec{};
+    if (!a.setup.empty()) {
+        // simulate --setup NAME: the project's stored setup (issue 23).
+        auto setups = setup::projectSetups(s.session.project, a.project);
+        if (!setups) return fail(setups.error().message);
+        const setup::SceneSetup* found = setup::findSetup(*setups, a.setup);
+        if (!found) return fail(a.project + ": no setup named '" + a.setup + "' (fray-cli setup " + a.project + " list)");
+        spec = setup::toSceneSpec(*found, s.library, *presets);
+    } else {
+        spec = sim::parseSceneSpec(*specText, a.spec, s.library, *presets);
+    }
     if (!spec) return fail(spec.error().message);
     auto scene = sim::simulate(s.library, s.session.project.combos, *spec, progress);
-    if (!scene) return fail(a.spec + ": " + scene.error().message);
+    if (!scene) return fail(label + ": " + scene.error().message);
     scene->project = sceneProjectReference(outFile, a.project);
     if (auto st = sim::saveScene(*scene, s.library, outFile); !st) return fail(st.error().message);
     const auto& st = scene->stats;
@@ -152,8 +168,9 @@ void registerSim(CLI::App& app) {
         auto args = std::make_shared<SimulateArgs>();
         auto* cmd = app.add_subcommand("simulate", "Temporal tree expansion: plan an interaction scene from a JSON spec");
         cmd->add_option("project", args->project, "Project file (*.frayproj)")->required();
-        cmd->add_option("--spec", args->spec, "Scene spec (JSON: characters, presets, depths, paths, duration, seed)")
-            ->required();
+        auto* spec = cmd->add_option("--spec", args->spec, "Scene spec (JSON: characters, presets, depths, paths, duration, seed)");
+        auto* setupOpt = cmd->add_option("--setup", args->setup, "A duel or chase setup stored in the project (fray-cli setup P list)");
+        spec->excludes(setupOpt);
         cmd->add_option("-o,--out", args->out, "Scene file to write (*.frayscene)")->required();
         cmd->add_flag("-q,--quiet", args->quiet, "No progress on stderr");
         cmd->callback([args] { runSimulate(*args); });

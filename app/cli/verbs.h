@@ -15,6 +15,7 @@ void registerDemoLibrary(CLI::App& app);
 void registerPrep(CLI::App& app);
 void registerSim(CLI::App& app);
 void registerPatches(CLI::App& app);
+void registerSetup(CLI::App& app);
 void registerRender(CLI::App& app);
 void registerExport(CLI::App& app);
 void registerEdit(CLI::App& app);  // annotate, cuts: built when fray_authoring is (FRAY_CLI_EDIT)
