@@ -380,6 +380,7 @@ void MainWindow::buildDocks() {
 
     buildSceneDocks();
     buildPatchDocks();
+    buildFloorTools();
 
     resizeDocks({libraryDock_}, {280}, Qt::Horizontal);
     resizeDocks({inspectorDock_}, {360}, Qt::Horizontal);
@@ -669,10 +670,19 @@ void MainWindow::tick() {
         viewport_->frame().checkpoints = scene_->checkpoints();
         viewport_->frame().floorBitmap = scene_->floorBitmap();
         gantt_->setTime(time_);
+        if (viewport_->activeTool()) {
+            // Editing the setup: its floor, trajectories and starts, not the scene's.
+            viewport_->frame().trajectories = overlayLines_;
+            viewport_->frame().checkpoints = overlayMarks_;
+            viewport_->frame().floorBitmap = overlayFloor_.width > 0 ? &overlayFloor_ : nullptr;
+        }
     } else {
         stage_.pose(time_, true);
         viewport_->frame().characters = stage_.instances();
-        viewport_->frame().floorBitmap = nullptr;
+        // The selected setup on the floor (nothing when none is selected).
+        viewport_->frame().trajectories = overlayLines_;
+        viewport_->frame().checkpoints = overlayMarks_;
+        viewport_->frame().floorBitmap = overlayFloor_.width > 0 ? &overlayFloor_ : nullptr;
     }
     showTime();
     if (!scene_ && !shown_.empty()) timeline_->setPlayhead(stage_.frameOf(0));

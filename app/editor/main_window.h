@@ -27,6 +27,7 @@
 
 #include "fray/render/motion_stage.h"
 #include "fray/sim/patches.h"
+#include "floor_tools.h"
 #include "project_analysis.h"
 #include "scene_stage.h"
 #include "takes.h"
@@ -47,6 +48,7 @@ class QSortFilterProxyModel;
 class QStandardItemModel;
 class QTableView;
 class QThread;
+class QToolBar;
 class QToolButton;
 class QTreeWidget;
 class QTreeWidgetItem;
@@ -88,7 +90,7 @@ struct EditorOptions {
     QString generateSpec;           // a scene spec generated once the window is up (--generate)
 };
 
-class MainWindow : public QMainWindow {
+class MainWindow : public QMainWindow, public FloorToolHost {
     Q_OBJECT
 public:
     // Plays `scene` when given, else the takes; `projectFile` (may be empty)
@@ -143,6 +145,22 @@ public:
     int selectedCharacter() const { return selected_; }
     // Ends a generated preview: the viewport plays the library's motions again.
     void stopPreview();
+    // ---- Floor tools (window_tools.cpp)
+    // Activates a floor tool by name ("Brush", "Eraser", "Fill", "Text",
+    // "Polyline", "Arc", "Circle", "Move"; "" : none, the mouse moves the camera).
+    bool selectTool(const QString& name);
+    FloorTool* tool(const QString& name) const;
+    Viewport* viewport() const { return viewport_; }
+    // The setup character trajectories are drawn for.
+    bool selectToolCharacter(const QString& name);
+    // Imports a PNG as the current setup's floor bitmap (one undo step); false with a message on bad input.
+    bool importFloorPng(const QString& file);
+    // FloorToolHost.
+    authoring::ProjectDocument* toolDocument() override { return doc_.get(); }
+    std::string toolSetup() override { return currentSetup().toStdString(); }
+    std::string toolCharacter() override;
+    void toolMessage(const QString& message, bool error) override;
+    QWidget* toolDialogParent() override { return this; }
     // Writes the scene playing in the background (the Export dialog's work).
     void exportScene(const QString& format, double fps, const QString& dir, const QString& name);
 
@@ -225,6 +243,9 @@ private:
     void previewPatch(int patch);
     void setPatchesRejected(const std::vector<int>& patches, bool reject);
     void reportStatus(const Status& s);
+    void buildFloorTools();
+    void refreshSetupOverlay();
+    void fillToolCharacters();
     // A setup's parameters, placements, trajectories or floor changed: the
     // overlays follow, and the live re-plan starts its debounce.
     void setupEdited(const authoring::ChangeEvent& event);
@@ -316,6 +337,17 @@ private:
     std::shared_ptr<const sim::PatchLibrary> patchLibrary_;      // generated here, also written to PROJECT.patches
     std::shared_ptr<const pipeline::SimSession> patchSession_;   // the action library it was made from
     int previewedPatch_ = -1;
+    QToolBar* toolBar_ = nullptr;
+    QToolBar* toolOptions_ = nullptr;
+    QComboBox* toolCharacter_ = nullptr;
+    std::vector<FloorTool*> tools_;    // children of the window
+    // The current setup drawn on the floor: its bitmap, trajectories, checkpoints and starts.
+    std::vector<std::uint8_t> overlayPixels_;
+    render::FloorBitmap overlayFloor_;
+    std::vector<std::vector<glm::vec3>> overlayLinePoints_;
+    std::vector<render::Polyline> overlayLines_;
+    std::vector<render::Checkpoint> overlayMarks_;
+    std::uint64_t overlayRevision_ = 0;
     QCheckBox* live_ = nullptr;        // re-plan after each edit of the current setup
     QTimer* replanTimer_ = nullptr;    // the live re-plan's debounce
     bool generatingReplan_ = false;    // the running generate is a live re-plan

@@ -225,6 +225,8 @@ void MainWindow::fillSceneSources() {
     }
     const int again = sceneSource_->findData(selected);
     sceneSource_->setCurrentIndex(again >= 0 ? again : 0);
+    fillToolCharacters();
+    refreshSetupOverlay();
 }
 
 bool MainWindow::selectSetup(const QString& name) {
@@ -265,6 +267,10 @@ bool MainWindow::importSpecAsSetup(const QString& name) {
 bool MainWindow::replanPending() const { return (replanTimer_ && replanTimer_->isActive()) || (jobThread_ && generatingReplan_); }
 
 void MainWindow::setupEdited(const authoring::ChangeEvent& event) {
+    if (qs(event.setup) == currentSetup()) {
+        refreshSetupOverlay();
+        if (event.kind == authoring::ChangeKind::SetupParameters) fillToolCharacters();
+    }
     if (!live_ || !live_->isChecked() || event.setup.empty() || qs(event.setup) != currentSetup()) return;
     replanTimer_->start();
 }
