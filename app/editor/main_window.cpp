@@ -31,6 +31,7 @@
 #include <QTableView>
 #include <QTextBrowser>
 #include <QThread>
+#include <QToolBar>
 #include <QToolButton>
 #include <QTreeWidget>
 #include <QUndoGroup>
@@ -510,6 +511,26 @@ QByteArray MainWindow::describeUi() const {
         menus.append(m);
     }
     root["menus"] = menus;
+    // Tool bars: the floor tools and their options.
+    QJsonArray bars;
+    for (QToolBar* bar : findChildren<QToolBar*>()) {
+        QJsonObject b;
+        b["name"] = bar->objectName();
+        b["title"] = bar->windowTitle();
+        QJsonArray actions;
+        for (QAction* a : bar->actions()) {
+            if (a->isSeparator() || a->objectName().isEmpty()) continue;
+            QJsonObject o;
+            o["name"] = a->objectName();
+            o["text"] = a->text();
+            o["shortcut"] = a->shortcut().toString(QKeySequence::PortableText);
+            o["tip"] = a->statusTip().isEmpty() ? a->toolTip() : a->statusTip();
+            actions.append(o);
+        }
+        b["actions"] = actions;
+        bars.append(b);
+    }
+    root["toolbars"] = bars;
     return QJsonDocument(root).toJson(QJsonDocument::Indented);
 }
 

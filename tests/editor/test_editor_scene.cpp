@@ -23,6 +23,7 @@
 #include <filesystem>
 
 #include "editor_fixture.h"
+#include "fray/authoring/project_document.h"
 #include "fray/sim/metrics.h"
 #include "fray/sim/scene.h"
 #include "gantt_view.h"
@@ -171,6 +172,36 @@ TEST_F(SceneWindow, GenerateShowsTheSceneItsActionTrackAndMetrics) {
     w->stopPreview();
     EXPECT_EQ(w->scene(), nullptr);
     EXPECT_TRUE(gantt->data().rows.empty());
+}
+
+TEST(SceneSetups, SaveReopenAndGenerateAgainGivesTheSameBytes) {
+    // A copy of the demo project with the short duel imported as a setup.
+    QTemporaryDir dir;
+    const fs::path from = fs::path(FRAY_DEMO_PROJECT).parent_path();
+    for (const auto& entry : fs::directory_iterator(from)) {
+        const auto ext = entry.path().extension();
+        if (ext == ".bvh" || ext == ".frayproj" || ext == ".csv" || ext == ".cache")
+            fs::copy_file(entry.path(), fs::path(dir.path().toStdString()) / entry.path().filename());
+    }
+    const QString project = dir.filePath("demo.frayproj");
+    const QString spec = writeFile(dir, "short_duel.json", kShortDuel);
+    std::string first;
+    {
+        auto w = fray::test::openEditorWindow(project);
+        ASSERT_NE(w, nullptr);
+        ASSERT_TRUE(w->selectSceneSource(spec));
+        ASSERT_TRUE(w->importSpecAsSetup("short duel")) << w->lastError().toStdString();
+        generateAndWait(w.get());
+        ASSERT_NE(w->scene(), nullptr) << w->lastError().toStdString();
+        first = fray::sim::sceneToJson(w->scene()->scene(), w->scene()->library());
+        ASSERT_TRUE(w->document()->save());
+    }
+    auto w = fray::test::openEditorWindow(project);
+    ASSERT_NE(w, nullptr);
+    ASSERT_TRUE(w->selectSetup("short duel"));
+    generateAndWait(w.get());
+    ASSERT_NE(w->scene(), nullptr) << w->lastError().toStdString();
+    EXPECT_EQ(fray::sim::sceneToJson(w->scene()->scene(), w->scene()->library()), first);
 }
 
 TEST_F(SceneWindow, ABadSpecOrACancelLeavesAClearMessageAndNoScene) {
