@@ -10,6 +10,7 @@
 #include "fray/sim/compose.h"
 #include "fray/sim/patches.h"
 #include "fray/sim/patterns.h"
+#include "fray/pipeline/setup_run.h"
 #include "fray/setup/convert.h"
 #include "fray/setup/paint.h"
 #include "cli_session.h"
@@ -163,26 +164,6 @@ struct ComposeArgs {
     bool quiet = false;
 };
 
-// compose --setup NAME: the project's setup, its floor bitmap, and the patch
-// library without the patches the setup rejected.
-Result<sim::ComposeSpec> setupComposeSpec(const ComposeArgs& a, SimSession& s, Result<sim::PatchLibrary>& patches) {
-    auto setups = setup::projectSetups(s.session.project, a.project);
-    if (!setups) return setups.error();
-    const setup::SceneSetup* found = setup::findSetup(*setups, a.setup);
-    if (!found) return makeError(a.project + ": no setup named '" + a.setup + "' (fray-cli setup " + a.project + " list)");
-    if (setup::isTreeExpansion(found->kind)) return setup::toComposeSpec(*found, *patches);  // the error: use simulate
-    auto text = setup::setupSpecJson(*found);
-    if (!text) return text.error();
-    if (sim::composeNeedsPatches(*text)) {
-        patches = openPatches(a.project, a.patches, s.library);
-        if (!patches) return patches.error();
-        auto kept = setup::withoutRejected(*patches, found->patches.rejected);
-        if (!kept) return makeError("setup '" + a.setup + "': " + kept.error().message);
-        patches = std::move(*kept);
-    }
-    return setup::toComposeSpec(*found, *patches);
-}
-
 void runCompose(const ComposeArgs& a) {
     if (a.spec.empty() == a.setup.empty()) return fail("compose: give either --spec FILE or --setup NAME");
     const std::string label = a.setup.empty() ? a.spec : "setup '" + a.setup + "'";
@@ -200,25 +181,42 @@ void runCompose(const ComposeArgs& a) {
     auto& s = **ss;
     Result<sim::PatchLibrary> patches = sim::PatchLibrary{};
     Result<sim::ComposeSpec> spec = sim::ComposeSpec{};
+    Result<sim::Scene> scene = sim::Scene{};
+    sim::ComposeStats st;
     if (!a.setup.empty()) {
-        spec = setupComposeSpec(a, s, patches);
+        // compose --setup NAME: the project's setup, run as the editor runs it
+        // (its floor bitmap; the patch library less the patches it rejected).
+        auto setups = setup::projectSetups(s.session.project, a.project);
+        if (!setups) return fail(setups.error().message);
+        const setup::SceneSetup* found = setup::findSetup(*setups, a.setup);
+        if (!found) return fail(a.project + ": no setup named '" + a.setup + "' (fray-cli setup " + a.project + " list)");
+        if (setup::isTreeExpansion(found->kind)) {
+            return fail(label + " is a " + setup::setupKindName(found->kind) + " setup: run it with simulate, not compose");
+        }
+        if (pipeline::setupNeedsPatches(*found)) patches = openPatches(a.project, a.patches, s.library);
+        if (!patches) return fail(patches.error().message);
+        spec = setup::toComposeSpec(*found, *patches);  // what the summary below reports
+        if (!spec) return fail(spec.error().message);
+        pipeline::SetupRunStats stats;
+        scene = pipeline::runSetup(s, *found, &*patches, stderrProgress(a.quiet), &stats);
+        if (!scene) return fail(scene.error().message);
+        st = stats.compose;
     } else {
         // The rat scene generates its own patches for the rat's speed; the others draw on the patch library.
         if (sim::composeNeedsPatches(*specText)) patches = openPatches(a.project, a.patches, s.library);
         if (!patches) return fail(patches.error().message);
         spec = sim::parseComposeSpec(*specText, a.spec, *patches);
+        if (!spec) return fail(spec.error().message);
+        if (!spec->floorFile.empty()) {
+            fs::path bitmap(spec->floorFile);
+            if (bitmap.is_relative()) bitmap = fs::path(a.spec).parent_path() / bitmap;  // relative to the spec
+            auto floor = loadFloorBitmap(bitmap, spec->metresPerPixel, spec->floorOrigin);
+            if (!floor) return fail(floor.error().message);
+            spec->floor = std::move(*floor);
+        }
+        scene = sim::compose(s.library, *patches, *spec, &st, stderrProgress(a.quiet));
+        if (!scene) return fail(label + ": " + scene.error().message);
     }
-    if (!spec) return fail(spec.error().message);
-    if (a.setup.empty() && !spec->floorFile.empty()) {
-        fs::path bitmap(spec->floorFile);
-        if (bitmap.is_relative()) bitmap = fs::path(a.spec).parent_path() / bitmap;  // relative to the spec
-        auto floor = loadFloorBitmap(bitmap, spec->metresPerPixel, spec->floorOrigin);
-        if (!floor) return fail(floor.error().message);
-        spec->floor = std::move(*floor);
-    }
-    sim::ComposeStats st;
-    auto scene = sim::compose(s.library, *patches, *spec, &st, stderrProgress(a.quiet));
-    if (!scene) return fail(label + ": " + scene.error().message);
     scene->project = sceneProjectReference(outFile, a.project);
     if (auto saved = sim::saveScene(*scene, s.library, outFile); !saved) return fail(saved.error().message);
     std::printf("%s: %s, %zu characters, %.1f s, %zu hits; %d patches (%d by temporal connection, %d recycled through "

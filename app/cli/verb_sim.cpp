@@ -8,6 +8,7 @@
 #include "fray/core/atomic_file.h"
 #include "fray/prep/json_reader.h"
 #include "fray/posture/posture.h"
+#include "fray/pipeline/setup_run.h"
 #include "fray/setup/convert.h"
 #include "fray/sim/action_library.h"
 #include "fray/sim/metrics.h"
@@ -43,20 +44,24 @@ void runSimulate(const SimulateArgs& a) {
     auto& s = **ss;
     auto presets = sim::projectPresets(s.session.project, a.project);
     if (!presets) return fail(presets.error().message);
-    Result<sim::SceneSpec> spec = sim::SceneSpec{};
+    Result<sim::Scene> scene = sim::Scene{};
     if (!a.setup.empty()) {
-        // simulate --setup NAME: the project's stored setup (issue 23).
+        // simulate --setup NAME: the project's stored setup (issue 23), run as the editor runs it.
         auto setups = setup::projectSetups(s.session.project, a.project);
         if (!setups) return fail(setups.error().message);
         const setup::SceneSetup* found = setup::findSetup(*setups, a.setup);
         if (!found) return fail(a.project + ": no setup named '" + a.setup + "' (fray-cli setup " + a.project + " list)");
-        spec = setup::toSceneSpec(*found, s.library, *presets);
+        if (!setup::isTreeExpansion(found->kind)) {
+            return fail(label + " is a " + setup::setupKindName(found->kind) + " setup: run it with compose, not simulate");
+        }
+        scene = pipeline::runSetup(s, *found, nullptr, progress);
+        if (!scene) return fail(scene.error().message);
     } else {
-        spec = sim::parseSceneSpec(*specText, a.spec, s.library, *presets);
+        auto spec = sim::parseSceneSpec(*specText, a.spec, s.library, *presets);
+        if (!spec) return fail(spec.error().message);
+        scene = sim::simulate(s.library, s.session.project.combos, *spec, progress);
+        if (!scene) return fail(label + ": " + scene.error().message);
     }
-    if (!spec) return fail(spec.error().message);
-    auto scene = sim::simulate(s.library, s.session.project.combos, *spec, progress);
-    if (!scene) return fail(label + ": " + scene.error().message);
     scene->project = sceneProjectReference(outFile, a.project);
     if (auto st = sim::saveScene(*scene, s.library, outFile); !st) return fail(st.error().message);
     const auto& st = scene->stats;

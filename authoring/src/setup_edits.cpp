@@ -174,8 +174,8 @@ Status ProjectDocument::setCharacterStart(const std::string& name, const std::st
 }
 
 Status ProjectDocument::moveTeam(const std::string& name, int side, double dx, double dz, DragId drag) {
-    // A drag passes the offset from where the team was when the drag began,
-    // so merged steps do not add up: start from the undo stack's base.
+    // (dx, dz) moves the team from where it is now: a drag passes each mouse
+    // move's delta, and the merged step holds the sum.
     ChangeEvent e{ChangeKind::SetupPlacement, {}, side, 0};
     return editSetup(name, QStringLiteral("Move team %1").arg(side + 1), "team/" + std::to_string(side), drag, e,
                      [&](SceneSetup& s) { return setup::moveTeam(s, side, dx, dz); });

@@ -6,6 +6,7 @@
 #include <map>
 #include <set>
 
+#include "fray/pipeline/setup_run.h"
 #include "fray/pipeline/sim_session.h"
 #include "fray/setup/convert.h"
 #include "fray/setup/scene_setup.h"
@@ -81,11 +82,17 @@ TEST(RejectedPatches, NeverCompose) {
     auto kept = setup::withoutRejected(patches, stored->front().patches.rejected);
     ASSERT_TRUE(kept.ok());
     EXPECT_EQ(kept->patches.size(), patches.patches.size() - s.patches.rejected.size());
-    auto spec2 = setup::toComposeSpec(stored->front(), *kept);
-    ASSERT_TRUE(spec2.ok());
-    sim::ComposeStats stats;
-    auto again = sim::compose(lib, *kept, *spec2, &stats);
+    // The pipeline's run (fray-cli compose --setup, the editor's Generate) is
+    // given the whole library and leaves the rejected patches out itself.
+    pipeline::SetupRunStats stats;
+    auto again = pipeline::runSetup(**ss, stored->front(), &patches, {}, &stats);
     ASSERT_TRUE(again.ok()) << again.error().message;
-    EXPECT_GT(stats.patchesUsed, 0);
+    EXPECT_GT(stats.compose.patchesUsed, 0);
     EXPECT_EQ(attacksPlayed(*again, lib).count(attack), 0u) << "a rejected patch's attack was played";
+    // Without verdicts it is byte for byte the scene composed directly.
+    setup::SceneSetup plainSetup = stored->front();
+    plainSetup.patches.rejected.clear();
+    auto plain = pipeline::runSetup(**ss, plainSetup, &patches);
+    ASSERT_TRUE(plain.ok()) << plain.error().message;
+    EXPECT_EQ(sim::sceneToJson(*plain, lib), sim::sceneToJson(*scene, lib));
 }

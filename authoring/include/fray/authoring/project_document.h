@@ -140,6 +140,7 @@ public:
     // Placements.
     Status setCharacterStart(const std::string& setup, const std::string& character, const setup::Placement& start,
                              DragId drag = 0);
+    // Moves every character of `side` by (dx, dz) from where they are now (a drag passes each move's delta).
     Status moveTeam(const std::string& setup, int side, double dx, double dz, DragId drag = 0);
     Status setDominoStarts(const std::string& setup, std::vector<setup::DominoStartPoint> starts, DragId drag = 0);
     // Paths of compose kinds.
