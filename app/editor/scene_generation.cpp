@@ -6,6 +6,7 @@
 #include "fray/prep/json_reader.h"
 #include "fray/prep/pipeline.h"
 #include "fray/render/image.h"
+#include "fray/pipeline/setup_run.h"
 #include "fray/setup/convert.h"
 #include "fray/sim/compose.h"
 #include "fray/sim/patterns.h"
@@ -176,7 +177,34 @@ Result<GeneratedScene> generateScene(const GenerateInput& in, const ProgressFn& 
     GeneratedScene out;
     const auto t0 = std::chrono::steady_clock::now();
     const bool compose = in.setup ? !setup::isTreeExpansion(in.setup->kind) : isComposeSpec(specText);
-    if (compose) {
+    if (in.setup) {
+        // The one path of `fray-cli simulate/compose --setup` (its rejected patches left out).
+        std::shared_ptr<const sim::PatchLibrary> patches;
+        if (pipeline::setupNeedsPatches(*in.setup)) {
+            auto p = compositionPatches(in, s, stage(progress, 0.3, 0.6));
+            if (!p) return p.error();
+            patches = *p;
+        }
+        out.patches = patches;
+        pipeline::SetupRunStats st;
+        auto scene = pipeline::runSetup(s, *in.setup, patches.get(), stage(progress, 0.6, 0.95), &st);
+        if (!scene) return scene.error();
+        out.summary = compose ? QString("%1 '%2': %3 characters, %4 s, %5 hits; %6 patches")
+                                    .arg(setup::setupKindName(in.setup->kind))
+                                    .arg(QString::fromStdString(in.setup->name))
+                                    .arg(scene->characters.size())
+                                    .arg(scene->duration, 0, 'f', 1)
+                                    .arg(scene->hits.size())
+                                    .arg(st.compose.patchesUsed)
+                              : QString("%1 '%2': %3 characters, %4 s, %5 decisions, %6 hits")
+                                    .arg(setup::setupKindName(in.setup->kind))
+                                    .arg(QString::fromStdString(in.setup->name))
+                                    .arg(scene->characters.size())
+                                    .arg(scene->duration, 0, 'f', 1)
+                                    .arg(scene->stats.decisions)
+                                    .arg(scene->hits.size());
+        out.loaded.scene = std::move(*scene);
+    } else if (compose) {
         std::shared_ptr<const sim::PatchLibrary> patches;
         if (sim::composeNeedsPatches(specText)) {
             auto p = compositionPatches(in, s, stage(progress, 0.3, 0.6));
@@ -185,7 +213,6 @@ Result<GeneratedScene> generateScene(const GenerateInput& in, const ProgressFn& 
         }
         out.patches = patches;
         std::vector<int> rejected = in.rejected;
-        if (in.setup) rejected.insert(rejected.end(), in.setup->patches.rejected.begin(), in.setup->patches.rejected.end());
         std::sort(rejected.begin(), rejected.end());
         rejected.erase(std::unique(rejected.begin(), rejected.end()), rejected.end());
         sim::PatchLibrary used;
@@ -198,9 +225,9 @@ Result<GeneratedScene> generateScene(const GenerateInput& in, const ProgressFn& 
                 used = std::move(*kept);
             }
         }
-        Result<sim::ComposeSpec> spec = in.setup ? setup::toComposeSpec(*in.setup, used) : sim::parseComposeSpec(specText, specName, used);
+        auto spec = sim::parseComposeSpec(specText, specName, used);
         if (!spec) return spec.error();
-        if (!in.setup && !spec->floorFile.empty()) {
+        if (!spec->floorFile.empty()) {
             fs::path bitmap(spec->floorFile);
             if (bitmap.is_relative()) bitmap = in.specDir / bitmap;
             auto floor = loadFloorBitmapPng(bitmap, spec->metresPerPixel, spec->floorOrigin);
@@ -220,8 +247,7 @@ Result<GeneratedScene> generateScene(const GenerateInput& in, const ProgressFn& 
     } else {
         auto presets = sim::projectPresets(s.session.project, in.projectFile.filename().string());
         if (!presets) return presets.error();
-        auto spec = in.setup ? setup::toSceneSpec(*in.setup, s.library, *presets)
-                             : sim::parseSceneSpec(specText, specName, s.library, *presets);
+        auto spec = sim::parseSceneSpec(specText, specName, s.library, *presets);
         if (!spec) return spec.error();
         auto scene = sim::simulate(s.library, s.session.project.combos, *spec, stage(progress, 0.3, 0.95));
         if (!scene) return makeError(specName + ": " + scene.error().message);

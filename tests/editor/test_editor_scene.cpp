@@ -12,6 +12,7 @@
 #include <QElapsedTimer>
 #include <QFile>
 #include <QLabel>
+#include <QProcess>
 #include <QPushButton>
 #include <QStandardItemModel>
 #include <QStatusBar>
@@ -202,6 +203,15 @@ TEST(SceneSetups, SaveReopenAndGenerateAgainGivesTheSameBytes) {
     generateAndWait(w.get());
     ASSERT_NE(w->scene(), nullptr) << w->lastError().toStdString();
     EXPECT_EQ(fray::sim::sceneToJson(w->scene()->scene(), w->scene()->library()), first);
+    // The same bytes as `fray-cli simulate --setup` writes.
+    QProcess cli;
+    const QString out = dir.filePath("cli.frayscene");
+    cli.start(FRAY_CLI, {"simulate", project, "--setup", "short duel", "--out", out, "--quiet"});
+    ASSERT_TRUE(cli.waitForFinished(120000));
+    ASSERT_EQ(cli.exitCode(), 0) << cli.readAllStandardError().toStdString();
+    QFile written(out);
+    ASSERT_TRUE(written.open(QIODevice::ReadOnly));
+    EXPECT_EQ(written.readAll().toStdString(), first);
 }
 
 TEST_F(SceneWindow, ABadSpecOrACancelLeavesAClearMessageAndNoScene) {
