@@ -197,6 +197,11 @@ TEST_F(FloorTools, TrajectoriesAndBadInputKeepTheProjectUnchanged) {
     EXPECT_EQ(s->trajectories[0].shape, fray::setup::TrajectoryShape::Circle);
     EXPECT_NEAR(s->trajectories[0].points[1].x, 2.0, 0.1);
     EXPECT_NEAR(s->trajectories[0].points[1].z, 0.0, 0.1);
+    // The circle on the floor, its start and rim points and the characters' starts.
+    QTest::qWait(200);
+    fray::render::Image view;
+    ASSERT_TRUE(editor.viewport->renderer()->readback(view));
+    (void)fray::render::writePng(QString(FRAY_EDITOR_SHOTS "/floor-circle.png").toStdString(), view);
     // Drag its rim point with the Move tool: one undo step.
     ASSERT_TRUE(w->selectTool("Move"));
     const int steps = doc->undoStack()->count();
