@@ -141,6 +141,8 @@ void MainWindow::buildSceneDocks() {
     sceneInfo_ = new QLabel("Pick a scene and Generate: it plays in the viewport, its action track below it.");
     sceneInfo_->setObjectName("sceneInfo");
     sceneInfo_->setWordWrap(true);
+    sceneInfo_->setMinimumHeight(sceneInfo_->fontMetrics().lineSpacing() * 3);
+    sceneInfo_->setAlignment(Qt::AlignTop | Qt::AlignLeft);
     layout->addWidget(sceneInfo_);
     layout->addStretch(1);
     sceneDock_ = new QDockWidget("Scene", this);
@@ -167,6 +169,7 @@ void MainWindow::buildSceneDocks() {
     metricsSummary_ = new QLabel("No scene generated yet.");
     metricsSummary_->setObjectName("metricsSummary");
     metricsSummary_->setWordWrap(true);
+    metricsSummary_->setMinimumHeight(metricsSummary_->fontMetrics().lineSpacing() * 2 + 4);
     metricsModel_ = new QStandardItemModel(0, 0, this);
     metrics_ = new QTableView;
     metrics_->setObjectName("metrics");
@@ -184,7 +187,7 @@ void MainWindow::buildSceneDocks() {
     tabifyDockWidget(historyDock_, metricsDock_);
     inspectorDock_->raise();
     resizeDocks({ganttDock_, timelineDock_}, {130, 200}, Qt::Vertical);
-    resizeDocks({libraryDock_, sceneDock_}, {480, 170}, Qt::Vertical);
+    resizeDocks({libraryDock_, sceneDock_}, {440, 210}, Qt::Vertical);
 }
 
 void MainWindow::buildSceneMenu() {

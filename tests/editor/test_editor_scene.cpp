@@ -9,6 +9,7 @@
 #include <QApplication>
 #include <QComboBox>
 #include <QDir>
+#include <QDockWidget>
 #include <QElapsedTimer>
 #include <QFile>
 #include <QLabel>
@@ -147,6 +148,11 @@ TEST_F(SceneWindow, GenerateShowsTheSceneItsActionTrackAndMetrics) {
     EXPECT_DOUBLE_EQ(gantt->time(), second.start);
     QDir().mkpath(FRAY_EDITOR_SHOTS);
     gantt->grab().save(QString(FRAY_EDITOR_SHOTS) + "/gantt-duel.png");
+    for (const char* dock : {"MetricsDock", "SceneDock"}) {
+        child<QDockWidget>(w.get(), dock)->show();
+        child<QDockWidget>(w.get(), dock)->raise();
+    }
+    QApplication::processEvents();
     child<QWidget>(w.get(), "metricsPanel")->grab().save(QString(FRAY_EDITOR_SHOTS) + "/MetricsDock.png");
     child<QWidget>(w.get(), "scenePanel")->grab().save(QString(FRAY_EDITOR_SHOTS) + "/SceneDock.png");
 
