@@ -121,6 +121,8 @@ PatternsPanel::PatternsPanel(QWidget* parent) : QWidget(parent) {
     generate_->setToolTip("Generate the Interaction Patches of this PatternList in the background");
     generateAll_ = new QPushButton("Generate all");
     generateAll_->setObjectName("patternGenerateAll");
+    generateAll_->setToolTip("Generate the patches of every PatternList (the default ones the actions can play when the "
+                             "project has none)");
     genBar->addWidget(generate_);
     genBar->addWidget(generateAll_);
     genBar->addStretch(1);
@@ -223,7 +225,7 @@ void PatternsPanel::setReport(const QString& text) { report_->setText(text); }
 
 void PatternsPanel::setGenerating(bool running) {
     generate_->setEnabled(!running && current_ >= 0);
-    generateAll_->setEnabled(!running && !set_.patterns.empty());
+    generateAll_->setEnabled(!running);
 }
 
 void PatternsPanel::fill() {
@@ -265,7 +267,6 @@ void PatternsPanel::fillRows() {
         wTiming_->setValue(p->weights.timing);
         threshold_->setValue(p->threshold);
     }
-    generateAll_->setEnabled(!set_.patterns.empty());
     filling_ = false;
 }
 

@@ -220,6 +220,45 @@ TEST(SceneSetups, SaveReopenAndGenerateAgainGivesTheSameBytes) {
     EXPECT_EQ(written.readAll().toStdString(), first);
 }
 
+// Live re-plan times on the demo setups (docs/BENCHMARKS.md): from the end of
+// an edit (a new seed) to the new scene playing, the debounce included. Not
+// run by default (a minute of planning); run it with
+//   fray_editor_scene_tests --gtest_also_run_disabled_tests --gtest_filter='*LiveReplan*'
+TEST(SceneSetups, DISABLED_LiveReplanTimes) {
+    QTemporaryDir dir;
+    const fs::path from = fs::path(FRAY_DEMO_PROJECT).parent_path();
+    for (const auto& entry : fs::directory_iterator(from)) {
+        const auto ext = entry.path().extension();
+        if (ext == ".bvh" || ext == ".frayproj" || ext == ".csv" || ext == ".cache")
+            fs::copy_file(entry.path(), fs::path(dir.path().toStdString()) / entry.path().filename());
+    }
+    auto w = fray::test::openEditorWindow(dir.filePath("demo.frayproj"));
+    ASSERT_NE(w, nullptr);
+    ASSERT_TRUE(QTest::qWaitFor([&] { return w->analysis() != nullptr; }, 120000));
+    // The patch library first (the default PatternLists), as a user would.
+    child<QPushButton>(w.get(), "patternGenerateAll")->click();
+    ASSERT_TRUE(QTest::qWaitFor([&] { return !w->busy(); }, 300000));
+    ASSERT_NE(w->patchLibrary(), nullptr);
+    for (const char* kind : {"duel", "chase", "one_vs_many", "domino", "rat"}) {
+        QString spec;
+        for (const QString& s : w->sceneSources())
+            if (s.endsWith(QString("resources/demo/%1.json").arg(kind))) spec = s;
+        ASSERT_TRUE(w->selectSceneSource(spec));
+        ASSERT_TRUE(w->importSpecAsSetup(kind)) << w->lastError().toStdString();
+        generateAndWait(w.get());
+        ASSERT_NE(w->scene(), nullptr) << w->lastError().toStdString();
+        for (int seed : {11, 12}) {
+            const auto* before = w->scene();
+            QElapsedTimer clock;
+            clock.start();
+            ASSERT_TRUE(w->document()->setSetupParameter(kind, "/seed", std::to_string(seed)));
+            ASSERT_TRUE(QTest::qWaitFor([&] { return w->scene() != before && !w->replanPending(); }, 300000));
+            std::printf("live re-plan %-12s seed %d: %lld ms from the edit to the new scene playing (%zu characters)\n", kind,
+                        seed, static_cast<long long>(clock.elapsed()), w->scene()->scene().characters.size());
+        }
+    }
+}
+
 TEST_F(SceneWindow, ABadSpecOrACancelLeavesAClearMessageAndNoScene) {
     // An action annotation no action has.
     QByteArray bad = kShortDuel;
