@@ -337,6 +337,7 @@ private:
     std::shared_ptr<const sim::PatchLibrary> patchLibrary_;      // generated here, also written to PROJECT.patches
     std::shared_ptr<const pipeline::SimSession> patchSession_;   // the action library it was made from
     int previewedPatch_ = -1;
+    std::shared_ptr<pipeline::SimSession> generateSession_;  // the last generate's session (read by the next job only)
     QToolBar* toolBar_ = nullptr;
     QToolBar* toolOptions_ = nullptr;
     QComboBox* toolCharacter_ = nullptr;

@@ -78,6 +78,13 @@ Result<std::unique_ptr<pipeline::SimSession>> prepareSimSession(const prep::Proj
     return out;
 }
 
+bool sessionServes(const pipeline::SimSession& session, const prep::Project& project) {
+    prep::Project a = session.session.project, b = project;
+    a.laterSections.clear();
+    b.laterSections.clear();
+    return a == b;
+}
+
 fs::path patchLibraryFile(const fs::path& projectFile) { return fs::path(projectFile.string() + ".patches"); }
 
 bool isComposeSpec(const std::string& specText) {
@@ -171,9 +178,16 @@ Result<GeneratedScene> generateScene(const GenerateInput& in, const ProgressFn& 
     } else if (auto j = prep::parseJson(specText, specName); !j) {
         return j.error();  // syntax first (line and column), before any project work
     }
-    auto session = prepareSimSession(in.project, in.projectFile, stage(progress, 0.0, 0.3));
-    if (!session) return session.error();
-    pipeline::SimSession& s = **session;
+    std::shared_ptr<pipeline::SimSession> shared;
+    if (in.cachedSession && in.cachedSession->session.file == in.projectFile && sessionServes(*in.cachedSession, in.project)) {
+        shared = in.cachedSession;
+        shared->session.project = in.project;  // setups, PatternLists, presets as they are now
+    } else {
+        auto session = prepareSimSession(in.project, in.projectFile, stage(progress, 0.0, 0.3));
+        if (!session) return session.error();
+        shared = std::move(*session);
+    }
+    pipeline::SimSession& s = *shared;
     GeneratedScene out;
     const auto t0 = std::chrono::steady_clock::now();
     const bool compose = in.setup ? !setup::isTreeExpansion(in.setup->kind) : isComposeSpec(specText);
@@ -262,7 +276,10 @@ Result<GeneratedScene> generateScene(const GenerateInput& in, const ProgressFn& 
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (!reportProgress(progress, 0.96, "metrics")) return cancelled();
     out.metrics = sim::computeMetrics(out.loaded.scene, s.library);
-    out.loaded.session = std::move(*session);
+    // The stage gets its own copy of the library (it outlives the next generate's use of the session).
+    out.loaded.session = std::make_unique<pipeline::SimSession>();
+    out.loaded.session->library = s.library;
+    out.session = std::move(shared);
     reportProgress(progress, 1.0, "done");
     return out;
 }

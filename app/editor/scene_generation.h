@@ -51,10 +51,17 @@ struct GenerateInput {
     // Patches (indices into the library) the compose must not use; a setup's
     // rejected patches are added to them.
     std::vector<int> rejected;
+    // A session prepared by an earlier generate (may be null): reused, with
+    // the project snapshot put in, when the project's motions, actions and
+    // settings are the same (only setups, PatternLists and other later
+    // sections differ); else replaced by a fresh one. Only one job uses it at
+    // a time.
+    std::shared_ptr<pipeline::SimSession> cachedSession;
 };
 
 struct GeneratedScene {
-    pipeline::LoadedScene loaded;
+    pipeline::LoadedScene loaded;  // its session holds a copy of the action library
+    std::shared_ptr<pipeline::SimSession> session;  // the session used, for the next generate
     sim::SceneMetrics metrics;
     std::shared_ptr<const sim::PatchLibrary> patches;  // the library composed from (may be generated here)
     QString summary;                                  // one line for the status bar
@@ -68,10 +75,16 @@ struct PreparedPreview {
     GanttData gantt;
     sim::SceneMetrics metrics;
     QString summary;
+    std::shared_ptr<pipeline::SimSession> session;  // kept for the next generate
 };
 
 // The project's patch library file (as `fray-cli patches` writes it).
 std::filesystem::path patchLibraryFile(const std::filesystem::path& projectFile);
+
+// Whether a prepared session can serve this project: the same motions,
+// actions, vocabulary, settings and combinations (setups, PatternLists and
+// presets may differ).
+bool sessionServes(const pipeline::SimSession& session, const prep::Project& project);
 
 // True when the spec text is a compose spec (it has a "kind").
 bool isComposeSpec(const std::string& specText);

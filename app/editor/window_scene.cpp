@@ -367,6 +367,7 @@ void MainWindow::generate() {
     input->projectFile = projectFile_.toStdString();
     input->project = doc_->project();
     input->patches = patchLibrary_;
+    input->cachedSession = generateSession_;
     QString specFile = source;
     if (source.startsWith(kSetupPrefix)) {
         auto st = doc_->sceneSetup(currentSetup().toStdString());
@@ -401,6 +402,7 @@ void MainWindow::generate() {
             // What the UI thread shows, prepared here: the posed stage and the track.
             if (*result && **result) {
                 GeneratedScene& g = (*result)->value();
+                shown->session = g.session;
                 shown->summary = g.summary + QString(" (%1 s)").arg(g.seconds, 0, 'f', 2);
                 shown->metrics = g.metrics;
                 shown->stage = std::make_unique<cli::SceneStage>(std::move(g.loaded));
@@ -424,6 +426,7 @@ void MainWindow::generate() {
                 if (options_.quitAfter > 0 && !options_.generateSpec.isEmpty()) fail("generate: " + why);
                 return;
             }
+            generateSession_ = shown->session;
             showGenerated(std::move(*shown));
             lastGenerateSeconds_ = static_cast<double>(clock->elapsed()) / 1000.0;
             std::printf("fray: %s %s in %.2f s\n", wasReplan ? "re-planned" : "generated",
