@@ -141,6 +141,11 @@ public:
     // Whether a live re-plan is waiting for its debounce or running.
     bool replanPending() const;
     static constexpr int kReplanDebounceMs = 250;
+    // After the last live re-plan: the characters the edits could not affect
+    // (fray::setup::affectedCharacters) and how many of them kept their tracks
+    // byte for byte; -1 when not measured (an edit that affects everyone).
+    int replanOthers() const { return replanOthers_; }
+    int replanKept() const { return replanKept_; }
     double playTime() const { return time_; }
     int selectedCharacter() const { return selected_; }
     // Ends a generated preview: the viewport plays the library's motions again.
@@ -352,6 +357,14 @@ private:
     QCheckBox* live_ = nullptr;        // re-plan after each edit of the current setup
     QTimer* replanTimer_ = nullptr;    // the live re-plan's debounce
     bool generatingReplan_ = false;    // the running generate is a live re-plan
+    // Since the scene playing was generated from setup previewSetup_: the
+    // characters the edits can affect (fray::setup::affectedCharacters) and
+    // their tracks then, to report after the re-plan who kept theirs.
+    QString previewSetup_;
+    std::vector<int> replanAffected_;
+    std::vector<std::vector<sim::ActionInstance>> replanBase_;
+    bool replanOther_ = false;         // an edit that affects everyone
+    int replanOthers_ = -1, replanKept_ = -1;
     double lastGenerateSeconds_ = 0;
     int sceneShownAtFrame_ = 0;       // viewport frames presented when the generated scene began playing  // wall clock of the last generate, request to result shown
 

@@ -266,6 +266,7 @@ void MainWindow::previewPatch(int patch) {
     preview.summary = title + ", looping";
     showGenerated(std::move(preview));
     previewedPatch_ = patch;
+    previewSetup_.clear();  // a patch, not a setup's scene: edits are not compared against it
 }
 
 }  // namespace fray::editor

@@ -42,6 +42,7 @@
 
 #include "fray/authoring/project_document.h"
 #include "fray/export/export.h"
+#include "fray/setup/affected.h"
 #include "fray/setup/convert.h"
 #include "gantt_view.h"
 #include "main_window.h"
@@ -274,6 +275,32 @@ void MainWindow::setupEdited(const authoring::ChangeEvent& event) {
         refreshSetupOverlay();
         if (event.kind == authoring::ChangeKind::SetupParameters) fillToolCharacters();
     }
+    // Who this edit can affect in the scene playing (when it is this setup's).
+    if (scene_ && sceneIsPreview_ && qs(event.setup) == previewSetup_ && doc_) {
+        if (replanBase_.empty())
+            for (const sim::SceneCharacter& c : scene_->scene().characters) replanBase_.push_back(c.track);
+        setup::SetupEdit edit;
+        using authoring::ChangeKind;
+        if (event.kind == ChangeKind::SetupFloor && !event.pixels.empty()) {
+            auto st = doc_->sceneSetup(event.setup);
+            if (st && st->floor) {
+                const setup::FloorPaint& f = *st->floor;
+                edit.kind = setup::SetupEdit::Kind::Stroke;
+                edit.lo = {f.origin.x + event.pixels.x * f.metresPerPixel, f.origin.z + event.pixels.y * f.metresPerPixel};
+                edit.hi = {f.origin.x + (event.pixels.x + event.pixels.width) * f.metresPerPixel,
+                           f.origin.z + (event.pixels.y + event.pixels.height) * f.metresPerPixel};
+            }
+        } else if (event.kind == ChangeKind::SetupTrajectory && !event.character.empty()) {
+            edit.kind = setup::SetupEdit::Kind::Checkpoint;
+            edit.character = event.character;
+        } else if (event.kind == ChangeKind::SetupPlacement && !event.character.empty()) {
+            edit.kind = setup::SetupEdit::Kind::Start;
+            edit.character = event.character;
+        }
+        if (edit.kind == setup::SetupEdit::Kind::Other) replanOther_ = true;
+        for (int c : setup::affectedCharacters(scene_->scene(), scene_->library(), edit))
+            if (std::find(replanAffected_.begin(), replanAffected_.end(), c) == replanAffected_.end()) replanAffected_.push_back(c);
+    }
     if (!live_ || !live_->isChecked() || event.setup.empty() || qs(event.setup) != currentSetup()) return;
     replanTimer_->start();
 }
@@ -427,7 +454,43 @@ void MainWindow::generate() {
                 return;
             }
             generateSession_ = shown->session;
+            // Who kept their tracks, of those the edits since the last scene could not affect.
+            QString kept;
+            replanOthers_ = replanKept_ = -1;
+            if (wasReplan && !replanBase_.empty() && !replanOther_) {
+                const auto& now = shown->stage->scene().characters;
+                const auto same = [](const std::vector<sim::ActionInstance>& a, const std::vector<sim::ActionInstance>& b) {
+                    if (a.size() != b.size()) return false;
+                    for (std::size_t i = 0; i < a.size(); ++i)
+                        if (a[i].action != b[i].action || a[i].start != b[i].start || a[i].end != b[i].end ||
+                            a[i].offset != b[i].offset || a[i].root.pos != b[i].root.pos || a[i].root.heading != b[i].root.heading ||
+                            a[i].forced != b[i].forced)
+                            return false;
+                    return true;
+                };
+                int others = 0, keptCount = 0;
+                for (std::size_t c = 0; c < replanBase_.size(); ++c) {
+                    if (std::find(replanAffected_.begin(), replanAffected_.end(), static_cast<int>(c)) != replanAffected_.end()) continue;
+                    ++others;
+                    keptCount += c < now.size() && same(replanBase_[c], now[c].track) ? 1 : 0;
+                }
+                replanOthers_ = others;
+                replanKept_ = keptCount;
+                kept = QString("; the edits could affect %1 of %2 characters, %3 of the other %4 kept their tracks")
+                           .arg(replanAffected_.size())
+                           .arg(replanBase_.size())
+                           .arg(keptCount)
+                           .arg(others);
+            }
+            replanBase_.clear();
+            replanAffected_.clear();
+            replanOther_ = false;
+            previewSetup_ = specFile.endsWith(".setup") ? currentSetup() : QString();
             showGenerated(std::move(*shown));
+            if (!kept.isEmpty()) {
+                statusBar()->showMessage(statusBar()->currentMessage() + kept, 15000);
+                std::printf("fray: re-plan%s\n", kept.toUtf8().constData());
+            }
             lastGenerateSeconds_ = static_cast<double>(clock->elapsed()) / 1000.0;
             std::printf("fray: %s %s in %.2f s\n", wasReplan ? "re-planned" : "generated",
                         QFileInfo(specFile).fileName().toUtf8().constData(), lastGenerateSeconds_);

@@ -173,6 +173,22 @@ TEST_F(FloorTools, BrushPaintsADominoAreaAsOneUndoStepAndPeopleThereFall) {
     EXPECT_EQ(insideFell, inside);
     EXPECT_GT(outside, 3);
     EXPECT_EQ(outsideFell, 0);
+
+    // Live re-plan: a small stroke far from the chain; the scene regenerates by
+    // itself, and everyone the stroke cannot affect keeps a byte-identical track.
+    w->findChild<QCheckBox*>("sceneLive")->setChecked(true);
+    const auto* before = w->scene();
+    ASSERT_TRUE(w->selectTool("Brush"));
+    brush->radius = 0.4;
+    brush->startTime.reset();
+    dragOnFloor(editor.viewport, {{8.5f, 5.0f}, {9.0f, 5.2f}});
+    EXPECT_TRUE(w->replanPending());
+    ASSERT_TRUE(QTest::qWaitFor([&] { return w->scene() != before && !w->replanPending(); }, 120000));
+    const QString status = w->statusBar()->currentMessage();
+    std::printf("editor: %s\n", status.toUtf8().constData());
+    EXPECT_TRUE(status.contains("kept their tracks")) << status.toStdString();
+    EXPECT_GT(w->replanOthers(), 40);
+    EXPECT_EQ(w->replanKept(), w->replanOthers());
 }
 
 TEST_F(FloorTools, TrajectoriesAndBadInputKeepTheProjectUnchanged) {
