@@ -9,6 +9,8 @@
 
 #include "fray/authoring/commands.h"
 #include "fray/authoring/project_document.h"
+#include "fray/core/atomic_file.h"
+#include "fray/setup/convert.h"
 #include "fray/prep/json_reader.h"  // FRAY_TRY
 
 namespace fray::authoring {
@@ -52,10 +54,12 @@ Status ProjectDocument::editSetups(const QString& text, const std::string& key, 
     auto list = setups();
     if (!list) return list.error();
     std::vector<SceneSetup> edited = *list;
-    if (auto st = change(edited); !st) return st;
+    if (auto st = change(edited, events); !st) return st;
     if (edited == *list) return {};
     const std::string file = file_.empty() ? project_.name : file_.string();
     for (std::size_t i = 0; i < edited.size(); ++i) {
+        const SceneSetup* was = setup::findSetup(*list, edited[i].name);
+        if (was && *was == edited[i]) continue;  // read from the file: already checked
         if (auto st = setup::checkSetup(edited[i], file, "/scene/setups/" + std::to_string(i)); !st) return st;
     }
     std::optional<std::string> after;
@@ -67,7 +71,7 @@ Status ProjectDocument::editSetups(const QString& text, const std::string& key, 
 Status ProjectDocument::editSetup(const std::string& name, const QString& text, const std::string& key, DragId drag,
                                   ChangeEvent event, const std::function<Status(SceneSetup&)>& change) {
     event.setup = name;
-    return editSetups(text, "setup/" + name + "/" + key, drag, {event}, [&](std::vector<SceneSetup>& list) -> Status {
+    return editSetups(text, "setup/" + name + "/" + key, drag, {event}, [&](std::vector<SceneSetup>& list, std::vector<ChangeEvent>&) -> Status {
         SceneSetup* s = setup::findSetup(list, name);
         if (!s) return makeError("the project has no setup " + inQ(name));
         return change(*s);
@@ -100,7 +104,7 @@ Status ProjectDocument::addSetup(SceneSetup s) {
     if (!list) return list.error();
     e.index = static_cast<int>(list->size());
     return editSetups(QStringLiteral("Add setup %1").arg(QString::fromStdString(name)), "setups", 0, {e},
-                      [&](std::vector<SceneSetup>& l) -> Status {
+                      [&](std::vector<SceneSetup>& l, std::vector<ChangeEvent>&) -> Status {
                           if (setup::findSetup(l, name)) return makeError("a setup named " + inQ(name) + " already exists");
                           l.push_back(std::move(s));
                           return {};
@@ -120,7 +124,7 @@ Status ProjectDocument::removeSetup(const std::string& name) {
     ChangeEvent e{ChangeKind::SetupRemoved, {}, static_cast<int>(s - list->data()), 0};
     e.setup = name;
     return editSetups(QStringLiteral("Remove setup %1").arg(QString::fromStdString(name)), "setups", 0, {e},
-                      [&](std::vector<SceneSetup>& l) -> Status {
+                      [&](std::vector<SceneSetup>& l, std::vector<ChangeEvent>&) -> Status {
                           l.erase(std::remove_if(l.begin(), l.end(), [&](const SceneSetup& x) { return x.name == name; }), l.end());
                           return {};
                       });
@@ -133,7 +137,7 @@ Status ProjectDocument::renameSetup(const std::string& from, const std::string& 
     e.setup = to;
     e.previousName = from;
     return editSetups(QStringLiteral("Rename setup %1").arg(QString::fromStdString(from)), "setups", 0, {e},
-                      [&](std::vector<SceneSetup>& l) -> Status {
+                      [&](std::vector<SceneSetup>& l, std::vector<ChangeEvent>&) -> Status {
                           SceneSetup* s = setup::findSetup(l, from);
                           if (!s) return makeError("the project has no setup " + inQ(from));
                           if (setup::findSetup(l, to)) return makeError("a setup named " + inQ(to) + " already exists");
@@ -147,6 +151,39 @@ Status ProjectDocument::duplicateSetup(const std::string& name, const std::strin
     if (!s) return s.error();
     s->name = copyName;
     return addSetup(std::move(*s));
+}
+
+namespace {
+// A two-colour image as a floor bitmap, read with Qt's image readers.
+Result<setup::FloorPaint> readFloorImage(const fs::path& file, double metresPerPixel, setup::Point origin) {
+    std::error_code ec;
+    if (!fs::is_regular_file(file, ec)) return makeError(file.string() + ": no such file");
+    QImage image;
+    if (!image.load(QString::fromStdString(file.string()))) {
+        return makeError(file.string() + ": not an image Fray can read (PNG, BMP, JPEG...); nothing was imported");
+    }
+    const QImage rgba = image.convertToFormat(QImage::Format_RGBA8888);
+    std::vector<std::uint8_t> pixels(static_cast<std::size_t>(rgba.width()) * static_cast<std::size_t>(rgba.height()) * 4);
+    for (int y = 0; y < rgba.height(); ++y) {
+        const auto* row = rgba.constScanLine(y);
+        std::copy(row, row + rgba.width() * 4, pixels.begin() + static_cast<std::ptrdiff_t>(y) * rgba.width() * 4);
+    }
+    return setup::floorFromRgba(rgba.width(), rgba.height(), pixels.data(), metresPerPixel, origin, file.string());
+}
+}  // namespace
+
+Status ProjectDocument::importSetupFromSpec(const std::string& name, const fs::path& specFile) {
+    auto text = readWholeFile(specFile, "the scene spec");
+    if (!text) return text.error();
+    auto imported = setup::importSpec(name, *text, specFile, [](const fs::path& file, double mpp, glm::vec2 origin) -> Result<sim::FloorBitmap> {
+        auto paint = readFloorImage(file, mpp, {static_cast<double>(origin.x), static_cast<double>(origin.y)});
+        if (!paint) return paint.error();
+        sim::FloorBitmap floor = setup::toFloorBitmap(*paint);
+        floor.origin = origin;
+        return floor;
+    });
+    if (!imported) return imported.error();
+    return addSetup(std::move(*imported));
 }
 
 Status ProjectDocument::replaceSetup(const std::string& name, SceneSetup replacement, const QString& text) {
@@ -372,35 +409,25 @@ Result<std::vector<setup::PixelChange>> ProjectDocument::paintFloor(const std::s
     std::vector<setup::PixelChange> changes;
     ChangeEvent e{ChangeKind::SetupFloor, {}, -1, 0};
     e.setup = name;
-    // The event names the changed rectangle: work it out first on a copy.
-    auto current = sceneSetup(name);
-    if (!current) return current.error();
-    if (!current->floor) return makeError(who(name) + " has no floor bitmap (import an image or set a floor first)");
-    {
-        setup::FloorPaint trial = *current->floor;
-        auto ch = setup::applyStroke(trial, stroke);
-        if (!ch) return makeError(who(name) + ": " + ch.error().message);
-        const auto r = setup::changedRect(trial, *ch);
-        e.pixels = {r.x, r.y, r.width, r.height};
-    }
     static const char* const names[] = {"Brush stroke", "Eraser stroke", "Fill", "Text stamp"};
     const QString text = QString::fromLatin1(names[static_cast<int>(stroke.tool)]);
-    std::vector<ChangeEvent> events{e};
-    const bool starts = stroke.startTime && current->kind == setup::SetupKind::Domino;
-    if (starts) {
-        ChangeEvent p{ChangeKind::SetupPlacement, {}, -1, 0};
-        p.setup = name;
-        events.push_back(p);
-    }
-    auto st = editSetups(text, "setup/" + name + "/floor", drag, events, [&](std::vector<SceneSetup>& list) -> Status {
+    auto st = editSetups(text, "setup/" + name + "/floor", drag, {e}, [&](std::vector<SceneSetup>& list, std::vector<ChangeEvent>& events) -> Status {
         SceneSetup* s = setup::findSetup(list, name);
+        if (!s) return makeError("the project has no setup " + inQ(name));
+        if (!s->floor) return makeError(who(name) + " has no floor bitmap (import an image or set a floor first)");
         auto ch = setup::applyStroke(*s->floor, stroke);
-        if (!ch) return ch.error();
+        if (!ch) return makeError(who(name) + ": " + ch.error().message);
         changes = std::move(*ch);
-        if (starts) {
+        const auto r = setup::changedRect(*s->floor, changes);
+        events.front().pixels = {r.x, r.y, r.width, r.height};
+        if (stroke.startTime && s->kind == setup::SetupKind::Domino) {
+            // The falling letters: a chain starts on the stroke (each letter) at its time.
             auto all = setup::dominoStarts(*s);
             for (const auto& add : setup::strokeStarts(*s->floor, stroke)) all.push_back(add);
             if (auto ok = setup::setDominoStarts(*s, all); !ok) return ok;
+            ChangeEvent p{ChangeKind::SetupPlacement, {}, -1, 0};
+            p.setup = name;
+            events.push_back(p);
         }
         return {};
     });
@@ -428,19 +455,7 @@ Status ProjectDocument::setFloor(const std::string& name, std::optional<setup::F
 }
 
 Status ProjectDocument::importFloorImage(const std::string& name, const fs::path& file, double metresPerPixel, setup::Point origin) {
-    std::error_code ec;
-    if (!fs::is_regular_file(file, ec)) return makeError(file.string() + ": no such file");
-    QImage image;
-    if (!image.load(QString::fromStdString(file.string()))) {
-        return makeError(file.string() + ": not an image Fray can read (PNG, BMP, JPEG...); nothing was imported");
-    }
-    const QImage rgba = image.convertToFormat(QImage::Format_RGBA8888);
-    std::vector<std::uint8_t> pixels(static_cast<std::size_t>(rgba.width()) * static_cast<std::size_t>(rgba.height()) * 4);
-    for (int y = 0; y < rgba.height(); ++y) {
-        const auto* row = rgba.constScanLine(y);
-        std::copy(row, row + rgba.width() * 4, pixels.begin() + static_cast<std::ptrdiff_t>(y) * rgba.width() * 4);
-    }
-    auto floor = setup::floorFromRgba(rgba.width(), rgba.height(), pixels.data(), metresPerPixel, origin, file.string());
+    auto floor = readFloorImage(file, metresPerPixel, origin);
     if (!floor) return floor.error();
     return setFloor(name, std::move(*floor), QStringLiteral("Import floor bitmap"));
 }

@@ -258,3 +258,26 @@ TEST(SetupEdits, SaveAndReopenGiveTheSameBytes) {
     EXPECT_EQ((*again)->serialized(), saved);
     EXPECT_EQ(*(*again)->setups(), *doc->setups());
 }
+
+TEST(SetupEdits, ImportASpecFileWithItsBitmap) {
+    test::TempDir dir;
+    auto doc = test::openDemoCopy(dir);
+    ASSERT_TRUE(doc);
+    const fs::path demo = FRAY_DEMO_SPECS;
+    oneStep(*doc, "import domino", [&] { return doc->importSetupFromSpec("crowd", demo / "domino.json"); });
+    auto s = doc->sceneSetup("crowd");
+    ASSERT_TRUE(s.ok());
+    EXPECT_EQ(s->kind, setup::SetupKind::Domino);
+    ASSERT_TRUE(s->floor);
+    EXPECT_EQ(s->floor->width, 200);
+    EXPECT_EQ(s->floor->height, 120);
+    EXPECT_EQ(std::count(s->floor->painted.begin(), s->floor->painted.end(), 1), 8213);  // as fray-cli setup list counts it
+    oneStep(*doc, "import duel", [&] { return doc->importSetupFromSpec("duel", demo / "duel.json"); });
+    EXPECT_EQ(doc->sceneSetup("duel")->kind, setup::SetupKind::Duel);
+    // A spec whose bitmap is not an image: refused, naming it.
+    fs::create_directories(dir / "specs");
+    fs::copy_file(demo / "domino.json", dir / "specs" / "domino.json");
+    { std::ofstream(dir / "specs" / "domino_floor.png") << "not a picture"; }
+    refused(*doc, "bitmap not an image", "domino_floor.png: not an image", [&] { return doc->importSetupFromSpec("bad", dir / "specs" / "domino.json"); });
+    refused(*doc, "name taken", "already exists", [&] { return doc->importSetupFromSpec("duel", demo / "duel.json"); });
+}

@@ -318,6 +318,9 @@ TEST(SceneSetup, AffectedCharactersFollowTheEditAndTheirInteractions) {
     start.kind = SetupEdit::Kind::Start;
     start.character = "c3";
     EXPECT_EQ(affectedCharacters(scene, lib, start), (std::vector<int>{3}));
+    scene.characters[0].side = 1, scene.characters[3].side = 1;
+    start.side = 1;  // the team of c0 and c3 moved
+    EXPECT_EQ(affectedCharacters(scene, lib, start), (std::vector<int>{0, 3}));
     SetupEdit other;
     EXPECT_EQ(affectedCharacters(scene, lib, other).size(), 4u);
 }

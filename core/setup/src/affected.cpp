@@ -46,8 +46,17 @@ std::vector<int> affectedCharacters(const sim::Scene& previous, const sim::Actio
     case SetupEdit::Kind::Other: std::fill(hit.begin(), hit.end(), 1); break;
     case SetupEdit::Kind::Start:
         from = 0;
-        if (const int c = byName(edit.character); c >= 0) hit[static_cast<std::size_t>(c)] = 1;
-        else std::fill(hit.begin(), hit.end(), 1);  // a newcomer, or a name the scene lacks: plan everyone
+        if (edit.side >= 0) {
+            bool any = false;
+            for (int c = 0; c < n; ++c) {
+                if (previous.characters[static_cast<std::size_t>(c)].side == edit.side) hit[static_cast<std::size_t>(c)] = 1, any = true;
+            }
+            if (!any) std::fill(hit.begin(), hit.end(), 1);
+        } else if (const int c = byName(edit.character); c >= 0) {
+            hit[static_cast<std::size_t>(c)] = 1;
+        } else {
+            std::fill(hit.begin(), hit.end(), 1);  // a newcomer, or a name the scene lacks: plan everyone
+        }
         break;
     case SetupEdit::Kind::Checkpoint:
         if (const int c = byName(edit.character); c >= 0) hit[static_cast<std::size_t>(c)] = 1;

@@ -384,15 +384,30 @@ void setProjectSetups(prep::Project& project, const std::vector<SceneSetup>& set
 
 Status checkSetup(const SceneSetup& setup, std::string_view fileName, const std::string& path) {
     const JsonReader rd(fileName);
-    auto j = prep::parseJson(setupsToJson({setup}), fileName);
-    if (!j) return j.error();
-    // The stored form read back must be this setup: what the reader refuses is refused here.
     if (!prep::parseJson(setup.spec, fileName)) return rd.error(path + "/spec", "is not valid JSON");
     if (!json::parse(setup.spec, nullptr, false).is_object()) return rd.error(path + "/spec", "must be an object");
-    if (setup.floor && static_cast<std::size_t>(setup.floor->width) * static_cast<std::size_t>(std::max(setup.floor->height, 0)) !=
-                           setup.floor->painted.size()) {
-        return rd.error(path + "/floor", "holds " + std::to_string(setup.floor->painted.size()) + " pixels, not width x height");
+    if (setup.floor) {
+        const FloorPaint& f = *setup.floor;
+        if (f.width < 1 || f.height < 1 || f.width > kMaxFloorPixels || f.height > kMaxFloorPixels) {
+            return rd.error(path + "/floor", "must be 1 to " + std::to_string(kMaxFloorPixels) + " pixels a side");
+        }
+        if (static_cast<std::size_t>(f.width) * static_cast<std::size_t>(f.height) != f.painted.size()) {
+            return rd.error(path + "/floor", "holds " + std::to_string(f.painted.size()) + " pixels, not width x height");
+        }
+        if (std::any_of(f.painted.begin(), f.painted.end(), [](std::uint8_t b) { return b > 1; })) {
+            return rd.error(path + "/floor", "a pixel is neither 0 nor 1");
+        }
+        if (!(f.metresPerPixel > 0.001) || f.metresPerPixel > 10) return rd.error(path + "/floor/metres_per_pixel", "must be in (0.001, 10]");
+        if (!std::isfinite(f.origin.x) || !std::isfinite(f.origin.z) || std::fabs(f.origin.x) > 1e5 || std::fabs(f.origin.z) > 1e5) {
+            return rd.error(path + "/floor/origin", "must be finite and within 100 km");
+        }
     }
+    // The stored form read back must be this setup: what the reader refuses is
+    // refused here (the floor, checked above, is left out of the round trip).
+    SceneSetup bare = setup;
+    bare.floor.reset();
+    auto j = prep::parseJson(setupsToJson({bare}), fileName);
+    if (!j) return j.error();
     auto back = setupFromJson(rd, (*j)["setups"][0], path);
     if (!back) return back.error();
     for (const auto& t : setup.trajectories) {
@@ -847,9 +862,14 @@ FloorPaint fromFloorBitmap(const sim::FloorBitmap& floor) {
 }
 
 std::string encodeFloor(const FloorPaint& paint) {
-    uLongf size = compressBound(static_cast<uLong>(paint.painted.size()));
+    // Eight pixels a byte, the first in the high bit, row after row (the last byte padded with 0).
+    std::vector<unsigned char> bits((paint.painted.size() + 7) / 8, 0);
+    for (std::size_t i = 0; i < paint.painted.size(); ++i) {
+        if (paint.painted[i]) bits[i / 8] |= static_cast<unsigned char>(0x80u >> (i % 8));
+    }
+    uLongf size = compressBound(static_cast<uLong>(bits.size()));
     std::vector<unsigned char> out(size);
-    const int rc = compress2(out.data(), &size, paint.painted.data(), static_cast<uLong>(paint.painted.size()), 9);
+    const int rc = compress2(out.data(), &size, bits.data(), static_cast<uLong>(bits.size()), 6);
     if (rc != Z_OK) return {};
     out.resize(size);
     return base64(out);
@@ -861,17 +881,18 @@ Result<FloorPaint> decodeFloor(std::string_view data, int width, int height, std
     if (width < 1 || height < 1 || width > kMaxFloorPixels || height > kMaxFloorPixels) return makeError(w + ": bad size");
     const auto bytes = unbase64(data);
     if (!bytes) return makeError(w + ": not base64 text");
-    FloorPaint p;
-    p.width = width, p.height = height;
-    p.painted.assign(static_cast<std::size_t>(width) * static_cast<std::size_t>(height), 0);
-    uLongf size = static_cast<uLongf>(p.painted.size());
-    const int rc = uncompress(p.painted.data(), &size, bytes->data(), static_cast<uLong>(bytes->size()));
-    if (rc != Z_OK || size != p.painted.size()) {
+    const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+    std::vector<unsigned char> bits((pixels + 7) / 8, 0);
+    uLongf size = static_cast<uLongf>(bits.size());
+    const int rc = uncompress(bits.data(), &size, bytes->data(), static_cast<uLong>(bytes->size()));
+    if (rc != Z_OK || size != bits.size()) {
         return makeError(w + ": damaged (does not inflate to " + std::to_string(width) + " x " + std::to_string(height) + " pixels)");
     }
-    for (auto b : p.painted) {
-        if (b > 1) return makeError(w + ": damaged (a pixel is neither 0 nor 1)");
-    }
+    if (pixels % 8 != 0 && (bits.back() & (0xffu >> (pixels % 8))) != 0) return makeError(w + ": damaged (padding bits are set)");
+    FloorPaint p;
+    p.width = width, p.height = height;
+    p.painted.resize(pixels);
+    for (std::size_t i = 0; i < pixels; ++i) p.painted[i] = (bits[i / 8] >> (7 - i % 8)) & 1u;
     return p;
 }
 

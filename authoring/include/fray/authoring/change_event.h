@@ -21,7 +21,7 @@ enum class ChangeKind {
     SetupRemoved,      // index: where it was
     SetupRenamed,      // previousName: the old name
     SetupParameters,   // parameters (preset, depth, weights, seed, duration, density, kind-specific fields)
-    SetupPlacement,    // start placements (characters, teams), domino starts
+    SetupPlacement,    // start placements (characters; a team move: index = its side), domino starts
     SetupTrajectory,   // trajectories and checkpoints; `character` follows the trajectory
     SetupFloor,        // the floor bitmap; `pixels`: the changed rectangle (empty: all of it)
     SetupPaths,        // the rat's trajectory, football directions, timed commands

@@ -131,6 +131,10 @@ public:
     Status removeSetup(const std::string& name);
     Status renameSetup(const std::string& from, const std::string& to);
     Status duplicateSetup(const std::string& name, const std::string& copyName);
+    // A setup made from a --spec file (and the PNG its domino floor names,
+    // beside the spec), as `fray-cli setup P import` makes it. Errors name the
+    // file and the JSON path, or the bitmap that is not a two-colour image.
+    Status importSetupFromSpec(const std::string& name, const std::filesystem::path& specFile);
     // Any parameter by JSON pointer into the --spec form ("/duration",
     // "/characters/1/preset", "/characters/0/weights/r_d"); `json` is the
     // value as JSON text, "null" removes it. setup::setParameter's rules.
@@ -221,9 +225,9 @@ private:
     Status pushCutEdit(const std::string& motionId, Result<prep::CutEdit> edit, const QString& text, DragId drag);
     Status pushVocabulary(const prep::Project& after, const QString& text);
 
-    using SetupChange = std::function<Status(std::vector<setup::SceneSetup>&)>;
-    // Reads the setups, lets `change` edit them (or refuse), checks the
-    // result and pushes one SectionCommand when anything changed.
+    using SetupChange = std::function<Status(std::vector<setup::SceneSetup>&, std::vector<ChangeEvent>&)>;
+    // Reads the setups, lets `change` edit them (or refuse; it may fill in the
+    // events), checks what changed and pushes one SectionCommand when anything did.
     Status editSetups(const QString& text, const std::string& key, DragId drag, std::vector<ChangeEvent> events,
                       const SetupChange& change);
     Status editSetup(const std::string& name, const QString& text, const std::string& key, DragId drag, ChangeEvent event,

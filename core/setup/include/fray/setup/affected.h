@@ -23,6 +23,7 @@ struct SetupEdit {
     Point lo, hi;              // Stroke: bounding box on the floor
     double time = 0;           // Stroke/Checkpoint: the edit matters from here on (s)
     std::string character;     // Checkpoint/Start
+    int side = -1;             // Start: >= 0 when a whole team (a scene side) moved
     std::vector<Point> points; // Checkpoint: old and new positions
 };
 

@@ -203,8 +203,9 @@ double trajectoryParameter(const std::vector<Point>& line, Point p, double* dist
 // ---- bitmap --------------------------------------------------------------------
 sim::FloorBitmap toFloorBitmap(const FloorPaint& paint);
 FloorPaint fromFloorBitmap(const sim::FloorBitmap& floor);
-// Lossless text form kept in the project: zlib (level 9) of one byte per
-// pixel, base64 (docs/FILES.md).
+// Lossless text form kept in the project: the pixels packed eight to a byte
+// (first pixel in the high bit, row after row), zlib (level 6), base64
+// (docs/FILES.md).
 std::string encodeFloor(const FloorPaint& paint);
 Result<FloorPaint> decodeFloor(std::string_view data, int width, int height, std::string_view what);
 
