@@ -10,20 +10,38 @@ build=${1:-build}
 out=docs/images
 mkdir -p "$out"
 tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
 export XDG_CONFIG_HOME=$tmp/config XDG_RUNTIME_DIR=$tmp
 chmod 700 "$tmp"
-xvfb-run -a -s "-screen 0 1600x1000x24" "$build/bin/fray" --quit-after 30 --wait-analysis --fresh-layout \
+# One private Xvfb for the windows (the server picks its display: no race
+# with other Xvfbs the way xvfb-run -a can have).
+source tests/render/xvfb_lib.sh
+start_xvfb 1600x1000x24 || exit 1
+"$build/bin/fray" --quit-after 30 --wait-analysis --fresh-layout \
   --screenshot "$out/editor-window.png" >"$tmp/fray.log" 2>&1 || { cat "$tmp/fray.log"; exit 1; }
+# A duel generated from its demo spec and playing, its action track below the viewport.
+"$build/bin/fray" "$build/demo-library/demo.frayproj" \
+  --generate resources/demo/duel.json --quit-after 200 --wait-analysis --fresh-layout \
+  --screenshot "$out/editor-generate.png" >"$tmp/generate.log" 2>&1 || { cat "$tmp/generate.log"; exit 1; }
 QT_QPA_PLATFORM=offscreen "$build/bin/fray_editor_window_tests" --gtest_filter='EditorWindow.AnalysisFillsEveryPanel' \
   >"$tmp/panels.log" 2>&1 || { cat "$tmp/panels.log"; exit 1; }
 QT_QPA_PLATFORM=offscreen "$build/bin/fray_editor_tests" >"$tmp/views.log" 2>&1 || { cat "$tmp/views.log"; exit 1; }
 QT_QPA_PLATFORM=offscreen "$build/bin/fray_editor_edit_tests" --gtest_filter='EditorEdits.Segmenting*' \
   >"$tmp/edits.log" 2>&1 || { cat "$tmp/edits.log"; exit 1; }
+QT_QPA_PLATFORM=offscreen "$build/bin/fray_editor_scene_tests" >"$tmp/scene.log" 2>&1 || { cat "$tmp/scene.log"; exit 1; }
+QT_QPA_PLATFORM=offscreen "$build/bin/fray_editor_patches_tests" >"$tmp/patches.log" 2>&1 || { cat "$tmp/patches.log"; exit 1; }
+env QT_QPA_PLATFORM=xcb "$build/bin/fray_editor_floor_tests" \
+  >"$tmp/floor.log" 2>&1 || { cat "$tmp/floor.log"; exit 1; }
 shots=$build/tests/editor/editor-shots
 for panel in LibraryDock TimelineDock InspectorDock GraphDock CombosDock HistoryDock; do
   cp "$shots/$panel.png" "$out/editor-${panel%Dock}.png"
 done
 cp "$shots/inspector-proposals.png" "$out/editor-Inspector-proposals.png"
+for panel in SceneDock MetricsDock PatternsDock PatchesDock; do
+  cp "$shots/$panel.png" "$out/editor-${panel%Dock}.png"
+done
+cp "$shots/gantt-duel.png" "$out/editor-Gantt.png"
+cp "$shots/floor-brush.png" "$out/editor-floor-brush.png"
+cp "$shots/floor-circle.png" "$out/editor-floor-trajectory.png"
 cp "$shots/timeline-segmented.png" "$out/editor-Timeline-segmented.png"
+rm -rf "$tmp"
 echo "wrote $out/editor-*.png"

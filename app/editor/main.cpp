@@ -62,7 +62,7 @@ std::string displayProblem() {
 int main(int argc, char** argv) {
     std::vector<std::string> inputs;
     int quitAfter = 0;
-    std::string screenshot, viewportShot, quality = "auto", rig;
+    std::string screenshot, viewportShot, quality = "auto", rig, generateSpec;
     bool validate = false, describeUi = false, waitAnalysis = false, freshLayout = false;
     {
         CLI::App cli{"fray: the Fray editor"};
@@ -80,6 +80,9 @@ int main(int argc, char** argv) {
                      "Print the main window's docks, menus and actions as JSON and exit (no display or Vulkan needed)");
         cli.add_flag("--wait-analysis", waitAnalysis,
                      "With --quit-after: quit only once the project's analysis (contacts, profiles, graph) has finished");
+        cli.add_option("--generate", generateSpec,
+                       "With a project: generate this scene spec (JSON) at start and play it; with --quit-after, "
+                       "quit only once it plays");
         cli.add_flag("--fresh-layout", freshLayout, "Start with the default panel layout, not the one saved by the last run");
         CLI11_PARSE(cli, argc, argv);
     }
@@ -180,6 +183,7 @@ int main(int argc, char** argv) {
         options.viewportScreenshot = QString::fromStdString(viewportShot);
         {
             options.waitForAnalysis = waitAnalysis;
+            options.generateSpec = QString::fromStdString(generateSpec);
             options.restoreLayout = !freshLayout;
             const QString projectFile = inputs.size() == 1 && std::filesystem::path(inputs[0]).extension() == ".frayproj"
                                             ? QString::fromStdString(inputs[0])

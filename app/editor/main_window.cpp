@@ -31,6 +31,7 @@
 #include <QTableView>
 #include <QTextBrowser>
 #include <QThread>
+#include <QToolBar>
 #include <QToolButton>
 #include <QTreeWidget>
 #include <QUndoGroup>
@@ -46,6 +47,7 @@
 #include "fray/authoring/project_document.h"
 #include "fray/authoring/recent_files.h"
 #include "fray/render/image.h"
+#include "gantt_view.h"
 #include "graph_view.h"
 #include "inspector_panel.h"
 #include "timeline_view.h"
@@ -56,7 +58,7 @@ namespace fray::editor {
 namespace {
 
 // Bumped when the docks change, so an old saved layout is not restored onto them.
-constexpr int kLayoutVersion = 1;
+constexpr int kLayoutVersion = 2;
 
 }  // namespace
 
@@ -113,7 +115,7 @@ MainWindow::MainWindow(Viewport* viewport, std::vector<app::LoadedTake> takes, s
     progress_->setTextVisible(true);
     progress_->hide();
     cancelButton_ = new QPushButton("Cancel");
-    cancelButton_->setToolTip("Stop the analysis (the panels stay empty until it runs again)");
+    cancelButton_->setToolTip("Stop the work in the background (an analysis leaves the panels empty until it runs again)");
     cancelButton_->hide();
     statusBar()->addPermanentWidget(progress_);
     statusBar()->addPermanentWidget(cancelButton_);
@@ -132,6 +134,8 @@ MainWindow::MainWindow(Viewport* viewport, std::vector<app::LoadedTake> takes, s
     }
     fillLibrary();
     fillCombos();
+    fillPatterns();
+    fillSceneSources();
     updateTitle();
     defaultLayout_ = saveState(kLayoutVersion);
     if (options_.restoreLayout) {
@@ -153,6 +157,8 @@ MainWindow::MainWindow(Viewport* viewport, std::vector<app::LoadedTake> takes, s
         librarySelectionChanged();
     }
     if (!projectFile_.isEmpty()) startAnalysis();
+    if (!options_.generateSpec.isEmpty() && selectSceneSource(options_.generateSpec))
+        QTimer::singleShot(0, this, &MainWindow::generate);
     last_ = std::chrono::steady_clock::now();
     if (viewport_) timer_.start(options_.quitAfter > 0 ? 0 : 15);
 }
@@ -162,6 +168,7 @@ MainWindow::~MainWindow() {
     // The workers write into this window: both must be done before it goes.
     if (analysisThread_) analysisThread_->wait();
     if (segmentThread_) segmentThread_->wait();
+    if (jobThread_) jobThread_->wait();
 }
 
 void MainWindow::buildDocks() {
@@ -206,10 +213,18 @@ void MainWindow::buildDocks() {
     connect(library_, &QTreeWidget::itemSelectionChanged, this, &MainWindow::librarySelectionChanged);
     connect(libraryFilter_, &QLineEdit::textChanged, this, &MainWindow::filterLibrary);
 
+    // The scene's action track right below the viewport, the timeline below it.
+    gantt_ = new GanttView;
+    gantt_->setObjectName("gantt");
+    ganttDock_ = dock("GanttDock", "Action track", gantt_, Qt::BottomDockWidgetArea);
+
     // Timeline.
     timeline_ = new TimelineView;
     timeline_->setObjectName("timeline");
-    timelineDock_ = dock("TimelineDock", "Timeline", timeline_, Qt::BottomDockWidgetArea);
+    timelineDock_ = new QDockWidget("Timeline", this);
+    timelineDock_->setObjectName("TimelineDock");
+    timelineDock_->setWidget(timeline_);
+    addDockWidget(Qt::BottomDockWidgetArea, timelineDock_, Qt::Vertical);
     connect(timeline_, &TimelineView::playheadRequested, this, &MainWindow::timelinePlayhead);
     connect(timeline_, &TimelineView::playToggled, this, &MainWindow::togglePlay);
     connect(timeline_, &TimelineView::actionSelected, this, [this](int action) {
@@ -364,6 +379,10 @@ void MainWindow::buildDocks() {
     tabifyDockWidget(graphDock_, historyDock_);
     inspectorDock_->raise();
 
+    buildSceneDocks();
+    buildPatchDocks();
+    buildFloorTools();
+
     resizeDocks({libraryDock_}, {280}, Qt::Horizontal);
     resizeDocks({inspectorDock_}, {360}, Qt::Horizontal);
     resizeDocks({timelineDock_}, {210}, Qt::Vertical);
@@ -422,9 +441,12 @@ void MainWindow::buildMenus() {
                                                   }),
                            "actionAnalyse", QKeySequence(Qt::CTRL | Qt::Key_G));
 
+    buildSceneMenu();
+
     QMenu* view = menuBar()->addMenu("&View");
     view->setObjectName("ViewMenu");
-    for (QDockWidget* d : {libraryDock_, timelineDock_, inspectorDock_, graphDock_, combosDock_, historyDock_}) {
+    for (QDockWidget* d : {libraryDock_, timelineDock_, inspectorDock_, graphDock_, combosDock_, historyDock_, sceneDock_,
+                          ganttDock_, metricsDock_, patternsDock_, patchesDock_}) {
         QAction* toggle = d->toggleViewAction();
         toggle->setObjectName("toggle" + d->objectName());
         view->addAction(toggle);
@@ -489,6 +511,26 @@ QByteArray MainWindow::describeUi() const {
         menus.append(m);
     }
     root["menus"] = menus;
+    // Tool bars: the floor tools and their options.
+    QJsonArray bars;
+    for (QToolBar* bar : findChildren<QToolBar*>()) {
+        QJsonObject b;
+        b["name"] = bar->objectName();
+        b["title"] = bar->windowTitle();
+        QJsonArray actions;
+        for (QAction* a : bar->actions()) {
+            if (a->isSeparator() || a->objectName().isEmpty()) continue;
+            QJsonObject o;
+            o["name"] = a->objectName();
+            o["text"] = a->text();
+            o["shortcut"] = a->shortcut().toString(QKeySequence::PortableText);
+            o["tip"] = a->statusTip().isEmpty() ? a->toolTip() : a->statusTip();
+            actions.append(o);
+        }
+        b["actions"] = actions;
+        bars.append(b);
+    }
+    root["toolbars"] = bars;
     return QJsonDocument(root).toJson(QJsonDocument::Indented);
 }
 
@@ -557,6 +599,7 @@ void MainWindow::startAnalysis() {
 
 void MainWindow::cancelAnalysis() {
     cancelRequested_ = true;
+    jobCancel_ = true;
     segmentMotion_.clear();  // a running segmentation's result is dropped
 }
 
@@ -568,8 +611,7 @@ void MainWindow::analysisProgress(double fraction, const QString& stage) {
 void MainWindow::analysisFinished() {
     analysisThread_->deleteLater();
     analysisThread_ = nullptr;
-    progress_->hide();
-    cancelButton_->hide();
+    updateBusy();
     if (!analysisResult_ || !*analysisResult_) {
         const bool wasCancelled = analysisResult_ && analysisResult_->error().isCancelled();
         const QString why = analysisResult_ ? QString::fromStdString(analysisResult_->error().message) : "no result";
@@ -648,10 +690,20 @@ void MainWindow::tick() {
         viewport_->frame().trajectories = scene_->trajectories();
         viewport_->frame().checkpoints = scene_->checkpoints();
         viewport_->frame().floorBitmap = scene_->floorBitmap();
+        gantt_->setTime(time_);
+        if (viewport_->activeTool()) {
+            // Editing the setup: its floor, trajectories and starts, not the scene's.
+            viewport_->frame().trajectories = overlayLines_;
+            viewport_->frame().checkpoints = overlayMarks_;
+            viewport_->frame().floorBitmap = overlayFloor_.width > 0 ? &overlayFloor_ : nullptr;
+        }
     } else {
         stage_.pose(time_, true);
         viewport_->frame().characters = stage_.instances();
-        viewport_->frame().floorBitmap = nullptr;
+        // The selected setup on the floor (nothing when none is selected).
+        viewport_->frame().trajectories = overlayLines_;
+        viewport_->frame().checkpoints = overlayMarks_;
+        viewport_->frame().floorBitmap = overlayFloor_.width > 0 ? &overlayFloor_ : nullptr;
     }
     showTime();
     if (!scene_ && !shown_.empty()) timeline_->setPlayhead(stage_.frameOf(0));
@@ -665,8 +717,10 @@ void MainWindow::tick() {
                                  .arg(static_cast<qulonglong>(r->stats().triangles))
                                  .arg(QString::fromStdString(r->device()->description())));
     }
-    const bool analysing = analysisThread_ != nullptr || (!projectFile_.isEmpty() && !analysis_ && !analysisResult_);
-    if (options_.quitAfter > 0 && viewport_->framesPresented() >= options_.quitAfter &&
+    const bool analysing = analysisThread_ != nullptr || (!projectFile_.isEmpty() && !analysis_ && !analysisResult_) ||
+                           (!options_.generateSpec.isEmpty() && (jobThread_ || !scene_) && exitCode_ == 0);
+    const int framesShown = viewport_->framesPresented() - (options_.generateSpec.isEmpty() ? 0 : sceneShownAtFrame_);
+    if (options_.quitAfter > 0 && framesShown >= options_.quitAfter &&
         !(options_.waitForAnalysis && analysing))
         finish();
     // Not exposed yet (or minimised): keep ticking; a run with --quit-after

@@ -19,12 +19,15 @@
 #include <QTimer>
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <chrono>
 #include <memory>
 #include <optional>
 #include <vector>
 
 #include "fray/render/motion_stage.h"
+#include "fray/sim/patches.h"
+#include "floor_tools.h"
 #include "project_analysis.h"
 #include "scene_stage.h"
 #include "takes.h"
@@ -32,6 +35,7 @@
 class QDockWidget;
 class QMenu;
 class QSettings;
+class QCheckBox;
 class QComboBox;
 class QDoubleSpinBox;
 class QLabel;
@@ -44,6 +48,7 @@ class QSortFilterProxyModel;
 class QStandardItemModel;
 class QTableView;
 class QThread;
+class QToolBar;
 class QToolButton;
 class QTreeWidget;
 class QTreeWidgetItem;
@@ -62,8 +67,12 @@ namespace fray::editor {
 inline constexpr int kRoleMotion = Qt::UserRole + 1;
 inline constexpr int kRoleAction = Qt::UserRole + 2;
 
+class GanttView;
+class PatchBrowser;
+class PatternsPanel;
 class InspectorPanel;
 class Viewport;
+struct PreparedPreview;
 class GraphView;
 class TimelineView;
 
@@ -78,9 +87,10 @@ struct EditorOptions {
     enum class Recovery { Ask, Recover, Discard } recovery = Recovery::Ask;
     int autosaveSeconds = -1;       // -1: the setting (default 2 minutes); 0: off
     bool noDialogs = false;         // errors go to the status bar and stderr only (tests)
+    QString generateSpec;           // a scene spec generated once the window is up (--generate)
 };
 
-class MainWindow : public QMainWindow {
+class MainWindow : public QMainWindow, public FloorToolHost {
     Q_OBJECT
 public:
     // Plays `scene` when given, else the takes; `projectFile` (may be empty)
@@ -107,6 +117,57 @@ public:
     void importMotionFiles(const QStringList& files);
     // The last error shown to the user (dialog or status bar).
     const QString& lastError() const { return lastError_; }
+
+    // ---- Generate and preview (window_scene.cpp)
+    // The scene specs offered by the Scene panel (the demo specs, files opened).
+    QStringList sceneSources() const;
+    // Selects a spec file (adding it to the list when new); false when unreadable.
+    bool selectSceneSource(const QString& specFile);
+    // Selects one of the project's scene setups; false when there is none of that name.
+    bool selectSetup(const QString& name);
+    // The setup selected in the Scene panel ("" when a spec file is).
+    QString currentSetup() const;
+    // Imports the selected spec file as a new setup of the project (one undo step) and selects it.
+    bool importSpecAsSetup(const QString& name);
+    // The patch library generated in the PatternList panel (null: none yet).
+    const sim::PatchLibrary* patchLibrary() const { return patchLibrary_.get(); }
+    // The current setup's rejected patches.
+    std::vector<int> rejectedPatches() const;
+    // Plans or composes the selected spec in the background; the result plays.
+    void generate();
+    // The scene playing (null: none); whether it is a generated preview.
+    const cli::SceneStage* scene() const { return scene_.get(); }
+    bool busy() const { return jobThread_ != nullptr; }
+    // Whether a live re-plan is waiting for its debounce or running.
+    bool replanPending() const;
+    static constexpr int kReplanDebounceMs = 250;
+    // After the last live re-plan: the characters the edits could not affect
+    // (fray::setup::affectedCharacters) and how many of them kept their tracks
+    // byte for byte; -1 when not measured (an edit that affects everyone).
+    int replanOthers() const { return replanOthers_; }
+    int replanKept() const { return replanKept_; }
+    double playTime() const { return time_; }
+    int selectedCharacter() const { return selected_; }
+    // Ends a generated preview: the viewport plays the library's motions again.
+    void stopPreview();
+    // ---- Floor tools (window_tools.cpp)
+    // Activates a floor tool by name ("Brush", "Eraser", "Fill", "Text",
+    // "Polyline", "Arc", "Circle", "Move"; "" : none, the mouse moves the camera).
+    bool selectTool(const QString& name);
+    FloorTool* tool(const QString& name) const;
+    Viewport* viewport() const { return viewport_; }
+    // The setup character trajectories are drawn for.
+    bool selectToolCharacter(const QString& name);
+    // Imports a PNG as the current setup's floor bitmap (one undo step); false with a message on bad input.
+    bool importFloorPng(const QString& file);
+    // FloorToolHost.
+    authoring::ProjectDocument* toolDocument() override { return doc_.get(); }
+    std::string toolSetup() override { return currentSetup().toStdString(); }
+    std::string toolCharacter() override;
+    void toolMessage(const QString& message, bool error) override;
+    QWidget* toolDialogParent() override { return this; }
+    // Writes the scene playing in the background (the Export dialog's work).
+    void exportScene(const QString& format, double fps, const QString& dir, const QString& name);
 
 protected:
     void closeEvent(QCloseEvent* event) override;
@@ -169,6 +230,30 @@ private:
     void finish();
     void fail(const QString& message);
 
+    // Background jobs other than the analysis (generate, export, patches):
+    // one at a time, with the status bar's progress and Cancel. `work` runs on
+    // a worker thread; `done` on the UI thread after it.
+    bool startJob(const QString& what, std::function<void(const ProgressFn&)> work, std::function<void()> done);
+    void jobFinished();
+    void updateBusy();
+    void buildSceneDocks();
+    void buildSceneMenu();
+    void showGenerated(PreparedPreview generated);
+    void ganttBarClicked(int row, int bar);
+    void exportDialog();
+    void buildPatchDocks();
+    void fillPatterns();
+    void fillSceneSources();
+    void generatePatches(const QStringList& names);
+    void previewPatch(int patch);
+    void setPatchesRejected(const std::vector<int>& patches, bool reject);
+    void reportStatus(const Status& s);
+    void buildFloorTools();
+    void refreshSetupOverlay();
+    void fillToolCharacters();
+    // A setup's parameters, placements, trajectories or floor changed: the
+    // overlays follow, and the live re-plan starts its debounce.
+    void setupEdited(const authoring::ChangeEvent& event);
     Viewport* viewport_;
     QWidget* viewportContainer_;
     std::vector<app::LoadedTake> takes_;
@@ -230,6 +315,58 @@ private:
     QDoubleSpinBox* graphThreshold_ = nullptr;
     QProgressBar* progress_ = nullptr;
     QPushButton* cancelButton_ = nullptr;
+
+    // Generate and preview.
+    QThread* jobThread_ = nullptr;
+    QString jobName_;
+    std::function<void()> jobDone_;
+    std::atomic<bool> jobCancel_{false};
+    bool sceneIsPreview_ = false;     // scene_ was generated here (the library still lists motions)
+    QDockWidget* sceneDock_ = nullptr;
+    QDockWidget* ganttDock_ = nullptr;
+    QDockWidget* metricsDock_ = nullptr;
+    QComboBox* sceneSource_ = nullptr;
+    QPushButton* generateButton_ = nullptr;
+    QLabel* sceneInfo_ = nullptr;
+    GanttView* gantt_ = nullptr;
+    QLabel* metricsSummary_ = nullptr;
+    QTableView* metrics_ = nullptr;
+    QStandardItemModel* metricsModel_ = nullptr;
+    QAction* generateAction_ = nullptr;
+    QAction* exportAction_ = nullptr;
+    QAction* stopPreviewAction_ = nullptr;
+    QDockWidget* patternsDock_ = nullptr;
+    QDockWidget* patchesDock_ = nullptr;
+    PatternsPanel* patterns_ = nullptr;
+    PatchBrowser* patchBrowser_ = nullptr;
+    std::shared_ptr<const sim::PatchLibrary> patchLibrary_;      // generated here, also written to PROJECT.patches
+    std::shared_ptr<const pipeline::SimSession> patchSession_;   // the action library it was made from
+    int previewedPatch_ = -1;
+    std::shared_ptr<pipeline::SimSession> generateSession_;  // the last generate's session (read by the next job only)
+    QToolBar* toolBar_ = nullptr;
+    QToolBar* toolOptions_ = nullptr;
+    QComboBox* toolCharacter_ = nullptr;
+    std::vector<FloorTool*> tools_;    // children of the window
+    // The current setup drawn on the floor: its bitmap, trajectories, checkpoints and starts.
+    std::vector<std::uint8_t> overlayPixels_;
+    render::FloorBitmap overlayFloor_;
+    std::vector<std::vector<glm::vec3>> overlayLinePoints_;
+    std::vector<render::Polyline> overlayLines_;
+    std::vector<render::Checkpoint> overlayMarks_;
+    std::uint64_t overlayRevision_ = 0;
+    QCheckBox* live_ = nullptr;        // re-plan after each edit of the current setup
+    QTimer* replanTimer_ = nullptr;    // the live re-plan's debounce
+    bool generatingReplan_ = false;    // the running generate is a live re-plan
+    // Since the scene playing was generated from setup previewSetup_: the
+    // characters the edits can affect (fray::setup::affectedCharacters) and
+    // their tracks then, to report after the re-plan who kept theirs.
+    QString previewSetup_;
+    std::vector<int> replanAffected_;
+    std::vector<std::vector<sim::ActionInstance>> replanBase_;
+    bool replanOther_ = false;         // an edit that affects everyone
+    int replanOthers_ = -1, replanKept_ = -1;
+    double lastGenerateSeconds_ = 0;
+    int sceneShownAtFrame_ = 0;       // viewport frames presented when the generated scene began playing  // wall clock of the last generate, request to result shown
 
     QToolButton* playButton_;
     QSlider* scrub_;

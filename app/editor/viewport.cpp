@@ -6,6 +6,8 @@
 #include <QWheelEvent>
 #include <cmath>
 
+#include "floor_tools.h"
+
 namespace fray::editor {
 
 Viewport::Viewport(std::shared_ptr<render::VulkanDevice> device, QVulkanInstance* instance)
@@ -71,12 +73,36 @@ bool Viewport::event(QEvent* event) {
     return QWindow::event(event);
 }
 
+void Viewport::setActiveTool(FloorTool* tool) {
+    if (tool_ == tool) return;
+    if (tool_) tool_->deactivate();
+    tool_ = tool;
+    toolDrag_ = false;
+    if (tool_) {
+        tool_->activate();
+        setCursor(tool_->cursor());
+    } else {
+        unsetCursor();
+    }
+}
+
 void Viewport::mousePressEvent(QMouseEvent* event) {
+    if (tool_ && event->button() == Qt::LeftButton) {
+        if (auto floor = pickFloor(frame_.camera, aspect(), event->position(), QSizeF(size()))) {
+            toolDrag_ = true;
+            tool_->mousePressed(*floor, event);
+        }
+        return;
+    }
     dragButton_ = event->button();
     lastPos_ = event->position();
 }
 
 void Viewport::mouseMoveEvent(QMouseEvent* event) {
+    if (toolDrag_ && tool_) {
+        if (auto floor = pickFloor(frame_.camera, aspect(), event->position(), QSizeF(size()))) tool_->mouseMoved(*floor, event);
+        return;
+    }
     if (dragButton_ == Qt::NoButton) return;
     const QPointF d = event->position() - lastPos_;
     lastPos_ = event->position();
@@ -86,13 +112,29 @@ void Viewport::mouseMoveEvent(QMouseEvent* event) {
         frame_.camera.pan(static_cast<float>(d.x()), static_cast<float>(d.y()), static_cast<float>(height()));
 }
 
-void Viewport::mouseReleaseEvent(QMouseEvent*) { dragButton_ = Qt::NoButton; }
+void Viewport::mouseReleaseEvent(QMouseEvent* event) {
+    if (toolDrag_ && tool_ && event->button() == Qt::LeftButton) {
+        toolDrag_ = false;
+        if (auto floor = pickFloor(frame_.camera, aspect(), event->position(), QSizeF(size()))) tool_->mouseReleased(*floor, event);
+        return;
+    }
+    dragButton_ = Qt::NoButton;
+}
+
+void Viewport::mouseDoubleClickEvent(QMouseEvent* event) {
+    if (tool_ && event->button() == Qt::LeftButton) {
+        if (auto floor = pickFloor(frame_.camera, aspect(), event->position(), QSizeF(size()))) tool_->mouseDoubleClicked(*floor, event);
+        return;
+    }
+    QWindow::mouseDoubleClickEvent(event);
+}
 
 void Viewport::wheelEvent(QWheelEvent* event) {
     frame_.camera.zoom(static_cast<float>(std::pow(0.88, event->angleDelta().y() / 120.0)));
 }
 
 void Viewport::keyPressEvent(QKeyEvent* event) {
+    if (tool_ && tool_->keyPressed(event)) return;
     if (event->key() == Qt::Key_F) Q_EMIT frameAllRequested();
     else QWindow::keyPressEvent(event);
 }

@@ -13,6 +13,8 @@ class QVulkanInstance;
 
 namespace fray::editor {
 
+class FloorTool;
+
 class Viewport : public QWindow {
     Q_OBJECT
 public:
@@ -27,6 +29,10 @@ public:
     Result<bool> renderNow();
     int framesPresented() const { return presented_; }
     float aspect() const;
+    // The active floor tool takes the left button, double-clicks and keys
+    // first, at the floor point under the pointer (null: the camera only).
+    void setActiveTool(FloorTool* tool);
+    FloorTool* activeTool() const { return tool_; }
 
 Q_SIGNALS:
     void frameAllRequested();
@@ -39,6 +45,7 @@ protected:
     void mouseReleaseEvent(QMouseEvent* event) override;
     void wheelEvent(QWheelEvent* event) override;
     void keyPressEvent(QKeyEvent* event) override;
+    void mouseDoubleClickEvent(QMouseEvent* event) override;
 
 private:
     Status ensurePresenter();
@@ -52,6 +59,8 @@ private:
     int presented_ = 0;
     Qt::MouseButton dragButton_ = Qt::NoButton;
     QPointF lastPos_;
+    FloorTool* tool_ = nullptr;
+    bool toolDrag_ = false;
 };
 
 }  // namespace fray::editor

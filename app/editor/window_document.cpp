@@ -41,6 +41,8 @@
 #include "fray/prep/segmentation.h"
 #include "fray/prep/annotations.h"
 #include "fray/prep/motion_graph.h"
+#include "gantt_view.h"
+#include "patch_browser.h"
 #include "graph_view.h"
 #include "inspector_panel.h"
 #include "main_window.h"
@@ -458,6 +460,25 @@ void MainWindow::documentChanged(const authoring::ChangeEvent& event) {
     case ChangeKind::Combos:
         fillCombos();
         break;
+    case ChangeKind::PatternLists:
+        fillPatterns();
+        break;
+    case ChangeKind::SetupAdded:
+    case ChangeKind::SetupRemoved:
+    case ChangeKind::SetupRenamed:
+        fillSceneSources();
+        break;
+    case ChangeKind::SetupPatches:
+        if (patchBrowser_) patchBrowser_->setRejected(rejectedPatches());
+        break;
+    case ChangeKind::SetupParameters:
+    case ChangeKind::SetupPlacement:
+    case ChangeKind::SetupTrajectory:
+    case ChangeKind::SetupFloor:
+    case ChangeKind::SetupPaths:
+    case ChangeKind::SetupPins:
+        setupEdited(event);
+        break;
     case ChangeKind::Settings:
         refreshAll();
         // A new preset or threshold: rebuild the graph in the background.
@@ -481,6 +502,8 @@ void MainWindow::refreshAll() {
     fillLibrary();
     refreshTimeline();
     fillCombos();
+    fillPatterns();
+    fillSceneSources();
     if (currentMotion_ >= 0 && currentAction_ >= 0) showAction(currentMotion_, currentAction_);
     else showMotion(currentMotion_);
 }
@@ -515,7 +538,7 @@ void MainWindow::fillLibrary() {
     // Refilling never changes what is selected: the current motion (or action) stays selected.
     const QSignalBlocker quiet(library_);
     library_->clear();
-    if (scene_) {
+    if (scene_ && !sceneIsPreview_) {
         for (int c = 0; c < scene_->characterCount(); ++c) {
             const glm::vec3 tint = scene_->tint(c);
             QPixmap swatch(12, 12);
@@ -580,7 +603,14 @@ void MainWindow::filterLibrary(const QString& text) {
 
 void MainWindow::librarySelectionChanged() {
     const auto rows = library_->selectedItems();
-    if (scene_) {
+    if (scene_ && sceneIsPreview_ && !rows.empty() && !jobThread_) {
+        // Picking a motion ends the preview of a generated scene.
+        scene_.reset();
+        sceneIsPreview_ = false;
+        selected_ = -1;
+        gantt_->setData({});
+    }
+    if (scene_ && !sceneIsPreview_) {
         // Selecting a character highlights it; the time keeps running.
         selected_ = rows.empty() ? -1 : rows.front()->data(0, kRoleMotion).toInt();
         return;

@@ -8,6 +8,7 @@
 #include <QImage>
 #include <QSignalSpy>
 #include <QTest>
+#include <QWheelEvent>
 #include <set>
 
 #include "fray/core/joint_guess.h"
@@ -15,6 +16,7 @@
 #include "fray/prep/contacts.h"
 #include "fray/prep/segmentation.h"
 #include "fray/prep/signals.h"
+#include "gantt_view.h"
 #include "graph_view.h"
 #include "timeline_view.h"
 
@@ -198,6 +200,79 @@ TEST(GraphView, DrawsNodesAndSelectsTheClickedOne) {
     again.resize(420, 360);
     again.setData(g);
     for (int i = 0; i < g.nodeCount; ++i) EXPECT_EQ(again.nodePosition(i), view.nodePosition(i));
+}
+
+// A two-character scene's track: what a click on a bar or on an empty part of
+// a row asks for, and that bars are drawn in their annotation's colour.
+fray::editor::GanttData twoBoxers() {
+    using fray::editor::GanttBar;
+    fray::editor::GanttData d;
+    d.duration = 10.0;
+    fray::editor::GanttRow red{"red", QColor(220, 60, 50), {}};
+    red.bars = {GanttBar{0.0, 2.0, "guard_idle", "idle", false, false, 1},
+                GanttBar{2.0, 2.8, "jab", "punch", false, false, 2},
+                GanttBar{2.8, 6.0, "front_kick", "kick", false, false, 3},
+                GanttBar{6.0, 10.0, "guard_idle", "idle", false, false, 1}};
+    fray::editor::GanttRow blue{"blue", QColor(120, 60, 220), {}};
+    blue.bars = {GanttBar{0.0, 2.5, "idle_stand", "idle", false, false, 4},
+                 GanttBar{2.5, 5.0, "knocked_back", "pushed", true, false, 5},
+                 GanttBar{7.0, 9.0, "block_high", "block", false, false, 6}};
+    d.rows = {red, blue};
+    d.hits = {{2.5, 0, 1, false}, {8.0, 0, 1, true}};
+    return d;
+}
+
+TEST(GanttView, ClickingABarSelectsTheCharacterAndSeeksToItsStart) {
+    fray::editor::GanttView view;
+    view.resize(900, 150);
+    view.setData(twoBoxers());
+    view.show();
+    ASSERT_TRUE(QTest::qWaitForWindowExposed(&view));
+    QSignalSpy bars(&view, &fray::editor::GanttView::barClicked);
+    QSignalSpy seeks(&view, &fray::editor::GanttView::seekRequested);
+    // The kick of the first row, clicked in its middle.
+    QTest::mouseClick(&view, Qt::LeftButton, Qt::NoModifier, QPoint(view.xOfTime(4.4), view.rowY(0)));
+    ASSERT_EQ(bars.count(), 1);
+    EXPECT_EQ(bars.at(0).at(0).toInt(), 0);
+    EXPECT_EQ(bars.at(0).at(1).toInt(), 2);
+    ASSERT_EQ(seeks.count(), 1);
+    EXPECT_DOUBLE_EQ(seeks.at(0).at(0).toDouble(), 2.8);
+    EXPECT_EQ(view.selectedRow(), 0);
+    // The gap in the second row: its character, the time under the pointer.
+    QTest::mouseClick(&view, Qt::LeftButton, Qt::NoModifier, QPoint(view.xOfTime(6.0), view.rowY(1)));
+    ASSERT_EQ(bars.count(), 2);
+    EXPECT_EQ(bars.at(1).at(0).toInt(), 1);
+    EXPECT_EQ(bars.at(1).at(1).toInt(), -1);
+    ASSERT_EQ(seeks.count(), 2);
+    EXPECT_NEAR(seeks.at(1).at(0).toDouble(), 6.0, 10.0 / 800);
+    EXPECT_EQ(view.selectedRow(), 1);
+    // Below the rows: nothing.
+    QTest::mouseClick(&view, Qt::LeftButton, Qt::NoModifier, QPoint(view.xOfTime(4.0), view.rowY(2) + 2));
+    EXPECT_EQ(bars.count(), 2);
+
+    // Each bar in its annotation's colour (sampled away from labels and marks).
+    view.setTime(9.9);
+    const QImage shot = view.grab().toImage();
+    saveShot(shot, "GanttDock.png");
+    EXPECT_GT(distinctColours(shot), 8);
+    const auto colourAt = [&](double t, int row) {
+        return QColor(shot.pixel(view.xOfTime(t), view.rowY(row) + 5));
+    };
+    const QColor punch = fray::editor::GanttView::annotationColour("punch");
+    const QColor kick = fray::editor::GanttView::annotationColour("kick");
+    const QColor block = fray::editor::GanttView::annotationColour("block");
+    EXPECT_NE(punch, kick);
+    EXPECT_EQ(colourAt(2.05, 0), punch);
+    EXPECT_EQ(colourAt(5.9, 0), kick);
+    EXPECT_EQ(colourAt(8.9, 1), block);
+    EXPECT_NE(colourAt(6.5, 1), block);  // the gap stays background
+    // Zooming in keeps the time under the pointer.
+    const int x = view.xOfTime(5.0);
+    QWheelEvent wheel(QPointF(x, view.rowY(0)), view.mapToGlobal(QPointF(x, view.rowY(0))), QPoint(), QPoint(0, 240),
+                      Qt::NoButton, Qt::NoModifier, Qt::NoScrollPhase, false);
+    QApplication::sendEvent(&view, &wheel);
+    EXPECT_NEAR(view.timeAtX(x), 5.0, 0.05);
+    EXPECT_LT(view.timeAtX(view.width()) - view.timeAtX(view.xOfTime(0) + 90), 10.0);
 }
 
 }  // namespace

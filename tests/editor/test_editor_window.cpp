@@ -230,7 +230,12 @@ TEST(EditorWindow, DescribeUiListsDocksAndMenus) {
     for (const char* name : {"LibraryDock", "TimelineDock", "InspectorDock", "GraphDock", "CombosDock", "HistoryDock",
                              "actionNew", "actionOpen", "actionOpenRecent", "actionSave", "actionSaveAs", "actionImport",
                              "actionQuit", "actionUndo", "actionRedo", "actionUndoHistory", "actionAnalyse",
-                             "actionResetLayout", "toggleTimelineDock"})
+                             "actionResetLayout", "toggleTimelineDock",
+                             // issue 23: generate and preview, PatternLists, patches, floor tools, export
+                             "SceneDock", "GanttDock", "MetricsDock", "PatternsDock", "PatchesDock", "actionGenerate",
+                             "actionOpenSpec", "actionStopPreview", "actionExportScene", "FloorToolBar", "actionToolBrush",
+                             "actionToolEraser", "actionToolFill", "actionToolText", "actionToolPolyline", "actionToolArc",
+                             "actionToolCircle", "actionToolMove", "actionImportFloor"})
         EXPECT_TRUE(json.contains(name)) << name;
 }
 

@@ -1,0 +1,307 @@
+// Generate and preview in the editor's window on the demo project, offscreen
+// (no Vulkan viewport): the Scene panel's Generate plans a short duel in the
+// background while the UI keeps running, the scene plays, its Gantt track and
+// metrics match the scene, a click on a bar selects the character and jumps
+// there, the same spec gives the same bytes again, Export writes glTF in the
+// background, and a bad spec or a cancel leaves a clear message and no scene.
+#include <gtest/gtest.h>
+
+#include <QApplication>
+#include <QComboBox>
+#include <QDir>
+#include <QDockWidget>
+#include <QElapsedTimer>
+#include <QFile>
+#include <QLabel>
+#include <QProcess>
+#include <QPushButton>
+#include <QStandardItemModel>
+#include <QStatusBar>
+#include <QTableView>
+#include <QTemporaryDir>
+#include <QTest>
+#include <QTimer>
+#include <cstdio>
+#include <filesystem>
+
+#include "editor_fixture.h"
+#include "fray/authoring/project_document.h"
+#include "fray/sim/metrics.h"
+#include "fray/sim/scene.h"
+#include "gantt_view.h"
+#include "main_window.h"
+#include "scene_stage.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using fray::editor::MainWindow;
+
+// A short duel on the demo library: 6 s, red thinks 2 decisions ahead, blue 1.
+constexpr const char* kShortDuel = R"({
+  "version": 1, "duration": 6, "seed": 3,
+  "characters": [
+    {"name": "red", "side": 0, "preset": "general-boxer", "depth": 2, "motions": ["shadowbox_energetic"],
+     "actions": ["@punch", "@kick", "@block", "@avoid", "@step", "@idle", "@transition", "@turn"],
+     "start": {"x": 0, "z": 0, "heading_deg": 90}},
+    {"name": "blue", "side": 1, "preset": "general-boxer", "depth": 1, "motions": ["shadowbox_energetic"],
+     "actions": ["@punch", "@kick", "@block", "@avoid", "@step", "@idle", "@transition", "@turn"],
+     "start": {"x": 1.1, "z": 0, "heading_deg": -90}}
+  ]
+})";
+
+QString writeFile(const QTemporaryDir& dir, const char* name, const QByteArray& text) {
+    const QString path = dir.filePath(name);
+    QFile f(path);
+    if (!f.open(QIODevice::WriteOnly) || f.write(text) != text.size()) ADD_FAILURE() << "cannot write " << path.toStdString();
+    return path;
+}
+
+template <class T>
+T* child(MainWindow* w, const char* name) {
+    T* found = w->findChild<T*>(name);
+    EXPECT_NE(found, nullptr) << name;
+    return found;
+}
+
+// Clicks Generate and waits for the job to end; returns the longest stall of
+// the UI event loop meanwhile (ms).
+qint64 generateAndWait(MainWindow* w) {
+    QElapsedTimer clock;
+    clock.start();
+    qint64 last = 0, longest = 0;
+    QTimer probe;
+    QObject::connect(&probe, &QTimer::timeout, [&] {
+        const qint64 now = clock.elapsed();
+        longest = std::max(longest, now - last);
+        last = now;
+    });
+    probe.start(5);
+    QTest::mouseClick(child<QPushButton>(w, "sceneGenerate"), Qt::LeftButton);
+    last = clock.elapsed();
+    EXPECT_TRUE(w->busy());
+    if (!QTest::qWaitFor([&] { return !w->busy(); }, 120000)) ADD_FAILURE() << "generate did not finish";
+    probe.stop();
+    return longest;
+}
+
+struct SceneWindow : ::testing::Test {
+    void SetUp() override {
+        w = fray::test::openEditorWindow(FRAY_DEMO_PROJECT);
+        ASSERT_NE(w, nullptr);
+        ASSERT_TRUE(dir.isValid());
+        spec = writeFile(dir, "short_duel.json", kShortDuel);
+        // The project's analysis first: the stall probe measures generating alone.
+        ASSERT_TRUE(QTest::qWaitFor([&] { return w->analysis() != nullptr; }, 120000));
+    }
+    QTemporaryDir dir;
+    QString spec;
+    std::unique_ptr<MainWindow> w;
+};
+
+TEST_F(SceneWindow, GenerateShowsTheSceneItsActionTrackAndMetrics) {
+    ASSERT_TRUE(w->selectSceneSource(spec));
+    EXPECT_TRUE(w->sceneSources().contains(QFileInfo(spec).absoluteFilePath()));
+    // The demo specs are offered too.
+    bool demoDuel = false;
+    for (const QString& s : w->sceneSources()) demoDuel = demoDuel || s.endsWith("resources/demo/duel.json");
+    EXPECT_TRUE(demoDuel);
+    const qint64 stall = generateAndWait(w.get());
+    std::printf("editor: generating the short duel stalled the UI event loop at most %lld ms\n", static_cast<long long>(stall));
+    EXPECT_LT(stall, 100) << "the UI event loop stalled while generating";
+    ASSERT_NE(w->scene(), nullptr) << w->lastError().toStdString();
+    const fray::sim::Scene& scene = w->scene()->scene();
+    ASSERT_EQ(scene.characters.size(), 2u);
+    EXPECT_DOUBLE_EQ(scene.duration, 6.0);
+
+    // The Gantt track: one row per character, one bar per action instance.
+    auto* gantt = child<fray::editor::GanttView>(w.get(), "gantt");
+    ASSERT_EQ(gantt->data().rows.size(), 2u);
+    for (std::size_t c = 0; c < 2; ++c) {
+        ASSERT_EQ(gantt->data().rows[c].bars.size(), scene.characters[c].track.size());
+        for (std::size_t b = 0; b < scene.characters[c].track.size(); ++b)
+            EXPECT_DOUBLE_EQ(gantt->data().rows[c].bars[b].start, scene.characters[c].track[b].start);
+    }
+    EXPECT_EQ(gantt->data().hits.size(), scene.hits.size());
+
+    // The Metrics panel shows `fray-cli metrics` of this scene.
+    const fray::sim::SceneMetrics m = fray::sim::computeMetrics(scene, w->scene()->library());
+    auto* table = child<QTableView>(w.get(), "metrics");
+    ASSERT_EQ(table->model()->rowCount(), 2);
+    for (int r = 0; r < 2; ++r) {
+        const QString name = table->model()->index(r, 0).data().toString();
+        const auto* cm = name == "red" ? &m.characters[0] : &m.characters[1];
+        EXPECT_EQ(name.toStdString(), cm->name);
+        EXPECT_EQ(table->model()->index(r, 1).data().toInt(), cm->actions);
+        EXPECT_EQ(table->model()->index(r, 2).data().toInt(), cm->hitsGiven);
+        EXPECT_EQ(table->model()->index(r, 3).data().toInt(), cm->hitsReceived);
+    }
+    EXPECT_TRUE(child<QLabel>(w.get(), "metricsSummary")->text().contains(QString("%1 attacks").arg(m.attacks)));
+
+    // A click on blue's second action selects blue and jumps to its start.
+    ASSERT_GE(scene.characters[1].track.size(), 2u);
+    const auto& second = scene.characters[1].track[1];
+    const double mid = 0.5 * (second.start + second.end);
+    QTest::mouseClick(gantt, Qt::LeftButton, Qt::NoModifier, QPoint(gantt->xOfTime(mid), gantt->rowY(1)));
+    EXPECT_EQ(w->selectedCharacter(), 1);
+    EXPECT_DOUBLE_EQ(w->playTime(), second.start);
+    EXPECT_DOUBLE_EQ(gantt->time(), second.start);
+    QDir().mkpath(FRAY_EDITOR_SHOTS);
+    gantt->grab().save(QString(FRAY_EDITOR_SHOTS) + "/gantt-duel.png");
+    for (const char* dock : {"MetricsDock", "SceneDock"}) {
+        child<QDockWidget>(w.get(), dock)->show();
+        child<QDockWidget>(w.get(), dock)->raise();
+    }
+    QApplication::processEvents();
+    child<QWidget>(w.get(), "metricsPanel")->grab().save(QString(FRAY_EDITOR_SHOTS) + "/MetricsDock.png");
+    child<QWidget>(w.get(), "scenePanel")->grab().save(QString(FRAY_EDITOR_SHOTS) + "/SceneDock.png");
+
+    // Same spec, same project: the same bytes.
+    const std::string first = fray::sim::sceneToJson(scene, w->scene()->library());
+    generateAndWait(w.get());
+    ASSERT_NE(w->scene(), nullptr);
+    EXPECT_EQ(fray::sim::sceneToJson(w->scene()->scene(), w->scene()->library()), first);
+
+    // Export: glTF in the background, every file written.
+    const QString out = dir.filePath("export");
+    w->exportScene("gltf", 30, out, "duel");
+    ASSERT_TRUE(w->busy());
+    ASSERT_TRUE(QTest::qWaitFor([&] { return !w->busy(); }, 60000));
+    EXPECT_TRUE(fs::exists(fs::path(out.toStdString()) / "duel.gltf")) << w->lastError().toStdString();
+    EXPECT_TRUE(fs::exists(fs::path(out.toStdString()) / "duel.gltf.scene.json"));
+    EXPECT_TRUE(w->statusBar()->currentMessage().startsWith("Exported")) << w->statusBar()->currentMessage().toStdString();
+    // A bad frame rate: a clear message, nothing written.
+    w->exportScene("bvh", 0, out, "duel");
+    EXPECT_FALSE(w->busy());
+    EXPECT_TRUE(w->lastError().contains("fps")) << w->lastError().toStdString();
+
+    // Stop preview: the library's motions play again.
+    w->stopPreview();
+    EXPECT_EQ(w->scene(), nullptr);
+    EXPECT_TRUE(gantt->data().rows.empty());
+}
+
+TEST(SceneSetups, SaveReopenAndGenerateAgainGivesTheSameBytes) {
+    // A copy of the demo project with the short duel imported as a setup.
+    QTemporaryDir dir;
+    const fs::path from = fs::path(FRAY_DEMO_PROJECT).parent_path();
+    for (const auto& entry : fs::directory_iterator(from)) {
+        const auto ext = entry.path().extension();
+        if (ext == ".bvh" || ext == ".frayproj" || ext == ".csv" || ext == ".cache")
+            fs::copy_file(entry.path(), fs::path(dir.path().toStdString()) / entry.path().filename());
+    }
+    const QString project = dir.filePath("demo.frayproj");
+    const QString spec = writeFile(dir, "short_duel.json", kShortDuel);
+    std::string first;
+    {
+        auto w = fray::test::openEditorWindow(project);
+        ASSERT_NE(w, nullptr);
+        ASSERT_TRUE(w->selectSceneSource(spec));
+        ASSERT_TRUE(w->importSpecAsSetup("short duel")) << w->lastError().toStdString();
+        generateAndWait(w.get());
+        ASSERT_NE(w->scene(), nullptr) << w->lastError().toStdString();
+        first = fray::sim::sceneToJson(w->scene()->scene(), w->scene()->library());
+        ASSERT_TRUE(w->document()->save());
+    }
+    auto w = fray::test::openEditorWindow(project);
+    ASSERT_NE(w, nullptr);
+    ASSERT_TRUE(w->selectSetup("short duel"));
+    generateAndWait(w.get());
+    ASSERT_NE(w->scene(), nullptr) << w->lastError().toStdString();
+    EXPECT_EQ(fray::sim::sceneToJson(w->scene()->scene(), w->scene()->library()), first);
+    // The same bytes as `fray-cli simulate --setup` writes.
+    QProcess cli;
+    const QString out = dir.filePath("cli.frayscene");
+    cli.start(FRAY_CLI, {"simulate", project, "--setup", "short duel", "--out", out, "--quiet"});
+    ASSERT_TRUE(cli.waitForFinished(120000));
+    ASSERT_EQ(cli.exitCode(), 0) << cli.readAllStandardError().toStdString();
+    QFile written(out);
+    ASSERT_TRUE(written.open(QIODevice::ReadOnly));
+    EXPECT_EQ(written.readAll().toStdString(), first);
+}
+
+// Live re-plan times on the demo setups (docs/BENCHMARKS.md): from the end of
+// an edit (a new seed) to the new scene playing, the debounce included. Not
+// run by default (a minute of planning); run it with
+//   fray_editor_scene_tests --gtest_also_run_disabled_tests --gtest_filter='*LiveReplan*'
+TEST(SceneSetups, DISABLED_LiveReplanTimes) {
+    QTemporaryDir dir;
+    const fs::path from = fs::path(FRAY_DEMO_PROJECT).parent_path();
+    for (const auto& entry : fs::directory_iterator(from)) {
+        const auto ext = entry.path().extension();
+        if (ext == ".bvh" || ext == ".frayproj" || ext == ".csv" || ext == ".cache")
+            fs::copy_file(entry.path(), fs::path(dir.path().toStdString()) / entry.path().filename());
+    }
+    auto w = fray::test::openEditorWindow(dir.filePath("demo.frayproj"));
+    ASSERT_NE(w, nullptr);
+    ASSERT_TRUE(QTest::qWaitFor([&] { return w->analysis() != nullptr; }, 120000));
+    // The patch library first (the default PatternLists), as a user would.
+    child<QPushButton>(w.get(), "patternGenerateAll")->click();
+    ASSERT_TRUE(QTest::qWaitFor([&] { return !w->busy(); }, 300000));
+    ASSERT_NE(w->patchLibrary(), nullptr);
+    for (const char* kind : {"duel", "chase", "one_vs_many", "domino", "rat"}) {
+        QString spec;
+        for (const QString& s : w->sceneSources())
+            if (s.endsWith(QString("resources/demo/%1.json").arg(kind))) spec = s;
+        ASSERT_TRUE(w->selectSceneSource(spec));
+        ASSERT_TRUE(w->importSpecAsSetup(kind)) << w->lastError().toStdString();
+        generateAndWait(w.get());
+        ASSERT_NE(w->scene(), nullptr) << w->lastError().toStdString();
+        for (int seed : {11, 12}) {
+            const auto* before = w->scene();
+            QElapsedTimer clock;
+            clock.start();
+            ASSERT_TRUE(w->document()->setSetupParameter(kind, "/seed", std::to_string(seed)));
+            ASSERT_TRUE(QTest::qWaitFor([&] { return w->scene() != before && !w->replanPending(); }, 300000));
+            std::printf("live re-plan %-12s seed %d: %lld ms from the edit to the new scene playing (%zu characters)\n", kind,
+                        seed, static_cast<long long>(clock.elapsed()), w->scene()->scene().characters.size());
+        }
+    }
+}
+
+TEST_F(SceneWindow, ABadSpecOrACancelLeavesAClearMessageAndNoScene) {
+    // An action annotation no action has.
+    QByteArray bad = kShortDuel;
+    bad.replace("\"@kick\"", "\"@kik\"");
+    ASSERT_TRUE(w->selectSceneSource(writeFile(dir, "typo.json", bad)));
+    generateAndWait(w.get());
+    EXPECT_EQ(w->scene(), nullptr);
+    EXPECT_TRUE(w->lastError().contains("typo.json")) << w->lastError().toStdString();
+    EXPECT_TRUE(w->lastError().contains("kik")) << w->lastError().toStdString();
+    // Not JSON at all: the line is named.
+    ASSERT_TRUE(w->selectSceneSource(writeFile(dir, "broken.json", "{\"version\": 1,\n \"duration\": }")));
+    generateAndWait(w.get());
+    EXPECT_EQ(w->scene(), nullptr);
+    EXPECT_TRUE(w->lastError().contains("broken.json")) << w->lastError().toStdString();
+    EXPECT_TRUE(w->lastError().contains("broken.json:2:")) << w->lastError().toStdString();
+    // A missing file.
+    EXPECT_FALSE(w->selectSceneSource(dir.filePath("missing.json")));
+    EXPECT_TRUE(w->lastError().contains("missing.json"));
+    // Cancel while it plans (the demo duel: 20 s thinking 4 decisions ahead
+    // takes seconds): "cancelled", no scene.
+    QString demoDuel;
+    for (const QString& s : w->sceneSources())
+        if (s.endsWith("resources/demo/duel.json")) demoDuel = s;
+    ASSERT_TRUE(w->selectSceneSource(demoDuel));
+    QTest::mouseClick(child<QPushButton>(w.get(), "sceneGenerate"), Qt::LeftButton);
+    ASSERT_TRUE(w->busy());
+    QPushButton* cancel = nullptr;
+    for (QPushButton* b : w->statusBar()->findChildren<QPushButton*>())
+        if (b->text() == "Cancel") cancel = b;
+    ASSERT_NE(cancel, nullptr);
+    QTest::mouseClick(cancel, Qt::LeftButton);
+    ASSERT_TRUE(QTest::qWaitFor([&] { return !w->busy(); }, 60000));
+    EXPECT_EQ(w->scene(), nullptr);
+    EXPECT_TRUE(child<QLabel>(w.get(), "sceneInfo")->text().contains("cancelled"))
+        << child<QLabel>(w.get(), "sceneInfo")->text().toStdString();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) qputenv("QT_QPA_PLATFORM", "offscreen");
+    QApplication app(argc, argv);
+    QApplication::setApplicationName("fray-tests");
+    ::testing::InitGoogleTest(&argc, argv);
+    return RUN_ALL_TESTS();
+}
