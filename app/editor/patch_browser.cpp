@@ -87,14 +87,14 @@ void PatchBrowser::setPatches(std::shared_ptr<const sim::PatchLibrary> patches, 
     table_->setSortingEnabled(false);
     model_->removeRows(0, model_->rowCount());
     if (patches_ && lib) {
-        for (std::size_t i = 0; i < patches_->patches.size(); ++i) {
-            const sim::Patch& p = patches_->patches[i];
+        for (std::size_t i = 0; i < patches_->patches().size(); ++i) {
+            const sim::Patch& p = patches_->patches()[i];
             QList<QStandardItem*> row;
             auto* index = new QStandardItem;
             index->setData(static_cast<int>(i), Qt::DisplayRole);
             index->setData(static_cast<int>(i), kRolePatch);
             row << index;
-            row << new QStandardItem(QString::fromStdString(patches_->patterns[static_cast<std::size_t>(p.pattern)].name));
+            row << new QStandardItem(QString::fromStdString(patches_->patterns()[static_cast<std::size_t>(p.pattern)].name));
             auto* score = new QStandardItem;
             score->setData(std::round(p.score * 1000.0) / 1000.0, Qt::DisplayRole);
             row << score;
@@ -130,8 +130,8 @@ void PatchBrowser::fillStatus() {
     if (!patches_) return;
     summary_->setText(QString("%1 patches from %2 PatternLists, %3 rejected. Select one to play it; Reject keeps it out of "
                               "every composed scene.")
-                          .arg(patches_->patches.size())
-                          .arg(patches_->patterns.size())
+                          .arg(patches_->patches().size())
+                          .arg(patches_->patterns().size())
                           .arg(rejectedCount));
 }
 

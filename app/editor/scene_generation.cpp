@@ -9,6 +9,7 @@
 #include "fray/pipeline/setup_run.h"
 #include "fray/setup/convert.h"
 #include "fray/sim/compose.h"
+#include "fray/sim/compose/domino.h"
 #include "fray/sim/patterns.h"
 #include "fray/sim/planner.h"
 #include "fray/sim/spec.h"
@@ -30,7 +31,7 @@ ProgressFn stage(const ProgressFn& progress, double from, double to) {
 Result<std::shared_ptr<const sim::PatchLibrary>> compositionPatches(const GenerateInput& in, pipeline::SimSession& s,
                                                                     const ProgressFn& progress) {
     if (in.patches) {
-        if (in.patches->libraryKey != sim::libraryFingerprint(s.library))
+        if (in.patches->libraryKey() != sim::libraryFingerprint(s.library))
             return makeError("the patches were generated from other actions than the project's now: generate patches again "
                              "(PatternLists panel)");
         return in.patches;
@@ -140,11 +141,11 @@ Result<PatchGeneration> generatePatchLibrary(const sim::ActionLibrary& lib, cons
     sim::GenerateOptions options;
     const double n = static_cast<double>(chosen.size());
     for (std::size_t i = 0; i < chosen.size(); ++i) {
-        const sim::GenerateStats before = out.library->stats;
+        const sim::GenerateStats before = out.library->stats();
         const double from = 0.9 * static_cast<double>(i) / n, to = 0.9 * static_cast<double>(i + 1) / n;
         if (Status st = sim::generatePatches(lib, *chosen[i], set, *out.library, options, stage(progress, from, to)); !st)
             return st.error();
-        out.perPattern.emplace_back(chosen[i]->name, out.library->stats.since(before));
+        out.perPattern.emplace_back(chosen[i]->name, out.library->stats().since(before));
     }
     if (!reportProgress(progress, 0.92, "connection tables")) return cancelled();
     sim::buildConnections(lib, *out.library);
@@ -241,18 +242,18 @@ Result<GeneratedScene> generateScene(const GenerateInput& in, const ProgressFn& 
         }
         auto spec = sim::parseComposeSpec(specText, specName, used);
         if (!spec) return spec.error();
-        if (!spec->floorFile.empty()) {
-            fs::path bitmap(spec->floorFile);
+        if (auto* domino = spec->part<sim::DominoSpec>(); domino && !domino->floorFile.empty()) {
+            fs::path bitmap(domino->floorFile);
             if (bitmap.is_relative()) bitmap = in.specDir / bitmap;
-            auto floor = loadFloorBitmapPng(bitmap, spec->metresPerPixel, spec->floorOrigin);
+            auto floor = loadFloorBitmapPng(bitmap, domino->metresPerPixel, domino->floorOrigin);
             if (!floor) return floor.error();
-            spec->floor = std::move(*floor);
+            domino->floor = std::move(*floor);
         }
         sim::ComposeStats st;
         auto scene = sim::compose(s.library, used, *spec, &st, stage(progress, 0.6, 0.95));
         if (!scene) return makeError(specName + ": " + scene.error().message);
         out.summary = QString("%1: %2 characters, %3 s, %4 hits; %5 patches")
-                          .arg(sim::sceneKindName(spec->kind))
+                          .arg(QString::fromStdString(spec->kind))
                           .arg(scene->characters.size())
                           .arg(scene->duration, 0, 'f', 1)
                           .arg(scene->hits.size())

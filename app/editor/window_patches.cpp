@@ -214,27 +214,27 @@ void MainWindow::generatePatches(const QStringList& names) {
             patchLibrary_ = g.library;
             QStringList lines;
             for (const auto& [name, stats] : g.perPattern) lines << "<b>" + qs(name).toHtmlEscaped() + "</b>: " + discardReasons(stats);
-            patterns_->setReport(lines.join("<br>") + QString("<br>%1 patches in %2 s").arg(g.library->patches.size()).arg(
+            patterns_->setReport(lines.join("<br>") + QString("<br>%1 patches in %2 s").arg(g.library->patches().size()).arg(
                                                           static_cast<double>(clock->elapsed()) / 1000.0, 0, 'f', 2));
             if (!out->saveError.empty()) showError("Generate patches", qs(out->saveError));
             patchBrowser_->setPatches(patchLibrary_, &patchSession_->library);
             patchBrowser_->setRejected(rejectedPatches());
             patchesDock_->show();
             patchesDock_->raise();
-            statusBar()->showMessage(QString("Generated %1 patches").arg(g.library->patches.size()), 10000);
-            std::printf("fray: generated %zu patches\n", g.library->patches.size());
+            statusBar()->showMessage(QString("Generated %1 patches").arg(g.library->patches().size()), 10000);
+            std::printf("fray: generated %zu patches\n", g.library->patches().size());
             std::fflush(stdout);
         });
     if (started) patterns_->setGenerating(true);
 }
 
 void MainWindow::previewPatch(int patch) {
-    if (patch < 0 || !patchLibrary_ || !patchSession_ || patch >= static_cast<int>(patchLibrary_->patches.size())) return;
+    if (patch < 0 || !patchLibrary_ || !patchSession_ || patch >= static_cast<int>(patchLibrary_->patches().size())) return;
     if (jobThread_) {
         statusBar()->showMessage(jobName_ + " is running: the patch plays once it is done", 5000);
         return;
     }
-    const sim::Patch& p = patchLibrary_->patches[static_cast<std::size_t>(patch)];
+    const sim::Patch& p = patchLibrary_->patches()[static_cast<std::size_t>(patch)];
     // The patch as a two-character scene (its own frame: character 1 starts at
     // the origin facing +Z); playback loops over its duration.
     pipeline::LoadedScene loaded;
@@ -253,7 +253,7 @@ void MainWindow::previewPatch(int patch) {
     scene.hits = p.hits;
     const QString title = QString("patch %1 (%2, score %3)")
                               .arg(patch)
-                              .arg(qs(patchLibrary_->patterns[static_cast<std::size_t>(p.pattern)].name))
+                              .arg(qs(patchLibrary_->patterns()[static_cast<std::size_t>(p.pattern)].name))
                               .arg(p.score, 0, 'f', 2);
     PreparedPreview preview;
     preview.metrics = sim::computeMetrics(scene, loaded.session->library);

@@ -74,8 +74,8 @@ std::set<int> usedPatches(const fray::sim::Scene& scene, const fray::sim::PatchL
         }
         return true;
     };
-    for (std::size_t p = 0; p < lib.patches.size(); ++p) {
-        const auto& patch = lib.patches[p];
+    for (std::size_t p = 0; p < lib.patches().size(); ++p) {
+        const auto& patch = lib.patches()[p];
         if (patch.tracks[0].empty() || patch.tracks[1].empty()) continue;
         for (std::size_t a = 0; a < scene.characters.size() && !used.count(static_cast<int>(p)); ++a) {
             for (const auto& inst : scene.characters[a].track) {
@@ -169,13 +169,13 @@ TEST(EditorPatches, EditAPatternListGeneratePatchesRejectOneAndComposeWithoutIt)
     waitIdle(w.get());
     ASSERT_NE(w->patchLibrary(), nullptr) << w->lastError().toStdString();
     const fray::sim::PatchLibrary& lib = *w->patchLibrary();
-    ASSERT_GT(lib.patches.size(), 3u);
+    ASSERT_GT(lib.patches().size(), 3u);
     const QString report = child<QLabel>(w.get(), "patternReport")->text();
     EXPECT_TRUE(report.contains("discarded")) << report.toStdString();
     EXPECT_TRUE(report.contains("strike-fall")) << report.toStdString();
     EXPECT_TRUE(fs::exists(demo.project.toStdString() + ".patches"));
     auto* browser = child<fray::editor::PatchBrowser>(w.get(), "patchBrowser");
-    EXPECT_EQ(browser->table()->model()->rowCount(), static_cast<int>(lib.patches.size()));
+    EXPECT_EQ(browser->table()->model()->rowCount(), static_cast<int>(lib.patches().size()));
 
     // Compose the setup: some patches are used.
     QTest::mouseClick(child<QPushButton>(w.get(), "sceneGenerate"), Qt::LeftButton);
@@ -184,7 +184,7 @@ TEST(EditorPatches, EditAPatternListGeneratePatchesRejectOneAndComposeWithoutIt)
     const std::set<int> first = usedPatches(w->scene()->scene(), lib);
     ASSERT_FALSE(first.empty()) << "no patch of the library found in the composed scene";
     const int victim = *first.begin();
-    std::printf("editor: the composition used %zu of %zu patches; rejecting patch %d\n", first.size(), lib.patches.size(), victim);
+    std::printf("editor: the composition used %zu of %zu patches; rejecting patch %d\n", first.size(), lib.patches().size(), victim);
 
     // Select it in the browser (a real click on its row): it plays, looping.
     browser->table()->sortByColumn(2, Qt::DescendingOrder);  // by score: the row moves, the patch stays
@@ -195,7 +195,7 @@ TEST(EditorPatches, EditAPatternListGeneratePatchesRejectOneAndComposeWithoutIt)
     EXPECT_EQ(browser->selectedPatch(), victim);
     ASSERT_NE(w->scene(), nullptr);
     EXPECT_EQ(w->scene()->scene().characters.size(), 2u);
-    EXPECT_DOUBLE_EQ(w->scene()->duration(), lib.patches[static_cast<std::size_t>(victim)].duration);
+    EXPECT_DOUBLE_EQ(w->scene()->duration(), lib.patches()[static_cast<std::size_t>(victim)].duration);
     // Reject it: stored in the setup, one undo step.
     const int steps = undo->count();
     QTest::mouseClick(child<QPushButton>(w.get(), "patchReject"), Qt::LeftButton);

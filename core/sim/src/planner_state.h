@@ -7,6 +7,7 @@
 // planner.cpp the legal choices and the scene loop. Internal to fray_sim.
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -209,5 +210,39 @@ void advance(const Context& ctx, GroupState& g, Events& ev, Recorder* rec);
 
 // The real choice of the character due at g.time (min-max over `depth` decisions).
 int decide(const Context& ctx, const GroupState& g, int depth, Stats& stats, bool& fellBack);
+
+// One character's placement at one moment, kept for the next call with the
+// same state and moment (compared bit for bit: the same inputs, the same
+// value). A node's edges judge the opponent where its action ends whenever
+// the candidate outlasts it, from the same state unless a blow changed it, so
+// one per node saves most of those placements.
+class PlacementMemo {
+public:
+    RootXf operator()(const Context& ctx, const CharState& s, double t) {
+        if (!valid_ || s.action != action_ || !same(s.start, start_) || !same(s.offset, offset_) || !same(t, t_) ||
+            !same(s.root.pos.x, root_.pos.x) || !same(s.root.pos.y, root_.pos.y) ||
+            !same(s.root.heading, root_.heading)) {
+            valid_ = true;
+            action_ = s.action, start_ = s.start, offset_ = s.offset, root_ = s.root, t_ = t;
+            value_ = placement(ctx, s, t);
+        }
+        return value_;
+    }
+
+private:
+    static bool same(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
+    static bool same(float a, float b) { return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b); }
+    bool valid_ = false;
+    int action_ = 0;
+    double start_ = 0, offset_ = 0, t_ = 0;
+    RootXf root_;
+    RootXf value_;
+};
+
+// F_comp and F_coop of the edge "who launched action" (SPEC 2.3), evaluated
+// at the next node with the events of the interval. oppAt: the node's memo of
+// the opponent's placement.
+Value edgeScore(const Context& ctx, const GroupState& before, const GroupState& after, int who, int action,
+                const Events& ev, PlacementMemo& oppAt);
 
 }  // namespace fray::sim::planner
