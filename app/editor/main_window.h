@@ -166,8 +166,19 @@ public:
     std::string toolCharacter() override;
     void toolMessage(const QString& message, bool error) override;
     QWidget* toolDialogParent() override { return this; }
-    // Writes the scene playing in the background (the Export dialog's work).
-    void exportScene(const QString& format, double fps, const QString& dir, const QString& name);
+    // Writes the scene playing in the background (the Export dialog's work):
+    // optionally onto the user's rig (`rig`, retargeted as `fray-cli export
+    // --rig`), with a root bone (`rootMotion` none|floor|in-place), and with
+    // the posture solver's poses (`physics`, as `--posture physics`).
+    struct ExportExtras {
+        QString rig;
+        QString rootMotion = "none";
+        bool physics = false;
+    };
+    void exportScene(const QString& format, double fps, const QString& dir, const QString& name, const ExportExtras& extras);
+    void exportScene(const QString& format, double fps, const QString& dir, const QString& name) {
+        exportScene(format, fps, dir, name, ExportExtras{});
+    }
 
 protected:
     void closeEvent(QCloseEvent* event) override;

@@ -42,6 +42,8 @@
 
 #include "fray/authoring/project_document.h"
 #include "fray/export/export.h"
+#include "fray/io/rig_import.h"
+#include "fray/posture/posture.h"
 #include "fray/setup/affected.h"
 #include "fray/setup/convert.h"
 #include "gantt_view.h"
@@ -50,6 +52,15 @@
 #include "viewport.h"
 
 namespace fray::editor {
+
+namespace {
+// A share [from, to] of a job's progress.
+ProgressFn partOf(const ProgressFn& progress, double from, double to) {
+    if (!progress) return {};
+    return [=](double f, std::string_view name) { return progress(from + (to - from) * f, name); };
+}
+}  // namespace
+
 
 namespace {
 
@@ -567,7 +578,8 @@ void MainWindow::ganttBarClicked(int row, int bar) {
 
 // ---- export
 
-void MainWindow::exportScene(const QString& format, double fps, const QString& dir, const QString& name) {
+void MainWindow::exportScene(const QString& format, double fps, const QString& dir, const QString& name,
+                             const ExportExtras& extras) {
     if (!scene_) {
         showError("Export", "There is no scene to export: generate one (Scene > Generate) or open a .frayscene");
         return;
@@ -583,6 +595,12 @@ void MainWindow::exportScene(const QString& format, double fps, const QString& d
     options.fps = fps;
     options.name = name.toStdString();
     options.source = "fray editor";
+    const auto rootMotion = exporter::parseRootMotion(extras.rootMotion.toStdString());
+    if (!rootMotion) {
+        showError("Export", "root motion: expected none, floor or in-place, got '" + extras.rootMotion + "'");
+        return;
+    }
+    options.rootMotion = *rootMotion;
     if (Status st = exporter::validateOptions(options); !st) {
         showError("Export", qs(st.error().message));
         return;
@@ -597,8 +615,34 @@ void MainWindow::exportScene(const QString& format, double fps, const QString& d
     auto report = std::make_shared<std::optional<Result<exporter::ExportReport>>>();
     startJob(
         "exporting " + format,
-        [stage, options, report](const ProgressFn& progress) {
-            report->emplace(exporter::exportScene(stage->scene(), stage->library(), options, progress));
+        [stage, options, report, rigFile = extras.rig.toStdString(), physics = extras.physics](const ProgressFn& progress) {
+            exporter::ExportOptions o = options;
+            std::vector<std::string> notes;
+            if (!rigFile.empty()) {
+                auto rig = loadRigSkeleton(rigFile);
+                if (!rig) {
+                    report->emplace(Error{"rig: " + rig.error().message, rig.error().kind});
+                    return;
+                }
+                notes = rig->warnings;
+                o.rig = std::move(rig->target);
+            }
+            // The posture solver's poses: simulated once here, in the worker (docs/POSTURE.md).
+            std::optional<posture::ScenePoses> poses;
+            if (physics) {
+                auto made = posture::ScenePoses::make(posture::Mode::Physics, stage->scene(), stage->library(), {},
+                                                      partOf(progress, 0.0, 0.5));
+                if (!made) {
+                    report->emplace(made.error());
+                    return;
+                }
+                poses.emplace(std::move(*made));
+                o.poses = [&poses](int c, double t, Pose& out) { poses->pose(c, t, out); };
+            }
+            auto r = exporter::exportScene(stage->scene(), stage->library(), o,
+                                           physics ? partOf(progress, 0.5, 1.0) : progress);
+            if (r) r->notes.insert(r->notes.begin(), notes.begin(), notes.end());
+            report->emplace(std::move(r));
         },
         [this, report, dir] {
             if (!*report || !**report) {
@@ -654,8 +698,30 @@ void MainWindow::exportDialog() {
     form->addRow("Frame rate", fps);
     form->addRow("Folder", dirRow);
     form->addRow("File name", name);
-    auto* note = new QLabel("Characters are written as capsule bodies on their skeletons (docs/EXPORT.md); binding a "
-                            "rig is for the viewport only (fray --rig), the exporters take none yet.");
+    auto* rig = new QLineEdit;
+    rig->setObjectName("exportRig");
+    rig->setPlaceholderText("none: Fray's capsule bodies on the capture skeleton");
+    auto* rigBrowse = new QPushButton("...");
+    connect(rigBrowse, &QPushButton::clicked, &dialog, [&dialog, rig] {
+        const QString f = QFileDialog::getOpenFileName(&dialog, "Rig to retarget onto", rig->text(),
+                                                       "Rigs (*.gltf *.glb *.fbx *.dae *.bvh);;All files (*)");
+        if (!f.isEmpty()) rig->setText(f);
+    });
+    auto* rigRow = new QHBoxLayout;
+    rigRow->addWidget(rig, 1);
+    rigRow->addWidget(rigBrowse);
+    auto* root = new QComboBox;
+    root->setObjectName("exportRootMotion");
+    root->addItem("none (the hips carry the trajectory)", "none");
+    root->addItem("root bone on the floor", "floor");
+    root->addItem("in place (root bone at the origin)", "in-place");
+    auto* physics = new QCheckBox("Physics posture (the posture solver's poses, docs/POSTURE.md)");
+    physics->setObjectName("exportPhysics");
+    form->addRow("Rig", rigRow);
+    form->addRow("Root motion", root);
+    form->addRow(physics);
+    auto* note = new QLabel("A rig is retargeted onto by joint roles, proportions and rest pose, feet kept planted "
+                            "(docs/EXPORT.md); its own mesh is not copied: the capsule bodies are skinned to it.");
     note->setWordWrap(true);
     form->addRow(note);
     auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel);
@@ -664,7 +730,11 @@ void MainWindow::exportDialog() {
     connect(buttons, &QDialogButtonBox::accepted, &dialog, &QDialog::accept);
     connect(buttons, &QDialogButtonBox::rejected, &dialog, &QDialog::reject);
     if (dialog.exec() != QDialog::Accepted) return;
-    exportScene(format->currentData().toString(), fps->value(), dir->text(), name->text());
+    ExportExtras extras;
+    extras.rig = rig->text().trimmed();
+    extras.rootMotion = root->currentData().toString();
+    extras.physics = physics->isChecked();
+    exportScene(format->currentData().toString(), fps->value(), dir->text(), name->text(), extras);
 }
 
 }  // namespace fray::editor

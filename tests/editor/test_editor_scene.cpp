@@ -7,6 +7,10 @@
 #include <gtest/gtest.h>
 
 #include <QApplication>
+#include <QLineEdit>
+#include <QDialog>
+#include <QCheckBox>
+#include <QAction>
 #include <QComboBox>
 #include <QDir>
 #include <QDockWidget>
@@ -23,6 +27,7 @@
 #include <QTimer>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 
 #include "editor_fixture.h"
 #include "fray/authoring/project_document.h"
@@ -170,6 +175,42 @@ TEST_F(SceneWindow, GenerateShowsTheSceneItsActionTrackAndMetrics) {
     EXPECT_TRUE(fs::exists(fs::path(out.toStdString()) / "duel.gltf")) << w->lastError().toStdString();
     EXPECT_TRUE(fs::exists(fs::path(out.toStdString()) / "duel.gltf.scene.json"));
     EXPECT_TRUE(w->statusBar()->currentMessage().startsWith("Exported")) << w->statusBar()->currentMessage().toStdString();
+    // The Export dialog offers the rig, the root motion and the physics posture.
+    bool offered = false;
+    QTimer::singleShot(300, [&offered] {
+        auto* d = qobject_cast<QDialog*>(QApplication::activeModalWidget());
+        if (!d) return;
+        offered = d->findChild<QLineEdit*>("exportRig") && d->findChild<QComboBox*>("exportRootMotion") &&
+                  d->findChild<QCheckBox*>("exportPhysics");
+        d->grab().save(QString(FRAY_EDITOR_SHOTS) + "/export-dialog.png");
+        d->reject();
+    });
+    auto* exportAction = w->findChild<QAction*>("actionExportScene");
+    ASSERT_NE(exportAction, nullptr);
+    exportAction->trigger();
+    EXPECT_TRUE(offered);
+    EXPECT_FALSE(w->busy());  // cancelled: nothing runs
+    // GLB with a root bone on the floor and the posture solver's poses.
+    MainWindow::ExportExtras extras;
+    extras.rootMotion = "floor";
+    extras.physics = true;
+    w->exportScene("glb", 30, out, "duel_physics", extras);
+    ASSERT_TRUE(w->busy());
+    ASSERT_TRUE(QTest::qWaitFor([&] { return !w->busy(); }, 120000));
+    EXPECT_TRUE(fs::exists(fs::path(out.toStdString()) / "duel_physics.glb")) << w->lastError().toStdString();
+    EXPECT_GT(fs::file_size(fs::path(out.toStdString()) / "duel_physics.glb"), 1000u);
+    // A rig that is not a rig: a clear message naming it, nothing written.
+    const QString notRig = dir.filePath("not_a_rig.fbx");
+    {
+        std::ofstream(notRig.toStdString()) << "this is not an FBX file";
+    }
+    extras = {};
+    extras.rig = notRig;
+    w->exportScene("gltf", 30, out, "duel_rig", extras);
+    ASSERT_TRUE(QTest::qWaitFor([&] { return !w->busy(); }, 60000));
+    EXPECT_FALSE(fs::exists(fs::path(out.toStdString()) / "duel_rig.gltf"));
+    EXPECT_TRUE(w->lastError().contains("rig")) << w->lastError().toStdString();
+    EXPECT_TRUE(w->lastError().contains("not_a_rig.fbx")) << w->lastError().toStdString();
     // A bad frame rate: a clear message, nothing written.
     w->exportScene("bvh", 0, out, "duel");
     EXPECT_FALSE(w->busy());
