@@ -254,23 +254,10 @@ Status applyWeightEdit(StyleWeights& w, std::string_view edit) {
     return {};
 }
 
-Result<SceneSpec> parseSceneSpec(std::string_view text, std::string_view fileName, const ActionLibrary& lib,
-                                 const std::vector<Preset>& presets) {
-    const JsonReader rd(fileName);
-    FRAY_TRY(j, prep::parseJson(text, fileName));
-    if (!j.is_object()) return rd.error("", "must be a JSON object");
-    static const char* const kTopKeys[] = {"version",   "duration",     "seed",         "pruning",      "alpha_beta",
-                                           "parallel",  "catch_radius", "stop_on_catch", "fall_impulse", "start_jitter",
-                                           "checkpoint_radius", "arena", "characters", "description", "leaf_budget"};
-    for (auto it = j.begin(); it != j.end(); ++it) {
-        if (std::find_if(std::begin(kTopKeys), std::end(kTopKeys), [&](const char* k) { return it.key() == k; }) ==
-            std::end(kTopKeys)) {
-            return rd.error("/" + it.key(), "unknown field");
-        }
-    }
-    SceneSpec spec;
-    spec.text = std::string(text);
-    auto& o = spec.options;
+namespace {
+
+// The top-level fields of a simulate spec other than the characters.
+Status parseSimOptions(const JsonReader& rd, const json& j, SimOptions& o) {
     if (auto v = j.find("version"); v != j.end()) {
         FRAY_TRY(version, rd.integer(*v, "/version"));
         if (version != 1) return rd.error("/version", "version " + std::to_string(version) + " is not supported (expected 1)");
@@ -325,15 +312,19 @@ Result<SceneSpec> parseSceneSpec(std::string_view text, std::string_view fileNam
             o.startJitterDegrees = x;
         }
     }
-
     if (auto v = j.find("arena"); v != j.end()) {
         FRAY_TRY(arena, parseArena(rd, *v, "/arena"));
         o.arena = arena;
     }
+    return {};
+}
 
-    // "@annotation" or an action name -> library actions (optionally within motions).
-    auto selectKey = [&](const std::string& key, const std::vector<std::string>& motions, const std::string& path)
-        -> Result<std::vector<int>> {
+// "@annotation" or an action name -> library actions (optionally within motions).
+struct ActionSelector {
+    const JsonReader& rd;
+    const ActionLibrary& lib;
+
+    Result<std::vector<int>> key(const std::string& key, const std::vector<std::string>& motions, const std::string& path) const {
         if (key.empty()) return rd.error(path, "must not be empty");
         if (key[0] == '@') {
             const std::string word = key.substr(1);
@@ -353,166 +344,186 @@ Result<SceneSpec> parseSceneSpec(std::string_view text, std::string_view fileNam
                                                       (motions.empty() ? "" : " in the selected motions"));
         }
         return out;
-    };
-    auto selectList = [&](const json& v, const std::vector<std::string>& motions, const std::string& path)
-        -> Result<std::vector<int>> {
+    }
+    Result<std::vector<int>> list(const json& v, const std::vector<std::string>& motions, const std::string& path) const {
         if (!v.is_array()) return rd.error(path, "must be an array of \"@annotation\" or action names");
         std::vector<int> out;
         for (std::size_t i = 0; i < v.size(); ++i) {
-            FRAY_TRY(key, rd.string(v[i], path + "/" + std::to_string(i)));
-            FRAY_TRY(sel, selectKey(key, motions, path + "/" + std::to_string(i)));
+            FRAY_TRY(k, rd.string(v[i], path + "/" + std::to_string(i)));
+            FRAY_TRY(sel, key(k, motions, path + "/" + std::to_string(i)));
             out.insert(out.end(), sel.begin(), sel.end());
         }
         std::sort(out.begin(), out.end());
         out.erase(std::unique(out.begin(), out.end()), out.end());
         return out;
-    };
+    }
+};
 
-    FRAY_TRY(cf, rd.field(j, "", "characters"));
-    if (!cf->is_array() || cf->empty()) return rd.error("/characters", "must be a non-empty array");
+// The actions a character may choose and the reactions hits may force on it.
+Status parseCharacterActions(const ActionSelector& select, const json& c, const std::string& p,
+                             const std::vector<std::string>& motions, CharacterSpec& cs) {
+    const JsonReader& rd = select.rd;
+    const ActionLibrary& lib = select.lib;
+    auto inMotions = [&](int a) {
+        return motions.empty() || std::find(motions.begin(), motions.end(),
+                                            lib.actions()[static_cast<std::size_t>(a)].motionId) != motions.end();
+    };
+    if (auto v = c.find("actions"); v != c.end()) {
+        FRAY_TRY(sel, select.list(*v, motions, p + "/actions"));
+        cs.allowed = sel;
+    } else {
+        for (int a = 0; a < lib.size(); ++a) {
+            if (inMotions(a) && !lib.actions()[static_cast<std::size_t>(a)].is(kReactive)) cs.allowed.push_back(a);
+        }
+    }
+    std::erase_if(cs.allowed, [&](int a) { return lib.actions()[static_cast<std::size_t>(a)].is(kReactive); });
+    if (cs.allowed.empty()) {
+        return rd.error(p + "/actions", "character '" + cs.name + "' has no usable action (reactions like pushed/falling are "
+                                        "only forced by hits)");
+    }
+    if (auto v = c.find("reactions"); v != c.end()) {
+        FRAY_TRY(sel, select.list(*v, motions, p + "/reactions"));
+        std::erase_if(sel, [&](int a) { return !lib.actions()[static_cast<std::size_t>(a)].is(kReactive); });
+        cs.reactions = sel;
+    } else {
+        for (int a = 0; a < lib.size(); ++a) {
+            if (lib.actions()[static_cast<std::size_t>(a)].is(kReactive) && inMotions(a)) cs.reactions.push_back(a);
+        }
+        if (cs.reactions.empty()) {
+            for (int a = 0; a < lib.size(); ++a) {
+                if (lib.actions()[static_cast<std::size_t>(a)].is(kReactive)) cs.reactions.push_back(a);
+            }
+        }
+    }
+    return {};
+}
+
+// Where a character starts, the path it follows and what it must or must not do.
+Status parseCharacterPlacementAndPath(const ActionSelector& select, const json& c, const std::string& p,
+                                      const std::vector<std::string>& motions, CharacterSpec& cs) {
+    const JsonReader& rd = select.rd;
+    if (auto v = c.find("start"); v != c.end()) {
+        if (!v->is_object()) return rd.error(p + "/start", "must be {x, z, heading_deg}");
+        double x = 0, z = 0, h = 0;
+        for (auto [key, out] : {std::pair<const char*, double*>{"x", &x}, {"z", &z}, {"heading_deg", &h}}) {
+            if (auto f = v->find(key); f != v->end()) {
+                const double bound = std::string_view(key) == "heading_deg" ? 1e6 : kMaxCoordinate;
+                FRAY_TRY(num, rd.numberIn(*f, p + "/start/" + key, -bound, bound));
+                *out = num;
+            }
+        }
+        cs.start = {{static_cast<float>(x), static_cast<float>(z)}, wrapAngle(h * std::numbers::pi / 180.0)};
+    }
+    if (auto v = c.find("start_action"); v != c.end()) {
+        FRAY_TRY(key, rd.string(*v, p + "/start_action"));
+        FRAY_TRY(sel, select.key(key, motions, p + "/start_action"));
+        cs.startAction = sel.front();
+    }
+    if (auto v = c.find("path"); v != c.end()) {
+        FRAY_TRY(path, parseCheckpoints(rd, *v, p + "/path"));
+        if (path.empty()) return rd.error(p + "/path", "is empty: give at least one checkpoint {x, z}, or leave the path out");
+        for (std::size_t k = 0; k < path.size(); ++k) {
+            if (!path[k].action.empty()) {
+                FRAY_TRY(sel, select.key(path[k].action, motions, p + "/path/" + std::to_string(k) + "/action"));
+                (void)sel;
+            }
+        }
+        cs.path = std::move(path);
+    }
+    if (auto v = c.find("loop_path"); v != c.end()) {
+        FRAY_TRY(b, rd.boolean(*v, p + "/loop_path"));
+        cs.loopPath = b;
+    }
+    if (auto v = c.find("require"); v != c.end()) {
+        FRAY_TRY(sel, select.list(*v, {}, p + "/require"));
+        cs.required = sel;
+    }
+    if (auto v = c.find("forbid"); v != c.end()) {
+        FRAY_TRY(sel, select.list(*v, {}, p + "/forbid"));
+        cs.forbidden = sel;
+    }
+    return {};
+}
+
+// One entry of "characters"; `opponent` gets the name of the opponent it names ("" for none).
+Result<CharacterSpec> parseCharacter(const ActionSelector& select, const std::vector<Preset>& presets, const json& c,
+                                     std::size_t i, const std::vector<CharacterSpec>& before, std::string& opponent) {
+    const JsonReader& rd = select.rd;
+    const ActionLibrary& lib = select.lib;
     static const char* const kCharKeys[] = {"name",    "side",    "group",   "preset",       "depth",
                                             "actions", "motions", "reactions", "start",      "start_action",
                                             "weights", "path",    "loop_path", "require",    "forbid",
                                             "opponent"};
-    std::vector<std::string> opponentNames;
-    for (std::size_t i = 0; i < cf->size(); ++i) {
-        const std::string p = "/characters/" + std::to_string(i);
-        const json& c = (*cf)[i];
-        if (!c.is_object()) return rd.error(p, "must be an object");
-        for (auto it = c.begin(); it != c.end(); ++it) {
-            if (std::find_if(std::begin(kCharKeys), std::end(kCharKeys), [&](const char* k) { return it.key() == k; }) ==
-                std::end(kCharKeys)) {
-                return rd.error(p + "/" + it.key(), "unknown field");
-            }
+    const std::string p = "/characters/" + std::to_string(i);
+    if (!c.is_object()) return rd.error(p, "must be an object");
+    for (auto it = c.begin(); it != c.end(); ++it) {
+        if (std::find_if(std::begin(kCharKeys), std::end(kCharKeys), [&](const char* k) { return it.key() == k; }) ==
+            std::end(kCharKeys)) {
+            return rd.error(p + "/" + it.key(), "unknown field");
         }
-        CharacterSpec cs;
-        FRAY_TRY(name, rd.stringAt(c, p, "name"));
-        if (name.empty()) return rd.error(p + "/name", "must not be empty");
-        for (const auto& other : spec.characters) {
-            if (other.name == name) return rd.error(p + "/name", "'" + name + "' is used twice");
-        }
-        cs.name = name;
-        if (auto v = c.find("side"); v != c.end()) {
-            FRAY_TRY(side, rd.integer(*v, p + "/side"));
-            cs.side = side;
-        } else {
-            cs.side = static_cast<int>(i);
-        }
-        if (auto v = c.find("group"); v != c.end()) {
-            FRAY_TRY(group, rd.integer(*v, p + "/group"));
-            cs.group = group;
-        }
-        std::string presetName = "general-boxer";
-        if (auto v = c.find("preset"); v != c.end()) {
-            FRAY_TRY(pn, rd.string(*v, p + "/preset"));
-            presetName = pn;
-        }
-        const auto pit = std::find_if(presets.begin(), presets.end(), [&](const Preset& x) { return x.name == presetName; });
-        if (pit == presets.end()) {
-            std::string names;
-            for (const auto& x : presets) names += (names.empty() ? "" : ", ") + x.name;
-            return rd.error(p + "/preset", "unknown preset '" + presetName + "' (available: " + names + ")");
-        }
-        cs.preset = presetName;
-        cs.weights = pit->weights;
-        if (auto v = c.find("weights"); v != c.end()) {
-            FRAY_TRY(w, weightsFrom(cs.weights, rd, *v, p + "/weights"));
-            cs.weights = w;
-        }
-        if (auto v = c.find("depth"); v != c.end()) {
-            FRAY_TRY(depth, rd.integer(*v, p + "/depth"));
-            if (depth < 1 || depth > 8) return rd.error(p + "/depth", "must be between 1 and 8");
-            cs.depth = depth;
-        }
-        std::vector<std::string> motions;
-        if (auto v = c.find("motions"); v != c.end()) {
-            FRAY_TRY(ms, rd.strings(*v, p + "/motions"));
-            for (std::size_t k = 0; k < ms.size(); ++k) {
-                const bool known = std::any_of(lib.actions().begin(), lib.actions().end(),
-                                               [&](const LibraryAction& a) { return a.motionId == ms[k]; });
-                if (!known) return rd.error(p + "/motions/" + std::to_string(k), "no motion '" + ms[k] + "' in the project");
-            }
-            motions = ms;
-        }
-        auto inMotions = [&](int a) {
-            return motions.empty() || std::find(motions.begin(), motions.end(),
-                                                lib.actions()[static_cast<std::size_t>(a)].motionId) != motions.end();
-        };
-        if (auto v = c.find("actions"); v != c.end()) {
-            FRAY_TRY(sel, selectList(*v, motions, p + "/actions"));
-            cs.allowed = sel;
-        } else {
-            for (int a = 0; a < lib.size(); ++a) {
-                if (inMotions(a) && !lib.actions()[static_cast<std::size_t>(a)].is(kReactive)) cs.allowed.push_back(a);
-            }
-        }
-        std::erase_if(cs.allowed, [&](int a) { return lib.actions()[static_cast<std::size_t>(a)].is(kReactive); });
-        if (cs.allowed.empty()) {
-            return rd.error(p + "/actions", "character '" + name + "' has no usable action (reactions like pushed/falling are "
-                                            "only forced by hits)");
-        }
-        if (auto v = c.find("reactions"); v != c.end()) {
-            FRAY_TRY(sel, selectList(*v, motions, p + "/reactions"));
-            std::erase_if(sel, [&](int a) { return !lib.actions()[static_cast<std::size_t>(a)].is(kReactive); });
-            cs.reactions = sel;
-        } else {
-            for (int a = 0; a < lib.size(); ++a) {
-                if (lib.actions()[static_cast<std::size_t>(a)].is(kReactive) && inMotions(a)) cs.reactions.push_back(a);
-            }
-            if (cs.reactions.empty()) {
-                for (int a = 0; a < lib.size(); ++a) {
-                    if (lib.actions()[static_cast<std::size_t>(a)].is(kReactive)) cs.reactions.push_back(a);
-                }
-            }
-        }
-        if (auto v = c.find("start"); v != c.end()) {
-            if (!v->is_object()) return rd.error(p + "/start", "must be {x, z, heading_deg}");
-            double x = 0, z = 0, h = 0;
-            for (auto [key, out] : {std::pair<const char*, double*>{"x", &x}, {"z", &z}, {"heading_deg", &h}}) {
-                if (auto f = v->find(key); f != v->end()) {
-                    const double bound = std::string_view(key) == "heading_deg" ? 1e6 : kMaxCoordinate;
-                    FRAY_TRY(num, rd.numberIn(*f, p + "/start/" + key, -bound, bound));
-                    *out = num;
-                }
-            }
-            cs.start = {{static_cast<float>(x), static_cast<float>(z)}, wrapAngle(h * std::numbers::pi / 180.0)};
-        }
-        if (auto v = c.find("start_action"); v != c.end()) {
-            FRAY_TRY(key, rd.string(*v, p + "/start_action"));
-            FRAY_TRY(sel, selectKey(key, motions, p + "/start_action"));
-            cs.startAction = sel.front();
-        }
-        if (auto v = c.find("path"); v != c.end()) {
-            FRAY_TRY(path, parseCheckpoints(rd, *v, p + "/path"));
-            if (path.empty()) return rd.error(p + "/path", "is empty: give at least one checkpoint {x, z}, or leave the path out");
-            for (std::size_t k = 0; k < path.size(); ++k) {
-                if (!path[k].action.empty()) {
-                    FRAY_TRY(sel, selectKey(path[k].action, motions, p + "/path/" + std::to_string(k) + "/action"));
-                    (void)sel;
-                }
-            }
-            cs.path = std::move(path);
-        }
-        if (auto v = c.find("loop_path"); v != c.end()) {
-            FRAY_TRY(b, rd.boolean(*v, p + "/loop_path"));
-            cs.loopPath = b;
-        }
-        if (auto v = c.find("require"); v != c.end()) {
-            FRAY_TRY(sel, selectList(*v, {}, p + "/require"));
-            cs.required = sel;
-        }
-        if (auto v = c.find("forbid"); v != c.end()) {
-            FRAY_TRY(sel, selectList(*v, {}, p + "/forbid"));
-            cs.forbidden = sel;
-        }
-        std::string opp;
-        if (auto v = c.find("opponent"); v != c.end()) {
-            FRAY_TRY(name2, rd.string(*v, p + "/opponent"));
-            opp = name2;
-        }
-        opponentNames.push_back(opp);
-        spec.characters.push_back(std::move(cs));
     }
+    CharacterSpec cs;
+    FRAY_TRY(name, rd.stringAt(c, p, "name"));
+    if (name.empty()) return rd.error(p + "/name", "must not be empty");
+    for (const auto& other : before) {
+        if (other.name == name) return rd.error(p + "/name", "'" + name + "' is used twice");
+    }
+    cs.name = name;
+    if (auto v = c.find("side"); v != c.end()) {
+        FRAY_TRY(side, rd.integer(*v, p + "/side"));
+        cs.side = side;
+    } else {
+        cs.side = static_cast<int>(i);
+    }
+    if (auto v = c.find("group"); v != c.end()) {
+        FRAY_TRY(group, rd.integer(*v, p + "/group"));
+        cs.group = group;
+    }
+    std::string presetName = "general-boxer";
+    if (auto v = c.find("preset"); v != c.end()) {
+        FRAY_TRY(pn, rd.string(*v, p + "/preset"));
+        presetName = pn;
+    }
+    const auto pit = std::find_if(presets.begin(), presets.end(), [&](const Preset& x) { return x.name == presetName; });
+    if (pit == presets.end()) {
+        std::string names;
+        for (const auto& x : presets) names += (names.empty() ? "" : ", ") + x.name;
+        return rd.error(p + "/preset", "unknown preset '" + presetName + "' (available: " + names + ")");
+    }
+    cs.preset = presetName;
+    cs.weights = pit->weights;
+    if (auto v = c.find("weights"); v != c.end()) {
+        FRAY_TRY(w, weightsFrom(cs.weights, rd, *v, p + "/weights"));
+        cs.weights = w;
+    }
+    if (auto v = c.find("depth"); v != c.end()) {
+        FRAY_TRY(depth, rd.integer(*v, p + "/depth"));
+        if (depth < 1 || depth > 8) return rd.error(p + "/depth", "must be between 1 and 8");
+        cs.depth = depth;
+    }
+    std::vector<std::string> motions;
+    if (auto v = c.find("motions"); v != c.end()) {
+        FRAY_TRY(ms, rd.strings(*v, p + "/motions"));
+        for (std::size_t k = 0; k < ms.size(); ++k) {
+            const bool known = std::any_of(lib.actions().begin(), lib.actions().end(),
+                                           [&](const LibraryAction& a) { return a.motionId == ms[k]; });
+            if (!known) return rd.error(p + "/motions/" + std::to_string(k), "no motion '" + ms[k] + "' in the project");
+        }
+        motions = ms;
+    }
+    if (auto st = parseCharacterActions(select, c, p, motions, cs); !st) return st.error();
+    if (auto st = parseCharacterPlacementAndPath(select, c, p, motions, cs); !st) return st.error();
+    opponent.clear();
+    if (auto v = c.find("opponent"); v != c.end()) {
+        FRAY_TRY(name2, rd.string(*v, p + "/opponent"));
+        opponent = name2;
+    }
+    return cs;
+}
+
+// What holds between characters: named opponents, starts inside the arena, group sizes.
+Status checkCharacters(const JsonReader& rd, SceneSpec& spec, const std::vector<std::string>& opponentNames) {
+    const auto& o = spec.options;
     for (std::size_t i = 0; i < spec.characters.size(); ++i) {
         if (opponentNames[i].empty()) continue;
         const std::string p = "/characters/" + std::to_string(i) + "/opponent";
@@ -548,6 +559,40 @@ Result<SceneSpec> parseSceneSpec(std::string_view text, std::string_view fileNam
                                                std::to_string(kMaxGroupSize) + " characters");
         }
     }
+    return {};
+}
+
+}  // namespace
+
+Result<SceneSpec> parseSceneSpec(std::string_view text, std::string_view fileName, const ActionLibrary& lib,
+                                 const std::vector<Preset>& presets) {
+    const JsonReader rd(fileName);
+    FRAY_TRY(j, prep::parseJson(text, fileName));
+    if (!j.is_object()) return rd.error("", "must be a JSON object");
+    static const char* const kTopKeys[] = {"version",   "duration",     "seed",         "pruning",      "alpha_beta",
+                                           "parallel",  "catch_radius", "stop_on_catch", "fall_impulse", "start_jitter",
+                                           "checkpoint_radius", "arena", "characters", "description", "leaf_budget"};
+    for (auto it = j.begin(); it != j.end(); ++it) {
+        if (std::find_if(std::begin(kTopKeys), std::end(kTopKeys), [&](const char* k) { return it.key() == k; }) ==
+            std::end(kTopKeys)) {
+            return rd.error("/" + it.key(), "unknown field");
+        }
+    }
+    SceneSpec spec;
+    spec.text = std::string(text);
+    if (auto st = parseSimOptions(rd, j, spec.options); !st) return st.error();
+
+    FRAY_TRY(cf, rd.field(j, "", "characters"));
+    if (!cf->is_array() || cf->empty()) return rd.error("/characters", "must be a non-empty array");
+    const ActionSelector select{rd, lib};
+    std::vector<std::string> opponentNames;
+    for (std::size_t i = 0; i < cf->size(); ++i) {
+        std::string opponent;
+        FRAY_TRY(cs, parseCharacter(select, presets, (*cf)[i], i, spec.characters, opponent));
+        opponentNames.push_back(opponent);
+        spec.characters.push_back(std::move(cs));
+    }
+    if (auto st = checkCharacters(rd, spec, opponentNames); !st) return st.error();
     return spec;
 }
 
