@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "fray/core/atomic_file.h"
+#include "fray/core/byte_io.h"
 #include "fray/sim/patches.h"  // libraryFingerprint, patchFileChecksum (CRC-32)
 #include "game.h"
 
@@ -17,37 +18,8 @@ constexpr char kMagic[8] = {'F', 'R', 'A', 'Y', 'I', 'G', 'P', 'H'};
 constexpr std::size_t kEdgeBytes = sizeof(Edge);
 constexpr std::size_t kStateBytes = 4 * 8 + 3 * 4;
 
-struct Writer {
-    std::string out;
-    template <class T>
-    void put(T v) {
-        char b[sizeof(T)];
-        std::memcpy(b, &v, sizeof(T));
-        out.append(b, sizeof(T));
-    }
-};
-
-struct Reader {
-    std::string_view in;
-    std::size_t at = 0;
-    bool bad = false;
-    template <class T>
-    T get() {
-        T v{};
-        if (bad || in.size() - at < sizeof(T)) {
-            bad = true;
-            return v;
-        }
-        std::memcpy(&v, in.data() + at, sizeof(T));
-        at += sizeof(T);
-        return v;
-    }
-    std::size_t count(std::size_t minBytes) {
-        const auto n = get<std::uint32_t>();
-        if (bad || n > (in.size() - at) / minBytes) bad = true;
-        return bad ? 0 : n;
-    }
-};
+using Writer = ByteWriter;  // fray/core/byte_io.h
+using Reader = ByteReader;
 
 void writeOptions(Writer& w, const BuildOptions& o) {
     w.put(o.seed), w.put(o.expandFraction), w.put(o.maxSamples), w.put(o.minNewShare), w.put(static_cast<std::int32_t>(o.maxRounds));

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "fray/core/atomic_file.h"
+#include "fray/core/byte_io.h"
 #include "fray/sim/patches.h"
 #include "patch_library_builder.h"
 
@@ -37,25 +38,8 @@ std::uint8_t pairState(const std::vector<TemporalLink>& row, std::size_t& at, in
     return state;
 }
 
-struct Writer {
-    std::string out;
-    template <class T>
-    void put(T v) {
-        char b[sizeof(T)];
-        std::memcpy(b, &v, sizeof(T));
-        out.append(b, sizeof(T));
-    }
-    void var(std::uint64_t v) {
-        while (v >= 0x80) {
-            out.push_back(static_cast<char>(0x80 | (v & 0x7f)));
-            v >>= 7;
-        }
-        out.push_back(static_cast<char>(v));
-    }
-    void str(const std::string& s) {
-        put(static_cast<std::uint32_t>(s.size()));
-        out += s;
-    }
+// The file's own records on top of the byte writer and reader (fray/core/byte_io.h).
+struct Writer : ByteWriter {
     void xf(const RootXf& r) { put(r.pos.x), put(r.pos.y), put(r.heading); }
     void cfg(const PatchConfig& c) { put(c.r), put(c.theta1), put(c.theta2), put(c.delay); }
 };
@@ -66,57 +50,7 @@ std::size_t varSize(std::uint64_t v) {
     return n;
 }
 
-struct Reader {
-    std::string_view in;
-    std::size_t at = 0;
-    bool bad = false;
-    template <class T>
-    T get() {
-        T v{};
-        if (bad || in.size() - at < sizeof(T)) {
-            bad = true;
-            return v;
-        }
-        std::memcpy(&v, in.data() + at, sizeof(T));
-        at += sizeof(T);
-        return v;
-    }
-    // LEB128, at most 64 bits, in its shortest form (so what loads saves the same).
-    std::uint64_t var() {
-        std::uint64_t v = 0;
-        for (int shift = 0; shift < 64 && !bad; shift += 7) {
-            const auto byte = get<std::uint8_t>();
-            if (bad) break;
-            v |= static_cast<std::uint64_t>(byte & 0x7f) << shift;
-            if ((byte & 0x80) == 0) {
-                if (byte == 0 && shift > 0) bad = true;  // padded
-                if (shift == 63 && byte > 1) bad = true;  // beyond 64 bits
-                return v;
-            }
-        }
-        bad = true;
-        return 0;
-    }
-    bool fits(std::uint64_t n, std::size_t minBytes) {
-        if (bad || n > (in.size() - at) / std::max<std::size_t>(minBytes, 1)) bad = true;
-        return !bad;
-    }
-    // A count of items that each take at least minBytes: refuses counts the file cannot hold.
-    std::size_t count(std::size_t minBytes) {
-        const auto n = get<std::uint32_t>();
-        return fits(n, minBytes) ? n : 0;
-    }
-    std::size_t varCount(std::size_t minBytes) {
-        const auto n = var();
-        return fits(n, minBytes) ? static_cast<std::size_t>(n) : 0;
-    }
-    std::string str() {
-        const std::size_t n = count(1);
-        if (bad) return {};
-        std::string s(in.substr(at, n));
-        at += n;
-        return s;
-    }
+struct Reader : ByteReader {
     RootXf xf() {
         RootXf r;
         r.pos.x = get<float>(), r.pos.y = get<float>(), r.heading = get<double>();
@@ -450,7 +384,7 @@ Result<PatchLibrary> readPatchLibrary(std::string_view bytes, std::string_view f
         return makeError(name + ": the patch library is truncated or corrupt (its checksum does not match its contents; "
                                 "generate the patches again)");
     }
-    Reader r{body.substr(sizeof(kMagic) + 4)};
+    Reader r{{body.substr(sizeof(kMagic) + 4)}};
     const auto rule = r.get<std::uint32_t>();
     PatchLibrary lib;
     PatchLibrary::Data& data = detail::built(lib);
