@@ -42,22 +42,9 @@ namespace {
 namespace fs = std::filesystem;
 using fray::editor::EditorOptions;
 using fray::editor::MainWindow;
+using fray::test::DemoCopy;
 
 // A copy of the demo library (takes and project) in a temporary folder.
-struct DemoCopy {
-    QTemporaryDir dir;
-    QString project;
-    DemoCopy() {
-        const fs::path from = fs::path(FRAY_DEMO_PROJECT).parent_path();
-        for (const auto& entry : fs::directory_iterator(from)) {
-            const auto ext = entry.path().extension();
-            if (ext == ".bvh" || ext == ".frayproj" || ext == ".csv")
-                fs::copy_file(entry.path(), fs::path(dir.path().toStdString()) / entry.path().filename());
-        }
-        project = dir.filePath("demo.frayproj");
-    }
-};
-
 std::unique_ptr<MainWindow> openWindow(const QString& project, EditorOptions::Recovery recovery) {
     auto w = fray::test::openEditorWindow(project, recovery);
     if (w && !QTest::qWaitForWindowExposed(w.get())) ADD_FAILURE() << "window not exposed";
@@ -109,7 +96,7 @@ protected:
         ASSERT_NE(timeline, nullptr);
     }
     void TearDown() override { w.reset(); }
-    DemoCopy demo;
+    DemoCopy demo{false};  // no cache: the analysis runs from the takes
     std::unique_ptr<MainWindow> w;
     fray::authoring::ProjectDocument* doc = nullptr;
     fray::editor::TimelineView* timeline = nullptr;
@@ -286,7 +273,7 @@ TEST_F(EditorEdits, DroppingATakeImportsItAndTheGraphRebuildsWithANewThreshold) 
 }
 
 TEST(EditorBadInput, CorruptProjectAndBrokenTakeGiveOneClearMessage) {
-    DemoCopy demo;
+    DemoCopy demo{false};  // no cache: the analysis runs from the takes
     auto w = openWindow(demo.project, EditorOptions::Recovery::Discard);
     ASSERT_NE(w, nullptr);
     // A project with a bad field: refused, named by file and JSON path, untouched.
@@ -372,7 +359,7 @@ int crashChild(const QString& project) {
 }
 
 TEST(EditorCrash, KilledEditorIsRecoveredExactly) {
-    DemoCopy demo;
+    DemoCopy demo{false};  // no cache: the analysis runs from the takes
     const QByteArray before = [&] {
         QFile f(demo.project);
         f.open(QIODevice::ReadOnly);

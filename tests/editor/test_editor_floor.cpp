@@ -25,25 +25,14 @@
 #include "fray/setup/scene_setup.h"
 #include "fray/sim/patterns.h"
 #include "scene_stage.h"
+#include "editor_fixture.h"
 #include "viewport_fixture.h"
 
 namespace {
 
-namespace fs = std::filesystem;
+using fray::test::DemoCopy;
 
-struct DemoCopy {
-    QTemporaryDir dir;
-    QString project;
-    DemoCopy() {
-        const fs::path from = fs::path(FRAY_DEMO_PROJECT).parent_path();
-        for (const auto& entry : fs::directory_iterator(from)) {
-            const auto ext = entry.path().extension();
-            if (ext == ".bvh" || ext == ".frayproj" || ext == ".csv" || ext == ".cache")
-                fs::copy_file(entry.path(), fs::path(dir.path().toStdString()) / entry.path().filename());
-        }
-        project = dir.filePath("demo.frayproj");
-    }
-};
+namespace fs = std::filesystem;
 
 // The viewport looking down on the floor around `centre` from `height`.
 void lookDown(fray::editor::Viewport* v, glm::vec2 centre, float distance) {

@@ -32,29 +32,11 @@
 
 namespace {
 
+using fray::test::child;
+
 namespace fs = std::filesystem;
 using fray::editor::MainWindow;
-
-struct DemoCopy {
-    QTemporaryDir dir;
-    QString project;
-    DemoCopy() {
-        const fs::path from = fs::path(FRAY_DEMO_PROJECT).parent_path();
-        for (const auto& entry : fs::directory_iterator(from)) {
-            const auto ext = entry.path().extension();
-            if (ext == ".bvh" || ext == ".frayproj" || ext == ".csv" || ext == ".cache")
-                fs::copy_file(entry.path(), fs::path(dir.path().toStdString()) / entry.path().filename());
-        }
-        project = dir.filePath("demo.frayproj");
-    }
-};
-
-template <class T>
-T* child(MainWindow* w, const char* name) {
-    T* found = w->findChild<T*>(name);
-    EXPECT_NE(found, nullptr) << name;
-    return found;
-}
+using fray::test::DemoCopy;
 
 void waitIdle(MainWindow* w) {
     if (!QTest::qWaitFor([&] { return !w->busy(); }, 120000)) ADD_FAILURE() << "the background job did not finish";

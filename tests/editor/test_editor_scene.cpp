@@ -39,6 +39,8 @@
 
 namespace {
 
+using fray::test::child;
+
 namespace fs = std::filesystem;
 using fray::editor::MainWindow;
 
@@ -60,13 +62,6 @@ QString writeFile(const QTemporaryDir& dir, const char* name, const QByteArray& 
     QFile f(path);
     if (!f.open(QIODevice::WriteOnly) || f.write(text) != text.size()) ADD_FAILURE() << "cannot write " << path.toStdString();
     return path;
-}
-
-template <class T>
-T* child(MainWindow* w, const char* name) {
-    T* found = w->findChild<T*>(name);
-    EXPECT_NE(found, nullptr) << name;
-    return found;
 }
 
 // Clicks Generate and waits for the job to end; returns the longest stall of

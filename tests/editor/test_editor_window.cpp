@@ -31,6 +31,8 @@
 
 namespace {
 
+using fray::test::child;
+
 using fray::editor::EditorOptions;
 using fray::editor::MainWindow;
 
@@ -81,13 +83,6 @@ MainWindow* demoWindow() {
                     static_cast<long long>(clock.elapsed()), static_cast<long long>(longest));
     }
     return gDemoWindow.get();
-}
-
-template <class T>
-T* child(MainWindow* w, const char* name) {
-    T* found = w->findChild<T*>(name);
-    EXPECT_NE(found, nullptr) << name;
-    return found;
 }
 
 TEST(EditorWindow, AnalysisFillsEveryPanel) {
