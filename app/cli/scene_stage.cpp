@@ -21,6 +21,9 @@ SceneStage::SceneStage(pipeline::LoadedScene scene) : loaded_(std::move(scene)) 
     present_.assign(n, 0);
     shown_.reserve(n);
     shownIndex_.reserve(n);
+    // Every character's colour, once (its shade counts the characters of its side before it).
+    tints_.resize(n);
+    for (std::size_t c = 0; c < n; ++c) tints_[c] = characterTint(loaded_.scene, static_cast<int>(c));
 
     const sim::Scene& sc = loaded_.scene;
     for (std::size_t c = 0; c < n; ++c) {
@@ -107,13 +110,16 @@ std::vector<const Skeleton*> SceneStage::skeletons() const {
     return out;
 }
 
-glm::vec3 SceneStage::tint(int c) const {
-    if (loaded_.scene.isCreature(c)) {
+glm::vec3 characterTint(const sim::Scene& scene, int c) {
+    if (scene.isCreature(c)) {
         // A brown rat and a khaki bag among the teams' colours.
-        return loaded_.scene.characters[static_cast<std::size_t>(c)].body == "rat" ? glm::vec3(0.35f, 0.27f, 0.22f)
-                                                                                   : glm::vec3(0.52f, 0.46f, 0.28f);
+        return scene.characters[static_cast<std::size_t>(c)].body == "rat" ? glm::vec3(0.35f, 0.27f, 0.22f)
+                                                                         : glm::vec3(0.52f, 0.46f, 0.28f);
     }
-    return render::teamColor(loaded_.scene.characters[static_cast<std::size_t>(c)].side * 3 + c % 3);
+    const int side = scene.characters[static_cast<std::size_t>(c)].side;
+    int member = 0;
+    for (int k = 0; k < c; ++k) member += !scene.isCreature(k) && scene.characters[static_cast<std::size_t>(k)].side == side ? 1 : 0;
+    return render::sideColor(side, member);
 }
 
 std::string SceneStage::currentAction(int c) const {

@@ -18,6 +18,11 @@
 
 namespace fray::cli {
 
+// The colour character c of a scene is drawn in, and shown in beside its
+// name in every character list: a creature's own colour, else its side's
+// (render::sideColor), the shade by its place among its side's characters.
+glm::vec3 characterTint(const sim::Scene& scene, int c);
+
 class SceneStage {
 public:
     explicit SceneStage(pipeline::LoadedScene scene);
@@ -60,7 +65,8 @@ public:
     }
     // The action character c plays at the last pose ("" when none).
     std::string currentAction(int c) const;
-    glm::vec3 tint(int c) const;
+    // characterTint(scene(), c), kept for every character.
+    glm::vec3 tint(int c) const { return tints_[static_cast<std::size_t>(c)]; }
     // Box around everyone present at a few times over [t0, t1].
     render::Bounds bounds(double t0, double t1, int samples = 24);
 
@@ -87,6 +93,7 @@ private:
     std::vector<std::vector<glm::quat>> rotations_;
     std::vector<std::string> labels_;
     std::vector<std::uint8_t> present_;
+    std::vector<glm::vec3> tints_;
     std::vector<render::CharacterInstance> shown_;
     std::vector<int> shownIndex_;
     std::vector<std::vector<glm::vec3>> linePoints_;  // lines_ point into these

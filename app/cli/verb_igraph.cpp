@@ -261,7 +261,7 @@ void runPlay(const PlayArgs& a) {
         igraph::FighterSpec f;
         const bool mine = c % 2 == 0;
         f.side = c % 2;
-        f.name = (mine ? "blue " : "red ") + std::to_string(c / 2 + 1);
+        f.name = (mine ? "red " : "blue ") + std::to_string(c / 2 + 1);  // side 0 is drawn red, side 1 blue
         if (n == 2) f.name = mine ? "you" : "opponent";
         f.mind = c == 0 ? *you : (mine ? igraph::Mind::Graph : *them);
         f.policy = mine ? policyYou : policyThem;
@@ -290,7 +290,7 @@ void runPlay(const PlayArgs& a) {
     int side0 = 0, side1 = 0;
     for (int c = 0; c < n; ++c) (c % 2 == 0 ? side0 : side1) += landed[static_cast<std::size_t>(c)];
     const auto& st = match.stats();
-    std::printf("%s: %d characters, %.1f s, %lld decisions (%lld off the graph, %lld fallbacks), %zu blows, landed %d (blue) vs %d (red), "
+    std::printf("%s: %d characters, %.1f s, %lld decisions (%lld off the graph, %lld fallbacks), %zu blows, landed %d (red) vs %d (blue), "
                 "%lld of %lld commands carried out; %.2f s wall clock\n",
                 a.out.c_str(), n, a.seconds, static_cast<long long>(st.decisions), static_cast<long long>(st.offGraph),
                 static_cast<long long>(st.fallbacks), scene.hits.size(), side0, side1, static_cast<long long>(st.commandsTaken),

@@ -13,6 +13,14 @@
 // of capsules.
 //
 // --frames N draws N frames and exits 0 (CI runs it under xvfb-run).
+//
+//   fray-play --duel [PROJECT.frayproj] [--graph FILE] [--style S] [--depth D] [--input FILE] [--log FILE]
+//   fray-play --teams N [PROJECT.frayproj] ...
+//
+// --duel: the user steers a boxer (keyboard, gamepad) against the Interaction
+// Graph's policy; --teams N: N characters in two teams, each fighting its
+// closest enemy, the user steering one (duel.h, docs/IGRAPH.md). --input
+// FILE: timed commands (duel_script.h); --log FILE: what happened, as JSON.
 #define GLFW_INCLUDE_VULKAN
 #include <GLFW/glfw3.h>
 #include <imgui.h>
@@ -29,6 +37,8 @@
 #include <memory>
 #include <string>
 
+#include "duel.h"
+#include "duel_script.h"
 #include "fray/render/presenter.h"
 #include "fray/render/renderer.h"
 #include "fray/pipeline/sim_session.h"
@@ -57,8 +67,17 @@ struct Args {
     std::string quality = "auto";
     bool validate = false;
     bool noVsync = false;
+    bool hidePanel = false;
     std::string rig;
     std::string posture;  // a scene's: kinematic | physics
+    // The Interaction Graph duel and team fight.
+    bool duel = false;
+    int teams = 0;
+    std::string graph, style = "general", input, log;
+    int depth = 3;
+    std::int64_t graphStates = 80000;
+    std::uint64_t seed = 1;
+    double frameTime = 1.0 / 60.0;
 };
 
 // Mouse: left drag orbits, right or middle drag pans, the wheel zooms.
@@ -101,13 +120,35 @@ int main(int argc, char** argv) {
     cli.add_option("--quality", args.quality, "auto, fast or high (auto: fast on a CPU Vulkan device)")->capture_default_str();
     cli.add_flag("--validate", args.validate, "Vulkan validation layers on; any message makes the exit code 3");
     cli.add_flag("--no-vsync", args.noVsync, "Present as fast as possible");
+    cli.add_flag("--hide-panel", args.hidePanel, "Start with the panel hidden (Tab shows and hides it)");
     cli.add_option("--rig", args.rig,
                    "Draw the characters as this skinned rig (glTF/GLB, FBX, ...) instead of capsules; bones are matched to "
                    "joints by name");
     cli.add_option("--posture", args.posture,
                    "A scene's posture mode: kinematic (the captured clips; default) or physics (the posture solver)");
+    cli.add_flag("--duel", args.duel,
+                 "Fight the Interaction Graph's boxer: steer yours with the keyboard or a gamepad (the input: the project)");
+    cli.add_option("--teams", args.teams, "A team fight of N characters on the Interaction Graph, the user steering one");
+    cli.add_option("--graph", args.graph, "--duel/--teams: the graph file (default PROJECT.igraph; built and kept there when missing or stale)");
+    cli.add_option("--style", args.style, "--duel/--teams: the opponents' style: general, infighter or outboxer")->capture_default_str();
+    cli.add_option("--depth", args.depth, "--duel/--teams: the opponents' policy depth (1-10)")->capture_default_str();
+    cli.add_option("--input", args.input,
+                   "--duel/--teams: timed commands, one a line: SECONDS COMMAND [CHARACTER] | SECONDS style NAME | SECONDS depth D "
+                   "(or the runtime's .json)");
+    cli.add_option("--log", args.log, "--duel/--teams: write the actions, commands, hits and policies as JSON to this file at exit");
+    cli.add_option("--graph-states", args.graphStates, "--duel/--teams: size of a graph built here (states at most)")->capture_default_str();
+    cli.add_option("--seed", args.seed, "--duel/--teams: the match's seed (start placements)")->capture_default_str();
+    cli.add_option("--frame-time", args.frameTime, "With --frames: seconds of playback per frame")->capture_default_str();
     CLI11_PARSE(cli, argc, argv);
     if (args.frames < 0) return fail("--frames must be >= 0", 2);
+    if (!(args.frameTime > 0 && args.frameTime <= 1)) return fail("--frame-time must be in (0, 1] s", 2);
+    const bool duelMode = args.duel || args.teams > 0;
+    if (args.duel && args.teams > 0) return fail("--duel and --teams: choose one", 2);
+    if (!duelMode && (!args.input.empty() || !args.log.empty() || !args.graph.empty()))
+        return fail("--input, --log and --graph are for --duel or --teams", 2);
+    if (duelMode && (args.inputs.size() > 1 || (args.inputs.size() == 1 && std::filesystem::path(args.inputs[0]).extension() != ".frayproj")))
+        return fail("--duel/--teams: give one project (*.frayproj), or none for the demo project", 2);
+    if (duelMode && !args.posture.empty()) return fail("--posture: only for a scene (.frayscene)", 2);
     const auto postureMode = fray::posture::parseMode(args.posture.empty() ? "kinematic" : args.posture);
     if (!postureMode) return fail("--posture: '" + args.posture + "' is not kinematic or physics", 2);
     int width = 1280, height = 720;
@@ -129,8 +170,24 @@ int main(int argc, char** argv) {
     }
     // A scene (planned or composed), or takes side by side.
     std::unique_ptr<cli::SceneStage> scene;
+    std::unique_ptr<player::Duel> duel;
     std::vector<app::LoadedTake> takeList;
-    if (args.inputs.size() == 1 && std::filesystem::path(args.inputs[0]).extension() == ".frayscene") {
+    if (duelMode) {
+        player::DuelOptions dopt;
+        dopt.project = args.inputs[0];
+        dopt.graph = args.graph;
+        dopt.characters = args.duel ? 2 : args.teams;
+        dopt.style = args.style;
+        dopt.depth = args.depth;
+        dopt.input = args.input;
+        dopt.log = args.log;
+        dopt.graphStates = args.graphStates;
+        dopt.seed = args.seed;
+        dopt.foreground = args.frames > 0;  // a counted run plays the same fight every time
+        auto opened = player::Duel::open(dopt);
+        if (!opened) return fail(opened.error().message);
+        duel = std::move(*opened);
+    } else if (args.inputs.size() == 1 && std::filesystem::path(args.inputs[0]).extension() == ".frayscene") {
         auto loaded = pipeline::openScene(args.inputs[0], {}, [](std::string_view note) {
             std::fprintf(stderr, "fray-play: %.*s\n", static_cast<int>(note.size()), note.data());
         });
@@ -243,12 +300,12 @@ int main(int argc, char** argv) {
 
     // Stage, camera, playback.
     render::MotionStage stage;
-    if (!scene) app::stageTakes(takeList, stage);
+    if (!scene && !duel) app::stageTakes(takeList, stage);
     stage.pose(0.0);
     render::FrameDescription frame;
     frame.camera.yaw = 0.5f;
     frame.camera.pitch = 0.35f;
-    const int characters = scene ? scene->characterCount() : static_cast<int>(stage.actors().size());
+    const int characters = duel ? 0 : scene ? scene->characterCount() : static_cast<int>(stage.actors().size());
     // The overlay panel's right edge in framebuffer pixels: framing centres
     // the characters in the part of the view right of it, so the panel does
     // not hide them in a small window. Until the first frame lays the panel
@@ -256,7 +313,10 @@ int main(int argc, char** argv) {
     float panelRight = 340.0f;
     auto frameSelection = [&](int selected) {
         render::Bounds b;
-        if (scene) {
+        if (duel) {
+            b = duel->bounds();
+            if (b.empty()) b.add(glm::vec3(-1.5f, 0.0f, -1.5f)), b.add(glm::vec3(1.5f, 1.8f, 1.5f));  // until the fighters are there
+        } else if (scene) {
             // The selected character as it is now, or everyone over the whole scene.
             std::size_t k = 0;
             while (k < scene->shown().size() && scene->shownCharacter(k) != selected) ++k;
@@ -300,7 +360,7 @@ int main(int argc, char** argv) {
         (*presenter)->resize(fbw, fbh);
         const auto now = Clock::now();
         // Fixed steps when counting frames, so test runs are reproducible.
-        const double dt = args.frames > 0 ? 1.0 / 60.0 : std::chrono::duration<double>(now - last).count();
+        const double dt = args.frames > 0 ? args.frameTime : std::chrono::duration<double>(now - last).count();
         frameMs.add(static_cast<float>(std::chrono::duration<double, std::milli>(now - last).count()));
         last = now;
         if (playing) t += dt * static_cast<double>(speed);
@@ -308,7 +368,15 @@ int main(int argc, char** argv) {
             t = duration;
             playing = false;
         }
-        if (scene) {
+        if (duel) {
+            const bool wasReady = duel->ready();
+            if (Status s = duel->update(dt, window, !ImGui::GetIO().WantCaptureKeyboard); !s) {
+                error = s.error().message;
+                break;
+            }
+            if (!wasReady && duel->ready()) frameSelection(-1);
+            frame.camera.target += duel->moved();  // the camera follows the fight
+        } else if (scene) {
             scene->pose(loop && duration > 0.0 ? std::fmod(t, duration) : std::min(t, duration), cli::SceneStage::Labels::Auto, selected);
         } else {
             for (std::size_t i = 0; i < stage.actors().size(); ++i) stage.actors()[i].selected = static_cast<int>(i) == selected;
@@ -336,79 +404,89 @@ int main(int argc, char** argv) {
         gMouse.x = mx;
         gMouse.y = my;
         if (!io.WantCaptureKeyboard) {
-            if (ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Space))) playing = !playing;
+            if (!duel && ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Space))) playing = !playing;
             if (ImGui::IsKeyPressed(GLFW_KEY_F)) frameSelection(selected);
+            if (ImGui::IsKeyPressed(GLFW_KEY_TAB)) args.hidePanel = !args.hidePanel;
         }
 
         // The overlay.
         ImGui_ImplVulkan_NewFrame();
         ImGui_ImplGlfw_NewFrame();
         ImGui::NewFrame();
-        ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
-        ImGui::SetNextWindowSize(ImVec2(330, 0), ImGuiCond_FirstUseEver);
-        ImGui::Begin("fray-play");
-        {
-            int ww = 0, wh = 0;
-            glfwGetWindowSize(window, &ww, &wh);
-            const float scale = ww > 0 ? static_cast<float>(fbw) / static_cast<float>(ww) : 1.0f;
-            panelRight = ImGui::IsWindowCollapsed() ? 0.0f : (ImGui::GetWindowPos().x + ImGui::GetWindowSize().x) * scale;
-        }
-        if (ImGui::Button(playing ? "Pause" : "Play")) playing = !playing;
-        ImGui::SameLine();
-        if (ImGui::Button("|<")) t = 0.0;
-        ImGui::SameLine();
-        ImGui::Checkbox("Loop", &loop);
-        auto time = static_cast<float>(loop && duration > 0.0 ? std::fmod(t, duration) : t);
-        if (ImGui::SliderFloat("Time", &time, 0.0f, static_cast<float>(duration), "%.2f s")) t = time;
-        ImGui::SliderFloat("Speed", &speed, 0.1f, 4.0f, "%.2fx");
-        ImGui::Separator();
-        ImGui::Text("Characters (click to select, F frames)");
-        for (int i = 0; i < characters; ++i) {
-            const glm::vec3 tint = scene ? scene->tint(i) : stage.actors()[static_cast<std::size_t>(i)].tint;
-            const std::string& name = scene ? scene->scene().characters[static_cast<std::size_t>(i)].name
-                                            : stage.actors()[static_cast<std::size_t>(i)].name;
-            ImGui::PushID(i);
-            ImGui::ColorButton("##tint", ImVec4(tint.x, tint.y, tint.z, 1.0f), ImGuiColorEditFlags_NoTooltip, ImVec2(12, 12));
-            ImGui::SameLine();
-            if (ImGui::Selectable(name.c_str(), selected == i)) selected = selected == i ? -1 : i;
-            ImGui::PopID();
-        }
-        if (scene && selected >= 0) {
-            const auto& sc = scene->scene().characters[static_cast<std::size_t>(selected)];
-            ImGui::Separator();
-            ImGui::Text("%s (side %d)", sc.name.c_str(), sc.side);
-            ImGui::Text("action: %s", scene->present(selected) ? scene->currentAction(selected).c_str() : "(not in the scene yet)");
-            int given = 0, received = 0;
-            for (const auto& h : scene->scene().hits) {
-                if (h.blocked) continue;
-                given += h.attacker == selected ? 1 : 0;
-                received += h.defender == selected ? 1 : 0;
+        if (args.hidePanel) {
+            panelRight = 0.0f;
+        } else {  // the panel (Tab hides it)
+            ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
+            ImGui::SetNextWindowSize(ImVec2(330, 0), ImGuiCond_FirstUseEver);
+            ImGui::Begin("fray-play");
+            {
+                int ww = 0, wh = 0;
+                glfwGetWindowSize(window, &ww, &wh);
+                const float scale = ww > 0 ? static_cast<float>(fbw) / static_cast<float>(ww) : 1.0f;
+                panelRight = ImGui::IsWindowCollapsed() ? 0.0f : (ImGui::GetWindowPos().x + ImGui::GetWindowSize().x) * scale;
             }
-            ImGui::Text("hits given %d, received %d", given, received);
-            if (ImGui::Button("Frame selection")) frameSelection(selected);
-        } else if (!scene && selected >= 0) {
-            const auto& a = stage.actors()[static_cast<std::size_t>(selected)];
-            const std::string_view action = stage.actionOf(selected);
+            if (duel) {
+                duel->overlay();
+                if (ImGui::Button("Frame the fight")) frameSelection(-1);
+            } else {
+                if (ImGui::Button(playing ? "Pause" : "Play")) playing = !playing;
+                ImGui::SameLine();
+                if (ImGui::Button("|<")) t = 0.0;
+                ImGui::SameLine();
+                ImGui::Checkbox("Loop", &loop);
+                auto time = static_cast<float>(loop && duration > 0.0 ? std::fmod(t, duration) : t);
+                if (ImGui::SliderFloat("Time", &time, 0.0f, static_cast<float>(duration), "%.2f s")) t = time;
+                ImGui::SliderFloat("Speed", &speed, 0.1f, 4.0f, "%.2fx");
+                ImGui::Separator();
+                ImGui::Text("Characters (click to select, F frames)");
+                for (int i = 0; i < characters; ++i) {
+                    const glm::vec3 tint = scene ? scene->tint(i) : stage.actors()[static_cast<std::size_t>(i)].tint;
+                    const std::string& name = scene ? scene->scene().characters[static_cast<std::size_t>(i)].name
+                                                    : stage.actors()[static_cast<std::size_t>(i)].name;
+                    ImGui::PushID(i);
+                    ImGui::ColorButton("##tint", ImVec4(tint.x, tint.y, tint.z, 1.0f), ImGuiColorEditFlags_NoTooltip, ImVec2(12, 12));
+                    ImGui::SameLine();
+                    if (ImGui::Selectable(name.c_str(), selected == i)) selected = selected == i ? -1 : i;
+                    ImGui::PopID();
+                }
+                if (scene && selected >= 0) {
+                    const auto& sc = scene->scene().characters[static_cast<std::size_t>(selected)];
+                    ImGui::Separator();
+                    ImGui::Text("%s (side %d)", sc.name.c_str(), sc.side);
+                    ImGui::Text("action: %s", scene->present(selected) ? scene->currentAction(selected).c_str() : "(not in the scene yet)");
+                    int given = 0, received = 0;
+                    for (const auto& h : scene->scene().hits) {
+                        if (h.blocked) continue;
+                        given += h.attacker == selected ? 1 : 0;
+                        received += h.defender == selected ? 1 : 0;
+                    }
+                    ImGui::Text("hits given %d, received %d", given, received);
+                    if (ImGui::Button("Frame selection")) frameSelection(selected);
+                } else if (!scene && selected >= 0) {
+                    const auto& a = stage.actors()[static_cast<std::size_t>(selected)];
+                    const std::string_view action = stage.actionOf(selected);
+                    ImGui::Separator();
+                    ImGui::Text("%s  frame %d / %d", a.name.c_str(), stage.frameOf(selected), a.motion->frameCount() - 1);
+                    ImGui::Text("action: %.*s", static_cast<int>(action.size()), action.empty() ? "(none)" : action.data());
+                    if (ImGui::Button("Frame selection")) frameSelection(selected);
+                } else if (ImGui::Button("Frame all")) {
+                    frameSelection(-1);
+                }
+            }
             ImGui::Separator();
-            ImGui::Text("%s  frame %d / %d", a.name.c_str(), stage.frameOf(selected), a.motion->frameCount() - 1);
-            ImGui::Text("action: %.*s", static_cast<int>(action.size()), action.empty() ? "(none)" : action.data());
-            if (ImGui::Button("Frame selection")) frameSelection(selected);
-        } else if (ImGui::Button("Frame all")) {
-            frameSelection(-1);
+            const auto& st = (*renderer)->stats();
+            const float avg = frameMs.average();
+            ImGui::Text("frame %.1f ms (%.0f fps), render %.1f ms", static_cast<double>(avg),
+                        avg > 0.0f ? 1000.0 / static_cast<double>(avg) : 0.0, static_cast<double>(renderMs.average()));
+            ImGui::Text("%d characters, %llu triangles, %d draws", st.characters, static_cast<unsigned long long>(st.triangles),
+                        st.drawCalls);
+            ImGui::TextWrapped("%s, %s quality, %dx MSAA", deviceName.c_str(),
+                               (*renderer)->quality() == render::Quality::Fast ? "fast" : "high", (*renderer)->msaaSamples());
+            ImGui::End();
         }
-        ImGui::Separator();
-        const auto& st = (*renderer)->stats();
-        const float avg = frameMs.average();
-        ImGui::Text("frame %.1f ms (%.0f fps), render %.1f ms", static_cast<double>(avg),
-                    avg > 0.0f ? 1000.0 / static_cast<double>(avg) : 0.0, static_cast<double>(renderMs.average()));
-        ImGui::Text("%d characters, %llu triangles, %d draws", st.characters, static_cast<unsigned long long>(st.triangles),
-                    st.drawCalls);
-        ImGui::TextWrapped("%s, %s quality, %dx MSAA", deviceName.c_str(),
-                           (*renderer)->quality() == render::Quality::Fast ? "fast" : "high", (*renderer)->msaaSamples());
-        ImGui::End();
         ImGui::Render();
 
-        frame.characters = scene ? scene->shown() : stage.instances();
+        frame.characters = duel ? duel->shown() : scene ? scene->shown() : stage.instances();
         if (scene) {
             frame.trajectories = scene->trajectories();
             frame.checkpoints = scene->checkpoints();
@@ -435,6 +513,9 @@ int main(int argc, char** argv) {
 
     int code = 0;
     if (!error.empty()) code = fail(error);
+    if (duel) {
+        if (Status s = duel->writeLog(); !s && code == 0) code = fail(s.error().message);
+    }
     if (code == 0 && !args.screenshot.empty() && !screenshotWritten) {
         // The window's images cannot be read back here (or the window closed
         // early): the scene alone, from the renderer.
@@ -456,6 +537,7 @@ int main(int argc, char** argv) {
         code = fail(std::to_string(log->errors()) + " Vulkan validation errors and " + std::to_string(log->warnings()) +
                         " warnings (printed above)",
                     3);
+    if (code == 0 && args.frames > 0 && duel) std::printf("fray-play: match at %.3f s\n", duel->time());
     if (code == 0 && args.frames > 0) std::printf("fray-play: drew %d frames on %s\n", drawn, deviceName.c_str());
     return code;
 }

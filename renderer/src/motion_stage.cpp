@@ -146,4 +146,16 @@ glm::vec3 teamColor(int index) {
     return kColors[static_cast<std::size_t>(index) % kColors.size()];
 }
 
+glm::vec3 sideColor(int side, int member) {
+    static constexpr std::array<std::array<glm::vec3, 3>, 4> kSides{{
+        {{{0.80f, 0.30f, 0.25f}, {0.88f, 0.50f, 0.30f}, {0.66f, 0.22f, 0.32f}}},  // reds
+        {{{0.25f, 0.45f, 0.80f}, {0.30f, 0.62f, 0.85f}, {0.32f, 0.32f, 0.72f}}},  // blues
+        {{{0.30f, 0.65f, 0.35f}, {0.50f, 0.72f, 0.30f}, {0.22f, 0.52f, 0.42f}}},  // greens
+        {{{0.85f, 0.60f, 0.20f}, {0.90f, 0.72f, 0.35f}, {0.72f, 0.50f, 0.18f}}},  // ambers
+    }};
+    const int shade = ((member % 3) + 3) % 3;
+    if (side >= 0 && side < static_cast<int>(kSides.size())) return kSides[static_cast<std::size_t>(side)][static_cast<std::size_t>(shade)];
+    return teamColor(std::max(side, 0) * 3 + shade);
+}
+
 }  // namespace fray::render

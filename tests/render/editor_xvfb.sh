@@ -29,7 +29,7 @@ grep -q "validation" "$out/demo.log" && bad "validation messages: $(cat "$out/de
 # The first character is drawn in the first team colour (the demo's first
 # take, or the duel's first fighter when command (1) has written the duel);
 # an empty floor has no pixel of that hue.
-red=$tint_red purple=$tint_purple
+red=$tint_red blue=$tint_blue
 "$check" "$out/viewport.png" --tint $red 400 || bad "demo: no character drawn in the viewport"
 
 # The editor on the demo project waits for the background analysis when asked
@@ -58,10 +58,10 @@ fi
 grep -q "drew 12 frames, at 0.183 s" "$out/scene.log" || bad "scene: expected 12 frames, the last at 0.183 s: $(cat "$out/scene.log")"
 grep -q "validation" "$out/scene.log" && bad "scene: validation messages: $(cat "$out/scene.log")"
 "$check" "$out/scene.png" 320 200 || bad "scene viewport screenshot check"
-# Both fighters are drawn in their team colours (side 0 red, side 1 purple;
+# Both fighters are drawn in their team colours (side 0 red, side 1 blue;
 # the composed fight has no paths or checkpoints in those colours).
 "$check" "$out/scene.png" --tint $red 400 || bad "scene: the red fighter is not drawn"
-"$check" "$out/scene.png" --tint $purple 400 || bad "scene: the purple fighter is not drawn"
+"$check" "$out/scene.png" --tint $blue 400 || bad "scene: the blue fighter is not drawn"
 # Playback moves: 36 frames later (0.6 s of fighting) both fighters' pixels
 # changed in many places.
 if ! timeout 120 "$fray" "$out/fight.frayscene" --quit-after 48 --viewport-screenshot "$out/scene-later.png" \
@@ -70,7 +70,7 @@ if ! timeout 120 "$fray" "$out/fight.frayscene" --quit-after 48 --viewport-scree
 fi
 grep -q "drew 48 frames, at 0.783 s" "$out/later.log" || bad "scene: expected 48 frames, the last at 0.783 s: $(cat "$out/later.log")"
 "$check" "$out/scene.png" --differs "$out/scene-later.png" 150 $red || bad "scene: the red fighter did not move"
-"$check" "$out/scene.png" --differs "$out/scene-later.png" 150 $purple || bad "scene: the purple fighter did not move"
+"$check" "$out/scene.png" --differs "$out/scene-later.png" 150 $blue || bad "scene: the blue fighter did not move"
 # The same scene drawn with a skinned rig (the scene exported as GLB); a
 # truncated rig is one clear line and exit code 1, before any window.
 "$cli" export "$out/fight.frayscene" --format glb --out "$out/rig" -q >"$out/export.log" 2>&1 || bad "export: $(cat "$out/export.log")"

@@ -46,7 +46,7 @@ grep -q "validation" "$out/scene.log" && bad "scene: validation messages: $(cat 
 # Both fighters are drawn beside the panel, in their team colours (the
 # panel's own swatches are 144 pixels each).
 "$check" "$out/scene.png" --tint $tint_red 400 || bad "scene: the red fighter is not drawn beside the panel"
-"$check" "$out/scene.png" --tint $tint_purple 400 || bad "scene: the purple fighter is not drawn beside the panel"
+"$check" "$out/scene.png" --tint $tint_blue 400 || bad "scene: the blue fighter is not drawn beside the panel"
 # The same scene with a skinned rig (the scene exported as GLB) instead of
 # capsules; a broken rig file is one clear line and exit code 1, before any window.
 "$cli" export "$out/fight.frayscene" --format glb --out "$out/rig" -q >"$out/export.log" 2>&1 || bad "export: $(cat "$out/export.log")"

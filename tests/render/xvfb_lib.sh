@@ -35,9 +35,9 @@ xvfb_log() {
   cat "$xvfb_dir/xvfb.log" 2>/dev/null
 }
 
-# The team colours a scene's characters are drawn in (side 0, side 1), for
-# fray_image_check --tint.
-tint_red=0.80,0.30,0.25 tint_purple=0.55,0.35,0.70
+# The team colours a scene's first characters are drawn in (side 0, side 1:
+# render::sideColor), for fray_image_check --tint.
+tint_red=0.80,0.30,0.25 tint_blue=0.25,0.45,0.80
 
 # compose_fight CLI LIB OUT: a one-vs-one fight composed from a copy of the
 # demo project LIB (attack-fall patches only, for speed), written to

@@ -74,4 +74,11 @@ std::vector<glm::vec3> floorTrail(const Motion& motion, int first, int last, int
 // A colour per team / character index, distinct for the first eight.
 glm::vec3 teamColor(int index);
 
+// A scene character's colour by its side: side 0 in reds, side 1 in blues
+// (a setup's "red" and "blue" boxers), side 2 greens, side 3 ambers, then
+// teamColor; `member` (its place among the characters of its side) picks
+// one of three shades, the first the side's plain colour. The viewports, the
+// character lists' swatches and fray-play all take a character's tint from here.
+glm::vec3 sideColor(int side, int member);
+
 }  // namespace fray::render
