@@ -212,6 +212,7 @@ struct Duel::Impl {
         igraph::BuildOptions bo;
         bo.seed = opt.seed;
         bo.maxSamples = opt.graphStates;
+        bo.coverageDepth = 0;  // the coverage measurement (fray-cli igraph build) is not needed to play
         const ProgressFn progress = [this](double f, std::string_view s) {
             {
                 std::lock_guard lock(progressMutex);
