@@ -132,6 +132,8 @@ struct Duel::Impl {
     double carry = 0;  // s of match time not yet stepped
     bool paused = false;
     int restarts = 0;
+    double updateSeconds = 0, updateWorst = 0;
+    std::int64_t updates = 0;
 
     // The opponents' style and depth as asked for (the policy in play may be older).
     std::string style;
@@ -525,10 +527,18 @@ Status Duel::update(double dt, GLFWwindow* window, bool keyboard) {
         m.startMatch();
     }
     m.readInput(window, keyboard, dt);
+    const auto t0 = Clock::now();
     if (!m.paused) m.advance(dt);
     m.pose();
+    const double spent = std::chrono::duration<double>(Clock::now() - t0).count();
+    m.updateSeconds += spent;
+    m.updateWorst = std::max(m.updateWorst, spent);
+    ++m.updates;
     return {};
 }
+
+double Duel::updateMean() const { return impl_->updates > 0 ? impl_->updateSeconds / static_cast<double>(impl_->updates) : 0.0; }
+double Duel::updateWorst() const { return impl_->updateWorst; }
 
 std::span<const render::CharacterInstance> Duel::shown() const { return impl_->shown; }
 render::Bounds Duel::bounds() const { return render::characterBounds(impl_->shown); }

@@ -57,6 +57,9 @@ public:
     glm::vec3 moved() const;
     bool ready() const;
     double time() const;
+    // Wall-clock seconds update() spent with a match (steps, policy swaps, posing): mean and worst per frame.
+    double updateMean() const;
+    double updateWorst() const;
     // Writes the log (options.log) of actions, commands, hits and policies.
     Status writeLog() const;
 

@@ -537,7 +537,9 @@ int main(int argc, char** argv) {
         code = fail(std::to_string(log->errors()) + " Vulkan validation errors and " + std::to_string(log->warnings()) +
                         " warnings (printed above)",
                     3);
-    if (code == 0 && args.frames > 0 && duel) std::printf("fray-play: match at %.3f s\n", duel->time());
+    if (code == 0 && args.frames > 0 && duel)
+        std::printf("fray-play: match at %.3f s; match steps and posing %.2f ms a frame (worst %.2f ms)\n", duel->time(),
+                    1e3 * duel->updateMean(), 1e3 * duel->updateWorst());
     if (code == 0 && args.frames > 0) std::printf("fray-play: drew %d frames on %s\n", drawn, deviceName.c_str());
     return code;
 }
