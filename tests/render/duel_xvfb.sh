@@ -5,7 +5,7 @@
 # as a recomputed policy, both boxers are drawn in the colours of their
 # swatches; a team fight; a damaged graph is built again; bad input (a script
 # line, a character that does not exist, a file at the graph's place that is
-# not a graph) is one clear line before any window.
+# not a graph, a project without attacks) is one clear line before any window.
 # Usage: duel_xvfb.sh FRAY_PLAY IMAGE_CHECK DEMO_LIBRARY_DIR OUT_DIR FRAY_CLI
 set -uo pipefail
 play=$1 check=$2 lib=$3 out=$4 cli=$5
@@ -116,6 +116,11 @@ printf '# two characters\n1.0 kick 5\n' >"$out/bad.txt"
 expect_error 1 "no such character" "bad.txt:2: character 5: the match has 2 characters" --duel "$p" --graph "$out/g.igraph" --input "$out/bad.txt"
 expect_error 1 "not a graph" "script.txt: exists and is not an interaction graph file: not overwriting it" --duel "$p" --graph "$out/script.txt"
 grep -q "punch" "$out/script.txt" || bad "the file at the graph's place was changed"
+# A project of walking alone: nothing to box with; no graph is written.
+mkdir -p "$out/walk" && cp "$lib/walking.bvh" "$out/walk/"
+"$cli" project new "$out/walk/w.frayproj" --import "$out/walk/walking.bvh" >"$out/walk.log" 2>&1 || bad "project new: $(cat "$out/walk.log")"
+expect_error 1 "no attacks" "w.frayproj: Interaction Graph: the project has no" --duel "$out/walk/w.frayproj"
+[[ -e "$out/walk/w.frayproj.igraph" ]] && bad "a graph was written for a project without attacks"
 expect_error 2 "not a project" "--duel/--teams: give one project" --duel "$out/script.txt"
 
 if (( fails > 0 )); then echo "$fails failure(s)"; exit 1; fi
