@@ -114,6 +114,8 @@ printf '1 style brawler\n' >"$out/bad.txt"
 expect_error 1 "bad style" "bad.txt:1: no boxing style named 'brawler'" --duel "$p" --graph "$out/g.igraph" --input "$out/bad.txt"
 printf '# two characters\n1.0 kick 5\n' >"$out/bad.txt"
 expect_error 1 "no such character" "bad.txt:2: character 5: the match has 2 characters" --duel "$p" --graph "$out/g.igraph" --input "$out/bad.txt"
+echo '{"version": 1, "commands": [{"time": 1, "command": "punch"}, {"time": 2, "command": "jump"}]}' >"$out/bad.json"
+expect_error 1 "bad JSON command" "bad.json: /commands/1/command: 'jump' is not a command" --duel "$p" --graph "$out/g.igraph" --input "$out/bad.json"
 expect_error 1 "not a graph" "script.txt: exists and is not an interaction graph file: not overwriting it" --duel "$p" --graph "$out/script.txt"
 grep -q "punch" "$out/script.txt" || bad "the file at the graph's place was changed"
 # A project of walking alone: nothing to box with; no graph is written.
