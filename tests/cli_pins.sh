@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Editing a generated interaction from the command line (issue 23 item 7,
-# docs/SIM.md "Pins"): on the demo duel, the first punch of red is swapped for
+# docs/TREE_EXPANSION.md "Pins"): on the demo duel, the first punch of red is swapped for
 # a kick by pinning it (`fray-cli setup P pin`); after the re-plan the kick
 # starts at that time, everything before it is planned as before, the scene
 # has no penetration (the duel's `fray-cli metrics` threshold: 0 samples) and

@@ -257,7 +257,7 @@ void registerSetup(CLI::App& app) {
     cmd->add_option("--spec", args->spec, "import: the simulate or compose spec (JSON; a domino floor's PNG is read beside it)");
     cmd->add_option("--character", args->character, "pin/unpin: the character (name or 0-based index)");
     cmd->add_option("--time", args->time, "pin/unpin: when the pinned action starts (s)");
-    cmd->add_option("--action", args->pinAction, "pin: the action to play there (a name or \"@annotation\"; docs/SIM.md \"Pins\")");
+    cmd->add_option("--action", args->pinAction, "pin: the action to play there (a name or \"@annotation\"; docs/TREE_EXPANSION.md \"Pins\")");
     cmd->add_flag("--replace", args->replace, "import: replace a setup of the same name");
     cmd->add_flag("--json", args->json, "JSON output (list; show: the setup as stored)");
     cmd->add_flag("-q,--quiet", args->quiet, "No progress on stderr");

@@ -4,7 +4,7 @@
 // chosen, "Unpin" a pinned one. Each is one undo command on the setup's pins
 // (ProjectDocument::setPin/addPin/removePin); the live re-plan plans the
 // scene again around them (docs/EDITOR.md "Editing a generated interaction",
-// docs/SIM.md "Pins").
+// docs/TREE_EXPANSION.md "Pins").
 #include <QAction>
 #include <QMenu>
 #include <QStatusBar>

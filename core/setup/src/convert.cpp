@@ -81,7 +81,7 @@ Result<std::string> setupSpecJson(const SceneSetup& setup) {
             (*target)["path"] = std::move(*path);
             if (t.loop || target->contains("loop_path")) (*target)["loop_path"] = t.loop;
         }
-        // Pins of edited generated interactions (docs/SIM.md "Pins"); none:
+        // Pins of edited generated interactions (docs/TREE_EXPANSION.md "Pins"); none:
         // no field, so a setup without pins plans the bytes it always did.
         if (!setup.pins.empty()) {
             json pins = json::array();

@@ -1,4 +1,4 @@
-// Pins in tree expansion (SceneSpec::pins, docs/SIM.md "Pins"): the choice at
+// Pins in tree expansion (SceneSpec::pins, docs/TREE_EXPANSION.md "Pins"): the choice at
 // a decision of a pinned character, forced to the pinned action at the pin's
 // decision and steered before it so the motion graph reaches that action
 // there. The search itself is untouched: decide() is asked again with a

@@ -562,7 +562,7 @@ Status checkCharacters(const JsonReader& rd, SceneSpec& spec, const std::vector<
     return {};
 }
 
-// "pins": [{character, time, action}] (docs/SIM.md "Pins"): pinned choices
+// "pins": [{character, time, action}] (docs/TREE_EXPANSION.md "Pins"): pinned choices
 // of edited generated interactions, sorted by character, then time.
 Status parsePins(const ActionSelector& select, const json& j, SceneSpec& spec) {
     const JsonReader& rd = select.rd;

@@ -101,7 +101,7 @@ struct SimOptions {
     Arena arena;
 };
 
-// A pinned choice (an edited generated interaction, docs/SIM.md "Pins"):
+// A pinned choice (an edited generated interaction, docs/TREE_EXPANSION.md "Pins"):
 // character `character` launches one of `actions` (a library action name or
 // an "@annotation" of its set, `key`) at its first decision at or after
 // time - kPinEarly. Decisions before it are steered so that the motion graph
