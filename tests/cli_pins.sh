@@ -94,7 +94,7 @@ check "project untouched by bad pins" "cmp -s '$p' '$tmp/before.frayproj'"
 down=$(python3 -c "import json,sys; t=[e for e in json.load(open(sys.argv[1]))['characters'][1]['track'] if e['forced'] and e['end']-e['start']>2]; print(repr(t[0]['start']+0.5) if t else '')" "$tmp/orig.frayscene")
 check "blue is knocked down in the demo duel" "[ -n '$down' ]"
 "$cli" setup "$p" pin duel --character blue --time "$down" --action @kick -q > /dev/null
-expect_fail "unreachable" "setup 'duel': /pins/0/action: 'blue' cannot start '@kick' between .* a reaction to a hit" \
+expect_fail "unreachable" "setup 'duel': /pins/0/action: 'blue' cannot start '@kick' between .*(a reaction to a hit)" \
   "$cli" simulate "$p" --setup duel --out "$tmp/x.frayscene" -q
 check "no scene from a pin that cannot be honoured" "[ ! -e '$tmp/x.frayscene' ]"
 "$cli" setup "$p" unpin duel --character blue --time "$down" -q > /dev/null
