@@ -17,6 +17,7 @@
 #include <QElapsedTimer>
 #include <QFile>
 #include <QLabel>
+#include <QContextMenuEvent>
 #include <QMenu>
 #include <QPainter>
 #include <QPixmap>
@@ -383,6 +384,23 @@ TEST(SceneSetups, ReplacingAPunchWithAKickPinsItAndUndoRestoresTheScene) {
     const double T = bars[static_cast<std::size_t>(bar)].start;
     EXPECT_EQ(bars[static_cast<std::size_t>(bar)].pin, -1);
 
+    // A right click on the bar opens its menu (closed here unused).
+    QString opened;
+    QTimer::singleShot(300, [&] {
+        if (QWidget* popup = QApplication::activePopupWidget()) {
+            opened = popup->objectName();
+            popup->close();
+        }
+    });
+    const int midX = (gantt->xOfTime(T) + gantt->xOfTime(bars[static_cast<std::size_t>(bar)].end)) / 2;
+    {
+        // The event Qt sends a widget for a right click (or the menu key).
+        const QPoint at(midX, gantt->rowY(0));
+        QContextMenuEvent event(QContextMenuEvent::Mouse, at, gantt->mapToGlobal(at));
+        QApplication::sendEvent(gantt, &event);
+    }
+    QTest::qWait(100);
+    EXPECT_EQ(opened.toStdString(), "ganttBarMenu");
     // Its menu: the actions that fit there, Pin, Unpin (disabled: not pinned).
     std::unique_ptr<QMenu> menu(w->ganttBarMenu(0, bar));
     QAction* kick = menu->findChild<QAction*>("replace:front_kick");
