@@ -246,6 +246,7 @@ void runCompose(const ComposeArgs& a) {
         if (setup::isTreeExpansion(found->kind)) {
             return fail(label + " is a " + setup::setupKindName(found->kind) + " setup: run it with simulate, not compose");
         }
+        if (auto note = setup::pinsNotHonoured(*found); !note.empty()) std::fprintf(stderr, "fray-cli: note: %s\n", note.c_str());
         if (pipeline::setupNeedsPatches(*found)) patches = openPatches(a.project, a.patches, s.library);
         if (!patches) return fail(patches.error().message);
         spec = setup::toComposeSpec(*found, *patches);  // what the summary below reports

@@ -2,7 +2,9 @@
 // the scene setups stored in a project (issue 23, docs/AUTHORING.md). An
 // imported spec file keeps its numbers as written, so `simulate/compose P
 // --setup NAME` plans the same scene bytes as `--spec F`.
+#include <cmath>
 #include <cstdio>
+#include <tuple>
 #include <memory>
 
 #include <nlohmann/json.hpp>
@@ -24,6 +26,8 @@ using json = nlohmann::ordered_json;
 struct SetupArgs {
     std::string project, action = "list", name, spec;
     bool json = false, replace = false, quiet = false;
+    std::string character, pinAction;  // pin / unpin
+    double time = -1;
 };
 
 std::string summary(const setup::SceneSetup& s) {
@@ -78,10 +82,97 @@ Status checkAgainstProject(const SetupArgs& a, const setup::SceneSetup& s) {
     return {};
 }
 
+// The character a --character names: a setup character's name, else its
+// 0-based index.
+Result<std::string> pinCharacter(const setup::SceneSetup& s, const std::string& given) {
+    const auto cs = setup::characters(s);
+    std::string names;
+    for (std::size_t i = 0; i < cs.size(); ++i) names += (i ? ", " : "") + cs[i].name;
+    if (given.empty()) return makeError("--character: give the character's name or index (" + names + ")");
+    if (setup::characterIndex(s, given) >= 0) return given;
+    if (given.find_first_not_of("0123456789") == std::string::npos && given.size() < 9) {
+        const int i = std::stoi(given);
+        if (i < static_cast<int>(cs.size())) return cs[static_cast<std::size_t>(i)].name;
+        return makeError("--character: index " + given + " is out of range (setup '" + s.name + "' has " + std::to_string(cs.size()) +
+                         " characters: " + names + ")");
+    }
+    return makeError("--character: setup '" + s.name + "' has no character named '" + given + "' (" + names + ")");
+}
+
+// setup P pin NAME --character C --time T --action A / unpin NAME --character C --time T.
+void runPin(const SetupArgs& a) {
+    const bool pin = a.action == "pin";
+    if (!(a.time >= 0) || !std::isfinite(a.time) || a.time > 3600) return fail("setup " + a.action + ": --time: give the time in seconds, 0 to 3600");
+    if (pin && a.pinAction.empty()) return fail("setup pin: --action: give an action name or \"@annotation\"");
+    auto project = prep::loadProject(a.project);
+    if (!project) return fail(project.error().message);
+    auto setups = setup::projectSetups(*project, a.project);
+    if (!setups) return fail(setups.error().message);
+    setup::SceneSetup* s = setup::findSetup(*setups, a.name);
+    if (!s) return fail(a.project + ": no setup named '" + a.name + "'");
+    if (!setup::isTreeExpansion(s->kind)) {
+        return fail("setup '" + s->name + "' is a " + setup::setupKindName(s->kind) +
+                    " setup: pins are honoured by tree expansion only (duel and chase setups); compose kinds cannot honour them");
+    }
+    auto who = pinCharacter(*s, a.character);
+    if (!who) return fail("setup " + a.action + ": " + who.error().message);
+    const auto at = std::find_if(s->pins.begin(), s->pins.end(), [&](const setup::Pin& p) {
+        return p.character == *who && std::fabs(p.time - a.time) < 1e-6;
+    });
+    std::string done;
+    if (pin) {
+        if (at != s->pins.end()) {
+            done = "replaced the pin of '" + *who + "' at " + std::to_string(a.time) + " s ('" + at->action + "' -> '" + a.pinAction + "')";
+            at->action = a.pinAction;
+        } else {
+            const setup::Pin p{*who, a.time, a.pinAction};
+            s->pins.insert(std::find_if(s->pins.begin(), s->pins.end(), [&](const setup::Pin& q) {
+                               return std::tie(q.character, q.time) > std::tie(p.character, p.time);
+                           }),
+                           p);
+            done = "pinned '" + a.pinAction + "' for '" + *who + "'";
+        }
+        // The setup as simulate will read it: unknown actions, times beyond the scene, ...
+        auto ss = openSimSession(a.project, stderrProgress(a.quiet));
+        if (!ss) return fail(ss.error().message);
+        auto presets = sim::projectPresets((*ss)->session.project, a.project);
+        if (!presets) return fail(presets.error().message);
+        auto spec = setup::toSceneSpec(*s, (*ss)->library, *presets);
+        if (!spec) return fail(spec.error().message);
+    } else {
+        if (at == s->pins.end()) {
+            std::string list;
+            for (const auto& p : s->pins) {
+                if (p.character == *who) list += (list.empty() ? "" : ", ") + std::to_string(p.time);
+            }
+            return fail("setup unpin: --time: '" + *who + "' has no pin at " + std::to_string(a.time) + " s" +
+                        (list.empty() ? " (it has none)" : " (its pins: " + list + ")"));
+        }
+        done = "unpinned '" + at->action + "' of '" + *who + "'";
+        s->pins.erase(at);
+    }
+    const setup::SceneSetup edited = *s;
+    const Status st = editProject(a.project, [&](prep::Project& p) -> Status {
+        auto now = setup::projectSetups(p, a.project);
+        if (!now) return now.error();
+        setup::SceneSetup* target = setup::findSetup(*now, a.name);
+        if (!target) return makeError(a.project + ": no setup named '" + a.name + "'");
+        *target = edited;
+        setup::setProjectSetups(p, *now);
+        return {};
+    });
+    if (!st) return fail(st.error().message);
+    std::printf("%s: setup '%s': %s at %g s (%zu pins)\n", a.project.c_str(), a.name.c_str(), done.c_str(), a.time, edited.pins.size());
+}
+
 void runSetup(const SetupArgs& a) {
-    static const char* const actions[] = {"list", "show", "import", "remove"};
+    static const char* const actions[] = {"list", "show", "import", "remove", "pin", "unpin"};
     if (std::find_if(std::begin(actions), std::end(actions), [&](const char* x) { return a.action == x; }) == std::end(actions)) {
-        return fail("setup: expected list, show NAME, import NAME --spec FILE or remove NAME, got '" + a.action + "'");
+        return fail("setup: expected list, show NAME, import NAME --spec FILE, remove NAME, pin NAME or unpin NAME, got '" + a.action + "'");
+    }
+    if (a.action == "pin" || a.action == "unpin") {
+        if (a.name.empty()) return fail("setup " + a.action + ": give a setup name");
+        return runPin(a);
     }
     if (a.action != "list" && a.name.empty()) return fail("setup " + a.action + ": give a setup name");
     if (a.action == "list" || a.action == "show") {
@@ -159,11 +250,14 @@ void runSetup(const SetupArgs& a) {
 
 void registerSetup(CLI::App& app) {
     auto args = std::make_shared<SetupArgs>();
-    auto* cmd = app.add_subcommand("setup", "Scene setups stored in a project: list, show, import a --spec file, remove");
+    auto* cmd = app.add_subcommand("setup", "Scene setups stored in a project: list, show, import a --spec file, remove, pin/unpin an action");
     cmd->add_option("project", args->project, "Project file (*.frayproj)")->required();
-    cmd->add_option("action", args->action, "list | show NAME | import NAME --spec FILE | remove NAME");
+    cmd->add_option("action", args->action, "list | show NAME | import NAME --spec FILE | remove NAME | pin NAME | unpin NAME");
     cmd->add_option("name", args->name, "Setup name");
     cmd->add_option("--spec", args->spec, "import: the simulate or compose spec (JSON; a domino floor's PNG is read beside it)");
+    cmd->add_option("--character", args->character, "pin/unpin: the character (name or 0-based index)");
+    cmd->add_option("--time", args->time, "pin/unpin: when the pinned action starts (s)");
+    cmd->add_option("--action", args->pinAction, "pin: the action to play there (a name or \"@annotation\"; docs/TREE_EXPANSION.md \"Pins\")");
     cmd->add_flag("--replace", args->replace, "import: replace a setup of the same name");
     cmd->add_flag("--json", args->json, "JSON output (list; show: the setup as stored)");
     cmd->add_flag("-q,--quiet", args->quiet, "No progress on stderr");

@@ -1,5 +1,6 @@
 #include "gantt_view.h"
 
+#include <QContextMenuEvent>
 #include <QKeyEvent>
 #include <QMouseEvent>
 #include <QPainter>
@@ -156,9 +157,24 @@ void GanttView::paintEvent(QPaintEvent*) {
             if (bar.forced) p.fillRect(box, QBrush(QColor(0, 0, 0, 90), Qt::BDiagPattern));
             p.setPen(bar.fallback ? QPen(Qt::yellow, 1, Qt::DashLine) : QPen(c.darker(160)));
             p.drawRect(box.adjusted(0, 0, -1, -1));
+            int textLeft = 3;
+            if (bar.pin >= 0) {
+                // Pinned: a white outline and a pin (a disc on a stem) at the start.
+                p.setPen(QPen(Qt::white, 2));
+                p.setBrush(Qt::NoBrush);
+                p.drawRect(box.adjusted(1, 1, -1, -1));
+                const int head = std::clamp(rh / 5, 2, 4);
+                const int cx = x0 + head + 3, cy = y0 + 2 + head + 1;
+                p.setPen(QPen(Qt::white, 1));
+                p.drawLine(cx, cy, cx, std::min(y0 + rh - 4, cy + 2 * head + 2));
+                p.setBrush(QColor(230, 40, 40));
+                p.drawEllipse(QPoint(cx, cy), head, head);
+                p.setBrush(Qt::NoBrush);
+                textLeft = 2 * head + 7;
+            }
             if (box.width() > 30 && rh >= 12) {
                 p.setPen(c.lightness() > 140 ? Qt::black : Qt::white);
-                p.drawText(box.adjusted(3, 0, -2, 0), Qt::AlignVCenter | Qt::AlignLeft, bar.label);
+                p.drawText(box.adjusted(textLeft, 0, -2, 0), Qt::AlignVCenter | Qt::AlignLeft, bar.label);
             }
         }
         p.setClipRect(QRect(0, kRulerHeight, width(), bottom - kRulerHeight));
@@ -203,7 +219,8 @@ void GanttView::paintEvent(QPaintEvent*) {
     for (const GanttRow& row : data_.rows)
         for (const GanttBar& bar : row.bars)
             if (std::find(seen.begin(), seen.end(), bar.annotation) == seen.end()) seen.push_back(bar.annotation);
-    const QString hint = QString::fromUtf8("\u25BC hit given  \u25B2 hit taken  hollow: blocked  hatched: reaction");
+    const QString hint =
+        QString::fromUtf8("\u25BC hit given  \u25B2 hit taken  hollow: blocked  hatched: reaction  outlined: pinned (right-click a bar)");
     const QFontMetrics fm(small);
     const int legendEnd = width() - fm.horizontalAdvance(hint) - 16;
     int x = 6;
@@ -259,6 +276,15 @@ void GanttView::wheelEvent(QWheelEvent* event) {
     }
     clampView();
     update();
+}
+
+void GanttView::contextMenuEvent(QContextMenuEvent* event) {
+    const int row = rowAt(event->pos().y());
+    const int bar = row >= 0 ? barAt(row, event->pos().x()) : -1;
+    if (bar < 0) return;
+    setSelectedRow(row);
+    Q_EMIT rowSelected(row);
+    Q_EMIT barMenuRequested(row, bar, event->globalPos());
 }
 
 void GanttView::keyPressEvent(QKeyEvent* event) {

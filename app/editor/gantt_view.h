@@ -10,8 +10,11 @@
 // selects its character and seeks the playhead to the bar's start; clicking
 // empty space in a row selects the row's character and seeks to the time
 // under the pointer. The wheel zooms around the pointer, Shift+wheel pans,
-// Home shows the whole scene.
+// Home shows the whole scene. A right click on a bar asks for its context
+// menu (barMenuRequested: replace, pin, unpin; MainWindow builds it); bars
+// chosen by a pin are drawn with a white outline and a pin mark.
 #include <QColor>
+#include <QPoint>
 #include <QString>
 #include <QWidget>
 #include <vector>
@@ -25,6 +28,7 @@ struct GanttBar {
     bool forced = false;        // a reaction to a hit
     bool fallback = false;      // the planner had no legal action
     int action = -1;            // index in the scene's action library
+    int pin = -1;               // the setup's pin that chose it (index in its pins), else -1: drawn marked
 };
 
 struct GanttHit {
@@ -77,6 +81,8 @@ Q_SIGNALS:
     void barClicked(int row, int bar);
     void rowSelected(int row);
     void seekRequested(double time);
+    // A right click on a bar: the window shows its menu at `global`.
+    void barMenuRequested(int row, int bar, QPoint global);
 
 protected:
     void paintEvent(QPaintEvent* event) override;
@@ -84,6 +90,7 @@ protected:
     void mouseMoveEvent(QMouseEvent* event) override;
     void wheelEvent(QWheelEvent* event) override;
     void keyPressEvent(QKeyEvent* event) override;
+    void contextMenuEvent(QContextMenuEvent* event) override;
 
 private:
     static constexpr int kNameWidth = 90;

@@ -531,6 +531,13 @@ QByteArray MainWindow::describeUi() const {
         bars.append(b);
     }
     root["toolbars"] = bars;
+    // Context menus built on demand: the Gantt bar's (window_pins.cpp).
+    QJsonArray contextMenus;
+    contextMenus.append(QJsonObject{{"name", "ganttBarMenu"},
+                                    {"panel", "gantt"},
+                                    {"opens", "right click on an action bar"},
+                                    {"items", QJsonArray{"ganttReplaceMenu", "ganttPin", "ganttUnpin"}}});
+    root["contextMenus"] = contextMenus;
     return QJsonDocument(root).toJson(QJsonDocument::Indented);
 }
 

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "fray/render/motion_stage.h"
+#include "fray/setup/scene_setup.h"
 #include "fray/sim/patches.h"
 #include "floor_tools.h"
 #include "project_analysis.h"
@@ -150,6 +151,22 @@ public:
     int selectedCharacter() const { return selected_; }
     // Ends a generated preview: the viewport plays the library's motions again.
     void stopPreview();
+    // ---- Edit a generated interaction (window_pins.cpp, docs/EDITOR.md)
+    // The menu of a Gantt bar of the scene playing (the caller owns it):
+    // "Replace with" the actions that fit there, "Pin", "Unpin". Items that
+    // do not apply are disabled and say why.
+    QMenu* ganttBarMenu(int row, int bar);
+    // The action names that fit in place of a bar: those sharing an
+    // annotation with it, and those the motion graph allows after the bar
+    // before it, within the character's actions; empty with `why` when the
+    // bar cannot be edited (a reaction, the start action, a compose scene).
+    QStringList actionsFittingBar(int row, int bar, QString* why = nullptr) const;
+    // Each one undo command on the setup of the scene playing (the live
+    // re-plan follows): replace the bar's action by `action` and pin it,
+    // pin the bar's action, remove the pin that chose the bar.
+    bool replaceGanttBar(int row, int bar, const QString& action);
+    bool pinGanttBar(int row, int bar);
+    bool unpinGanttBar(int row, int bar);
     // ---- Floor tools (window_tools.cpp)
     // Activates a floor tool by name ("Brush", "Eraser", "Fill", "Text",
     // "Polyline", "Arc", "Circle", "Move"; "" : none, the mouse moves the camera).
@@ -372,6 +389,7 @@ private:
     // characters the edits can affect (fray::setup::affectedCharacters) and
     // their tracks then, to report after the re-plan who kept theirs.
     QString previewSetup_;
+    std::vector<setup::Pin> previewPins_;  // the pins the scene playing was planned with
     std::vector<int> replanAffected_;
     std::vector<std::vector<sim::ActionInstance>> replanBase_;
     bool replanOther_ = false;         // an edit that affects everyone

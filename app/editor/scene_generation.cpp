@@ -218,6 +218,11 @@ Result<GeneratedScene> generateScene(const GenerateInput& in, const ProgressFn& 
                                     .arg(scene->duration, 0, 'f', 1)
                                     .arg(scene->stats.decisions)
                                     .arg(scene->hits.size());
+        if (!in.setup->pins.empty() && setup::isTreeExpansion(in.setup->kind)) {
+            out.summary += QString(", %1 pinned").arg(in.setup->pins.size());
+        }
+        // Compose kinds cannot honour pins: said, never silent.
+        if (const std::string note = setup::pinsNotHonoured(*in.setup); !note.empty()) out.summary += "; " + QString::fromStdString(note);
         out.loaded.scene = std::move(*scene);
     } else if (compose) {
         std::shared_ptr<const sim::PatchLibrary> patches;
@@ -312,6 +317,20 @@ GanttData ganttFromScene(const sim::Scene& scene, const sim::ActionLibrary& lib,
     }
     for (const sim::HitEvent& h : scene.hits) d.hits.push_back({h.time, h.attacker, h.defender, h.blocked});
     return d;
+}
+
+void markPinnedBars(GanttData& gantt, const std::vector<setup::Pin>& pins) {
+    for (std::size_t i = 0; i < pins.size(); ++i) {
+        const setup::Pin& pin = pins[i];
+        for (GanttRow& row : gantt.rows) {
+            if (row.name != QString::fromStdString(pin.character)) continue;
+            for (GanttBar& bar : row.bars) {
+                if (bar.start < pin.time - sim::kPinEarly) continue;
+                if (bar.start <= pin.time + sim::kPinLate && !bar.forced) bar.pin = static_cast<int>(i);
+                break;
+            }
+        }
+    }
 }
 
 QStringList metricsHeader() {

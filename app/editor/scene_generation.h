@@ -73,10 +73,16 @@ struct GeneratedScene {
 struct PreparedPreview {
     std::unique_ptr<cli::SceneStage> stage;
     GanttData gantt;
+    std::vector<setup::Pin> pins;  // the setup's pins it was planned with (marked in gantt)
     sim::SceneMetrics metrics;
     QString summary;
     std::shared_ptr<pipeline::SimSession> session;  // kept for the next generate
 };
+
+// Marks the bars the setup's pins chose (GanttBar::pin): for each pin, the
+// first bar of its character's row that starts at or after its time less
+// sim::kPinEarly, when that bar starts by its time plus sim::kPinLate.
+void markPinnedBars(GanttData& gantt, const std::vector<setup::Pin>& pins);
 
 // The project's patch library file (as `fray-cli patches` writes it).
 std::filesystem::path patchLibraryFile(const std::filesystem::path& projectFile);

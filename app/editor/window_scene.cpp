@@ -23,6 +23,7 @@
 #include <QHeaderView>
 #include <QLabel>
 #include <QLineEdit>
+#include <QMenu>
 #include <QMenuBar>
 #include <QProgressBar>
 #include <QPushButton>
@@ -165,6 +166,10 @@ void MainWindow::buildSceneDocks() {
 
     // Gantt (made in buildDocks, above the timeline): the action track of the scene playing.
     connect(gantt_, &GanttView::barClicked, this, &MainWindow::ganttBarClicked);
+    connect(gantt_, &GanttView::barMenuRequested, this, [this](int r, int b, QPoint global) {
+        std::unique_ptr<QMenu> menu(ganttBarMenu(r, b));
+        if (menu) menu->exec(global);
+    });
     connect(gantt_, &GanttView::seekRequested, this, [this](double t) {
         if (!scene_) return;
         time_ = std::clamp(t, 0.0, scene_->duration());
@@ -449,6 +454,10 @@ void MainWindow::generate() {
                     const glm::vec3 t = stage.tint(c);
                     return QColor::fromRgbF(t.x, t.y, t.z);
                 });
+                if (input->setup && setup::isTreeExpansion(input->setup->kind)) {
+                    shown->pins = input->setup->pins;
+                    markPinnedBars(shown->gantt, shown->pins);
+                }
             }
         },
         [this, result, clock, specFile, shown] {
@@ -522,6 +531,7 @@ void MainWindow::showGenerated(PreparedPreview generated) {
     scrub_->setValue(0);
     scrub_->blockSignals(false);
     if (!playing_) togglePlay();
+    previewPins_ = std::move(generated.pins);
     gantt_->setData(std::move(generated.gantt));
     gantt_->setTime(0.0);
     gantt_->setSelectedRow(-1);

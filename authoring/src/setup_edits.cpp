@@ -483,6 +483,30 @@ Status ProjectDocument::addPin(const std::string& name, const setup::Pin& pin) {
                      });
 }
 
+Status ProjectDocument::setPin(const std::string& name, const setup::Pin& pin) {
+    if (pin.character.empty() || pin.action.empty()) return makeError(who(name) + ": a pin needs a character and an action");
+    if (!finite(pin.time) || pin.time < 0 || pin.time > 3600) return makeError(who(name) + ": a pin's time must be in [0, 3600] s");
+    return editSetup(name, QStringLiteral("Replace with %1").arg(QString::fromStdString(pin.action)), "pins", 0,
+                     {ChangeKind::SetupPins, {}, -1, 0}, [&](SceneSetup& s) -> Status {
+                         if (!setup::isTreeExpansion(s.kind)) {
+                             return makeError(who(name) + ": a " + setup::setupKindName(s.kind) +
+                                              " setup is composed from Interaction Patches: pins are honoured by duel and chase setups only");
+                         }
+                         if (setup::characterIndex(s, pin.character) < 0) return makeError(who(name) + ": no character named " + inQ(pin.character));
+                         for (auto& p : s.pins) {
+                             if (p.character == pin.character && std::fabs(p.time - pin.time) < 1e-9) {
+                                 p.action = pin.action;
+                                 return {};
+                             }
+                         }
+                         auto at = std::find_if(s.pins.begin(), s.pins.end(), [&](const setup::Pin& p) {
+                             return std::tie(p.character, p.time) > std::tie(pin.character, pin.time);
+                         });
+                         s.pins.insert(at, pin);
+                         return {};
+                     });
+}
+
 Status ProjectDocument::removePin(const std::string& name, int index) {
     return editSetup(name, QStringLiteral("Remove pin"), "pins", 0, {ChangeKind::SetupPins, {}, index, 0}, [&](SceneSetup& s) -> Status {
         if (index < 0 || index >= static_cast<int>(s.pins.size())) {

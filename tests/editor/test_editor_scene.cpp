@@ -17,6 +17,11 @@
 #include <QElapsedTimer>
 #include <QFile>
 #include <QLabel>
+#include <QContextMenuEvent>
+#include <QMenu>
+#include <QPainter>
+#include <QPixmap>
+#include <QUndoStack>
 #include <QProcess>
 #include <QPushButton>
 #include <QStandardItemModel>
@@ -340,4 +345,127 @@ int main(int argc, char** argv) {
     QApplication::setApplicationName("fray-tests");
     ::testing::InitGoogleTest(&argc, argv);
     return RUN_ALL_TESTS();
+}
+
+// Editing a generated interaction (issue 23 item 7): on the demo duel, red's
+// first punch is replaced with a front_kick from the Gantt bar's menu (one
+// undo command that pins it); after the live re-plan the kick is there at
+// that time, its bar is drawn pinned, the scene has no penetration (the
+// duel's metric threshold, 0 samples) and the same bytes as `fray-cli
+// simulate --setup`; undo gives back the original scene byte for byte.
+TEST(SceneSetups, ReplacingAPunchWithAKickPinsItAndUndoRestoresTheScene) {
+    QTemporaryDir dir;
+    const fs::path from = fs::path(FRAY_DEMO_PROJECT).parent_path();
+    for (const auto& entry : fs::directory_iterator(from)) {
+        const auto ext = entry.path().extension();
+        if (ext == ".bvh" || ext == ".frayproj" || ext == ".csv" || ext == ".cache")
+            fs::copy_file(entry.path(), fs::path(dir.path().toStdString()) / entry.path().filename());
+    }
+    auto w = fray::test::openEditorWindow(dir.filePath("demo.frayproj"));
+    ASSERT_NE(w, nullptr);
+    ASSERT_TRUE(QTest::qWaitFor([&] { return w->analysis() != nullptr; }, 120000));
+    QString demoDuel;
+    for (const QString& s : w->sceneSources())
+        if (s.endsWith("resources/demo/duel.json")) demoDuel = s;
+    ASSERT_FALSE(demoDuel.isEmpty());
+    ASSERT_TRUE(w->selectSceneSource(demoDuel));
+    ASSERT_TRUE(w->importSpecAsSetup("duel")) << w->lastError().toStdString();
+    generateAndWait(w.get());
+    ASSERT_NE(w->scene(), nullptr) << w->lastError().toStdString();
+    const std::string original = fray::sim::sceneToJson(w->scene()->scene(), w->scene()->library());
+    auto* gantt = child<fray::editor::GanttView>(w.get(), "gantt");
+
+    // Red's first punch of its own choosing.
+    int bar = -1;
+    const auto& bars = gantt->data().rows.at(0).bars;
+    for (std::size_t b = 1; b < bars.size() && bar < 0; ++b)
+        if (bars[b].annotation == "punch" && !bars[b].forced) bar = static_cast<int>(b);
+    ASSERT_GE(bar, 0) << "the demo duel has no punch of red";
+    const double T = bars[static_cast<std::size_t>(bar)].start;
+    EXPECT_EQ(bars[static_cast<std::size_t>(bar)].pin, -1);
+
+    // A right click on the bar opens its menu (closed here unused).
+    QString opened;
+    QTimer::singleShot(300, [&] {
+        if (QWidget* popup = QApplication::activePopupWidget()) {
+            opened = popup->objectName();
+            popup->close();
+        }
+    });
+    const int midX = (gantt->xOfTime(T) + gantt->xOfTime(bars[static_cast<std::size_t>(bar)].end)) / 2;
+    {
+        // The event Qt sends a widget for a right click (or the menu key).
+        const QPoint at(midX, gantt->rowY(0));
+        QContextMenuEvent event(QContextMenuEvent::Mouse, at, gantt->mapToGlobal(at));
+        QApplication::sendEvent(gantt, &event);
+    }
+    QTest::qWait(100);
+    EXPECT_EQ(opened.toStdString(), "ganttBarMenu");
+    // Its menu: the actions that fit there, Pin, Unpin (disabled: not pinned).
+    std::unique_ptr<QMenu> menu(w->ganttBarMenu(0, bar));
+    QAction* kick = menu->findChild<QAction*>("replace:front_kick");
+    ASSERT_NE(kick, nullptr) << "front_kick is not offered in place of the punch";
+    EXPECT_TRUE(kick->isEnabled());
+    EXPECT_TRUE(menu->findChild<QAction*>("ganttPin")->isEnabled());
+    EXPECT_FALSE(menu->findChild<QAction*>("ganttUnpin")->isEnabled());
+    // A reaction cannot be replaced: its menu says why.
+    for (std::size_t b = 0; b < bars.size(); ++b) {
+        if (!bars[b].forced) continue;
+        QString why;
+        EXPECT_TRUE(w->actionsFittingBar(0, static_cast<int>(b), &why).isEmpty());
+        EXPECT_TRUE(why.contains("reaction")) << why.toStdString();
+        break;
+    }
+    {
+        // The menu with its "Replace with" list beside it (docs/EDITOR.md).
+        menu->popup(gantt->mapToGlobal(QPoint(gantt->xOfTime(T), gantt->rowY(0))));
+        auto* replace = menu->findChild<QMenu*>("ganttReplaceMenu");
+        ASSERT_NE(replace, nullptr);
+        replace->popup(menu->mapToGlobal(QPoint(menu->width(), 0)));
+        const QPixmap a = menu->grab(), b = replace->grab();
+        QPixmap both(a.width() + b.width(), std::max(a.height(), b.height()));
+        both.fill(Qt::white);
+        QPainter painter(&both);
+        painter.drawPixmap(0, 0, a);
+        painter.drawPixmap(a.width(), 0, b);
+        painter.end();
+        both.save(QString(FRAY_EDITOR_SHOTS) + "/gantt-menu.png");
+        replace->hide();
+        menu->hide();
+    }
+
+    const int undoBefore = w->document()->undoStack()->count();
+    const auto* before = w->scene();
+    kick->trigger();
+    EXPECT_EQ(w->document()->undoStack()->count(), undoBefore + 1) << "one undo command";
+    ASSERT_TRUE(QTest::qWaitFor([&] { return w->scene() != before && !w->replanPending() && !w->busy(); }, 120000))
+        << w->lastError().toStdString();
+    const auto& scene = w->scene()->scene();
+    const auto& red = scene.characters.at(0).track;
+    const auto at = std::find_if(red.begin(), red.end(), [&](const fray::sim::ActionInstance& e) { return e.start >= T - 1.0 / 30.0; });
+    ASSERT_NE(at, red.end());
+    EXPECT_EQ(w->scene()->library().actions()[static_cast<std::size_t>(at->action)].name, "front_kick");
+    EXPECT_DOUBLE_EQ(at->start, T);
+    const auto& pinnedBars = gantt->data().rows.at(0).bars;
+    const auto pb = std::find_if(pinnedBars.begin(), pinnedBars.end(), [&](const fray::editor::GanttBar& b) { return b.pin >= 0; });
+    ASSERT_NE(pb, pinnedBars.end()) << "no bar is drawn pinned";
+    EXPECT_EQ(pb->label.toStdString(), "front_kick");
+    EXPECT_DOUBLE_EQ(pb->start, T);
+    const fray::sim::SceneMetrics m = fray::sim::computeMetrics(scene, w->scene()->library());
+    EXPECT_EQ(m.penetrationFrames, 0);
+    std::printf("edited duel: front_kick pinned at %.3f s; %d attacks, %d hits, %d blocked, %d penetration samples\n", T, m.attacks,
+                m.hits, m.blocked, m.penetrationFrames);
+    gantt->resize(900, 130);
+    gantt->grab().save(QString(FRAY_EDITOR_SHOTS) + "/gantt-pinned.png");
+    // The pinned bar's menu: Unpin now, Pin not.
+    std::unique_ptr<QMenu> again(w->ganttBarMenu(0, static_cast<int>(pb - pinnedBars.begin())));
+    EXPECT_TRUE(again->findChild<QAction*>("ganttUnpin")->isEnabled());
+    EXPECT_FALSE(again->findChild<QAction*>("ganttPin")->isEnabled());
+
+    // Undo: no pin, and the original scene, byte for byte.
+    const auto* pinnedScene = w->scene();
+    w->document()->undoStack()->undo();
+    ASSERT_TRUE(QTest::qWaitFor([&] { return w->scene() != pinnedScene && !w->replanPending() && !w->busy(); }, 120000));
+    EXPECT_EQ(fray::sim::sceneToJson(w->scene()->scene(), w->scene()->library()), original);
+    for (const auto& b : gantt->data().rows.at(0).bars) EXPECT_EQ(b.pin, -1);
 }

@@ -230,7 +230,9 @@ TEST(EditorWindow, DescribeUiListsDocksAndMenus) {
                              "SceneDock", "GanttDock", "MetricsDock", "PatternsDock", "PatchesDock", "actionGenerate",
                              "actionOpenSpec", "actionStopPreview", "actionExportScene", "FloorToolBar", "actionToolBrush",
                              "actionToolEraser", "actionToolFill", "actionToolText", "actionToolPolyline", "actionToolArc",
-                             "actionToolCircle", "actionToolMove", "actionImportFloor"})
+                             "actionToolCircle", "actionToolMove", "actionImportFloor",
+                             // issue 23 item 7: the Gantt bar's menu
+                             "ganttBarMenu", "ganttReplaceMenu", "ganttPin", "ganttUnpin"})
         EXPECT_TRUE(json.contains(name)) << name;
 }
 

@@ -81,6 +81,17 @@ Result<std::string> setupSpecJson(const SceneSetup& setup) {
             (*target)["path"] = std::move(*path);
             if (t.loop || target->contains("loop_path")) (*target)["loop_path"] = t.loop;
         }
+        // Pins of edited generated interactions (docs/TREE_EXPANSION.md "Pins"); none:
+        // no field, so a setup without pins plans the bytes it always did.
+        if (!setup.pins.empty()) {
+            json pins = json::array();
+            for (const auto& p : setup.pins) {
+                json jp{{"character", p.character}, {"time", 0}, {"action", p.action}};
+                putNumber(jp["time"], p.time);
+                pins.push_back(std::move(jp));
+            }
+            j["pins"] = std::move(pins);
+        }
     } else {
         if (!setup.trajectories.empty()) {
             return makeError(what(setup) + ": trajectories with checkpoints belong to duel and chase setups (a " +
@@ -114,6 +125,13 @@ Result<sim::SceneSpec> toSceneSpec(const SceneSetup& setup, const sim::ActionLib
     }
     FRAY_TRY(text, setupSpecJson(setup));
     return sim::parseSceneSpec(text, what(setup), lib, presets);
+}
+
+std::string pinsNotHonoured(const SceneSetup& setup) {
+    if (setup.pins.empty() || isTreeExpansion(setup.kind)) return {};
+    return what(setup) + " has " + std::to_string(setup.pins.size()) + (setup.pins.size() == 1 ? " pin" : " pins") +
+           " that compose does not honour: a " + setupKindName(setup.kind) +
+           " scene is composed from Interaction Patches, and only duel and chase setups (tree expansion) plan around pins";
 }
 
 Result<sim::ComposeSpec> toComposeSpec(const SceneSetup& setup, const sim::PatchLibrary& patches) {

@@ -200,6 +200,7 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
                    (specOf(ctx, 0).opponent < 0 || specOf(ctx, 0).opponent == ctx.members[1].global) &&
                    (specOf(ctx, 1).opponent < 0 || specOf(ctx, 1).opponent == ctx.members[0].global);
         ctx.boundedFrontier = ctx.duel && !catches;
+        PinGuide pins(ctx, spec);
         {
             Events ev;  // the first node: whoever finishes its start action first
             advance(ctx, g, ev, &rec);
@@ -209,8 +210,18 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
             const auto& cs = specOf(ctx, who);
             Stats st;
             bool fellBack = false;
-            const int action = decide(ctx, g, cs.depth, st, fellBack);
+            int action = decide(ctx, g, cs.depth, st, fellBack);
             total.add(st);
+            if (!pins.empty()) {
+                auto pinned = pins.choose(ctx, g, who, action, [&](const CandidateFilter& filter) {
+                    Stats again;
+                    const int a = decide(ctx, g, cs.depth, again, fellBack, &filter);
+                    total.add(again);
+                    return a;
+                });
+                if (!pinned) return pinned.error();
+                action = *pinned;
+            }
             ++scene.stats.decisions;
             const int global = ctx.members[static_cast<std::size_t>(who)].global;
             auto& sc = scene.characters[static_cast<std::size_t>(global)];
@@ -226,6 +237,7 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
                                    static_cast<double>(groupIds.size());
             if (!reportProgress(progress, overall, "simulate")) return cancelled();
         }
+        if (auto st = pins.finish(ctx); !st) return st.error();
         if (rec.stop) {
             for (const auto& m : ctx.members) {
                 auto& track = scene.characters[static_cast<std::size_t>(m.global)].track;

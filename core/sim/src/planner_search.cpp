@@ -695,12 +695,13 @@ Value search(const Context& ctx, const GroupState& g, int depth, double alpha, d
 // the others, which then run in parallel with that fixed bound. A child that
 // does not beat the bound cannot be chosen, one that does has an exact value:
 // the choice is the same whatever the thread timing.
-int decide(const Context& ctx, const GroupState& g, int depth, Stats& stats, bool& fellBack) {
+int decide(const Context& ctx, const GroupState& g, int depth, Stats& stats, bool& fellBack, const CandidateFilter* filter) {
     const int who = chooserOf(g);
     const int rootSide = specOf(ctx, who).side;
     ++stats.nodes;
     std::vector<int> cands;
     fellBack = candidates(ctx, g, who, cands, stats);
+    if (filter) (*filter)(cands);
     if (cands.empty()) return -1;
     if (cands.size() == 1) return cands[0];
     std::vector<Child> children(cands.size());

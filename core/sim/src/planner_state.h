@@ -9,6 +9,8 @@
 #include <array>
 #include <bit>
 #include <cstdint>
+#include <functional>
+#include <string>
 #include <limits>
 #include <vector>
 
@@ -209,7 +211,34 @@ void updateCheckpoints(const Context& ctx, GroupState& g, double t);
 void advance(const Context& ctx, GroupState& g, Events& ev, Recorder* rec);
 
 // The real choice of the character due at g.time (min-max over `depth` decisions).
-int decide(const Context& ctx, const GroupState& g, int depth, Stats& stats, bool& fellBack);
+// `filter`, when given, edits the root's candidates after pruning (pins,
+// planner_pins.cpp); nothing else changes.
+using CandidateFilter = std::function<void(std::vector<int>& candidates)>;
+int decide(const Context& ctx, const GroupState& g, int depth, Stats& stats, bool& fellBack,
+           const CandidateFilter* filter = nullptr);
+
+// Pins (SceneSpec::pins) of one group: the choice at a decision, steered or
+// forced by the pins (planner_pins.cpp). `decided` is the plain choice;
+// `redecide` decides again with a filter on the candidates.
+class PinGuide {
+public:
+    PinGuide(const Context& ctx, const SceneSpec& spec);
+    bool empty() const { return pins_.empty(); }
+    Result<int> choose(const Context& ctx, const GroupState& g, int who, int decided,
+                       const std::function<int(const CandidateFilter&)>& redecide);
+    // After the group's last decision: a pin of the group never honoured.
+    Status finish(const Context& ctx) const;
+
+private:
+    struct Entry {
+        const ActionPin* pin = nullptr;
+        int index = 0;    // in SceneSpec::pins
+        int member = 0;   // in ctx.members
+        bool fired = false;
+    };
+    Error missed(const Context& ctx, const Entry& e, const GroupState* g) const;
+    std::vector<Entry> pins_;  // by member, then time
+};
 
 // One character's placement at one moment, kept for the next call with the
 // same state and moment (compared bit for bit: the same inputs, the same

@@ -562,6 +562,56 @@ Status checkCharacters(const JsonReader& rd, SceneSpec& spec, const std::vector<
     return {};
 }
 
+// "pins": [{character, time, action}] (docs/TREE_EXPANSION.md "Pins"): pinned choices
+// of edited generated interactions, sorted by character, then time.
+Status parsePins(const ActionSelector& select, const json& j, SceneSpec& spec) {
+    const JsonReader& rd = select.rd;
+    auto pf = j.find("pins");
+    if (pf == j.end()) return {};
+    if (!pf->is_array()) return rd.error("/pins", "must be an array of {character, time, action}");
+    for (std::size_t i = 0; i < pf->size(); ++i) {
+        const std::string p = "/pins/" + std::to_string(i);
+        const json& jp = (*pf)[i];
+        if (!jp.is_object()) return rd.error(p, "must be an object {character, time, action}");
+        for (auto it = jp.begin(); it != jp.end(); ++it) {
+            if (it.key() != "character" && it.key() != "time" && it.key() != "action") return rd.error(p + "/" + it.key(), "unknown field");
+        }
+        ActionPin pin;
+        FRAY_TRY(name, rd.stringAt(jp, p, "character"));
+        pin.character = -1;
+        std::string names;
+        for (std::size_t k = 0; k < spec.characters.size(); ++k) {
+            if (spec.characters[k].name == name) pin.character = static_cast<int>(k);
+            names += (k ? ", " : "") + spec.characters[k].name;
+        }
+        if (pin.character < 0) return rd.error(p + "/character", "no character is named '" + name + "' (the characters: " + names + ")");
+        FRAY_TRY(tf, rd.field(jp, p, "time"));
+        FRAY_TRY(time, rd.numberIn(*tf, p + "/time", 0, 3600));
+        if (time >= spec.options.duration) {
+            char buf[128];
+            std::snprintf(buf, sizeof buf, "%g s is beyond the scene, which lasts %g s", time, spec.options.duration);
+            return rd.error(p + "/time", buf);
+        }
+        pin.time = time;
+        FRAY_TRY(key, rd.stringAt(jp, p, "action"));
+        FRAY_TRY(selected, select.key(key, {}, p + "/action"));
+        std::vector<int> named = selected;
+        std::sort(named.begin(), named.end());
+        const auto& allowed = spec.characters[static_cast<std::size_t>(pin.character)].allowed;
+        std::set_intersection(named.begin(), named.end(), allowed.begin(), allowed.end(), std::back_inserter(pin.actions));
+        if (pin.actions.empty()) {
+            return rd.error(p + "/action", "'" + key + "' is not among the actions '" + name +
+                                               "' may choose (its \"actions\" and \"motions\"; reactions are only forced by hits)");
+        }
+        pin.key = key;
+        spec.pins.push_back(std::move(pin));
+    }
+    std::stable_sort(spec.pins.begin(), spec.pins.end(), [](const ActionPin& a, const ActionPin& b) {
+        return a.character != b.character ? a.character < b.character : a.time < b.time;
+    });
+    return {};
+}
+
 }  // namespace
 
 Result<SceneSpec> parseSceneSpec(std::string_view text, std::string_view fileName, const ActionLibrary& lib,
@@ -571,7 +621,7 @@ Result<SceneSpec> parseSceneSpec(std::string_view text, std::string_view fileNam
     if (!j.is_object()) return rd.error("", "must be a JSON object");
     static const char* const kTopKeys[] = {"version",   "duration",     "seed",         "pruning",      "alpha_beta",
                                            "parallel",  "catch_radius", "stop_on_catch", "fall_impulse", "start_jitter",
-                                           "checkpoint_radius", "arena", "characters", "description", "leaf_budget"};
+                                           "checkpoint_radius", "arena", "characters", "description", "leaf_budget", "pins"};
     for (auto it = j.begin(); it != j.end(); ++it) {
         if (std::find_if(std::begin(kTopKeys), std::end(kTopKeys), [&](const char* k) { return it.key() == k; }) ==
             std::end(kTopKeys)) {
@@ -593,6 +643,7 @@ Result<SceneSpec> parseSceneSpec(std::string_view text, std::string_view fileNam
         spec.characters.push_back(std::move(cs));
     }
     if (auto st = checkCharacters(rd, spec, opponentNames); !st) return st.error();
+    if (auto st = parsePins(select, j, spec); !st) return st.error();
     return spec;
 }
 

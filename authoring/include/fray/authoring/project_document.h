@@ -181,6 +181,10 @@ public:
     // Pins of edited generated interactions.
     Status addPin(const std::string& setup, const setup::Pin& pin);
     Status removePin(const std::string& setup, int index);
+    // One undo step: the pin of `pin.character` at `pin.time` plays
+    // `pin.action` from now on (added when there is none at that time);
+    // "Replace with ..." of the Gantt track.
+    Status setPin(const std::string& setup, const setup::Pin& pin);
     // Patch verdicts (indices of the project's patch library).
     enum class Verdict { None, Keep, Reject };
     Status setPatchVerdict(const std::string& setup, int patch, Verdict verdict);

@@ -28,6 +28,9 @@ Result<std::string> setupSpecJson(const SceneSetup& setup);
 // JSON path in its parameters ("setup 'duel': /characters/0/depth: ...").
 Result<sim::SceneSpec> toSceneSpec(const SceneSetup& setup, const sim::ActionLibrary& lib,
                                    const std::vector<sim::Preset>& presets);
+// Pins are honoured by tree expansion only: for a compose-kind setup with
+// pins, the message to show (CLI stderr, the editor's status); else "".
+std::string pinsNotHonoured(const SceneSetup& setup);
 // The compose spec of a compose-kind setup, with the floor bitmap in place.
 Result<sim::ComposeSpec> toComposeSpec(const SceneSetup& setup, const sim::PatchLibrary& patches);
 

@@ -101,10 +101,30 @@ struct SimOptions {
     Arena arena;
 };
 
+// A pinned choice (an edited generated interaction, docs/TREE_EXPANSION.md "Pins"):
+// character `character` launches one of `actions` (a library action name or
+// an "@annotation" of its set, `key`) at its first decision at or after
+// time - kPinEarly. Decisions before it are steered so that the motion graph
+// reaches the pinned action there: a candidate whose end would bring that
+// decision must have a pinned action among its successors, when some
+// candidate qualifies. When the character has no decision in
+// [time - kPinEarly, time + kPinLate] from which the motion graph reaches a
+// pinned action (a hit forced a long reaction, say), simulate fails naming
+// the pin ("/pins/N/action"). Everything else is planned as usual around it.
+struct ActionPin {
+    int character = 0;         // index in SceneSpec::characters
+    double time = 0;
+    std::string key;           // as written: an action name or "@annotation"
+    std::vector<int> actions;  // the library actions it names within the character's set, ascending
+};
+inline constexpr double kPinEarly = 1.0 / 30.0;  // s: a decision this much before the pin's time is its decision
+inline constexpr double kPinLate = 1.0;          // s: the latest a pinned action may start after the pin's time
+
 struct SceneSpec {
     std::vector<CharacterSpec> characters;
     SimOptions options;
     std::string text;  // the spec as written, kept in the scene
+    std::vector<ActionPin> pins;  // by character, then time
 };
 
 // Limits of one group (the game tree holds every member).
