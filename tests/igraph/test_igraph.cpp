@@ -12,6 +12,7 @@
 
 #include "fray/igraph/igraph.h"
 #include "fray/igraph/runtime.h"
+#include "fray/sim/geometry.h"
 #include "sim/demo_world.h"
 
 namespace fray::test {
@@ -147,6 +148,77 @@ TEST(IgraphPolicy, StylesDepthsAndBadWeights) {
     EXPECT_TRUE(igraph::applyRewardEdit(w, "w_d=3"));
     EXPECT_EQ(w.wD, 3);
     EXPECT_FALSE(igraph::computePolicy(g, w, 0));
+}
+
+// The look-up (within the graph, and the nearest state off it) through the
+// r windows and the grid gives exactly what a scan of every state gives.
+TEST(IgraphLookup, IndexedFindEqualsFullScan) {
+    const auto& g = *igWorld().graph;
+    const auto& sc = g.options.scale;
+    ASSERT_GT(g.stateCount(), 100u);
+    auto hasEdges = [&](std::size_t i) { return g.firstEdge[i + 1] > g.firstEdge[i]; };
+    auto angles = [&](const igraph::InteractionState& a, const igraph::InteractionState& b) {
+        return std::fabs(a.r - b.r) / sc.sigmaR + std::fabs(sim::wrapAngle(a.thetaA - b.thetaA)) / sc.sigmaTheta +
+               std::fabs(sim::wrapAngle(a.thetaB - b.thetaB)) / sc.sigmaTheta;
+    };
+    std::uint64_t seed = 7;
+    auto uniform = [&](double lo, double hi) {
+        seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+        return lo + (hi - lo) * static_cast<double>(seed >> 11) * (1.0 / 9007199254740992.0);
+    };
+    int within = 0, sameB = 0, anyB = 0;
+    for (int q = 0; q < 3000; ++q) {
+        igraph::InteractionState s = g.states[static_cast<std::size_t>(uniform(0, static_cast<double>(g.stateCount()) - 1e-9))];
+        const double spread = q % 3 == 0 ? 0.1 : 1.5;
+        s.r = std::max(0.0, s.r + uniform(-spread, spread));
+        s.thetaA += uniform(-spread, spread), s.thetaB += uniform(-spread, spread);
+        s.frameB = std::max(0.0, s.frameB + uniform(-6, 6));
+        if (q % 5 == 4) s.actionB = g.states[static_cast<std::size_t>(uniform(0, static_cast<double>(g.stateCount()) - 1e-9))].actionB;
+        if (q % 7 == 6) s.actionB = 0;  // most likely no state has B in action 0
+        // Within the graph: the nearest state under D, if within joinRadius.
+        double bestD = std::numeric_limits<double>::infinity();
+        int ref = -1;
+        for (std::size_t i = 0; i < g.stateCount(); ++i) {
+            const double d = igraph::distance(s, g.states[i], sc);
+            if (d < bestD) bestD = d, ref = static_cast<int>(i);
+        }
+        const int refWithin = bestD <= g.options.joinRadius ? ref : -1;
+        const int got = g.find(s, true);
+        if (got != refWithin) {
+            ASSERT_GE(got, 0) << "query " << q;
+            ASSERT_EQ(igraph::distance(s, g.states[static_cast<std::size_t>(got)], sc), bestD) << "query " << q;  // an exact tie
+        }
+        if (refWithin >= 0) {
+            ++within;
+            EXPECT_EQ(g.find(s, false), got);
+            continue;
+        }
+        // Off the graph: the nearest state with edges of the same Next set
+        // and B's action (frames counted), else of any B action.
+        bestD = std::numeric_limits<double>::infinity(), ref = -1;
+        for (std::size_t i = 0; i < g.stateCount(); ++i) {
+            const auto& t = g.states[i];
+            if (!hasEdges(i) || t.nextSet != s.nextSet || t.actionB != s.actionB) continue;
+            const double d = angles(s, t) + std::fabs(s.frameB - t.frameB) / sc.frameSigma;
+            if (d < bestD) bestD = d, ref = static_cast<int>(i);
+        }
+        if (ref >= 0) {
+            ++sameB;
+        } else {
+            ++anyB;
+            for (std::size_t i = 0; i < g.stateCount(); ++i) {
+                const auto& t = g.states[i];
+                if (!hasEdges(i) || t.nextSet != s.nextSet) continue;
+                const double d = angles(s, t);
+                if (d < bestD) bestD = d, ref = static_cast<int>(i);
+            }
+        }
+        ASSERT_EQ(g.find(s, false), ref) << "query " << q << " r " << s.r << " thetaA " << s.thetaA << " thetaB " << s.thetaB;
+    }
+    // Every path was taken.
+    EXPECT_GT(within, 100);
+    EXPECT_GT(sameB, 100);
+    EXPECT_GT(anyB, 100);
 }
 
 // A changed weight recomputes the policy in the background; the old one
