@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <string>
@@ -13,6 +14,7 @@
 #include "fray/igraph/igraph.h"
 #include "fray/igraph/runtime.h"
 #include "fray/sim/geometry.h"
+#include "fray/sim/patches.h"
 #include "sim/demo_world.h"
 
 namespace fray::test {
@@ -122,6 +124,84 @@ TEST(IgraphFile, DamagedForeignStaleRefused) {
     ASSERT_FALSE(e);
     EXPECT_TRUE(e.error().is(ErrorKind::Stale));
     EXPECT_NE(e.error().message.find("another choice of actions"), std::string::npos);
+}
+
+// A file of another graph rule, or made from another library, is refused
+// as stale even with a valid checksum; so is a file with a bad index.
+TEST(IgraphFile, OtherRuleOrLibraryRefused) {
+    const auto& rules = *igWorld().rules;
+    auto reseal = [](std::string bytes) {
+        const std::uint32_t crc = sim::patchFileChecksum(std::string_view(bytes).substr(0, bytes.size() - 4));
+        std::memcpy(bytes.data() + bytes.size() - 4, &crc, 4);
+        return bytes;
+    };
+    std::string otherRule = igWorld().bytes;
+    otherRule[12] = static_cast<char>(igraph::kGraphRule + 1);  // after the magic (8) and the version (4)
+    auto a = igraph::readGraph(reseal(otherRule), "g.igraph", rules);
+    ASSERT_FALSE(a);
+    EXPECT_TRUE(a.error().is(ErrorKind::Stale));
+    EXPECT_NE(a.error().message.find("g.igraph: made by graph rule " + std::to_string(igraph::kGraphRule + 1)), std::string::npos)
+        << a.error().message;
+    igraph::Graph foreign = *igWorld().graph;
+    foreign.libraryKey ^= 0x1234;
+    auto bytes = igraph::graphBytes(foreign);
+    ASSERT_TRUE(bytes);
+    auto b = igraph::readGraph(*bytes, "g.igraph", rules);
+    ASSERT_FALSE(b);
+    EXPECT_TRUE(b.error().is(ErrorKind::Stale));
+    EXPECT_NE(b.error().message.find("g.igraph: made from other actions than the project has now"), std::string::npos) << b.error().message;
+    // Without a library (igraph stats) the foreign file reads.
+    EXPECT_TRUE(igraph::readGraphUnbound(*bytes, "g.igraph"));
+    // An edge to a state that does not exist, checksum intact: corrupt at a byte.
+    igraph::Graph broken = *igWorld().graph;
+    ASSERT_FALSE(broken.edges.empty());
+    broken.edges.back().to = static_cast<std::int32_t>(broken.stateCount()) + 5;
+    auto c = igraph::graphBytes(broken);
+    ASSERT_TRUE(c);
+    auto d = igraph::readGraph(*c, "g.igraph", rules);
+    ASSERT_FALSE(d);
+    EXPECT_NE(d.error().message.find("g.igraph: the graph file is corrupt at byte"), std::string::npos) << d.error().message;
+    // Empty and short files.
+    EXPECT_FALSE(igraph::readGraph("", "g.igraph", rules));
+    EXPECT_FALSE(igraph::readGraph(std::string_view(igWorld().bytes).substr(0, 13), "g.igraph", rules));
+}
+
+// Every reward weight is checked: not finite, negative, gamma above 1.
+TEST(IgraphBadInput, RewardWeightsChecked) {
+    const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+    const std::pair<double igraph::RewardWeights::*, const char*> fields[] = {
+        {&igraph::RewardWeights::wTheta, "w_theta"}, {&igraph::RewardWeights::wD, "w_d"}, {&igraph::RewardWeights::dP, "d_p"},
+        {&igraph::RewardWeights::wA, "w_a"},         {&igraph::RewardWeights::wR, "w_r"}, {&igraph::RewardWeights::gamma, "gamma"}};
+    for (const auto& [field, name] : fields) {
+        for (double bad : {nan, inf, -inf}) {
+            igraph::RewardWeights w;
+            w.*field = bad;
+            auto st = igraph::validate(w);
+            ASSERT_FALSE(st) << name;
+            EXPECT_NE(st.error().message.find(std::string("reward weight ") + name + " is not a finite number"), std::string::npos)
+                << st.error().message;
+        }
+        igraph::RewardWeights neg;
+        neg.*field = -1;
+        auto st = igraph::validate(neg);
+        ASSERT_FALSE(st) << name;
+        EXPECT_NE(st.error().message.find(name), std::string::npos) << st.error().message;
+    }
+    igraph::RewardWeights w;
+    w.gamma = 1.5;
+    EXPECT_FALSE(igraph::validate(w));
+    EXPECT_TRUE(igraph::validate(igraph::RewardWeights{}));
+    // A policy service refuses them at once and keeps its policy.
+    auto p = igraph::computePolicy(*igWorld().graph, igraph::RewardWeights{}, 1);
+    ASSERT_TRUE(p);
+    auto first = std::make_shared<const igraph::Policy>(std::move(*p));
+    igraph::PolicyService service(igWorld().graph, first);
+    igraph::RewardWeights bad;
+    bad.wD = nan;
+    auto st = service.request(bad, 3);
+    ASSERT_FALSE(st);
+    EXPECT_NE(st.error().message.find("w_d is not a finite number"), std::string::npos) << st.error().message;
+    EXPECT_EQ(service.current(), first);
 }
 
 TEST(IgraphPolicy, StylesDepthsAndBadWeights) {

@@ -77,33 +77,38 @@ std::size_t Graph::gridBytes() const {
 }
 
 void Graph::indexBuckets() {
-    const int nt = std::max(1, static_cast<int>(std::floor(2 * kPi / options.scale.sigmaTheta)));
-    const double tw = 2 * kPi / nt;
-    thetaCells_ = nt;
+    // Cells of (theta_A, theta_B), each 2 pi / n wide (n = floor(pi / sigma_theta): two sigmas).
+    const int n = std::clamp(static_cast<int>(std::floor(kPi / options.scale.sigmaTheta)), 1, 64);
+    const double tw = 2 * kPi / n;
+    thetaCells_ = n;
+    const std::size_t cells = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
     packed_.resize(states.size());
     packedR_.resize(states.size());
-    cellStart_.assign(buckets_.size() * static_cast<std::size_t>(nt + 1), 0);
+    cellStart_.assign(buckets_.size() * (cells + 1), 0);
     std::vector<std::pair<int, std::uint32_t>> order;
     for (std::size_t b = 0; b < buckets_.size(); ++b) {
-        const auto& bk = buckets_[b];
+        auto& bk = buckets_[b];
+        bk.withEdges = 0;
         order.clear();
-        for (std::uint32_t i = bk.begin; i < bk.end; ++i) order.emplace_back(thetaCell(states[i].thetaA, tw, nt), i);
+        for (std::uint32_t i = bk.begin; i < bk.end; ++i) {
+            order.emplace_back(thetaCell(states[i].thetaA, tw, n) * n + thetaCell(states[i].thetaB, tw, n), i);
+        }
         std::sort(order.begin(), order.end(), [&](const auto& x, const auto& y) {
             if (x.first != y.first) return x.first < y.first;
             const double rx = states[x.second].r, ry = states[y.second].r;
             return rx < ry || (rx == ry && x.second < y.second);
         });
-        std::uint32_t* cs = cellStart_.data() + b * static_cast<std::size_t>(nt + 1);
+        std::uint32_t* cs = cellStart_.data() + b * (cells + 1);
         std::size_t k = bk.begin;
-        for (int c = 0; c <= nt; ++c) {
+        for (std::size_t c = 0; c <= cells; ++c) {
             cs[c] = static_cast<std::uint32_t>(k);
-            while (c < nt && k - bk.begin < order.size() && order[k - bk.begin].first == c) {
+            while (c < cells && k - bk.begin < order.size() && order[k - bk.begin].first == static_cast<int>(c)) {
                 const std::uint32_t i = order[k - bk.begin].second;
                 const auto& t = states[i];
                 const bool withEdges = firstEdge.size() == states.size() + 1 && firstEdge[i + 1] > firstEdge[i];
                 packed_[k] = {t.r, t.thetaA, t.thetaB, t.frameB, i, withEdges ? 1u : 0u};
-                if (withEdges) ++buckets_[b].withEdges;
                 packedR_[k] = static_cast<float>(t.r);
+                if (withEdges) ++bk.withEdges;
                 ++k;
             }
         }
@@ -112,21 +117,28 @@ void Graph::indexBuckets() {
 
 void Graph::scanBucket(std::size_t bucket, const InteractionState& s, double limit, bool edgesOnlyWithFrames, int rank, double& bestD, int& best,
                        int& bestRank) const {
-    const int nt = thetaCells_;
-    const double tw = 2 * kPi / nt, sr = options.scale.sigmaR, st = options.scale.sigmaTheta, sf = options.scale.frameSigma;
-    const std::uint32_t* cs = cellStart_.data() + bucket * static_cast<std::size_t>(nt + 1);
+    const int n = thetaCells_;
+    const std::size_t cells = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
+    const double tw = 2 * kPi / n, sr = options.scale.sigmaR, st = options.scale.sigmaTheta, sf = options.scale.frameSigma;
+    const std::uint32_t* cs = cellStart_.data() + bucket * (cells + 1);
+    if (cs[0] == cs[cells]) return;
     auto bound = [&] { return std::min(limit, bestD); };
-    // The query's own cell first, then outwards (a good best early narrows the rest).
-    const int home = thetaCell(s.thetaA, tw, nt);
-    for (int step = 0; step < nt; ++step) {
-        const int off = (step + 1) / 2 * (step % 2 == 1 ? 1 : -1);
-        const int c = ((home + off) % nt + nt) % nt;
+    // Each angle's gap to each of its cells (in sigmas); the query's own cell first.
+    double gapA[64], gapB[64];  // n <= 64
+    for (int c = 0; c < n; ++c) {
+        gapA[c] = arcGap(s.thetaA, -kPi + c * tw, tw) / st;
+        gapB[c] = arcGap(s.thetaB, -kPi + c * tw, tw) / st;
+    }
+    const int home = thetaCell(s.thetaA, tw, n) * n + thetaCell(s.thetaB, tw, n);
+    for (int step = -1; step < static_cast<int>(cells); ++step) {
+        const int c = step < 0 ? home : step;
+        if (step == home) continue;
         if (cs[c] == cs[c + 1]) continue;
-        const double gapA = arcGap(s.thetaA, -kPi + c * tw, tw) / st;
-        if (gapA - kSlack > bound()) continue;
+        const double gap = gapA[c / n] + gapB[c % n];
+        if (gap - kSlack > bound()) continue;
         const Packed* first = packed_.data() + cs[c];
         const Packed* last = packed_.data() + cs[c + 1];
-        auto reach = [&] { return (bound() - gapA) * sr * (1 + 1e-9) + 1e-12; };  // r within this can still do better (or tie)
+        auto reach = [&] { return (bound() - gap) * sr * (1 + 1e-9) + 1e-12; };  // r within this can still do better (or tie)
         const Packed* p = first;
         if (std::isfinite(bound())) {
             // In the compact float copy of r, from a little below (rounding):

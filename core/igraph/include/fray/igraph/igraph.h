@@ -187,17 +187,18 @@ private:
         std::vector<std::uint32_t> start, items;  // CSR: cell -> its states, ascending
     };
     std::vector<Grid> grids_;  // per Next set
-    // Each bucket's states by theta_A cell (the grid's cells), then r, packed
-    // together: a bucket is searched in the cells and the window of r that
-    // can hold a state nearer than the best found (or the limit).
+    // Each bucket's states by (theta_A, theta_B) cell (n x n, each two sigmas
+    // wide), then r, packed together: a bucket is searched in the cells and
+    // the window of r that can hold a state nearer than the best found (or
+    // the limit).
     struct Packed {
         double r, thetaA, thetaB, frameB;
         std::uint32_t index, hasEdges;
     };
     std::vector<Packed> packed_;            // bucket ranges as in states, reordered
     std::vector<float> packedR_;            // their r, compact for the binary searches (a conservative start only)
-    std::vector<std::uint32_t> cellStart_;  // per bucket, thetaCells_ + 1 offsets into packed_
-    int thetaCells_ = 1;
+    std::vector<std::uint32_t> cellStart_;  // per bucket, n * n + 1 offsets into packed_
+    int thetaCells_ = 1;                    // n
     void indexBuckets();
     void scanBucket(std::size_t bucket, const InteractionState& s, double limit, bool edgesOnlyWithFrames, int rank, double& bestD, int& best,
                     int& bestRank) const;
