@@ -221,22 +221,17 @@ int Graph::find(const InteractionState& s, bool withinOnly) const {
         for (auto it = first; it != last; ++it) candidates += it->withEdges;
         const auto mid = std::lower_bound(first, last, bucketKey(s.nextSet, s.actionB, fb), cmp);
         auto gap = [&](const Bucket& bk) { return std::abs(static_cast<int>(bk.key & 0xffff) - fb) - 1.0; };
-        // Within a limit that doubles until a state is found: every state
-        // within the limit is seen, so the first found is the nearest.
-        for (double limit = 2; candidates > 0; limit *= 2) {
-            if (limit > 16) limit = std::numeric_limits<double>::infinity();
-            auto up = mid;
-            auto down = mid;
-            while (up != last || down != first) {
-                const bool takeUp = up != last && (down == first || gap(*up) <= gap(*(down - 1)));
-                const Bucket& bk = takeUp ? *up : *(down - 1);
-                if (gap(bk) > limit || (best >= 0 && gap(bk) >= bestD)) break;
-                int rank = 0;
-                scanBucket(static_cast<std::size_t>(&bk - buckets_.data()), s, limit, true, 0, bestD, best, rank);
-                if (takeUp) ++up; else --down;
-            }
-            if (best >= 0) return best;
+        auto up = mid;
+        auto down = mid;
+        while (candidates > 0 && (up != last || down != first)) {
+            const bool takeUp = up != last && (down == first || gap(*up) <= gap(*(down - 1)));
+            const Bucket& bk = takeUp ? *up : *(down - 1);
+            if (best >= 0 && gap(bk) >= bestD) break;
+            int rank = 0;
+            scanBucket(static_cast<std::size_t>(&bk - buckets_.data()), s, std::numeric_limits<double>::infinity(), true, 0, bestD, best, rank);
+            if (takeUp) ++up; else --down;
         }
+        if (best >= 0) return best;
     }
     // Any action of B (none alike has edges): the grid of the Next set's
     // states with edges (nearest.cpp), the same answer as a full scan.

@@ -24,6 +24,8 @@ constexpr double kPi = std::numbers::pi;
 // Lower bounds are loosened by this much (in D units) so that rounding never
 // skips a cell holding an exact tie.
 constexpr double kSlack = 1e-9;
+// Groups of fewer states are scanned whole (cells cost more than they save).
+constexpr std::uint32_t kCellsFrom = 48;
 
 int thetaCell(double theta, double width, int n) {
     const double t = sim::wrapAngle(theta) + kPi;  // (0, 2 pi]
@@ -84,11 +86,25 @@ void Graph::indexBuckets() {
     const std::size_t cells = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
     packed_.resize(states.size());
     packedR_.resize(states.size());
-    cellStart_.assign(buckets_.size() * (cells + 1), 0);
+    cellStart_.clear();
     std::vector<std::pair<int, std::uint32_t>> order;
     for (std::size_t b = 0; b < buckets_.size(); ++b) {
         auto& bk = buckets_[b];
         bk.withEdges = 0;
+        bk.cells = kNoCells;
+        if (bk.end - bk.begin < kCellsFrom) {
+            // Few states: kept in index order and scanned whole.
+            for (std::uint32_t i = bk.begin; i < bk.end; ++i) {
+                const auto& t = states[i];
+                const bool withEdges = firstEdge.size() == states.size() + 1 && firstEdge[i + 1] > firstEdge[i];
+                packed_[i] = {t.r, t.thetaA, t.thetaB, t.frameB, i, withEdges ? 1u : 0u};
+                packedR_[i] = static_cast<float>(t.r);
+                if (withEdges) ++bk.withEdges;
+            }
+            continue;
+        }
+        bk.cells = static_cast<std::uint32_t>(cellStart_.size());
+        cellStart_.resize(cellStart_.size() + cells + 1);
         order.clear();
         for (std::uint32_t i = bk.begin; i < bk.end; ++i) {
             order.emplace_back(thetaCell(states[i].thetaA, tw, n) * n + thetaCell(states[i].thetaB, tw, n), i);
@@ -98,7 +114,7 @@ void Graph::indexBuckets() {
             const double rx = states[x.second].r, ry = states[y.second].r;
             return rx < ry || (rx == ry && x.second < y.second);
         });
-        std::uint32_t* cs = cellStart_.data() + b * (cells + 1);
+        std::uint32_t* cs = cellStart_.data() + bk.cells;
         std::size_t k = bk.begin;
         for (std::size_t c = 0; c <= cells; ++c) {
             cs[c] = static_cast<std::uint32_t>(k);
@@ -120,9 +136,27 @@ void Graph::scanBucket(std::size_t bucket, const InteractionState& s, double lim
     const int n = thetaCells_;
     const std::size_t cells = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
     const double tw = 2 * kPi / n, sr = options.scale.sigmaR, st = options.scale.sigmaTheta, sf = options.scale.frameSigma;
-    const std::uint32_t* cs = cellStart_.data() + bucket * (cells + 1);
-    if (cs[0] == cs[cells]) return;
     auto bound = [&] { return std::min(limit, bestD); };
+    auto consider = [&](const Packed& p) {
+        double d;
+        if (edgesOnlyWithFrames) {
+            if (!p.hasEdges) return;
+            d = std::fabs(s.r - p.r) / sr + std::fabs(sim::wrapAngle(s.thetaA - p.thetaA)) / st + std::fabs(sim::wrapAngle(s.thetaB - p.thetaB)) / st +
+                std::fabs(s.frameB - p.frameB) / sf;
+        } else {
+            if (!(std::fabs(s.frameB - p.frameB) < sf)) return;  // D is infinite
+            d = std::fabs(s.r - p.r) / sr + std::fabs(sim::wrapAngle(s.thetaA - p.thetaA)) / st + std::fabs(sim::wrapAngle(s.thetaB - p.thetaB)) / st;
+        }
+        if (d > limit) return;  // beyond the limit: a nearer one may lie where the limit did not look
+        const int i = static_cast<int>(p.index);
+        if (d < bestD || (d == bestD && rank == bestRank && i < best)) bestD = d, best = i, bestRank = rank;
+    };
+    const Bucket& bk = buckets_[bucket];
+    if (bk.cells == kNoCells) {
+        for (std::uint32_t k = bk.begin; k < bk.end; ++k) consider(packed_[k]);
+        return;
+    }
+    const std::uint32_t* cs = cellStart_.data() + bk.cells;
     // Each angle's gap to each of its cells (in sigmas); the query's own cell first.
     double gapA[64], gapB[64];  // n <= 64
     for (int c = 0; c < n; ++c) {
@@ -139,6 +173,14 @@ void Graph::scanBucket(std::size_t bucket, const InteractionState& s, double lim
         const Packed* first = packed_.data() + cs[c];
         const Packed* last = packed_.data() + cs[c + 1];
         auto reach = [&] { return (bound() - gap) * sr * (1 + 1e-9) + 1e-12; };  // r within this can still do better (or tie)
+        if (!std::isfinite(bound())) {
+            // Nothing found yet: the few states nearest in r first, for a bound.
+            const float* r0 = packedR_.data() + cs[c];
+            const float* r1 = packedR_.data() + cs[c + 1];
+            const auto at = std::lower_bound(r0, r1, static_cast<float>(s.r)) - r0;
+            const auto n0 = std::max<std::ptrdiff_t>(0, at - 2), n1 = std::min<std::ptrdiff_t>(last - first, at + 2);
+            for (auto k = n0; k < n1; ++k) consider(first[k]);
+        }
         const Packed* p = first;
         if (std::isfinite(bound())) {
             // In the compact float copy of r, from a little below (rounding):
@@ -151,19 +193,7 @@ void Graph::scanBucket(std::size_t bucket, const InteractionState& s, double lim
         }
         for (; p != last; ++p) {
             if (std::isfinite(bound()) && p->r > s.r + reach()) break;
-            double d;
-            if (edgesOnlyWithFrames) {
-                if (!p->hasEdges) continue;
-                d = std::fabs(s.r - p->r) / sr + std::fabs(sim::wrapAngle(s.thetaA - p->thetaA)) / st +
-                    std::fabs(sim::wrapAngle(s.thetaB - p->thetaB)) / st + std::fabs(s.frameB - p->frameB) / sf;
-            } else {
-                if (!(std::fabs(s.frameB - p->frameB) < sf)) continue;  // D is infinite
-                d = std::fabs(s.r - p->r) / sr + std::fabs(sim::wrapAngle(s.thetaA - p->thetaA)) / st +
-                    std::fabs(sim::wrapAngle(s.thetaB - p->thetaB)) / st;
-            }
-            if (d > limit) continue;  // beyond the limit: a nearer one may lie where the limit did not look
-            const int i = static_cast<int>(p->index);
-            if (d < bestD || (d == bestD && rank == bestRank && i < best)) bestD = d, best = i, bestRank = rank;
+            consider(*p);
         }
     }
 }

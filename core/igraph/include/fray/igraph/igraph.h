@@ -172,7 +172,12 @@ public:
     void index();
 
 private:
-    struct Bucket { std::uint64_t key; std::uint32_t begin, end, withEdges = 0; };
+    struct Bucket {
+        std::uint64_t key;
+        std::uint32_t begin, end, withEdges = 0;
+        std::uint32_t cells = kNoCells;  // its cells' offsets in cellStart_ (kNoCells: few states, scanned whole)
+    };
+    static constexpr std::uint32_t kNoCells = 0xffffffffu;
     std::vector<Bucket> buckets_;          // sorted by key
     std::vector<std::vector<std::uint32_t>> withEdges_;  // per Next set: its states with edges
     std::uint64_t bucketKey(int nextSet, int actionB, int frameBucket) const;
@@ -197,7 +202,7 @@ private:
     };
     std::vector<Packed> packed_;            // bucket ranges as in states, reordered
     std::vector<float> packedR_;            // their r, compact for the binary searches (a conservative start only)
-    std::vector<std::uint32_t> cellStart_;  // per bucket, n * n + 1 offsets into packed_
+    std::vector<std::uint32_t> cellStart_;  // per bucket with cells, n * n + 1 offsets into packed_
     int thetaCells_ = 1;                    // n
     void indexBuckets();
     void scanBucket(std::size_t bucket, const InteractionState& s, double limit, bool edgesOnlyWithFrames, int rank, double& bestD, int& best,
