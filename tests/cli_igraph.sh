@@ -40,6 +40,13 @@ expect_fail "damaged graph in play" "bad.igraph: the graph file is truncated or 
   "$cli" igraph play "$p" --graph "$tmp/bad.igraph" -o "$tmp/x.frayscene" -q
 expect_fail "not a graph" "not a Fray interaction graph file" "$cli" igraph stats "$tmp/cmd.json"
 expect_fail "non-finite weight" "reward weight w_a is not a finite number" "$cli" igraph policy "$tmp/g.igraph" --set w_a=nan
+expect_fail "infinite weight" "reward weight w_theta is not a finite number" "$cli" igraph policy "$tmp/g.igraph" --set w_theta=inf
+expect_fail "negative weight" "reward weight w_d is negative" "$cli" igraph policy "$tmp/g.igraph" --set w_d=-1
+expect_fail "gamma above 1" "reward weight gamma must be in" "$cli" igraph policy "$tmp/g.igraph" --set gamma=2
+head -c 100 "$tmp/g.igraph" > "$tmp/short.igraph"
+expect_fail "truncated graph" "short.igraph: the graph file is truncated or corrupt" "$cli" igraph stats "$tmp/short.igraph"
+: > "$tmp/empty.igraph"
+expect_fail "empty graph file" "empty.igraph: not a Fray interaction graph file" "$cli" igraph stats "$tmp/empty.igraph"
 expect_fail "unknown style" "no boxing style named 'brawler'" "$cli" igraph policy "$tmp/g.igraph" --preset brawler
 echo '{"version": 1, "commands": [{"time": 1, "command": "jump"}]}' > "$tmp/bad.json"
 expect_fail "bad command" "bad.json: /commands/0/command" \

@@ -14,6 +14,7 @@
 #include "fray/core/atomic_file.h"
 #include "fray/igraph/igraph.h"
 #include "fray/igraph/runtime.h"
+#include "fray/sim/geometry.h"
 #include "cli_session.h"
 #include "verbs.h"
 
@@ -377,6 +378,27 @@ void runBench(const BenchArgs& a) {
         }
         const double us = 1e6 * since(t0) / static_cast<double>(n);
         std::printf("decision (look-up + policy): %.2f us mean over %zu look-ups (checksum %lld)\n", us, n, static_cast<long long>(sum));
+    }
+    // Off the graph: the same states moved 0.6 m and 0.5 rad in each angle, a
+    // decision as a match takes it (the state it falls in, else the nearest).
+    {
+        const std::size_t n = std::min<std::size_t>(g.stateCount(), 200000);
+        std::vector<igraph::InteractionState> queries(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            igraph::InteractionState s = g.states[(i * 7919) % g.stateCount()];
+            s.r += 0.6, s.thetaA = sim::wrapAngle(s.thetaA + 0.5), s.thetaB = sim::wrapAngle(s.thetaB - 0.5);
+            queries[i] = s;
+        }
+        std::int64_t sum = 0, off = 0;
+        const auto t0 = Clock::now();
+        for (const auto& s : queries) {
+            int k = g.find(s, true);
+            if (k < 0) ++off, k = g.find(s, false);
+            if (k >= 0 && policy->best[static_cast<std::size_t>(k)] >= 0) sum += g.edges[static_cast<std::size_t>(policy->best[static_cast<std::size_t>(k)])].action();
+        }
+        const double us = 1e6 * since(t0) / static_cast<double>(n);
+        std::printf("decision off the graph (states moved 0.6 m, 0.5 rad): %.2f us mean over %zu look-ups, %.1f %% off the graph (checksum %lld)\n", us,
+                    n, 100.0 * static_cast<double>(off) / static_cast<double>(n), static_cast<long long>(sum));
     }
     // Many characters in two teams: decisions, blows and posing every frame at 60 fps.
     const auto starts = igraph::teamStarts(a.characters, 1, 0.2);

@@ -6,12 +6,15 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <string>
 
 #include "fray/igraph/igraph.h"
 #include "fray/igraph/runtime.h"
+#include "fray/sim/geometry.h"
+#include "fray/sim/patches.h"
 #include "sim/demo_world.h"
 
 namespace fray::test {
@@ -123,6 +126,84 @@ TEST(IgraphFile, DamagedForeignStaleRefused) {
     EXPECT_NE(e.error().message.find("another choice of actions"), std::string::npos);
 }
 
+// A file of another graph rule, or made from another library, is refused
+// as stale even with a valid checksum; so is a file with a bad index.
+TEST(IgraphFile, OtherRuleOrLibraryRefused) {
+    const auto& rules = *igWorld().rules;
+    auto reseal = [](std::string bytes) {
+        const std::uint32_t crc = sim::patchFileChecksum(std::string_view(bytes).substr(0, bytes.size() - 4));
+        std::memcpy(bytes.data() + bytes.size() - 4, &crc, 4);
+        return bytes;
+    };
+    std::string otherRule = igWorld().bytes;
+    otherRule[12] = static_cast<char>(igraph::kGraphRule + 1);  // after the magic (8) and the version (4)
+    auto a = igraph::readGraph(reseal(otherRule), "g.igraph", rules);
+    ASSERT_FALSE(a);
+    EXPECT_TRUE(a.error().is(ErrorKind::Stale));
+    EXPECT_NE(a.error().message.find("g.igraph: made by graph rule " + std::to_string(igraph::kGraphRule + 1)), std::string::npos)
+        << a.error().message;
+    igraph::Graph foreign = *igWorld().graph;
+    foreign.libraryKey ^= 0x1234;
+    auto bytes = igraph::graphBytes(foreign);
+    ASSERT_TRUE(bytes);
+    auto b = igraph::readGraph(*bytes, "g.igraph", rules);
+    ASSERT_FALSE(b);
+    EXPECT_TRUE(b.error().is(ErrorKind::Stale));
+    EXPECT_NE(b.error().message.find("g.igraph: made from other actions than the project has now"), std::string::npos) << b.error().message;
+    // Without a library (igraph stats) the foreign file reads.
+    EXPECT_TRUE(igraph::readGraphUnbound(*bytes, "g.igraph"));
+    // An edge to a state that does not exist, checksum intact: corrupt at a byte.
+    igraph::Graph broken = *igWorld().graph;
+    ASSERT_FALSE(broken.edges.empty());
+    broken.edges.back().to = static_cast<std::int32_t>(broken.stateCount()) + 5;
+    auto c = igraph::graphBytes(broken);
+    ASSERT_TRUE(c);
+    auto d = igraph::readGraph(*c, "g.igraph", rules);
+    ASSERT_FALSE(d);
+    EXPECT_NE(d.error().message.find("g.igraph: the graph file is corrupt at byte"), std::string::npos) << d.error().message;
+    // Empty and short files.
+    EXPECT_FALSE(igraph::readGraph("", "g.igraph", rules));
+    EXPECT_FALSE(igraph::readGraph(std::string_view(igWorld().bytes).substr(0, 13), "g.igraph", rules));
+}
+
+// Every reward weight is checked: not finite, negative, gamma above 1.
+TEST(IgraphBadInput, RewardWeightsChecked) {
+    const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+    const std::pair<double igraph::RewardWeights::*, const char*> fields[] = {
+        {&igraph::RewardWeights::wTheta, "w_theta"}, {&igraph::RewardWeights::wD, "w_d"}, {&igraph::RewardWeights::dP, "d_p"},
+        {&igraph::RewardWeights::wA, "w_a"},         {&igraph::RewardWeights::wR, "w_r"}, {&igraph::RewardWeights::gamma, "gamma"}};
+    for (const auto& [field, name] : fields) {
+        for (double bad : {nan, inf, -inf}) {
+            igraph::RewardWeights w;
+            w.*field = bad;
+            auto st = igraph::validate(w);
+            ASSERT_FALSE(st) << name;
+            EXPECT_NE(st.error().message.find(std::string("reward weight ") + name + " is not a finite number"), std::string::npos)
+                << st.error().message;
+        }
+        igraph::RewardWeights neg;
+        neg.*field = -1;
+        auto st = igraph::validate(neg);
+        ASSERT_FALSE(st) << name;
+        EXPECT_NE(st.error().message.find(name), std::string::npos) << st.error().message;
+    }
+    igraph::RewardWeights w;
+    w.gamma = 1.5;
+    EXPECT_FALSE(igraph::validate(w));
+    EXPECT_TRUE(igraph::validate(igraph::RewardWeights{}));
+    // A policy service refuses them at once and keeps its policy.
+    auto p = igraph::computePolicy(*igWorld().graph, igraph::RewardWeights{}, 1);
+    ASSERT_TRUE(p);
+    auto first = std::make_shared<const igraph::Policy>(std::move(*p));
+    igraph::PolicyService service(igWorld().graph, first);
+    igraph::RewardWeights bad;
+    bad.wD = nan;
+    auto st = service.request(bad, 3);
+    ASSERT_FALSE(st);
+    EXPECT_NE(st.error().message.find("w_d is not a finite number"), std::string::npos) << st.error().message;
+    EXPECT_EQ(service.current(), first);
+}
+
 TEST(IgraphPolicy, StylesDepthsAndBadWeights) {
     const auto& g = *igWorld().graph;
     for (const auto& name : igraph::styleNames()) {
@@ -147,6 +228,77 @@ TEST(IgraphPolicy, StylesDepthsAndBadWeights) {
     EXPECT_TRUE(igraph::applyRewardEdit(w, "w_d=3"));
     EXPECT_EQ(w.wD, 3);
     EXPECT_FALSE(igraph::computePolicy(g, w, 0));
+}
+
+// The look-up (within the graph, and the nearest state off it) through the
+// r windows and the grid gives exactly what a scan of every state gives.
+TEST(IgraphLookup, IndexedFindEqualsFullScan) {
+    const auto& g = *igWorld().graph;
+    const auto& sc = g.options.scale;
+    ASSERT_GT(g.stateCount(), 100u);
+    auto hasEdges = [&](std::size_t i) { return g.firstEdge[i + 1] > g.firstEdge[i]; };
+    auto angles = [&](const igraph::InteractionState& a, const igraph::InteractionState& b) {
+        return std::fabs(a.r - b.r) / sc.sigmaR + std::fabs(sim::wrapAngle(a.thetaA - b.thetaA)) / sc.sigmaTheta +
+               std::fabs(sim::wrapAngle(a.thetaB - b.thetaB)) / sc.sigmaTheta;
+    };
+    std::uint64_t seed = 7;
+    auto uniform = [&](double lo, double hi) {
+        seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+        return lo + (hi - lo) * static_cast<double>(seed >> 11) * (1.0 / 9007199254740992.0);
+    };
+    int within = 0, sameB = 0, anyB = 0;
+    for (int q = 0; q < 3000; ++q) {
+        igraph::InteractionState s = g.states[static_cast<std::size_t>(uniform(0, static_cast<double>(g.stateCount()) - 1e-9))];
+        const double spread = q % 3 == 0 ? 0.1 : 1.5;
+        s.r = std::max(0.0, s.r + uniform(-spread, spread));
+        s.thetaA += uniform(-spread, spread), s.thetaB += uniform(-spread, spread);
+        s.frameB = std::max(0.0, s.frameB + uniform(-6, 6));
+        if (q % 5 == 4) s.actionB = g.states[static_cast<std::size_t>(uniform(0, static_cast<double>(g.stateCount()) - 1e-9))].actionB;
+        if (q % 7 == 6) s.actionB = 0;  // most likely no state has B in action 0
+        // Within the graph: the nearest state under D, if within joinRadius.
+        double bestD = std::numeric_limits<double>::infinity();
+        int ref = -1;
+        for (std::size_t i = 0; i < g.stateCount(); ++i) {
+            const double d = igraph::distance(s, g.states[i], sc);
+            if (d < bestD) bestD = d, ref = static_cast<int>(i);
+        }
+        const int refWithin = bestD <= g.options.joinRadius ? ref : -1;
+        const int got = g.find(s, true);
+        if (got != refWithin) {
+            ASSERT_GE(got, 0) << "query " << q;
+            ASSERT_EQ(igraph::distance(s, g.states[static_cast<std::size_t>(got)], sc), bestD) << "query " << q;  // an exact tie
+        }
+        if (refWithin >= 0) {
+            ++within;
+            EXPECT_EQ(g.find(s, false), got);
+            continue;
+        }
+        // Off the graph: the nearest state with edges of the same Next set
+        // and B's action (frames counted), else of any B action.
+        bestD = std::numeric_limits<double>::infinity(), ref = -1;
+        for (std::size_t i = 0; i < g.stateCount(); ++i) {
+            const auto& t = g.states[i];
+            if (!hasEdges(i) || t.nextSet != s.nextSet || t.actionB != s.actionB) continue;
+            const double d = angles(s, t) + std::fabs(s.frameB - t.frameB) / sc.frameSigma;
+            if (d < bestD) bestD = d, ref = static_cast<int>(i);
+        }
+        if (ref >= 0) {
+            ++sameB;
+        } else {
+            ++anyB;
+            for (std::size_t i = 0; i < g.stateCount(); ++i) {
+                const auto& t = g.states[i];
+                if (!hasEdges(i) || t.nextSet != s.nextSet) continue;
+                const double d = angles(s, t);
+                if (d < bestD) bestD = d, ref = static_cast<int>(i);
+            }
+        }
+        ASSERT_EQ(g.find(s, false), ref) << "query " << q << " r " << s.r << " thetaA " << s.thetaA << " thetaB " << s.thetaB;
+    }
+    // Every path was taken.
+    EXPECT_GT(within, 100);
+    EXPECT_GT(sameB, 100);
+    EXPECT_GT(anyB, 100);
 }
 
 // A changed weight recomputes the policy in the background; the old one

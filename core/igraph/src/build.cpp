@@ -148,6 +148,7 @@ void forEachChild(const Rules& rules, const Node& node, bool folded, Fn&& fn) {
 std::size_t Graph::memoryBytes() const {
     return states.capacity() * sizeof(InteractionState) + firstEdge.capacity() * sizeof(std::uint32_t) +
            edges.capacity() * sizeof(Edge) + buckets_.capacity() * sizeof(Bucket) + states.size() * sizeof(std::uint32_t) +
+           packed_.capacity() * sizeof(Packed) + cellStart_.capacity() * sizeof(std::uint32_t) + gridBytes() +
            actions.capacity() * sizeof(int);
 }
 
@@ -171,6 +172,7 @@ void Graph::index() {
         i = j;
     }
     std::sort(buckets_.begin(), buckets_.end(), [](const Bucket& a, const Bucket& b) { return a.key < b.key; });
+    indexBuckets();
     int sets = 0;
     for (const auto& s : states) sets = std::max(sets, s.nextSet + 1);
     withEdges_.assign(static_cast<std::size_t>(std::max(sets, 1)), {});
@@ -180,24 +182,23 @@ void Graph::index() {
     for (auto& list : withEdges_) {
         std::stable_sort(list.begin(), list.end(), [&](std::uint32_t a, std::uint32_t b) { return states[a].r < states[b].r; });
     }
+    indexGrids();
 }
 
 int Graph::find(const InteractionState& s, bool withinOnly) const {
     const int fb = frameBucket(s.frameB);
     double bestD = std::numeric_limits<double>::infinity();
     int best = -1;
-    auto scan = [&](std::uint64_t key, bool anyFrame) {
-        auto it = std::lower_bound(buckets_.begin(), buckets_.end(), key, [](const Bucket& b, std::uint64_t k) { return b.key < k; });
-        if (it == buckets_.end() || it->key != key) return;
-        for (std::uint32_t i = it->begin; i < it->end; ++i) {
-            InteractionState probe = s;
-            if (anyFrame) probe.frameB = states[i].frameB;
-            const double d = distance(probe, states[i], options.scale);
-            if (d < bestD) bestD = d, best = static_cast<int>(i);
-        }
-    };
+    // Within joinRadius only (nearer states first found are kept; an exact
+    // tie goes to the earlier bucket, then the lower index: a scan's order).
+    int bestRank = -1;
     for (int dfb = -1; dfb <= 1; ++dfb) {
-        if (fb + dfb >= 0) scan(bucketKey(s.nextSet, s.actionB, fb + dfb), false);
+        if (fb + dfb < 0) continue;
+        const std::uint64_t key = bucketKey(s.nextSet, s.actionB, fb + dfb);
+        auto it = std::lower_bound(buckets_.begin(), buckets_.end(), key, [](const Bucket& x, std::uint64_t k) { return x.key < k; });
+        if (it != buckets_.end() && it->key == key) {
+            scanBucket(static_cast<std::size_t>(it - buckets_.begin()), s, options.joinRadius, false, dfb, bestD, best, bestRank);
+        }
     }
     if (best >= 0 && bestD <= options.joinRadius) return best;
     if (withinOnly) return -1;
@@ -216,48 +217,25 @@ int Graph::find(const InteractionState& s, bool withinOnly) const {
         const auto first = std::lower_bound(buckets_.begin(), buckets_.end(), lo, cmp);
         auto last = first;
         while (last != buckets_.end() && last->key <= hi) ++last;
-        auto scanBucket = [&](const Bucket& bk) {
-            for (std::uint32_t i = bk.begin; i < bk.end; ++i) {
-                if (firstEdge[i + 1] == firstEdge[i]) continue;
-                const auto& t = states[i];
-                const double d = std::fabs(s.r - t.r) / options.scale.sigmaR + std::fabs(sim::wrapAngle(s.thetaA - t.thetaA)) / options.scale.sigmaTheta +
-                                 std::fabs(sim::wrapAngle(s.thetaB - t.thetaB)) / options.scale.sigmaTheta +
-                                 std::fabs(s.frameB - t.frameB) / options.scale.frameSigma;
-                if (d < bestD || (d == bestD && static_cast<int>(i) < best)) bestD = d, best = static_cast<int>(i);
-            }
-        };
+        std::uint32_t candidates = 0;
+        for (auto it = first; it != last; ++it) candidates += it->withEdges;
         const auto mid = std::lower_bound(first, last, bucketKey(s.nextSet, s.actionB, fb), cmp);
+        auto gap = [&](const Bucket& bk) { return std::abs(static_cast<int>(bk.key & 0xffff) - fb) - 1.0; };
         auto up = mid;
         auto down = mid;
-        auto gap = [&](const Bucket& bk) { return std::abs(static_cast<int>(bk.key & 0xffff) - fb) - 1.0; };
-        while (up != last || down != first) {
+        while (candidates > 0 && (up != last || down != first)) {
             const bool takeUp = up != last && (down == first || gap(*up) <= gap(*(down - 1)));
             const Bucket& bk = takeUp ? *up : *(down - 1);
             if (best >= 0 && gap(bk) >= bestD) break;
-            scanBucket(bk);
+            int rank = 0;
+            scanBucket(static_cast<std::size_t>(&bk - buckets_.data()), s, std::numeric_limits<double>::infinity(), true, 0, bestD, best, rank);
             if (takeUp) ++up; else --down;
         }
         if (best >= 0) return best;
     }
-    // Any action of B (none alike has edges): the candidates are sorted by
-    // r, so scan a window of r that widens until the best found is nearer
-    // than anything outside it can be (the same answer as a full scan).
-    const auto& candidates = withEdges_[static_cast<std::size_t>(s.nextSet)];
-    if (candidates.empty()) return -1;
-    auto rOf = [&](std::uint32_t i) { return states[i].r; };
-    for (double window = 0.25;; window *= 2) {
-        bestD = std::numeric_limits<double>::infinity();
-        best = -1;
-        auto lo = std::lower_bound(candidates.begin(), candidates.end(), s.r - window, [&](std::uint32_t i, double r) { return rOf(i) < r; });
-        for (auto it = lo; it != candidates.end() && rOf(*it) <= s.r + window; ++it) {
-            const auto& t = states[*it];
-            const double d = std::fabs(s.r - t.r) / options.scale.sigmaR + std::fabs(sim::wrapAngle(s.thetaA - t.thetaA)) / options.scale.sigmaTheta +
-                             std::fabs(sim::wrapAngle(s.thetaB - t.thetaB)) / options.scale.sigmaTheta;
-            if (d < bestD || (d == bestD && static_cast<int>(*it) < best)) bestD = d, best = static_cast<int>(*it);
-        }
-        const bool all = lo == candidates.begin() && rOf(candidates.back()) <= s.r + window;
-        if ((best >= 0 && bestD <= window / options.scale.sigmaR) || all) return best;
-    }
+    // Any action of B (none alike has edges): the grid of the Next set's
+    // states with edges (nearest.cpp), the same answer as a full scan.
+    return nearestAnyB(s);
 }
 
 Result<Graph> buildGraph(const Rules& rules, const BuildOptions& o, const ProgressFn& progress) {

@@ -172,11 +172,44 @@ public:
     void index();
 
 private:
-    struct Bucket { std::uint64_t key; std::uint32_t begin, end; };
+    struct Bucket {
+        std::uint64_t key;
+        std::uint32_t begin, end, withEdges = 0;
+        std::uint32_t cells = kNoCells;  // its cells' offsets in cellStart_ (kNoCells: few states, scanned whole)
+    };
+    static constexpr std::uint32_t kNoCells = 0xffffffffu;
     std::vector<Bucket> buckets_;          // sorted by key
     std::vector<std::vector<std::uint32_t>> withEdges_;  // per Next set: its states with edges
     std::uint64_t bucketKey(int nextSet, int actionB, int frameBucket) const;
     int frameBucket(double frame) const;
+    // The off-graph look-up's spatial index: per Next set, its states with
+    // edges in cells of sigma_r x (2 pi / n) x (2 pi / n) over (r, theta_A,
+    // theta_B) (n = floor(2 pi / sigma_theta): a cell at least a sigma wide),
+    // searched in shells of cells outwards until no nearer state can remain.
+    struct Grid {
+        int nr = 0, nt = 0;   // r cells, theta cells (each angle)
+        double tw = 0;        // a theta cell's width (rad)
+        std::vector<std::uint32_t> start, items;  // CSR: cell -> its states, ascending
+    };
+    std::vector<Grid> grids_;  // per Next set
+    // Each bucket's states by (theta_A, theta_B) cell (n x n, each two sigmas
+    // wide), then r, packed together: a bucket is searched in the cells and
+    // the window of r that can hold a state nearer than the best found (or
+    // the limit).
+    struct Packed {
+        double r, thetaA, thetaB, frameB;
+        std::uint32_t index, hasEdges;
+    };
+    std::vector<Packed> packed_;            // bucket ranges as in states, reordered
+    std::vector<float> packedR_;            // their r, compact for the binary searches (a conservative start only)
+    std::vector<std::uint32_t> cellStart_;  // per bucket with cells, n * n + 1 offsets into packed_
+    int thetaCells_ = 1;                    // n
+    void indexBuckets();
+    void scanBucket(std::size_t bucket, const InteractionState& s, double limit, bool edgesOnlyWithFrames, int rank, double& bestD, int& best,
+                    int& bestRank) const;
+    void indexGrids();
+    std::size_t gridBytes() const;
+    int nearestAnyB(const InteractionState& s) const;
 };
 
 // Builds the graph (SPEC 3.2-3.3). Deterministic for the options' seed
