@@ -188,4 +188,32 @@ void BM_CrowdComposeAndPose(benchmark::State& state) {
 }
 BENCHMARK(BM_CrowdComposeAndPose)->Arg(10000)->Arg(100000)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// Posing alone, on one thread: every character of one composed domino crowd
+// (10,000 people) posed per iteration, frame after frame. Its CPU time per
+// frame is what posing costs whatever else shares the machine; 100,000
+// characters are ten of these (the per-character cost does not depend on
+// the scene), spread over the cores as BM_CrowdComposeAndPose does.
+void BM_CrowdPoseOneThread(benchmark::State& state) {
+    const auto& lib = demoWorld().library;
+    auto scene = compose(lib, fallLibrary(), crowdSpec());
+    if (!scene) {
+        state.SkipWithError(scene.error().message.c_str());
+        return;
+    }
+    const ScenePoser poser(*scene, lib);
+    const int n = static_cast<int>(scene->characters.size());
+    fray::Pose pose;
+    double t = 0;
+    for (auto _ : state) {
+        for (int c = 0; c < n; ++c) {
+            poser.pose(c, t, pose);
+            benchmark::DoNotOptimize(pose.translations.data());
+        }
+        t += 1.0 / 30.0;
+        if (t > scene->duration) t = 0;
+    }
+    state.counters["characters"] = n;
+}
+BENCHMARK(BM_CrowdPoseOneThread)->Unit(benchmark::kMillisecond);
+
 }  // namespace

@@ -1144,7 +1144,7 @@ TEST(PatchCompose, SpecErrorsNameTheField) {
         {R"({"kind": "rat", "rat": {"path": [[0, 0], [0, 5]], "speed": 0}})", "c.json: /rat/speed: must be in [0.3, 10] m/s"},
         {R"({"kind": "rat", "rat": {"path": [[0, 0], [0, 5]], "size": 1}})", "c.json: /rat/size: unknown field"},
         {R"({"kind": "rat", "rat": {"path": [[0, 0], [0, 5]]}, "bumps": 2})", "c.json: /bumps: must be in [0, 1]"},
-        {R"({"kind": "rat", "rat": {"path": [[0, 0], [0, 5]]}, "crowd": 0})", "c.json: /crowd: must be between 1 and 2000"},
+        {R"({"kind": "rat", "rat": {"path": [[0, 0], [0, 5]]}, "crowd": 0})", "c.json: /crowd: must be between 1 and 20000"},
     };
     for (const auto& [text, message] : bad) {
         const auto r = parseComposeSpec(text, "c.json", lib);

@@ -3,6 +3,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "compose_grid.h"
 #include "compose_kinds.h"
 #include "fray/sim/compose/rat.h"
 
@@ -27,6 +28,45 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         bool near = false;
         std::vector<ActionInstance> plan;    // empty: stands all along
     };
+
+    // The crowd as a trial sees it: everyone's plan, with the few plans the
+    // trial changes laid over it (no copy of the crowd and its plans per
+    // trial: at 10,000 people that copy was the composition's quadratic pass).
+    struct CrowdView {
+        const std::vector<Bystander>* base = nullptr;
+        std::vector<std::pair<std::size_t, std::vector<ActionInstance>>> changed;
+        explicit CrowdView(const std::vector<Bystander>& crowd) : base(&crowd) {}
+        const Bystander& operator[](std::size_t o) const { return (*base)[o]; }
+        std::size_t size() const { return base->size(); }
+        const std::vector<ActionInstance>& plan(std::size_t o) const {
+            for (const auto& [who, p] : changed) {
+                if (who == o) return p;
+            }
+            return (*base)[o].plan;
+        }
+        void set(std::size_t o, std::vector<ActionInstance> p) {
+            for (auto& [who, q] : changed) {
+                if (who == o) {
+                    q = std::move(p);
+                    return;
+                }
+            }
+            changed.emplace_back(o, std::move(p));
+        }
+    };
+    // The crowd's spots (they never move), for the neighbours of a body test.
+    FloorGrid spotGrid{3.0f};
+    // The farthest the standing clip (hold, looped) takes the pelvis from where it stands (m).
+    float holdWander = 0;
+    void measureHoldWander() {
+        const auto& h = act(hold);
+        const glm::vec2 p0 = lib.rootAt(hold, 0).pos;
+        holdWander = 0;
+        // rootAt interpolates between samples: the samples bound it.
+        for (int k = 0; k < h.sampleCount; ++k) {
+            holdWander = std::max(holdWander, glm::length(lib.rootAt(hold, k / kSampleRate).pos - p0));
+        }
+    }
 
     static double distanceToPolyline(glm::vec2 p, const std::vector<glm::vec2>& line) {
         double best = std::numeric_limits<double>::max();
@@ -240,26 +280,40 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     // another bystander's body: {who, when}; {-1, 0} when nobody. Two people
     // standing still do not start touching, so once this plan has settled only
     // the others' moving windows are sampled.
-    std::pair<int, double> firstTouch(const std::vector<Bystander>& crowd, std::size_t self, const std::vector<ActionInstance>& plan,
+    std::pair<int, double> firstTouch(const CrowdView& crowd, std::size_t self, const std::vector<ActionInstance>& plan,
                                       double from, double until, std::size_t ignore = SIZE_MAX) const {
         constexpr float kShrink = 0.82f;  // as the composer's penetration test
         constexpr double dt = 1.0 / kSampleRate;
+        // Those within 3 m, ascending (the grid's query is a superset; the
+        // same test as a pass over everyone then keeps the same ones).
         std::vector<std::size_t> close;
-        for (std::size_t o = 0; o < crowd.size(); ++o) {
-            if (o != self && o != ignore && glm::length(crowd[o].spot - crowd[self].spot) < 3.0f) close.push_back(o);
+        for (int o : spotGrid.near(crowd[self].spot, 3.05f)) {
+            const auto k = static_cast<std::size_t>(o);
+            if (k != self && k != ignore && glm::length(crowd[k].spot - crowd[self].spot) < 3.0f) close.push_back(k);
         }
+        constexpr float kReach = 1.2f;  // coreBodiesOverlap's pelvis reach
+        auto bodyOf = [&](std::size_t o, double t) { return detail::CoreBody(lib, bodyIn(crowd.plan(o), crowd[o].at, t), kShrink); };
         auto touches = [&](std::size_t o, double t) {
-            return detail::coreBodiesOverlap(lib, bodyIn(plan, crowd[self].at, t), bodyIn(crowd[o].plan, crowd[o].at, t), kShrink);
+            return detail::coreBodiesOverlap(detail::CoreBody(lib, bodyIn(plan, crowd[self].at, t), kShrink), bodyOf(o, t), kReach);
         };
         const double settle = std::min(until, std::max(from, movingWindow(plan).second) + dt);
         for (double t = from; t <= settle + 1e-9; t += dt) {
+            // Its own body once per moment (its boxes placed only when someone is near).
+            const detail::CoreBody me(lib, bodyIn(plan, crowd[self].at, t), kShrink);
             for (std::size_t o : close) {
-                if (touches(o, t)) return {static_cast<int>(o), t};
+                // Someone standing keeps its pelvis within holdWander of its
+                // spot: beyond the pelvis reach from there, it cannot touch.
+                if (crowd.plan(o).empty()) {
+                    const glm::vec2 spot = crowd[o].spot;
+                    const float far = kReach + holdWander + 0.01f + 1e-5f * (std::fabs(spot.x) + std::fabs(spot.y));
+                    if (glm::length(me.pelvis() - spot) > far) continue;
+                }
+                if (detail::coreBodiesOverlap(me, bodyOf(o, t), kReach)) return {static_cast<int>(o), t};
             }
         }
         std::pair<int, double> first{-1, std::numeric_limits<double>::infinity()};
         for (std::size_t o : close) {
-            const auto [w0, w1] = movingWindow(crowd[o].plan);
+            const auto [w0, w1] = movingWindow(crowd.plan(o));
             for (double t = std::max(settle, w0 - dt); t <= std::min({until, w1 + dt, first.second}) + 1e-9; t += dt) {
                 if (touches(o, t)) {
                     first = {static_cast<int>(o), t};
@@ -317,23 +371,23 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     // push. Its neighbours may be pushed on in turn (depth levels). Returns the
     // changed plans, or nothing when the push would put anyone in the rat's
     // way or into someone who is already moving.
-    std::optional<std::vector<Push>> push(const std::vector<Bystander>& crowd, std::size_t q, std::size_t by, const RootXf& pusher,
+    std::optional<std::vector<Push>> push(const CrowdView& crowd, std::size_t q, std::size_t by, const RootXf& pusher,
                                           double t, double until, int depth) const {
         const Bystander& b = crowd[q];
-        if (!b.plan.empty()) return std::nullopt;  // it has moved, or will: its plan stands
+        if (!crowd.plan(q).empty()) return std::nullopt;  // it has moved, or will: its plan stands
         // Near the trajectory and not yet out of the way: it must get out of
         // the way itself before the rat has passed (pushed later, it would
         // have stood in the rat's way).
         if (by != SIZE_MAX && b.near && t >= b.passTime + 0.6) return std::nullopt;
-        const detail::BodyPose body = bodyIn(b.plan, b.at, t);
+        const detail::BodyPose body = bodyIn(crowd.plan(q), b.at, t);
         const auto reaction = rules->react({body.action, t, body.tau, body.root}, pusher, t, false, pushedPool);
         if (reaction.action < 0) return std::nullopt;
         auto plan = planMove(b.at, t, {reaction.action}, reaction.offset, reaction.root, true, until);
         // Pushed by someone else, it must not reel into the rat's way (pushed by the rat, it is in it).
         if (by != SIZE_MAX && b.near && t < b.passTime + 0.6 && ratClearance(b, plan) < kRatClear) return std::nullopt;
         std::vector<Push> changes;
-        auto trial = crowd;
-        trial[q].plan = plan;
+        CrowdView trial = crowd;
+        trial.set(q, plan);
         const double settled = until;  // both stand still afterwards: touching later counts too
         const auto [other, when] = firstTouch(trial, q, plan, t, settled, by);
         if (other >= 0) {
@@ -342,7 +396,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             auto more = push(trial, static_cast<std::size_t>(other), q, mine.root * lib.rootAt(mine.action, mine.tau), when,
                              until, depth - 1);
             if (!more) return std::nullopt;
-            for (const auto& m : *more) trial[m.who].plan = m.plan;
+            for (const auto& m : *more) trial.set(m.who, m.plan);
             if (firstTouch(trial, q, plan, when, settled, static_cast<std::size_t>(other)).first >= 0) return std::nullopt;
             if (firstTouch(trial, q, plan, when + kContactWindow, settled, by).first >= 0) return std::nullopt;
             changes = std::move(*more);
@@ -381,6 +435,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             }
         }
         pushedPool = rules.emplace(lib).addPool(pushed);
+        measureHoldWander();
         if (!findWays()) return makeError(kNoWays);
         makeRatPatches();
 
@@ -391,26 +446,69 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         const auto band = static_cast<float>(own.band);
         lo -= glm::vec2(band), hi += glm::vec2(band);
         std::uniform_real_distribution<double> unit(0.0, 1.0);
+        // Spacing against those already standing nearby (the grid's query is
+        // a superset of those within `spacing`; the same test then decides).
+        FloorGrid placed(static_cast<float>(std::max(own.spacing, 0.5)));
+        const float query = static_cast<float>(own.spacing) + 0.05f;
         for (int tries = 0; static_cast<int>(crowd.size()) < own.crowd && tries < 400 * own.crowd; ++tries) {
             const glm::vec2 q(lo.x + static_cast<float>(unit(rng)) * (hi.x - lo.x), lo.y + static_cast<float>(unit(rng)) * (hi.y - lo.y));
             const double heading = wrapAngle(unit(rng) * 2 * std::numbers::pi);
             if (distanceToPolyline(q, own.ratPath) > own.band) continue;
             if (glm::length(q - own.ratPath.front()) < 1.5f) continue;  // not on the rat's hole
-            if (std::any_of(crowd.begin(), crowd.end(), [&](const Bystander& b) { return static_cast<double>(glm::length(b.spot - q)) < own.spacing; })) continue;
+            const auto& around = placed.near(q, query);
+            if (std::any_of(around.begin(), around.end(), [&](int k) {
+                    return static_cast<double>(glm::length(crowd[static_cast<std::size_t>(k)].spot - q)) < own.spacing;
+                })) {
+                continue;
+            }
             Bystander b;
             b.spot = q;
             b.at = {q, heading};
+            placed.insert(static_cast<int>(crowd.size()), q);
             crowd.push_back(b);
         }
         if (crowd.empty()) return makeError("rat: nobody could stand near the trajectory (widen band or lower spacing)");
-        for (auto& b : crowd) {
-            for (double t = own.ratStart; t <= ratEnd + 1e-9; t += 0.02) {
-                const double d = static_cast<double>(glm::length(creatureAt(ratBody, t).pos - b.spot));
-                if (d < b.passDistance) b.passDistance = d, b.passTime = t;
+        for (std::size_t k = 0; k < crowd.size(); ++k) spotGrid.insert(static_cast<int>(k), crowd[k].spot);
+        // The rat's closest approach to each person, sampled every 0.02 s:
+        // the samples once for everyone, in blocks with a bounding circle, so
+        // a person looks only at the blocks that can beat its best so far
+        // (in time order: the same first closest sample as a pass over all).
+        std::vector<double> sampleTime;
+        std::vector<glm::vec2> samplePos;
+        for (double t = own.ratStart; t <= ratEnd + 1e-9; t += 0.02) {
+            sampleTime.push_back(t);
+            samplePos.push_back(creatureAt(ratBody, t).pos);
+        }
+        constexpr std::size_t kBlock = 32;
+        struct Block {
+            glm::vec2 centre{0.0f};
+            double radius = 0;
+        };
+        std::vector<Block> blocks;
+        for (std::size_t b0 = 0; b0 < samplePos.size(); b0 += kBlock) {
+            const std::size_t b1 = std::min(samplePos.size(), b0 + kBlock);
+            glm::vec2 lo2 = samplePos[b0], hi2 = lo2;
+            for (std::size_t k = b0; k < b1; ++k) lo2 = glm::min(lo2, samplePos[k]), hi2 = glm::max(hi2, samplePos[k]);
+            Block blk{0.5f * (lo2 + hi2), 0.0};
+            for (std::size_t k = b0; k < b1; ++k) blk.radius = std::max(blk.radius, static_cast<double>(glm::length(samplePos[k] - blk.centre)));
+            blocks.push_back(blk);
+        }
+        tbb::parallel_for(std::size_t{0}, crowd.size(), [&](std::size_t i) {
+            Bystander& b = crowd[i];
+            for (std::size_t blk = 0; blk < blocks.size(); ++blk) {
+                // A sample of the block is at least this far (a margin for the float rounding).
+                const double scale = static_cast<double>(glm::length(blocks[blk].centre)) + static_cast<double>(glm::length(b.spot));
+                const double bound = static_cast<double>(glm::length(blocks[blk].centre - b.spot)) - blocks[blk].radius - 1e-3 - 1e-5 * scale;
+                if (bound > b.passDistance) continue;
+                const std::size_t k1 = std::min(samplePos.size(), (blk + 1) * kBlock);
+                for (std::size_t k = blk * kBlock; k < k1; ++k) {
+                    const double d = static_cast<double>(glm::length(samplePos[k] - b.spot));
+                    if (d < b.passDistance) b.passDistance = d, b.passTime = sampleTime[k];
+                }
             }
             b.near = b.passDistance < own.reach;
-            ownStats.ratNear += b.near ? 1 : 0;
-        }
+        });
+        for (const auto& b : crowd) ownStats.ratNear += b.near ? 1 : 0;
         std::vector<std::size_t> order;
         for (std::size_t i = 0; i < crowd.size(); ++i) order.push_back(i);
         std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return crowd[a].passTime < crowd[b].passTime; });
@@ -447,11 +545,11 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                 const double base = std::min(clear, 0.25) + 0.01 * (ts - b.passTime) + 1e-4 * unit(rng);
                 if (base + std::max(0.0, bumpBonus) <= best.score) continue;  // cannot win: skip the body tests
                 const double settled = until;  // everyone stands still afterwards: touching later counts too
-                const auto [other, when] = firstTouch(crowd, i, plan, ts, settled);
+                const auto [other, when] = firstTouch(CrowdView(crowd), i, plan, ts, settled);
                 std::vector<Push> pushes;
                 if (other >= 0) {
-                    auto trial = crowd;
-                    trial[i].plan = plan;
+                    CrowdView trial(crowd);
+                    trial.set(i, plan);
                     const detail::BodyPose mine = bodyIn(plan, b.at, when);
                     auto chain = push(trial, static_cast<std::size_t>(other), i, mine.root * lib.rootAt(mine.action, mine.tau),
                                       when, until, 1);
@@ -459,7 +557,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                     // With the pushed ones moving, the rest of the way out
                     // touches nobody, the pushed one included once the
                     // contact is over.
-                    for (const auto& m : *chain) trial[m.who].plan = m.plan;
+                    for (const auto& m : *chain) trial.set(m.who, m.plan);
                     if (firstTouch(trial, i, plan, when, settled, static_cast<std::size_t>(other)).first >= 0) continue;
                     if (firstTouch(trial, i, plan, when + kContactWindow, settled).first >= 0) continue;
                     pushes = std::move(*chain);
@@ -483,7 +581,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             bool reeled = false;
             for (double lead : {0.1, 0.3, 0.5}) {
                 const double t = std::max(0.2, b.passTime - lead);
-                auto chain = push(crowd, i, SIZE_MAX, creatureAt(ratBody, t), t, until, 1);
+                auto chain = push(CrowdView(crowd), i, SIZE_MAX, creatureAt(ratBody, t), t, until, 1);
                 if (!chain) continue;
                 for (auto& m : *chain) commit(crowd, std::move(m), log);
                 reeled = true;
@@ -554,7 +652,7 @@ Status parseRat(const prep::JsonReader& rd, const Json& j, RatSpec& s) {
         if (auto st = optionalNumberIn(rd, r, "/rat", "speed", 0.3, 10, "m/s", s.ratSpeed, true); !st) return st.error();
         if (auto st = optionalNumberIn(rd, r, "/rat", "start", 0, 600, "s", s.ratStart, true); !st) return st.error();
     }
-    if (auto st = optionalInt(rd, j, "crowd", 1, 2000, s.crowd); !st) return st.error();
+    if (auto st = optionalInt(rd, j, "crowd", 1, 20000, s.crowd); !st) return st.error();
     if (auto st = optionalNumber(rd, j, "band", 0, 100, "m", s.band); !st) return st.error();
     if (auto st = optionalNumber(rd, j, "spacing", 0.5, 20, "m", s.spacing); !st) return st.error();
     if (auto st = optionalNumber(rd, j, "reach", 0, 10, "m", s.reach); !st) return st.error();
