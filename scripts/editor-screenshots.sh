@@ -31,6 +31,8 @@ QT_QPA_PLATFORM=offscreen "$build/bin/fray_editor_scene_tests" >"$tmp/scene.log"
 QT_QPA_PLATFORM=offscreen "$build/bin/fray_editor_patches_tests" >"$tmp/patches.log" 2>&1 || { cat "$tmp/patches.log"; exit 1; }
 env QT_QPA_PLATFORM=xcb "$build/bin/fray_editor_floor_tests" \
   >"$tmp/floor.log" 2>&1 || { cat "$tmp/floor.log"; exit 1; }
+env QT_QPA_PLATFORM=xcb "$build/bin/fray_editor_tools_tests" \
+  >"$tmp/tools.log" 2>&1 || { cat "$tmp/tools.log"; exit 1; }
 shots=$build/tests/editor/editor-shots
 for panel in LibraryDock TimelineDock InspectorDock GraphDock CombosDock HistoryDock; do
   cp "$shots/$panel.png" "$out/editor-${panel%Dock}.png"
@@ -43,8 +45,12 @@ cp "$shots/gantt-duel.png" "$out/editor-Gantt.png"
 cp "$shots/gantt-menu.png" "$out/editor-Gantt-menu.png"
 cp "$shots/gantt-pinned.png" "$out/editor-Gantt-pinned.png"
 cp "$shots/export-dialog.png" "$out/editor-export-dialog.png"
+cp "$shots/handmade-dialog.png" "$out/editor-handmade-dialog.png"
 cp "$shots/floor-brush.png" "$out/editor-floor-brush.png"
 cp "$shots/floor-circle.png" "$out/editor-floor-trajectory.png"
+for tool in checkpoints rat football commands; do
+  cp "$shots/floor-$tool.png" "$out/editor-floor-$tool.png"
+done
 cp "$shots/timeline-segmented.png" "$out/editor-Timeline-segmented.png"
 rm -rf "$tmp"
 echo "wrote $out/editor-*.png"

@@ -1,5 +1,6 @@
 #include "floor_tools.h"
 
+#include <QComboBox>
 #include <QDoubleSpinBox>
 #include <QInputDialog>
 #include <QKeyEvent>
@@ -7,6 +8,7 @@
 #include <QLineEdit>
 #include <QMouseEvent>
 #include <QToolBar>
+#include <algorithm>
 #include <cmath>
 
 #include <glm/geometric.hpp>
@@ -289,6 +291,231 @@ void MoveTool::mouseReleased(glm::vec2 floor, QMouseEvent* event) {
     mouseMoved(floor, event);
     what_ = What::None;
     drag_ = 0;
+}
+
+}  // namespace fray::editor
+
+namespace fray::editor {
+
+namespace {
+
+double mm(double v) { return std::round(v * 1000.0) / 1000.0; }
+setup::Point mmPoint(glm::vec2 p) { return {mm(static_cast<double>(p.x)), mm(static_cast<double>(p.y))}; }
+
+// A time option whose lowest value means "none".
+QDoubleSpinBox* timeOption(QToolBar* bar, const char* name, const QString& label, std::optional<double> value, const QString& none) {
+    QDoubleSpinBox* s = option(bar, name, label, none.isEmpty() ? 0 : -1, 3600, value.value_or(none.isEmpty() ? 0 : -1), " s");
+    if (!none.isEmpty()) s->setSpecialValueText(none);
+    return s;
+}
+
+}  // namespace
+
+// ---- checkpoints
+
+CheckpointTool::CheckpointTool(FloorToolHost& host)
+    : FloorTool("Checkpoint",
+                "Click on the selected character's trajectory to add a checkpoint (time and action from the tool bar); "
+                "press on a checkpoint to select it for the Scene panel, drag it to move it",
+                host) {}
+
+void CheckpointTool::mousePressed(glm::vec2 floor, QMouseEvent*) {
+    index_ = -1, drag_ = 0, moved_ = false;
+    authoring::ProjectDocument* doc = host().toolDocument();
+    if (!doc || host().toolSetup().empty()) return host().toolMessage("Select a scene setup to edit its checkpoints", true);
+    auto s = doc->sceneSetup(host().toolSetup());
+    if (!s) return (void)check(s.error());
+    // An existing checkpoint within reach: select it (and drag it).
+    double best = MoveTool::kReach;
+    for (const setup::Trajectory& t : s->trajectories)
+        for (std::size_t i = 0; i < t.checkpoints.size(); ++i)
+            if (const double d = dist(t.checkpoints[i].pos, floor); d < best) best = d, character_ = t.character, index_ = static_cast<int>(i);
+    if (index_ >= 0) {
+        drag_ = doc->beginDrag();
+        host().toolCheckpointSelected(character_, index_);
+        return;
+    }
+    // Else a new checkpoint on the selected character's trajectory, where the click is nearest to it.
+    const std::string character = host().toolCharacter();
+    if (character.empty()) return host().toolMessage("Select the character whose trajectory gets the checkpoint", true);
+    const setup::Trajectory* t = nullptr;
+    for (const setup::Trajectory& c : s->trajectories)
+        if (c.character == character) t = &c;
+    if (!t) return host().toolMessage(qs("'" + character + "' has no trajectory: draw one first (Polyline, Arc or Circle)"), true);
+    auto line = setup::sampleTrajectory(*t, 0.05);
+    if (!line) return (void)check(line.error());
+    double near = 0;
+    (void)setup::trajectoryParameter(*line, pt(floor), &near);
+    if (near > kSnap) {
+        return host().toolMessage(QString("Click within %1 m of %2's trajectory to add a checkpoint").arg(kSnap).arg(qs(character)), true);
+    }
+    setup::Point on = (*line)[0];
+    double bestOn = 1e30;
+    for (const setup::Point& p : *line)
+        if (const double d = dist(p, floor); d < bestOn) bestOn = d, on = p;
+    setup::SetupCheckpoint c;
+    c.pos = {mm(on.x), mm(on.z)};
+    c.time = time;
+    c.action = action;
+    auto added = doc->addCheckpoint(host().toolSetup(), character, c);
+    if (!added) return (void)check(added.error());
+    character_ = character;
+    host().toolCheckpointSelected(character, *added);
+    host().toolMessage(QString("Checkpoint %1 of %2 added").arg(*added + 1).arg(qs(character)), false);
+    index_ = -1;  // a click adds; dragging moves existing checkpoints only
+}
+
+void CheckpointTool::mouseMoved(glm::vec2 floor, QMouseEvent*) {
+    authoring::ProjectDocument* doc = host().toolDocument();
+    if (!doc || index_ < 0 || drag_ == 0) return;
+    moved_ = true;
+    if (!check(doc->moveCheckpoint(host().toolSetup(), character_, index_, mmPoint(floor), drag_))) index_ = -1;
+}
+
+void CheckpointTool::mouseReleased(glm::vec2 floor, QMouseEvent* event) {
+    if (moved_) mouseMoved(floor, event);
+    index_ = -1, drag_ = 0, moved_ = false;
+}
+
+void CheckpointTool::populateToolBar(QToolBar* bar) {
+    QDoubleSpinBox* t = timeOption(bar, "checkpointToolTime", "time", time, "no time");
+    t->setToolTip("New checkpoints are not to be passed before this time (no time: whenever)");
+    connect(t, &QDoubleSpinBox::valueChanged, this, [this](double v) {
+        if (v < 0) time.reset();
+        else time = v;
+    });
+    bar->addWidget(new QLabel(" action "));
+    auto* a = new QComboBox;
+    a->setObjectName("checkpointToolAction");
+    a->setEditable(true);
+    a->addItems({"", "@punch", "@kick", "@avoid", "@attack", "@defence"});
+    a->setCurrentText(qs(action));
+    a->setToolTip("The action new checkpoints require there: @annotation or an action name (empty: none)");
+    connect(a, &QComboBox::currentTextChanged, this, [this](const QString& v) { action = v.trimmed().toStdString(); });
+    bar->addWidget(a);
+}
+
+// ---- the rat's trajectory
+
+RatPathTool::RatPathTool(FloorToolHost& host)
+    : FloorTool("Rat path", "Drag the rat's trajectory on the floor (rat setups): one drag, one undo step", host) {}
+
+void RatPathTool::mousePressed(glm::vec2 floor, QMouseEvent*) {
+    active_ = false;
+    authoring::ProjectDocument* doc = host().toolDocument();
+    if (!doc || host().toolSetup().empty()) return host().toolMessage("Select a rat setup to draw the rat's trajectory", true);
+    auto s = doc->sceneSetup(host().toolSetup());
+    if (!s) return (void)check(s.error());
+    if (s->kind != setup::SetupKind::Rat) return host().toolMessage(qs("'" + s->name + "' is not a rat setup: the rat's trajectory belongs to rat setups"), true);
+    points_ = {mmPoint(floor)};
+    drag_ = doc->beginDrag();
+    active_ = true;
+}
+
+void RatPathTool::mouseMoved(glm::vec2 floor, QMouseEvent*) {
+    authoring::ProjectDocument* doc = host().toolDocument();
+    if (!doc || !active_ || dist(points_.back(), floor) < kSpacing) return;
+    points_.push_back(mmPoint(floor));
+    // Shown while drawn: every change merges into the drag's one undo step.
+    if (!check(doc->setRatPath(host().toolSetup(), points_, drag_))) active_ = false;
+}
+
+void RatPathTool::mouseReleased(glm::vec2 floor, QMouseEvent* event) {
+    if (!active_) return;
+    if (dist(points_.back(), floor) > 0.05) {
+        points_.push_back(mmPoint(floor));
+        (void)check(host().toolDocument()->setRatPath(host().toolSetup(), points_, drag_));
+    } else if (points_.size() < 2) {
+        host().toolMessage("The rat's trajectory is empty: drag along the floor to draw it", true);
+    }
+    (void)event;
+    active_ = false, drag_ = 0;
+    points_.clear();
+}
+
+// ---- football running directions
+
+DirectionTool::DirectionTool(FloorToolHost& host)
+    : FloorTool("Run direction",
+                "Drag an arrow on the floor: from the tool bar's time on the football runner heads that way (0 degrees: "
+                "straight at the goal line, +Z)",
+                host) {}
+
+void DirectionTool::mousePressed(glm::vec2 floor, QMouseEvent*) {
+    from_.reset();
+    authoring::ProjectDocument* doc = host().toolDocument();
+    if (!doc || host().toolSetup().empty()) return host().toolMessage("Select a football setup to draw its running directions", true);
+    auto s = doc->sceneSetup(host().toolSetup());
+    if (!s) return (void)check(s.error());
+    if (s->kind != setup::SetupKind::Football) return host().toolMessage(qs("'" + s->name + "' is not a football setup: running directions belong to football setups"), true);
+    from_ = floor;
+}
+
+void DirectionTool::mouseReleased(glm::vec2 floor, QMouseEvent*) {
+    if (!from_) return;
+    const glm::vec2 from = *from_;
+    from_.reset();
+    const glm::vec2 d = floor - from;
+    if (glm::length(d) < 0.3f) return host().toolMessage("Drag further: the arrow points where you release the button", true);
+    authoring::ProjectDocument* doc = host().toolDocument();
+    auto s = doc->sceneSetup(host().toolSetup());
+    if (!s) return (void)check(s.error());
+    setup::RunDirection r;
+    r.time = time;
+    r.headingDeg = std::round(std::atan2(static_cast<double>(d.x), static_cast<double>(d.y)) * 180.0 / 3.14159265358979323846 * 10.0) / 10.0;
+    r.at = mmPoint(from);
+    // One arrow per time: a new one at the same time replaces it; the list stays in time order.
+    std::vector<setup::RunDirection> all = setup::runDirections(*s);
+    std::erase_if(all, [&](const setup::RunDirection& o) { return std::fabs(o.time - r.time) < 1e-6; });
+    auto at = std::find_if(all.begin(), all.end(), [&](const setup::RunDirection& o) { return o.time > r.time; });
+    all.insert(at, r);
+    if (check(doc->setRunDirections(host().toolSetup(), all)))
+        host().toolMessage(QString("Runs at %1 degrees from %2 s").arg(r.headingDeg).arg(r.time), false);
+}
+
+void DirectionTool::populateToolBar(QToolBar* bar) {
+    QDoubleSpinBox* t = timeOption(bar, "directionTime", "from", time, {});
+    t->setToolTip("The runner takes the arrow's direction from this time on");
+    connect(t, &QDoubleSpinBox::valueChanged, this, [this](double v) { time = v; });
+}
+
+// ---- one-vs-many commands
+
+CommandTool::CommandTool(FloorToolHost& host)
+    : FloorTool("Command",
+                "Click on the floor to give the main character a command at the tool bar's time: move there, punch, kick or avoid "
+                "(one-vs-many setups)",
+                host) {}
+
+void CommandTool::mousePressed(glm::vec2 floor, QMouseEvent*) {
+    authoring::ProjectDocument* doc = host().toolDocument();
+    if (!doc || host().toolSetup().empty()) return host().toolMessage("Select a one-vs-many setup to give its commands", true);
+    auto s = doc->sceneSetup(host().toolSetup());
+    if (!s) return (void)check(s.error());
+    if (s->kind != setup::SetupKind::OneVsMany)
+        return host().toolMessage(qs("'" + s->name + "' is not a one-vs-many setup: timed commands belong to one-vs-many setups"), true);
+    setup::TimedCommand c;
+    c.time = time;
+    c.action = action;
+    c.at = mmPoint(floor);
+    std::vector<setup::TimedCommand> all = setup::timedCommands(*s);
+    auto at = std::find_if(all.begin(), all.end(), [&](const setup::TimedCommand& o) { return o.time > c.time; });
+    all.insert(at, c);
+    if (check(doc->setTimedCommands(host().toolSetup(), all)))
+        host().toolMessage(QString("Command %1 at %2 s").arg(qs(c.action)).arg(c.time), false);
+}
+
+void CommandTool::populateToolBar(QToolBar* bar) {
+    bar->addWidget(new QLabel(" command "));
+    auto* a = new QComboBox;
+    a->setObjectName("commandAction");
+    a->addItems({"move", "punch", "kick", "avoid"});
+    a->setCurrentText(qs(action));
+    a->setToolTip("move: the main character walks to the place clicked; punch, kick, avoid: the patches it prefers from then on");
+    connect(a, &QComboBox::currentTextChanged, this, [this](const QString& v) { action = v.toStdString(); });
+    bar->addWidget(a);
+    QDoubleSpinBox* t = timeOption(bar, "commandTime", "at", time, {});
+    connect(t, &QDoubleSpinBox::valueChanged, this, [this](double v) { time = v; });
 }
 
 }  // namespace fray::editor

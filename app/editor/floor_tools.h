@@ -16,6 +16,15 @@
 //    for the selected character.
 //  - Move: drags a checkpoint, a trajectory point or a character's start
 //    (Shift: the character's whole team).
+//  - Checkpoint: a click on the selected character's trajectory adds a
+//    checkpoint there (with the tool bar's time and action); a press on a
+//    checkpoint selects it for the Scene panel's checkpoint inspector and
+//    dragging it moves it along the floor.
+//  - Rat path: a drag draws the rat's trajectory (rat setups).
+//  - Run direction: a drag draws an arrow, the football runner's direction
+//    from the tool bar's time on (football setups).
+//  - Command: a click places a timed user command (move there, punch, kick,
+//    avoid) for the main character of a one-vs-many setup.
 #include <QCursor>
 #include <QObject>
 #include <QPointF>
@@ -60,6 +69,8 @@ public:
     virtual std::string toolCharacter() = 0;      // the selected setup character ("" : none)
     virtual void toolMessage(const QString& message, bool error) = 0;
     virtual QWidget* toolDialogParent() = 0;      // for the Text tool's input
+    // A checkpoint was picked on the floor (index < 0: none).
+    virtual void toolCheckpointSelected(const std::string& character, int index) { (void)character, (void)index; }
 };
 
 class FloorTool : public QObject {
@@ -163,6 +174,69 @@ private:
     int index_ = -1, side_ = 0, drag_ = 0;
     glm::vec2 last_{0.0f};
     setup::Placement start_;
+};
+
+// Adds, selects and drags checkpoints of trajectories.
+class CheckpointTool : public FloorTool {
+    Q_OBJECT
+public:
+    explicit CheckpointTool(FloorToolHost& host);
+    void mousePressed(glm::vec2 floor, QMouseEvent* event) override;
+    void mouseMoved(glm::vec2 floor, QMouseEvent* event) override;
+    void mouseReleased(glm::vec2 floor, QMouseEvent* event) override;
+    void populateToolBar(QToolBar* bar) override;
+    // What the next added checkpoint gets.
+    std::optional<double> time;
+    std::string action;  // "" : none; "@annotation" or an action name
+    // How far from the trajectory a click may be to add a checkpoint (m).
+    static constexpr double kSnap = 1.0;
+
+private:
+    std::string character_;
+    int index_ = -1, drag_ = 0;
+    bool moved_ = false;
+};
+
+// Draws the rat's trajectory of a rat setup: one drag, one undo step.
+class RatPathTool : public FloorTool {
+    Q_OBJECT
+public:
+    explicit RatPathTool(FloorToolHost& host);
+    void mousePressed(glm::vec2 floor, QMouseEvent* event) override;
+    void mouseMoved(glm::vec2 floor, QMouseEvent* event) override;
+    void mouseReleased(glm::vec2 floor, QMouseEvent* event) override;
+    static constexpr double kSpacing = 0.5;  // m between the points kept
+
+private:
+    std::vector<setup::Point> points_;
+    int drag_ = 0;
+    bool active_ = false;
+};
+
+// Draws a football running-direction arrow: press where it starts, release
+// where it points; from `time` on the runner heads that way (0 = +Z, the goal).
+class DirectionTool : public FloorTool {
+    Q_OBJECT
+public:
+    explicit DirectionTool(FloorToolHost& host);
+    void mousePressed(glm::vec2 floor, QMouseEvent* event) override;
+    void mouseReleased(glm::vec2 floor, QMouseEvent* event) override;
+    void populateToolBar(QToolBar* bar) override;
+    double time = 0;  // s
+
+private:
+    std::optional<glm::vec2> from_;
+};
+
+// Places a timed user command of a one-vs-many setup where it is clicked.
+class CommandTool : public FloorTool {
+    Q_OBJECT
+public:
+    explicit CommandTool(FloorToolHost& host);
+    void mousePressed(glm::vec2 floor, QMouseEvent* event) override;
+    void populateToolBar(QToolBar* bar) override;
+    double time = 0;              // s
+    std::string action = "move";  // move, punch, kick, avoid
 };
 
 }  // namespace fray::editor

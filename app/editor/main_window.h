@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "fray/render/motion_stage.h"
+#include "fray/setup/hand_made.h"
 #include "fray/setup/scene_setup.h"
 #include "fray/sim/patches.h"
 #include "floor_tools.h"
@@ -33,12 +34,14 @@
 #include "scene_stage.h"
 #include "takes.h"
 
+class QDialog;
 class QDockWidget;
 class QMenu;
 class QSettings;
 class QCheckBox;
 class QComboBox;
 class QDoubleSpinBox;
+class QGroupBox;
 class QLabel;
 class QLineEdit;
 class QListWidget;
@@ -134,6 +137,17 @@ public:
     const sim::PatchLibrary* patchLibrary() const { return patchLibrary_.get(); }
     // The current setup's rejected patches.
     std::vector<int> rejectedPatches() const;
+    // A hand-made patch (fray/setup/hand_made.h): played by the patch engine
+    // (errors shown, the project unchanged), then stored in the project with
+    // the patch kept in the current setup, one undo step. Needs generated patches.
+    bool addHandMadePatch(const setup::HandMadePatch& recipe);
+    // Plays a recipe through the engine without storing it (the dialog's Evaluate).
+    Result<sim::Patch> evaluateHandMadePatch(const setup::HandMadePatch& recipe) const;
+    // The Hand-made patch dialog (non-modal; null until first shown).
+    void showHandMadeDialog();
+    QDialog* handMadeDialog() const { return handMade_; }
+    // The action library the patches were generated from (null: none yet).
+    const sim::ActionLibrary* patchActions() const;
     // Plans or composes the selected spec in the background; the result plays.
     void generate();
     // The scene playing (null: none); whether it is a generated preview.
@@ -183,6 +197,11 @@ public:
     std::string toolCharacter() override;
     void toolMessage(const QString& message, bool error) override;
     QWidget* toolDialogParent() override { return this; }
+    void toolCheckpointSelected(const std::string& character, int index) override;
+    // The checkpoint the Scene panel's checkpoint inspector edits (index -1: none).
+    bool selectCheckpoint(const QString& character, int index);
+    QString checkpointCharacter() const { return QString::fromStdString(cpCharacter_); }
+    int checkpointIndex() const { return cpIndex_; }
     // Writes the scene playing in the background (the Export dialog's work):
     // optionally onto the user's rig (`rig`, retargeted as `fray-cli export
     // --rig`), with a root bone (`rootMotion` none|floor|in-place), and with
@@ -367,7 +386,11 @@ private:
     QDockWidget* patchesDock_ = nullptr;
     PatternsPanel* patterns_ = nullptr;
     PatchBrowser* patchBrowser_ = nullptr;
-    std::shared_ptr<const sim::PatchLibrary> patchLibrary_;      // generated here, also written to PROJECT.patches
+    std::shared_ptr<const sim::PatchLibrary> patchLibrary_;      // generated here and the hand-made ones, also written to PROJECT.patches
+    std::shared_ptr<const sim::PatchLibrary> patchGenerated_;    // the generated part alone
+    std::string handMadeApplied_;                                // the hand-made section patchLibrary_ was built with
+    void rebuildPatchLibrary();
+    QDialog* handMade_ = nullptr;
     std::shared_ptr<const pipeline::SimSession> patchSession_;   // the action library it was made from
     int previewedPatch_ = -1;
     std::shared_ptr<pipeline::SimSession> generateSession_;  // the last generate's session (read by the next job only)
@@ -381,6 +404,17 @@ private:
     std::vector<std::vector<glm::vec3>> overlayLinePoints_;
     std::vector<render::Polyline> overlayLines_;
     std::vector<render::Checkpoint> overlayMarks_;
+    std::vector<std::string> overlayLabels_;  // the marks' labels (the marks hold views of them)
+    // The checkpoint inspector (Scene panel) and the checkpoint it edits.
+    QWidget* makeCheckpointInspector();
+    void refreshCheckpointInspector();
+    QGroupBox* cpBox_ = nullptr;
+    QLabel* cpLabel_ = nullptr;
+    QDoubleSpinBox* cpTime_ = nullptr;
+    QComboBox* cpAction_ = nullptr;
+    QPushButton* cpRemove_ = nullptr;
+    std::string cpCharacter_;
+    int cpIndex_ = -1;
     std::uint64_t overlayRevision_ = 0;
     QCheckBox* live_ = nullptr;        // re-plan after each edit of the current setup
     QTimer* replanTimer_ = nullptr;    // the live re-plan's debounce

@@ -38,6 +38,12 @@ PatchBrowser::PatchBrowser(QWidget* parent) : QWidget(parent) {
     bar->addWidget(filter_, 1);
     bar->addWidget(keep_);
     bar->addWidget(reject_);
+    auto* handMade = new QPushButton("Hand-made...");
+    handMade->setObjectName("patchHandMade");
+    handMade->setToolTip("Build a patch action by action: both characters' actions from the library, played by the patch engine, "
+                         "added to the library as kept");
+    connect(handMade, &QPushButton::clicked, this, &PatchBrowser::handMadeRequested);
+    bar->addWidget(handMade);
     layout->addLayout(bar);
     model_ = new QStandardItemModel(0, kColumns, this);
     model_->setHorizontalHeaderLabels({"#", "pattern", "score", "character 1", "character 2", "duration (s)", "status"});

@@ -44,6 +44,8 @@ Q_SIGNALS:
     void patchSelected(int patch);  // -1: none
     // Keep (false) or reject (true) these patches.
     void rejectRequested(const std::vector<int>& patches, bool reject);
+    // "Hand-made...": build a patch action by action.
+    void handMadeRequested();
 
 private:
     std::vector<int> selectedPatches() const;

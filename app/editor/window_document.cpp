@@ -469,6 +469,7 @@ void MainWindow::documentChanged(const authoring::ChangeEvent& event) {
         fillSceneSources();
         break;
     case ChangeKind::SetupPatches:
+        rebuildPatchLibrary();  // when the hand-made patches changed
         if (patchBrowser_) patchBrowser_->setRejected(rejectedPatches());
         break;
     case ChangeKind::SetupParameters:

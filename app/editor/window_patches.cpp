@@ -79,6 +79,7 @@ void MainWindow::buildPatchDocks() {
     });
     connect(patterns_, &PatternsPanel::generateRequested, this, &MainWindow::generatePatches);
     connect(patchBrowser_, &PatchBrowser::patchSelected, this, &MainWindow::previewPatch);
+    connect(patchBrowser_, &PatchBrowser::handMadeRequested, this, &MainWindow::showHandMadeDialog);
     connect(patchBrowser_, &PatchBrowser::rejectRequested, this,
             [this](const std::vector<int>& patches, bool reject) { setPatchesRejected(patches, reject); });
 }
@@ -212,6 +213,9 @@ void MainWindow::generatePatches(const QStringList& names) {
             PatchGeneration& g = out->generated->value();
             patchSession_ = out->session;
             patchLibrary_ = g.library;
+            patchGenerated_ = g.library;
+            handMadeApplied_.clear();
+            rebuildPatchLibrary();  // the project's hand-made patches after the generated ones
             QStringList lines;
             for (const auto& [name, stats] : g.perPattern) lines << "<b>" + qs(name).toHtmlEscaped() + "</b>: " + discardReasons(stats);
             patterns_->setReport(lines.join("<br>") + QString("<br>%1 patches in %2 s").arg(g.library->patches().size()).arg(

@@ -151,6 +151,7 @@ void MainWindow::buildSceneDocks() {
         generatingReplan_ = true;
         generate();
     });
+    layout->addWidget(makeCheckpointInspector());
     sceneInfo_ = new QLabel("Pick a scene and Generate: it plays in the viewport, its action track below it.");
     sceneInfo_->setObjectName("sceneInfo");
     sceneInfo_->setWordWrap(true);
@@ -246,6 +247,7 @@ void MainWindow::fillSceneSources() {
     const int again = sceneSource_->findData(selected);
     sceneSource_->setCurrentIndex(again >= 0 ? again : 0);
     fillToolCharacters();
+    refreshCheckpointInspector();
     refreshSetupOverlay();
 }
 
@@ -288,6 +290,7 @@ bool MainWindow::replanPending() const { return (replanTimer_ && replanTimer_->i
 
 void MainWindow::setupEdited(const authoring::ChangeEvent& event) {
     if (qs(event.setup) == currentSetup()) {
+        refreshCheckpointInspector();
         refreshSetupOverlay();
         if (event.kind == authoring::ChangeKind::SetupParameters) fillToolCharacters();
     }

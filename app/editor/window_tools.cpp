@@ -4,11 +4,18 @@
 // the tool's own options sit on the tool bar beside it.
 #include <QActionGroup>
 #include <QComboBox>
+#include <QDoubleSpinBox>
+#include <QFormLayout>
+#include <QGroupBox>
+#include <QHBoxLayout>
+#include <QPushButton>
 #include <QFileDialog>
 #include <QLabel>
+#include <QLineEdit>
 #include <QSignalBlocker>
 #include <QStatusBar>
 #include <QToolBar>
+#include <cmath>
 #include <cstdio>
 
 #include "fray/authoring/project_document.h"
@@ -59,6 +66,10 @@ void MainWindow::buildFloorTools() {
     add(new TrajectoryTool(setup::TrajectoryShape::Arc, *this), "Arc", "A");
     add(new TrajectoryTool(setup::TrajectoryShape::Circle, *this), "Circle", "C");
     add(new MoveTool(*this), "Move", "M");
+    add(new CheckpointTool(*this), "Checkpoint", "K");
+    add(new RatPathTool(*this), "RatPath", "R");
+    add(new DirectionTool(*this), "RunDirection", "D");
+    add(new CommandTool(*this), "Command", "U");
     toolBar_->addSeparator();
     QAction* import = toolBar_->addAction("Import PNG...", this, [this] {
         const QString f = QFileDialog::getOpenFileName(this, "Floor bitmap", QFileInfo(projectFile_).absolutePath(), "Images (*.png)");
@@ -75,6 +86,8 @@ void MainWindow::buildFloorTools() {
     toolBar_->addWidget(toolCharacter_);
     connect(sceneSource_, &QComboBox::currentIndexChanged, this, [this] {
         fillToolCharacters();
+        cpCharacter_.clear(), cpIndex_ = -1;
+        refreshCheckpointInspector();
         refreshSetupOverlay();
     });
 }
@@ -97,7 +110,7 @@ bool MainWindow::selectTool(const QString& name) {
 
 FloorTool* MainWindow::tool(const QString& name) const {
     for (FloorTool* t : tools_)
-        if (t->name() == name) return t;
+        if (t->name() == name || t->objectName() == "tool" + name) return t;
     return nullptr;
 }
 
@@ -155,6 +168,7 @@ void MainWindow::refreshSetupOverlay() {
     overlayLines_.clear();
     overlayLinePoints_.clear();
     overlayMarks_.clear();
+    overlayLabels_.clear();
     overlayFloor_ = {};
     overlayPixels_.clear();
     if (!doc_ || currentSetup().isEmpty()) return;
@@ -176,6 +190,9 @@ void MainWindow::refreshSetupOverlay() {
         overlayFloor_.revision = ++overlayRevision_;
     }
     const glm::vec4 amber(1.0f, 0.75f, 0.2f, 0.9f);
+    // Labels first (the marks hold views of them: no reallocation after).
+    std::vector<std::pair<render::Checkpoint, std::string>> labelled;
+    const auto seconds = [](double t) { return QString::number(t, 'g', 4).toStdString() + " s"; };
     for (const setup::Trajectory& t : s->trajectories) {
         auto line = setup::sampleTrajectory(t, 0.25);
         if (!line || line->empty()) continue;
@@ -183,13 +200,163 @@ void MainWindow::refreshSetupOverlay() {
         for (const setup::Point& p : *line) pts.emplace_back(p.x, 0.0f, p.z);
         if (t.loop || t.shape == setup::TrajectoryShape::Circle) pts.push_back(pts.front());
         overlayLinePoints_.push_back(std::move(pts));
-        for (const setup::SetupCheckpoint& c : t.checkpoints)
-            overlayMarks_.push_back({glm::vec3(c.pos.x, 0.0f, c.pos.z), amber, 0.3f, {}});
+        for (std::size_t i = 0; i < t.checkpoints.size(); ++i) {
+            const setup::SetupCheckpoint& c = t.checkpoints[i];
+            const bool sel = t.character == cpCharacter_ && static_cast<int>(i) == cpIndex_;
+            std::string label = (c.time ? seconds(*c.time) : std::string()) + (c.action.empty() ? "" : (c.time ? " " : "") + c.action);
+            labelled.push_back({{glm::vec3(c.pos.x, 0.0f, c.pos.z), sel ? glm::vec4(1, 0.35f, 0.1f, 1) : amber, sel ? 0.4f : 0.3f, {}}, label});
+        }
         for (const setup::Point& p : t.points) overlayMarks_.push_back({glm::vec3(p.x, 0.0f, p.z), glm::vec4(1, 1, 1, 0.8f), 0.12f, {}});
+    }
+    // The rat's trajectory.
+    if (s->kind == setup::SetupKind::Rat) {
+        std::vector<glm::vec3> pts;
+        for (const setup::Point& p : setup::ratPath(*s)) pts.emplace_back(p.x, 0.0f, p.z);
+        if (pts.size() >= 2) {
+            overlayLinePoints_.push_back(pts);
+            labelled.push_back({{pts.front(), glm::vec4(0.55f, 0.35f, 0.2f, 1.0f), 0.35f, {}}, "rat"});
+        }
+    }
+    // Football running directions: an arrow each where it was drawn, labelled with its time.
+    if (s->kind == setup::SetupKind::Football) {
+        const auto dirs = setup::runDirections(*s);
+        for (std::size_t i = 0; i < dirs.size(); ++i) {
+            const setup::RunDirection& d = dirs[i];
+            const setup::Point at = d.at.value_or(setup::Point{-6.0 + 3.0 * static_cast<double>(i), -4.0});
+            const double h = d.headingDeg * 3.14159265358979323846 / 180.0;
+            const glm::vec3 a(at.x, 0.0f, at.z), b(at.x + 2.0 * std::sin(h), 0.0f, at.z + 2.0 * std::cos(h));
+            const glm::vec3 side(-0.5 * std::cos(h), 0.0f, 0.5 * std::sin(h));
+            const glm::vec3 back = a + (b - a) * 0.7f;
+            overlayLinePoints_.push_back({a, b, back + side, b, back - side});
+            labelled.push_back({{a, glm::vec4(0.2f, 0.9f, 0.4f, 1.0f), 0.2f, {}}, seconds(d.time)});
+        }
+    }
+    // One-vs-many commands where they were placed.
+    if (s->kind == setup::SetupKind::OneVsMany || s->kind == setup::SetupKind::OneVsOne) {
+        for (const setup::TimedCommand& c : setup::timedCommands(*s)) {
+            if (!c.at) continue;
+            const glm::vec4 colour = c.action == "move" ? glm::vec4(0.3f, 0.6f, 1.0f, 1.0f) : glm::vec4(0.95f, 0.3f, 0.6f, 1.0f);
+            labelled.push_back({{glm::vec3(c.at->x, 0.0f, c.at->z), colour, 0.35f, {}}, c.action + " " + seconds(c.time)});
+        }
+    }
+    overlayLabels_.reserve(labelled.size());
+    for (auto& [mark, label] : labelled) {
+        overlayLabels_.push_back(std::move(label));
+        mark.label = overlayLabels_.back();
+        overlayMarks_.push_back(mark);
     }
     for (const auto& pts : overlayLinePoints_) overlayLines_.push_back({pts, amber, 0.06f});
     for (const setup::SetupCharacter& c : setup::characters(*s))
         overlayMarks_.push_back({glm::vec3(c.start.x, 0.0f, c.start.z), glm::vec4(0.3f, 0.8f, 1.0f, 1.0f), 0.4f, {}});
+}
+
+// ---- the checkpoint inspector
+
+QWidget* MainWindow::makeCheckpointInspector() {
+    cpBox_ = new QGroupBox("Checkpoint");
+    cpBox_->setObjectName("checkpointInspector");
+    cpBox_->setToolTip("The checkpoint picked with the Checkpoint tool: when it may be passed and what is played there");
+    auto* form = new QFormLayout(cpBox_);
+    form->setContentsMargins(4, 2, 4, 2);
+    cpLabel_ = new QLabel("none: pick one with the Checkpoint tool (K)");
+    cpLabel_->setObjectName("checkpointLabel");
+    form->addRow(cpLabel_);
+    cpTime_ = new QDoubleSpinBox;
+    cpTime_->setObjectName("checkpointTime");
+    cpTime_->setRange(-1, 3600);
+    cpTime_->setDecimals(2);
+    cpTime_->setSuffix(" s");
+    cpTime_->setSpecialValueText("no time");
+    cpTime_->setKeyboardTracking(false);
+    cpTime_->setToolTip("Not to be passed before this time (no time: whenever the character gets there)");
+    form->addRow("Time", cpTime_);
+    cpAction_ = new QComboBox;
+    cpAction_->setObjectName("checkpointAction");
+    cpAction_->setEditable(true);
+    cpAction_->setInsertPolicy(QComboBox::NoInsert);
+    cpAction_->setToolTip("The action required there: @annotation (a word of the vocabulary) or an action name; empty: none");
+    form->addRow("Action", cpAction_);
+    cpRemove_ = new QPushButton("Remove checkpoint");
+    cpRemove_->setObjectName("checkpointRemove");
+    form->addRow(cpRemove_);
+    connect(cpTime_, &QDoubleSpinBox::valueChanged, this, [this](double v) {
+        if (!doc_ || cpIndex_ < 0) return;
+        const std::optional<double> t = v < 0 ? std::nullopt : std::optional<double>(v);
+        if (Status st = doc_->setCheckpointTime(currentSetup().toStdString(), cpCharacter_, cpIndex_, t); !st) {
+            toolMessage(qs(st.error().message), true);
+            refreshCheckpointInspector();
+        }
+    });
+    const auto applyAction = [this] {
+        if (!doc_ || cpIndex_ < 0) return;
+        const std::string a = cpAction_->currentText().trimmed().toStdString();
+        auto s = doc_->sceneSetup(currentSetup().toStdString());
+        if (s)
+            for (const setup::Trajectory& t : s->trajectories)
+                if (t.character == cpCharacter_ && cpIndex_ < static_cast<int>(t.checkpoints.size()) &&
+                    t.checkpoints[static_cast<std::size_t>(cpIndex_)].action == a)
+                    return;
+        if (Status st = doc_->setCheckpointAction(currentSetup().toStdString(), cpCharacter_, cpIndex_, a); !st) {
+            toolMessage(qs(st.error().message), true);
+            refreshCheckpointInspector();
+        }
+    };
+    connect(cpAction_, &QComboBox::activated, this, applyAction);
+    connect(cpAction_->lineEdit(), &QLineEdit::editingFinished, this, applyAction);
+    connect(cpRemove_, &QPushButton::clicked, this, [this] {
+        if (!doc_ || cpIndex_ < 0) return;
+        const int i = cpIndex_;
+        cpIndex_ = -1;
+        if (Status st = doc_->removeCheckpoint(currentSetup().toStdString(), cpCharacter_, i); !st) toolMessage(qs(st.error().message), true);
+        refreshCheckpointInspector();
+        refreshSetupOverlay();
+    });
+    refreshCheckpointInspector();
+    return cpBox_;
+}
+
+void MainWindow::refreshCheckpointInspector() {
+    if (!cpBox_) return;
+    const setup::SetupCheckpoint* c = nullptr;
+    std::optional<setup::SceneSetup> s;
+    if (doc_ && !currentSetup().isEmpty() && cpIndex_ >= 0) {
+        if (auto r = doc_->sceneSetup(currentSetup().toStdString())) s = std::move(*r);
+        if (s)
+            for (const setup::Trajectory& t : s->trajectories)
+                if (t.character == cpCharacter_ && cpIndex_ < static_cast<int>(t.checkpoints.size()))
+                    c = &t.checkpoints[static_cast<std::size_t>(cpIndex_)];
+    }
+    if (!c) cpIndex_ = -1;
+    const QSignalBlocker q1(cpTime_), q2(cpAction_);
+    cpTime_->setEnabled(c != nullptr);
+    cpAction_->setEnabled(c != nullptr);
+    cpRemove_->setEnabled(c != nullptr);
+    if (!c) {
+        cpLabel_->setText("none: pick one with the Checkpoint tool (K)");
+        cpTime_->setValue(-1);
+        cpAction_->setCurrentText({});
+        return;
+    }
+    cpLabel_->setText(QString("%1 of %2, at (%3, %4) m").arg(cpIndex_ + 1).arg(qs(cpCharacter_)).arg(c->pos.x, 0, 'f', 2).arg(c->pos.z, 0, 'f', 2));
+    cpTime_->setValue(c->time.value_or(-1));
+    if (cpAction_->count() == 0) {
+        cpAction_->addItem({});
+        if (const prep::Project* p = project())
+            for (const std::string& w : p->vocabulary) cpAction_->addItem("@" + qs(w));
+    }
+    cpAction_->setCurrentText(qs(c->action));
+}
+
+void MainWindow::toolCheckpointSelected(const std::string& character, int index) {
+    cpCharacter_ = character;
+    cpIndex_ = index;
+    refreshCheckpointInspector();
+    refreshSetupOverlay();
+}
+
+bool MainWindow::selectCheckpoint(const QString& character, int index) {
+    toolCheckpointSelected(character.toStdString(), index);
+    return cpIndex_ == index && index >= 0;
 }
 
 }  // namespace fray::editor

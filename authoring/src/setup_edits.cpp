@@ -532,6 +532,54 @@ Status ProjectDocument::setPatchVerdict(const std::string& name, int patch, Verd
                      });
 }
 
+// ---- hand-made patches ---------------------------------------------------------------
+
+Result<std::vector<setup::HandMadePatch>> ProjectDocument::handMadePatches() const {
+    return setup::projectHandMadePatches(project_, file_.empty() ? project_.name : file_.string());
+}
+
+Status ProjectDocument::addHandMadePatch(setup::HandMadePatch recipe, const std::string& name, int patch) {
+    FRAY_TRY(list, handMadePatches());
+    if (recipe.pattern.empty()) return makeError("hand-made patch: choose the PatternList it follows");
+    if (recipe.actions[0].empty()) return makeError("hand-made patch: character 1 needs at least one action");
+    if (!std::isfinite(recipe.initial.r) || recipe.initial.r < 0 || recipe.initial.r > 10 || !std::isfinite(recipe.initial.theta1) ||
+        !std::isfinite(recipe.initial.theta2) || !std::isfinite(recipe.initial.delay) || recipe.initial.delay < 0 || recipe.initial.delay > 10) {
+        return makeError("hand-made patch: the initial configuration must have r in [0, 10] m, finite angles and a delay in [0, 10] s");
+    }
+    if (!name.empty()) {
+        FRAY_TRY(s, sceneSetup(name));
+        (void)s;
+        if (patch < 0) return makeError(who(name) + ": patch " + std::to_string(patch) + " is not a patch index");
+    }
+    list.push_back(std::move(recipe));
+    ChangeEvent e{ChangeKind::SetupPatches, {}, patch, 0};
+    e.setup = name;
+    undoStack_.beginMacro(QStringLiteral("Add hand-made patch"));
+    undoStack_.push(new SectionCommand(this, QStringLiteral("Add hand-made patch"), setup::kHandMadeSection,
+                                       setup::handMadePatchesToJson(list), "hand_made", {e}));
+    Status kept;
+    if (!name.empty()) kept = setPatchVerdict(name, patch, Verdict::Keep);
+    undoStack_.endMacro();
+    if (!kept) {
+        undoStack_.undo();
+        return kept;
+    }
+    return {};
+}
+
+Status ProjectDocument::removeHandMadePatch(int index) {
+    FRAY_TRY(list, handMadePatches());
+    if (index < 0 || index >= static_cast<int>(list.size())) {
+        return makeError("hand-made patch " + std::to_string(index) + " does not exist (there are " + std::to_string(list.size()) + ")");
+    }
+    list.erase(list.begin() + index);
+    std::optional<std::string> after;
+    if (!list.empty()) after = setup::handMadePatchesToJson(list);
+    undoStack_.push(new SectionCommand(this, QStringLiteral("Remove hand-made patch"), setup::kHandMadeSection, std::move(after),
+                                       "hand_made", {ChangeEvent{ChangeKind::SetupPatches, {}, index, 0}}));
+    return {};
+}
+
 // ---- PatternLists -------------------------------------------------------------------
 
 Result<sim::PatternSet> ProjectDocument::patternSet() const {

@@ -115,7 +115,7 @@ TEST(SetupEdits, EveryEditIsOneExactUndoStep) {
     oneStep(*doc, "remove trajectory", [&] { return doc->removeTrajectory("duel", "red"); });
     oneStep(*doc, "reject", [&] { return doc->setPatchVerdict("ovm", 3, ProjectDocument::Verdict::Reject); });
     oneStep(*doc, "keep", [&] { return doc->setPatchVerdict("ovm", 3, ProjectDocument::Verdict::Keep); });
-    oneStep(*doc, "commands", [&] { return doc->setTimedCommands("ovm", {{0, "move"}, {4, "kick"}}); });
+    oneStep(*doc, "commands", [&] { return doc->setTimedCommands("ovm", {{0, "move", setup::Point{2, 1}}, {4, "kick"}}); });
     oneStep(*doc, "rat path", [&] { return doc->setRatPath("rat", {{-5, 0}, {0, 2}, {5, 0}}); });
     oneStep(*doc, "directions", [&] { return doc->setRunDirections("football", {{0, 0}, {5, 30}}); });
     oneStep(*doc, "domino starts", [&] { return doc->setDominoStarts("domino", {{0.5, {1, 1}}}); });

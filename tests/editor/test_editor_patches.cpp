@@ -7,7 +7,10 @@
 #include <gtest/gtest.h>
 
 #include <QApplication>
+#include <QCheckBox>
 #include <QComboBox>
+#include <QDialog>
+#include <QDoubleSpinBox>
 #include <QDir>
 #include <QFile>
 #include <QLabel>
@@ -201,6 +204,99 @@ TEST(EditorPatches, EditAPatternListGeneratePatchesRejectOneAndComposeWithoutIt)
     ASSERT_NE(again, nullptr);
     ASSERT_TRUE(again->selectSetup("brawl"));
     EXPECT_EQ(again->rejectedPatches(), std::vector<int>{victim});
+}
+
+// A hand-made patch: character 1's action picked from the library in the
+// Hand-made dialog, played by the patch engine, added as kept (one undo
+// step), stored in the project; a wrong action is refused, nothing changed.
+TEST(EditorPatches, AHandMadePatchBuiltActionByActionIsKeptAndStored) {
+    DemoCopy demo;
+    auto w = fray::test::openEditorWindow(demo.project);
+    ASSERT_NE(w, nullptr);
+    ASSERT_TRUE(QTest::qWaitFor([&] { return w->analysis() != nullptr; }, 120000));
+    fray::authoring::ProjectDocument* doc = w->document();
+    QUndoStack* undo = doc->undoStack();
+    ASSERT_TRUE(doc->addSetup("ovm", fray::setup::SetupKind::OneVsMany));
+    w->findChild<QCheckBox*>("sceneLive")->setChecked(false);
+    ASSERT_TRUE(w->selectSetup("ovm"));
+    for (const auto& p : fray::sim::defaultPatterns())
+        if (p.name == "attack-fall") {
+            ASSERT_TRUE(doc->addPattern(p));
+        }
+    QTest::mouseClick(child<QPushButton>(w.get(), "patternGenerate"), Qt::LeftButton);
+    waitIdle(w.get());
+    ASSERT_NE(w->patchLibrary(), nullptr) << w->lastError().toStdString();
+    const std::size_t generated = w->patchLibrary()->patches().size();
+    ASSERT_GT(generated, 0u);
+    // Before generating there is nothing to add to; with patches, the dialog.
+    QTest::mouseClick(child<QPushButton>(w.get(), "patchHandMade"), Qt::LeftButton);
+    QDialog* dialog = w->handMadeDialog();
+    ASSERT_NE(dialog, nullptr);
+    auto* pattern = child<QComboBox>(dialog, "handMadePattern");
+    auto* action = child<QComboBox>(dialog, "handMadeAction");
+    auto* result = child<QLabel>(dialog, "handMadeResult");
+    pattern->setCurrentText("attack-fall");
+    const fray::sim::ActionLibrary* actions = w->patchActions();
+    ASSERT_NE(actions, nullptr);
+    const auto labelOf = [&](int a) { return QString::fromStdString(actions->actions()[static_cast<std::size_t>(a)].label()); };
+    const fray::sim::Patch src = w->patchLibrary()->patches().front();
+    const auto setConfig = [&](const fray::sim::PatchConfig& c) {
+        child<QDoubleSpinBox>(dialog, "handMadeR")->setValue(c.r);
+        child<QDoubleSpinBox>(dialog, "handMadeTheta1")->setValue(c.theta1 * 180.0 / 3.14159265358979323846);
+        child<QDoubleSpinBox>(dialog, "handMadeTheta2")->setValue(c.theta2 * 180.0 / 3.14159265358979323846);
+        child<QDoubleSpinBox>(dialog, "handMadeDelay")->setValue(c.delay);
+    };
+    setConfig(src.initial);
+    // A block where the pattern wants an attack: Evaluate says why, Add changes nothing.
+    int block = -1;
+    for (int i = 0; i < actions->size() && block < 0; ++i)
+        if (actions->actions()[static_cast<std::size_t>(i)].is(fray::sim::kBlock)) block = i;
+    ASSERT_GE(block, 0);
+    const std::string before = doc->serialized();
+    action->setCurrentText(labelOf(block));
+    QTest::mouseClick(child<QPushButton>(dialog, "handMadeAdd1"), Qt::LeftButton);
+    QTest::mouseClick(child<QPushButton>(dialog, "handMadeEvaluate"), Qt::LeftButton);
+    EXPECT_TRUE(result->text().contains("is not 'attack'")) << result->text().toStdString();
+    const int steps = undo->count();
+    QTest::mouseClick(child<QPushButton>(dialog, "handMadeKeep"), Qt::LeftButton);
+    EXPECT_EQ(doc->serialized(), before);
+    EXPECT_EQ(undo->count(), steps);
+    EXPECT_EQ(w->patchLibrary()->patches().size(), generated);
+    QTest::mouseClick(child<QPushButton>(dialog, "handMadeClear"), Qt::LeftButton);
+    // The generated patch's attack by character 1, from its configuration: it plays and is added as kept.
+    action->setCurrentText(labelOf(src.tracks[0].front().action));
+    QTest::mouseClick(child<QPushButton>(dialog, "handMadeAdd1"), Qt::LeftButton);
+    EXPECT_EQ(child<QListWidget>(dialog, "handMadeActions1")->count(), 1);
+    QTest::mouseClick(child<QPushButton>(dialog, "handMadeEvaluate"), Qt::LeftButton);
+    EXPECT_TRUE(result->text().contains("score")) << result->text().toStdString();
+    dialog->grab().save(QString(FRAY_EDITOR_SHOTS) + "/handmade-dialog.png");
+    QTest::mouseClick(child<QPushButton>(dialog, "handMadeKeep"), Qt::LeftButton);
+    EXPECT_EQ(undo->count(), steps + 1) << w->lastError().toStdString();
+    ASSERT_EQ(w->patchLibrary()->patches().size(), generated + 1);
+    const fray::sim::Patch& made = w->patchLibrary()->patches().back();
+    EXPECT_TRUE(made.handMade);
+    EXPECT_EQ(made.hits.size(), src.hits.size());
+    EXPECT_EQ(made.tracks[0].front().action, src.tracks[0].front().action);
+    auto s = doc->sceneSetup("ovm");
+    EXPECT_EQ(s->patches.kept, std::vector<int>{static_cast<int>(generated)});
+    ASSERT_EQ(doc->handMadePatches()->size(), 1u);
+    EXPECT_EQ((*doc->handMadePatches())[0].pattern, "attack-fall");
+    // Undo removes it from the project and the library; redo puts it back.
+    undo->undo();
+    EXPECT_EQ(doc->serialized(), before);
+    EXPECT_EQ(w->patchLibrary()->patches().size(), generated);
+    undo->redo();
+    EXPECT_EQ(w->patchLibrary()->patches().size(), generated + 1);
+    // Stored in the project: saved and reopened, the recipe is there.
+    ASSERT_TRUE(doc->save());
+    w.reset();
+    auto again = fray::test::openEditorWindow(demo.project);
+    ASSERT_NE(again, nullptr);
+    auto stored = again->document()->handMadePatches();
+    ASSERT_TRUE(stored);
+    ASSERT_EQ(stored->size(), 1u);
+    EXPECT_EQ((*stored)[0].actions[0], std::vector<std::string>{labelOf(src.tracks[0].front().action).toStdString()});
+
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include "fray/prep/project.h"
 #include "fray/setup/affected.h"
 #include "fray/setup/convert.h"
+#include "fray/setup/hand_made.h"
 #include "fray/setup/paint.h"
 #include "fray/setup/scene_setup.h"
 #include "patch_library_builder.h"  // core/sim/src: to fill a library by hand
@@ -229,8 +230,18 @@ TEST(SceneSetup, EditsKeepTheirNumbersAndRefuseBadValues) {
     SceneSetup o = makeSetup("o", SetupKind::OneVsMany);
     EXPECT_FALSE(setTimedCommands(o, {{0, "dance"}}).ok());
     EXPECT_FALSE(setTimedCommands(o, {{5, "punch"}, {1, "kick"}}).ok());
-    ASSERT_TRUE(setTimedCommands(o, {{0, "move"}, {5, "avoid"}}).ok());
+    EXPECT_FALSE(setTimedCommands(o, {{0, "move"}}).ok()) << "a move needs the place to move to";
+    ASSERT_TRUE(setTimedCommands(o, {{0, "move", Point{3, -1.5}}, {5, "avoid", Point{1, 1}}, {6, "kick"}}).ok());
     EXPECT_EQ(timedCommands(o)[1].action, "avoid");
+    EXPECT_EQ(timedCommands(o)[0].at, (Point{3, -1.5}));
+    EXPECT_EQ(timedCommands(o)[2].at, std::nullopt);
+    SceneSetup v = makeSetup("v", SetupKind::OneVsOne);
+    EXPECT_FALSE(setTimedCommands(v, {{0, "move", Point{1, 1}}}).ok()) << "move commands are one-vs-many's";
+    SceneSetup f = makeSetup("f", SetupKind::Football);
+    EXPECT_FALSE(setRunDirections(f, {{0, 85}}).ok()) << "the compose parser allows 80 degrees at most";
+    ASSERT_TRUE(setRunDirections(f, {{0, 10, Point{0, -3}}, {4, -30}}).ok());
+    EXPECT_EQ(runDirections(f)[0].at, (Point{0, -3}));
+    EXPECT_EQ(runDirections(f)[1].at, std::nullopt);
 }
 
 TEST(SceneSetup, TrajectoriesBecomeCheckpointPaths) {
@@ -326,4 +337,30 @@ TEST(SceneSetup, AffectedCharactersFollowTheEditAndTheirInteractions) {
     EXPECT_EQ(affectedCharacters(scene, lib, start), (std::vector<int>{0, 3}));
     SetupEdit other;
     EXPECT_EQ(affectedCharacters(scene, lib, other).size(), 4u);
+}
+
+TEST(SceneSetup, HandMadePatchRecipesRoundTripAndErrors) {
+    prep::Project p;
+    std::vector<HandMadePatch> recipes(1);
+    recipes[0].pattern = "attack-fall";
+    recipes[0].initial = {0.9, 0.5, -2.75, 0.25};
+    recipes[0].actions = {std::vector<std::string>{"jab"}, std::vector<std::string>{}};
+    setProjectHandMadePatches(p, recipes);
+    auto back = projectHandMadePatches(p, "p.frayproj");
+    ASSERT_TRUE(back) << back.error().message;
+    ASSERT_EQ(back->size(), 1u);
+    EXPECT_EQ((*back)[0].pattern, "attack-fall");
+    EXPECT_EQ((*back)[0].actions, recipes[0].actions);
+    EXPECT_NEAR((*back)[0].initial.theta2, -2.75, 1e-4);
+    EXPECT_NEAR((*back)[0].initial.r, 0.9, 1e-9);
+    setProjectHandMadePatches(p, {});
+    EXPECT_EQ(p.laterSections.count(kHandMadeSection), 0u);
+    p.laterSections[kHandMadeSection] = R"({"version": 1, "patches": [{"pattern": "x", "r": 99, "theta1_deg": 0, "theta2_deg": 0, "actions": [["a"], []]}]})";
+    auto bad = projectHandMadePatches(p, "p.frayproj");
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.error().message.find("/hand_made_patches/patches/0/r"), std::string::npos) << bad.error().message;
+    p.laterSections[kHandMadeSection] = R"({"version": 1, "patches": [{"pattern": "x", "r": 1, "theta1_deg": 0, "theta2_deg": 0, "actions": [[], []]}]})";
+    bad = projectHandMadePatches(p, "p.frayproj");
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.error().message.find("character 1 needs"), std::string::npos) << bad.error().message;
 }

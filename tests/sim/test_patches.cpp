@@ -25,6 +25,7 @@
 #include "fray/sim/metrics.h"
 #include "fray/sim/patches.h"
 #include "fray/sim/patterns.h"
+#include "fray/setup/affected.h"
 #include "sim/demo_world.h"
 #include "temp_dir.h"
 
@@ -502,6 +503,52 @@ TEST(PatchCompose, UserCommandsSteerTheMainCharacter) {
     EXPECT_GT(countAttacks(*punches, 0, kPunch), countAttacks(*kicks, 0, kPunch));
 }
 
+// A move command placed on the floor (the editor's Command tool): once it is
+// due the main character walks there, then meets the next enemy there.
+TEST(PatchCompose, MoveCommandsWalkTheMainCharacterThere) {
+    const auto& lib = demoWorld().library;
+    ComposeSpec spec = ComposeSpec::of(OneVsManySpec{});
+    spec.part<OneVsManySpec>()->enemies = 6;
+    spec.duration = 120;
+    const glm::vec2 place(7.0f, 5.0f);
+    const auto nearest = [&](const Scene& s, double from) {
+        double best = 1e9, when = -1;
+        const auto& main = s.characters[0];
+        for (const auto& inst : main.track) {
+            if (inst.end < from) continue;
+            for (double t = std::max(inst.start, from); t <= inst.end; t += 0.1) {
+                const double d = glm::length(inst.placementAt(lib, inst.clipTimeAt(t)).pos - place);
+                if (d < best) best = d, when = t;
+            }
+        }
+        return std::pair{best, when};
+    };
+    spec.commands = {{0.0, "punch", std::nullopt}};
+    auto still = compose(lib, fightLibrary(), spec);
+    ASSERT_TRUE(still) << still.error().message;
+    spec.commands = {{0.0, "punch", std::nullopt}, {10.0, "move", place}};
+    auto moved = compose(lib, fightLibrary(), spec);
+    ASSERT_TRUE(moved) << moved.error().message;
+    const auto [before, beforeWhen] = nearest(*still, 10.0);
+    const auto [after, afterWhen] = nearest(*moved, 10.0);
+    std::printf("main character: nearest %.2f m to the move's place without it, %.2f m at %.1f s with it\n", before, after, afterWhen);
+    EXPECT_GT(before, 3.0) << "the place is away from where the fight goes without the command";
+    EXPECT_LT(after, 0.5) << "the main character walked there";
+    EXPECT_GE(afterWhen, 10.0) << "not before the command's time";
+    EXPECT_EQ(computeMetrics(*moved, lib).penetrationFrames, 0);
+    // The spec form: "at" [x, z]; a move needs it and belongs to one-vs-many.
+    const auto parsed = parseComposeSpec(R"({"kind": "one-vs-many", "commands": [{"time": 2, "action": "move", "at": [7, 5]}]})", "c.json", fightLibrary());
+    ASSERT_TRUE(parsed) << parsed.error().message;
+    ASSERT_TRUE(parsed->commands[0].at.has_value());
+    EXPECT_EQ(*parsed->commands[0].at, place);
+    const auto noPlace = parseComposeSpec(R"({"kind": "one-vs-many", "commands": [{"time": 2, "action": "move"}]})", "c.json", fightLibrary());
+    ASSERT_FALSE(noPlace);
+    EXPECT_NE(noPlace.error().message.find("/commands/0/at"), std::string::npos) << noPlace.error().message;
+    const auto otherKind = parseComposeSpec(R"({"kind": "one-vs-one", "commands": [{"time": 2, "action": "move", "at": [1, 1]}]})", "c.json", fightLibrary());
+    ASSERT_FALSE(otherKind);
+    EXPECT_NE(otherKind.error().message.find("one-vs-many"), std::string::npos) << otherKind.error().message;
+}
+
 TEST(PatchCompose, OneVsOneFightsOnWithRecycling) {
     const auto& lib = demoWorld().library;
     ComposeSpec spec = ComposeSpec::of(OneVsOneSpec{});
@@ -556,6 +603,47 @@ FloorBitmap discs(const std::vector<std::pair<glm::vec2, float>>& centres) {
 bool falls(const SceneCharacter& c) {
     return std::any_of(c.track.begin(), c.track.end(), [](const ActionInstance& i) { return i.forced; }) ||
            (!c.track.empty() && demoWorld().library.actions()[static_cast<std::size_t>(c.track.back().action)].is(kFalling));
+}
+
+// Live re-plan of a domino scene (issue 23): a stroke painted far from the
+// chain changes only the characters fray::setup::affectedCharacters names;
+// every other character keeps a byte-identical track.
+TEST(PatchCompose, DominoStrokeFarFromTheChainKeepsTheOthersTracks) {
+    const auto& lib = demoWorld().library;
+    ComposeSpec spec = ComposeSpec::of(DominoSpec{});
+    auto& own = *spec.part<DominoSpec>();
+    own.floor = discs({{glm::vec2(-2.0f, 0.0f), 3.0f}});
+    own.starts = {{0.5, glm::vec2(-2.0f, 0.0f)}};
+    own.background = 30;
+    auto before = compose(lib, dominoLibrary(), spec);
+    ASSERT_TRUE(before) << before.error().message;
+    // A stroke: a disc of 0.6 m at (5.5, 5.5), painted from the start.
+    ComposeSpec edited = spec;
+    edited.part<DominoSpec>()->floor = discs({{glm::vec2(-2.0f, 0.0f), 3.0f}, {glm::vec2(5.5f, 5.5f), 0.6f}});
+    auto after = compose(lib, dominoLibrary(), edited);
+    ASSERT_TRUE(after) << after.error().message;
+    setup::SetupEdit e;
+    e.kind = setup::SetupEdit::Kind::Stroke;
+    e.lo = {4.9, 4.9}, e.hi = {6.1, 6.1};
+    const std::vector<int> affected = setup::affectedCharacters(*before, lib, e);
+    int others = 0, kept = 0;
+    for (int c = 0; c < static_cast<int>(before->characters.size()); ++c) {
+        if (std::find(affected.begin(), affected.end(), c) != affected.end()) continue;
+        ++others;
+        ASSERT_LT(c, static_cast<int>(after->characters.size()));
+        const auto& a = before->characters[static_cast<std::size_t>(c)].track;
+        const auto& b = after->characters[static_cast<std::size_t>(c)].track;
+        bool same = a.size() == b.size();
+        for (std::size_t i = 0; same && i < a.size(); ++i)
+            same = a[i].action == b[i].action && a[i].start == b[i].start && a[i].end == b[i].end && a[i].offset == b[i].offset &&
+                   a[i].root.pos == b[i].root.pos && a[i].root.heading == b[i].root.heading && a[i].forced == b[i].forced;
+        EXPECT_TRUE(same) << "character " << c << " is out of the stroke's reach but its track changed";
+        kept += same ? 1 : 0;
+    }
+    std::printf("domino: the stroke could affect %zu of %zu characters; %d of the other %d kept byte-identical tracks\n",
+                affected.size(), before->characters.size(), kept, others);
+    EXPECT_GT(others, 20);
+    EXPECT_LT(affected.size(), before->characters.size() / 4);
 }
 
 TEST(PatchCompose, DominoFallsInsideThePaintedAreaOnly) {

@@ -13,7 +13,7 @@ namespace {
 using json = nlohmann::ordered_json;
 using Reader = fray::prep::JsonReader;
 
-const char* const kLaterSections[] = {"pattern_lists", "paintings", "trajectories", "scene", "planner_presets"};
+const char* const kLaterSections[] = {"pattern_lists", "paintings", "trajectories", "scene", "planner_presets", "hand_made_patches"};
 
 Result<std::optional<std::string>> optionalString(const Reader& rd, const json& obj, const std::string& path,
                                                   const char* key) {

@@ -45,6 +45,26 @@ void putNumber(json& slot, double v) {
 
 bool finite(double x) { return std::isfinite(x); }
 
+// The optional floor point "at": [x, z] of a direction or a command.
+std::optional<Point> readAt(const json& q) {
+    const auto a = q.find("at");
+    if (a == q.end() || !a->is_array() || a->size() != 2 || !(*a)[0].is_number() || !(*a)[1].is_number()) return std::nullopt;
+    return Point{(*a)[0].get<double>(), (*a)[1].get<double>()};
+}
+bool atOk(const std::optional<Point>& at) {
+    return !at || (finite(at->x) && finite(at->z) && std::fabs(at->x) <= 1e5 && std::fabs(at->z) <= 1e5);
+}
+void putAt(json& q, const std::optional<Point>& at) {
+    if (!at) {
+        q.erase("at");
+        return;
+    }
+    json& a = q["at"];
+    if (!a.is_array() || a.size() != 2) a = json::array({0, 0});
+    putNumber(a[0], at->x);
+    putNumber(a[1], at->z);
+}
+
 // ---- base64 ----
 constexpr char kB64[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
 
@@ -603,6 +623,7 @@ std::vector<RunDirection> runDirections(const SceneSetup& setup) {
         if (!q.is_object()) continue;
         if (auto t = q.find("time"); t != q.end() && t->is_number()) r.time = t->get<double>();
         if (auto h = q.find("heading_deg"); h != q.end() && h->is_number()) r.headingDeg = h->get<double>();
+        r.at = readAt(q);
         out.push_back(r);
     }
     return out;
@@ -614,6 +635,13 @@ Status setRunDirections(SceneSetup& setup, const std::vector<RunDirection>& dire
         if (!finite(directions[i].time) || directions[i].time < 0 || !finite(directions[i].headingDeg)) {
             return setupError(setup, "running direction " + std::to_string(i + 1) + ": time must be >= 0 and the heading finite");
         }
+        if (!(std::fabs(directions[i].headingDeg) < 80)) {
+            return setupError(setup, "running direction " + std::to_string(i + 1) +
+                                         ": the heading must be within 80 degrees of the goal direction (0 = +Z)");
+        }
+        if (!atOk(directions[i].at)) {
+            return setupError(setup, "running direction " + std::to_string(i + 1) + ": its place must be finite and within 100 km");
+        }
         if (i > 0 && directions[i].time < directions[i - 1].time) return setupError(setup, "running directions must be in time order");
     }
     return updateSpec(setup, [&](json& j) -> Status {
@@ -623,6 +651,7 @@ Status setRunDirections(SceneSetup& setup, const std::vector<RunDirection>& dire
             json q = old.is_array() && i < old.size() && old[i].is_object() ? old[i] : json::object();
             putNumber(q["time"], directions[i].time);
             putNumber(q["heading_deg"], directions[i].headingDeg);
+            putAt(q, directions[i].at);
             arr.push_back(q);
         }
         old = arr;
@@ -640,6 +669,7 @@ std::vector<TimedCommand> timedCommands(const SceneSetup& setup) {
         if (!q.is_object()) continue;
         if (auto t = q.find("time"); t != q.end() && t->is_number()) c.time = t->get<double>();
         if (auto a = q.find("action"); a != q.end() && a->is_string()) c.action = a->get<std::string>();
+        c.at = readAt(q);
         out.push_back(c);
     }
     return out;
@@ -658,6 +688,13 @@ Status setTimedCommands(SceneSetup& setup, const std::vector<TimedCommand>& comm
         }
         if (!finite(c.time) || c.time < 0 || c.time > 3600) return setupError(setup, "command " + std::to_string(i + 1) + ": time must be in [0, 3600] s");
         if (i > 0 && c.time < commands[i - 1].time) return setupError(setup, "commands must be in time order");
+        if (!atOk(c.at)) return setupError(setup, "command " + std::to_string(i + 1) + ": its place must be finite and within 100 km");
+        if (c.action == "move" && !c.at) {
+            return setupError(setup, "command " + std::to_string(i + 1) + ": a move command needs the place to move to");
+        }
+        if (c.action == "move" && setup.kind != SetupKind::OneVsMany) {
+            return setupError(setup, "command " + std::to_string(i + 1) + ": move commands belong to one-vs-many setups");
+        }
     }
     return updateSpec(setup, [&](json& j) -> Status {
         json& old = j["commands"];
@@ -666,6 +703,7 @@ Status setTimedCommands(SceneSetup& setup, const std::vector<TimedCommand>& comm
             json q = old.is_array() && i < old.size() && old[i].is_object() ? old[i] : json::object();
             putNumber(q["time"], commands[i].time);
             q["action"] = commands[i].action;
+            putAt(q, commands[i].at);
             arr.push_back(q);
         }
         old = arr;

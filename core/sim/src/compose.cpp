@@ -104,20 +104,32 @@ Status parseCommon(const prep::JsonReader& rd, const Json& j, const std::vector<
     }
     if (auto f = rd.field(j, "", "commands", false); !f) return f.error();
     else if (*f) {
-        if (!(*f)->is_array()) return rd.error("/commands", "must be an array of {time, action}");
+        if (!(*f)->is_array()) return rd.error("/commands", "must be an array of {time, action, at}");
         for (std::size_t i = 0; i < (*f)->size(); ++i) {
             const std::string p = "/commands/" + std::to_string(i);
             const Json& c = (**f)[i];
-            if (!c.is_object()) return rd.error(p, "must be an object {time, action}");
+            if (!c.is_object()) return rd.error(p, "must be an object {time, action, at}");
+            for (auto it = c.begin(); it != c.end(); ++it) {
+                if (it.key() != "time" && it.key() != "action" && it.key() != "at") return rd.error(p + "/" + it.key(), "unknown field");
+            }
             FRAY_TRY(t, rd.numberAt(c, p, "time"));
             FRAY_TRY(a, rd.stringAt(c, p, "action"));
-            static const char* const verbs[] = {"punch", "kick", "avoid", "attack", "defence", "block"};
+            static const char* const verbs[] = {"move", "punch", "kick", "avoid", "attack", "defence", "block"};
             if (std::find_if(std::begin(verbs), std::end(verbs), [&](const char* v) { return a == v; }) == std::end(verbs)) {
-                return rd.error(p + "/action", "unknown command '" + a + "' (punch, kick, avoid, attack, defence, block)");
+                return rd.error(p + "/action", "unknown command '" + a + "' (move, punch, kick, avoid, attack, defence, block)");
             }
             if (t < 0) return rd.error(p + "/time", "must not be negative");
             if (!s.commands.empty() && t < s.commands.back().time) return rd.error(p + "/time", "commands must be in time order");
-            s.commands.push_back({t, a});
+            std::optional<glm::vec2> at;
+            if (auto v = c.find("at"); v != c.end()) {
+                if (!v->is_array() || v->size() != 2) return rd.error(p + "/at", "must be [x, z] (m)");
+                FRAY_TRY(x, rd.numberIn((*v)[0], p + "/at/0", -1e5, 1e5));
+                FRAY_TRY(z, rd.numberIn((*v)[1], p + "/at/1", -1e5, 1e5));
+                at = glm::vec2(static_cast<float>(x), static_cast<float>(z));
+            } else if (a == "move") {
+                return rd.error(p + "/at", "a move command needs the place to move to, [x, z] (m)");
+            }
+            s.commands.push_back({t, a, at});
         }
     }
     return {};
@@ -154,6 +166,11 @@ Result<ComposeSpec> parseComposeSpec(std::string_view text, std::string_view fil
     if (!kind) return rd.error("/kind", "unknown scene kind '" + kindName + "' (this build composes " + kindList() + ")");
     s.kind = kind->name;
     if (auto st = parseCommon(rd, j, patterns, s); !st) return st.error();
+    for (std::size_t i = 0; i < s.commands.size(); ++i) {
+        if (s.commands[i].annotation == "move" && s.kind != "one-vs-many") {
+            return rd.error("/commands/" + std::to_string(i) + "/action", "move commands belong to one-vs-many scenes");
+        }
+    }
     for (const SceneKindModule* k : detail::sceneKinds()) {
         std::any part = k->defaults();
         if (auto st = k->parse(rd, j, part); !st) return st.error();

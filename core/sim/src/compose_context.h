@@ -276,7 +276,7 @@ struct Composer {
     double userPreference(const Patch& p, int role, double t) const {
         const UserCommand* cmd = nullptr;
         for (const auto& c : spec.commands) {
-            if (c.time <= t) cmd = &c;
+            if (c.time <= t && c.annotation != "move") cmd = &c;
         }
         if (!cmd) return 0;
         for (const auto& inst : p.tracks[static_cast<std::size_t>(role)]) {

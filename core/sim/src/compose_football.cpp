@@ -446,7 +446,8 @@ Status parseFootball(const prep::JsonReader& rd, const Json& j, FootballSpec& s)
             const Json& d = (**f)[i];
             if (!d.is_object()) return rd.error(p, "must be an object {time, heading_deg}");
             for (auto it = d.begin(); it != d.end(); ++it) {
-                if (it.key() != "time" && it.key() != "heading_deg") return rd.error(p + "/" + it.key(), "unknown field");
+                // "at": where the editor drew the arrow; composing does not read it.
+                if (it.key() != "time" && it.key() != "heading_deg" && it.key() != "at") return rd.error(p + "/" + it.key(), "unknown field");
             }
             FRAY_TRY(t, rd.numberAt(d, p, "time"));
             FRAY_TRY(h, rd.numberAt(d, p, "heading_deg"));

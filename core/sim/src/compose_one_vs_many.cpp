@@ -15,11 +15,35 @@ struct OneVsManyComposer : KindComposer<OneVsManySpec> {
         append(mainC, hold, 0.0, RootXf{}, 0, 1.0);
         int prev = -1;
         int moves = 0;
+        std::size_t nextCommand = 0;  // the first user command not yet due
         for (int k = 0; k < own.enemies; ++k) {
             const double t0 = freeAt(mainC);
             if (t0 >= spec.duration) break;
             const RootXf at = leaves(mainC);
             const int lastMain = track(mainC).back().action;
+            // A move command that is due: the main character walks to its
+            // place first (facing on along the way), then meets the next enemy there.
+            bool walked = false;
+            for (; nextCommand < spec.commands.size() && spec.commands[nextCommand].time <= t0; ++nextCommand) {
+                const UserCommand& c = spec.commands[nextCommand];
+                if (c.annotation != "move" || !c.at) continue;
+                RootXf goal;
+                goal.pos = *c.at;
+                const glm::vec2 d = goal.pos - at.pos;
+                goal.heading = glm::length(d) > 1e-3f ? angleOf(d) : at.heading;
+                std::vector<ActionInstance> walk;
+                locomote(mainC, -1, at, t0, lastMain, goal, 0.0, walk);
+                if (walk.empty() || penetrates(walk, mainC)) continue;  // blocked or there already: the command lapses
+                for (auto& w : walk) track(mainC).push_back(w);
+                stats.locomotionSteps += static_cast<int>(walk.size());
+                walked = true;
+                ++nextCommand;
+                break;
+            }
+            if (walked) {
+                --k;
+                continue;
+            }
             // Candidates: temporal links where the main character continues, else any (recycling).
             std::vector<std::size_t> cands;
             if (prev >= 0) {

@@ -23,6 +23,7 @@
 #include "fray/authoring/change_event.h"
 #include "fray/core/result.h"
 #include "fray/prep/project.h"
+#include "fray/setup/hand_made.h"
 #include "fray/setup/paint.h"
 #include "fray/setup/scene_setup.h"
 #include "fray/sim/patterns.h"
@@ -188,6 +189,14 @@ public:
     // Patch verdicts (indices of the project's patch library).
     enum class Verdict { None, Keep, Reject };
     Status setPatchVerdict(const std::string& setup, int patch, Verdict verdict);
+    // Hand-made patches (fray/setup/hand_made.h), stored as recipes in the
+    // project's "hand_made_patches" section. Adding one appends its recipe
+    // and, when `setup` is given, marks the patch it becomes (index `patch`
+    // of the library the caller built it into) kept there: one undo step.
+    // The caller has played the recipe through the patch engine first.
+    Result<std::vector<setup::HandMadePatch>> handMadePatches() const;
+    Status addHandMadePatch(setup::HandMadePatch recipe, const std::string& setup, int patch);
+    Status removeHandMadePatch(int index);
 
     // ---- PatternLists (SPEC 4.1; the project's "pattern_lists" section)
     Result<sim::PatternSet> patternSet() const;

@@ -166,15 +166,22 @@ Status moveTeam(SceneSetup& setup, int side, double dx, double dz);
 // Compose kinds' inputs.
 std::vector<Point> ratPath(const SceneSetup& setup);                 // the rat's "rat"/"path"
 Status setRatPath(SceneSetup& setup, const std::vector<Point>& path);
+// `at`: where the arrow was drawn on the floor (the spec's optional "at":
+// [x, z]); composing reads only the time and the heading.
 struct RunDirection {
     double time = 0, headingDeg = 0;
+    std::optional<Point> at = std::nullopt;
     friend bool operator==(const RunDirection&, const RunDirection&) = default;
 };
 std::vector<RunDirection> runDirections(const SceneSetup& setup);   // football "directions"
 Status setRunDirections(SceneSetup& setup, const std::vector<RunDirection>& directions);
+// `at`: where the command was placed on the floor (the spec's "at": [x, z]);
+// a move command needs it (the main character walks there), the others keep
+// it to show where they were placed.
 struct TimedCommand {
     double time = 0;
     std::string action;  // move, punch, kick, avoid (also attack, defence, block)
+    std::optional<Point> at = std::nullopt;
     friend bool operator==(const TimedCommand&, const TimedCommand&) = default;
 };
 std::vector<TimedCommand> timedCommands(const SceneSetup& setup);    // one-vs-many "commands"

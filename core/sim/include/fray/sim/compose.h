@@ -22,6 +22,7 @@
 // (static constexpr const char* kKind) and has defaults for every field.
 #include <any>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -34,10 +35,14 @@
 namespace fray::sim {
 
 // A timed user command: from `time` on, patches whose main-character actions
-// carry `annotation` are preferred (s_u of SPEC 4.4).
+// carry `annotation` are preferred (s_u of SPEC 4.4). "move" (one-vs-many
+// only) instead sends the main character walking to `at` once it is free
+// after `time`; the preference of the command before it stays. `at` is
+// where the command was placed on the floor (optional but for move).
 struct UserCommand {
     double time = 0;
-    std::string annotation;  // punch, kick, avoid, ... or a group (attack, defence)
+    std::string annotation;  // punch, kick, avoid, ... or a group (attack, defence); or move
+    std::optional<glm::vec2> at = std::nullopt;
 };
 
 // What every kind reads: the scene, the patches it may use and how they are scored.

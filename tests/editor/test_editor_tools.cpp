@@ -1,0 +1,263 @@
+// The floor tools of issue 23's second part on the editor's real Vulkan
+// viewport (lavapipe, under Xvfb), driven with mouse events on the viewport
+// window: checkpoints with times added, selected and dragged with the
+// Checkpoint tool and edited in the Scene panel's checkpoint inspector, then a
+// generated duel that follows the drawn circle; the rat's trajectory, football
+// running arrows and one-vs-many commands, each one undo step; bad input
+// leaves a clear message and the project unchanged.
+#include <gtest/gtest.h>
+
+#include <QApplication>
+#include <QCheckBox>
+#include <QComboBox>
+#include <QDir>
+#include <QDoubleSpinBox>
+#include <QLineEdit>
+#include <QPushButton>
+#include <QTest>
+#include <QUndoStack>
+#include <cmath>
+#include <cstdio>
+
+#include "fray/authoring/project_document.h"
+#include "fray/render/image.h"
+#include "fray/setup/scene_setup.h"
+#include "fray/sim/metrics.h"
+#include "scene_stage.h"
+#include "editor_fixture.h"
+#include "viewport_fixture.h"
+
+namespace {
+
+using fray::test::DemoCopy;
+
+void lookDown(fray::editor::Viewport* v, glm::vec2 centre, float distance) {
+    auto& cam = v->frame().camera;
+    cam.target = glm::vec3(centre.x, 0.0f, centre.y);
+    cam.yaw = 0.0f;
+    cam.pitch = 1.3f;
+    cam.distance = distance;
+}
+
+QPoint pixelOf(fray::editor::Viewport* v, glm::vec2 floor) {
+    auto p = fray::editor::floorToPixel(v->frame().camera, v->aspect(), floor, QSizeF(v->size()));
+    EXPECT_TRUE(p.has_value());
+    return p ? p->toPoint() : QPoint();
+}
+
+void moveTo(fray::editor::Viewport* v, glm::vec2 floor) {
+    const QPointF px(pixelOf(v, floor));
+    QMouseEvent move(QEvent::MouseMove, px, v->mapToGlobal(px), Qt::NoButton, Qt::LeftButton, Qt::NoModifier);
+    QGuiApplication::sendEvent(v, &move);
+}
+
+// A left-button drag on the viewport window through floor points.
+void dragOnFloor(fray::editor::Viewport* v, std::vector<glm::vec2> path) {
+    QTest::mousePress(v, Qt::LeftButton, Qt::NoModifier, pixelOf(v, path.front()));
+    for (std::size_t i = 1; i < path.size(); ++i) moveTo(v, path[i]);
+    QTest::mouseRelease(v, Qt::LeftButton, Qt::NoModifier, pixelOf(v, path.back()));
+}
+
+void clickOnFloor(fray::editor::Viewport* v, glm::vec2 p) { QTest::mouseClick(v, Qt::LeftButton, Qt::NoModifier, pixelOf(v, p)); }
+
+void shot(fray::test::VulkanEditor& editor, const char* name) {
+    QTest::qWait(200);
+    fray::render::Image view;
+    ASSERT_TRUE(editor.viewport->renderer()->readback(view));
+    QDir().mkpath(FRAY_EDITOR_SHOTS);
+    (void)fray::render::writePng(std::string(FRAY_EDITOR_SHOTS "/") + name, view);
+}
+
+struct EditorTools : ::testing::Test {
+    void SetUp() override {
+        ASSERT_TRUE(editor.open(demo.project));
+        w = editor.window.get();
+        ASSERT_TRUE(QTest::qWaitForWindowExposed(w));
+        ASSERT_TRUE(QTest::qWaitFor([&] { return w->analysis() != nullptr; }, 120000));
+        doc = w->document();
+        ASSERT_NE(doc, nullptr);
+    }
+    DemoCopy demo;
+    fray::test::VulkanEditor editor;
+    fray::editor::MainWindow* w = nullptr;
+    fray::authoring::ProjectDocument* doc = nullptr;
+};
+
+TEST_F(EditorTools, CircleWithThreeTimedCheckpointsIsFollowedByTheFightingPair) {
+    ASSERT_TRUE(doc->addSetup("duel", fray::setup::SetupKind::Duel));
+    ASSERT_TRUE(w->selectSetup("duel"));
+    w->findChild<QCheckBox*>("sceneLive")->setChecked(false);  // generated once, below
+    ASSERT_TRUE(w->selectToolCharacter("red"));
+    lookDown(editor.viewport, {0.0f, -2.0f}, 12.0f);
+    // A circle of 2 m around (0, -2) through red's start (0, 0).
+    ASSERT_TRUE(w->selectTool("Circle"));
+    clickOnFloor(editor.viewport, {0.0f, -2.0f});
+    clickOnFloor(editor.viewport, {0.0f, 0.0f});
+    ASSERT_EQ(doc->sceneSetup("duel")->trajectories.size(), 1u);
+    // Three checkpoints clicked on it: one undo step each, snapped onto the circle.
+    ASSERT_TRUE(w->selectTool("Checkpoint"));
+    const std::vector<glm::vec2> quarter = {{2.1f, -2.0f}, {0.0f, -4.1f}, {-1.9f, -2.0f}};
+    for (glm::vec2 p : quarter) {
+        const int steps = doc->undoStack()->count();
+        clickOnFloor(editor.viewport, p);
+        EXPECT_EQ(doc->undoStack()->count(), steps + 1) << w->lastError().toStdString();
+        EXPECT_GE(w->checkpointIndex(), 0) << "an added checkpoint is selected for the inspector";
+    }
+    auto s = doc->sceneSetup("duel");
+    ASSERT_EQ(s->trajectories[0].checkpoints.size(), 3u);
+    for (const auto& c : s->trajectories[0].checkpoints) EXPECT_NEAR(std::hypot(c.pos.x, c.pos.z + 2.0), 2.0, 0.06);
+    // Times in the order they are passed: select each on the floor, type its time in the inspector.
+    auto* time = w->findChild<QDoubleSpinBox*>("checkpointTime");
+    ASSERT_NE(time, nullptr);
+    for (int i = 0; i < 3; ++i) {
+        const auto pos = doc->sceneSetup("duel")->trajectories[0].checkpoints[static_cast<std::size_t>(i)].pos;
+        clickOnFloor(editor.viewport, {static_cast<float>(pos.x), static_cast<float>(pos.z)});
+        ASSERT_EQ(w->checkpointIndex(), i);
+        const int steps = doc->undoStack()->count();
+        time->setValue(4.0 * (i + 1));
+        EXPECT_EQ(doc->undoStack()->count(), steps + 1);
+    }
+    s = doc->sceneSetup("duel");
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(s->trajectories[0].checkpoints[static_cast<std::size_t>(i)].time, 4.0 * (i + 1));
+    // A required action that no action has: refused with a message, nothing changed.
+    const std::string before = doc->serialized();
+    auto* action = w->findChild<QComboBox*>("checkpointAction");
+    action->setCurrentText("@moonwalk");
+    Q_EMIT action->lineEdit()->editingFinished();
+    EXPECT_TRUE(w->lastError().contains("moonwalk")) << w->lastError().toStdString();
+    EXPECT_EQ(doc->serialized(), before);
+    // Dragging a checkpoint moves it as one undo step; undo puts it back.
+    const auto c0 = s->trajectories[0].checkpoints[0].pos;
+    const int steps = doc->undoStack()->count();
+    dragOnFloor(editor.viewport, {{static_cast<float>(c0.x), static_cast<float>(c0.z)}, {1.0f, -1.0f}, {0.5f, 0.5f}});
+    EXPECT_EQ(doc->undoStack()->count(), steps + 1);
+    EXPECT_NEAR(doc->sceneSetup("duel")->trajectories[0].checkpoints[0].pos.x, 0.5, 0.1);
+    doc->undoStack()->undo();
+    EXPECT_EQ(doc->serialized(), before);
+    shot(editor, "floor-checkpoints.png");
+
+    // Generate: red follows the circle, passing the checkpoints.
+    w->selectTool({});
+    QTest::mouseClick(w->findChild<QPushButton*>("sceneGenerate"), Qt::LeftButton);
+    ASSERT_TRUE(QTest::qWaitFor([&] { return !w->busy(); }, 120000));
+    ASSERT_NE(w->scene(), nullptr) << w->lastError().toStdString();
+    const fray::sim::Scene& scene = w->scene()->scene();
+    const auto& lib = w->scene()->library();
+    ASSERT_EQ(scene.characters[0].name, "red");
+    // Measured on the scene: the pelvis to the drawn circle (the metrics measure it to the planner's polyline).
+    const auto m = fray::sim::computeMetrics(scene, lib);
+    ASSERT_TRUE(m.characters[0].pathErrorMean.has_value());
+    double sum = 0;
+    int samples = 0;
+    std::vector<double> passed(3, -1);
+    const auto& cps = doc->sceneSetup("duel")->trajectories[0].checkpoints;
+    for (double t = 0; t <= scene.duration; t += 0.1) {
+        const int i = scene.instanceAt(0, t);
+        if (i < 0) continue;
+        const auto& inst = scene.characters[0].track[static_cast<std::size_t>(i)];
+        const glm::vec2 p = inst.placementAt(lib, inst.clipTimeAt(t)).pos;
+        sum += std::fabs(std::hypot(static_cast<double>(p.x), static_cast<double>(p.y) + 2.0) - 2.0);
+        ++samples;
+        for (std::size_t k = 0; k < 3; ++k)
+            if (passed[k] < 0 && std::hypot(static_cast<double>(p.x) - cps[k].pos.x, static_cast<double>(p.y) - cps[k].pos.z) < 0.6)
+                passed[k] = t;
+    }
+    ASSERT_GT(samples, 100);
+    const double circleError = sum / samples;
+    std::printf("editor: red's mean path error %.3f m to the circle (%.3f m to the planned polyline, max %.2f m); "
+                "checkpoints (4, 8, 12 s) first within 0.6 m at %.1f, %.1f, %.1f s\n",
+                circleError, *m.characters[0].pathErrorMean, m.characters[0].pathErrorMax.value_or(0), passed[0], passed[1], passed[2]);
+    EXPECT_LT(circleError, 0.5);
+    EXPECT_LT(*m.characters[0].pathErrorMean, 0.5);
+}
+
+TEST_F(EditorTools, RatPathRunArrowsAndCommandsAreOneUndoStepEach) {
+    lookDown(editor.viewport, {0.0f, 0.0f}, 18.0f);
+    // The rat's trajectory: one drag.
+    ASSERT_TRUE(doc->addSetup("rat", fray::setup::SetupKind::Rat));
+    ASSERT_TRUE(w->selectSetup("rat"));
+    ASSERT_TRUE(w->selectTool("RatPath"));
+    const std::string blank = doc->serialized();
+    clickOnFloor(editor.viewport, {1.0f, 1.0f});  // a click is no trajectory
+    EXPECT_TRUE(w->lastError().contains("empty")) << w->lastError().toStdString();
+    EXPECT_EQ(doc->serialized(), blank);
+    int steps = doc->undoStack()->count();
+    dragOnFloor(editor.viewport, {{-6.0f, -3.0f}, {-4.5f, -1.5f}, {-3.0f, 0.0f}, {0.0f, 2.0f}, {3.0f, 0.0f}, {6.0f, -3.0f}});
+    EXPECT_EQ(doc->undoStack()->count(), steps + 1);
+    auto rat = fray::setup::ratPath(*doc->sceneSetup("rat"));
+    ASSERT_EQ(rat.size(), 6u);
+    EXPECT_NEAR(rat.front().x, -6.0, 0.1);
+    EXPECT_NEAR(rat.back().z, -3.0, 0.1);
+    shot(editor, "floor-rat.png");
+    doc->undoStack()->undo();
+    EXPECT_EQ(doc->serialized(), blank);
+    doc->undoStack()->redo();
+
+    // Football running directions: an arrow per drag, from the tool bar's time on.
+    ASSERT_TRUE(doc->addSetup("football", fray::setup::SetupKind::Football));
+    ASSERT_TRUE(w->selectSetup("football"));
+    ASSERT_TRUE(w->selectTool("RunDirection"));
+    auto* from = w->findChild<QDoubleSpinBox*>("directionTime");
+    ASSERT_NE(from, nullptr);
+    from->setValue(3.0);
+    steps = doc->undoStack()->count();
+    dragOnFloor(editor.viewport, {{0.0f, -2.0f}, {0.5f, -1.0f}, {1.0f, 0.0f}});
+    EXPECT_EQ(doc->undoStack()->count(), steps + 1) << w->lastError().toStdString();
+    from->setValue(6.0);
+    dragOnFloor(editor.viewport, {{2.0f, 2.0f}, {0.5f, 4.0f}});
+    auto dirs = fray::setup::runDirections(*doc->sceneSetup("football"));
+    ASSERT_EQ(dirs.size(), 3u);  // the default at 0 s and the two drawn
+    EXPECT_EQ(dirs[1].time, 3.0);
+    EXPECT_NEAR(dirs[1].headingDeg, 26.6, 1.0);
+    ASSERT_TRUE(dirs[1].at.has_value());
+    EXPECT_NEAR(dirs[1].at->z, -2.0, 0.1);
+    EXPECT_NEAR(dirs[2].headingDeg, -36.9, 1.0);
+    // An arrow away from the goal is refused, naming the rule; nothing changed.
+    const std::string beforeBack = doc->serialized();
+    dragOnFloor(editor.viewport, {{0.0f, 0.0f}, {0.0f, -2.0f}});
+    EXPECT_TRUE(w->lastError().contains("80 degrees")) << w->lastError().toStdString();
+    EXPECT_EQ(doc->serialized(), beforeBack);
+    shot(editor, "floor-football.png");
+
+    // One-vs-many commands: a move there at 5 s, a kick at 9 s.
+    ASSERT_TRUE(doc->addSetup("ovm", fray::setup::SetupKind::OneVsMany));
+    ASSERT_TRUE(w->selectSetup("ovm"));
+    ASSERT_TRUE(w->selectTool("Command"));
+    auto* verb = w->findChild<QComboBox*>("commandAction");
+    auto* at = w->findChild<QDoubleSpinBox*>("commandTime");
+    ASSERT_TRUE(verb && at);
+    verb->setCurrentText("move");
+    at->setValue(5.0);
+    steps = doc->undoStack()->count();
+    clickOnFloor(editor.viewport, {4.0f, 3.0f});
+    EXPECT_EQ(doc->undoStack()->count(), steps + 1) << w->lastError().toStdString();
+    verb->setCurrentText("kick");
+    at->setValue(9.0);
+    clickOnFloor(editor.viewport, {-3.0f, 1.0f});
+    EXPECT_EQ(doc->undoStack()->count(), steps + 2);
+    auto cmds = fray::setup::timedCommands(*doc->sceneSetup("ovm"));
+    ASSERT_EQ(cmds.size(), 3u);  // the default punch at 0 s first
+    EXPECT_EQ(cmds[1].action, "move");
+    EXPECT_EQ(cmds[1].time, 5.0);
+    ASSERT_TRUE(cmds[1].at.has_value());
+    EXPECT_NEAR(cmds[1].at->x, 4.0, 0.1);
+    EXPECT_NEAR(cmds[1].at->z, 3.0, 0.1);
+    EXPECT_EQ(cmds[2].action, "kick");
+    shot(editor, "floor-commands.png");
+    // The command tool on a setup of another kind: a clear message, nothing changed.
+    ASSERT_TRUE(w->selectSetup("rat"));
+    const std::string beforeWrong = doc->serialized();
+    clickOnFloor(editor.viewport, {0.0f, 0.0f});
+    EXPECT_TRUE(w->lastError().contains("not a one-vs-many setup")) << w->lastError().toStdString();
+    EXPECT_EQ(doc->serialized(), beforeWrong);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) qputenv("QT_QPA_PLATFORM", "xcb");
+    QApplication app(argc, argv);
+    QApplication::setApplicationName("fray-tests");
+    ::testing::InitGoogleTest(&argc, argv);
+    return RUN_ALL_TESTS();
+}
