@@ -67,6 +67,11 @@ Both measure(const sim::Scene& scene, const posture::Options& options = {}) {
                 static_cast<long long>(b.report.cappedForces), b.report.resets,
                 b.report.initialOverlaps);
     for (const auto& n : b.report.notes) std::printf("  %s\n", n.c_str());
+    if (const auto& w = b.physics.worstPenetration; w.a >= 0) {
+        std::printf("worst penetration (physics): %.2f cm at %.2f s, %s's %s and %s's %s\n", b.physics.penetrationMaxCm, w.time,
+                    scene.characters[static_cast<std::size_t>(w.a)].name.c_str(), sim::segmentName(w.segmentA),
+                    scene.characters[static_cast<std::size_t>(w.b)].name.c_str(), sim::segmentName(w.segmentB));
+    }
     return b;
 }
 

@@ -146,6 +146,41 @@ int segmentBody(int segment, const StandardJoints& j) {
     }
 }
 
+// The far joint of a segment's box (as sim::segmentBoxes spans it): the box
+// runs from segmentBody's joint to this one.
+int segmentFar(int segment, const StandardJoints& j) {
+    switch (segment) {
+        case sim::kPelvis: return j.spine >= 0 && j.spine != j.pelvis ? j.spine : j.chest;
+        case sim::kTorso: return j.neck >= 0 ? j.neck : j.head;
+        case sim::kHead: return j.head;
+        case sim::kLeftUpperArm: return j.leftElbow;
+        case sim::kLeftForearm: return j.leftHand;
+        case sim::kRightUpperArm: return j.rightElbow;
+        case sim::kRightForearm: return j.rightHand;
+        case sim::kLeftThigh: return j.leftKnee;
+        case sim::kLeftShin: return j.leftFoot;
+        case sim::kLeftFoot: return j.leftToe;
+        case sim::kRightThigh: return j.rightKnee;
+        case sim::kRightShin: return j.rightFoot;
+        case sim::kRightFoot: return j.rightToe;
+        default: return -1;
+    }
+}
+
+// One collision box of a character: the part of a segment's box that one
+// body carries. A segment box spanning several bodies (the torso: spine to
+// neck over three spine bodies) is cut across its axis at the joints between
+// them, each piece carried by the body it covers, so a contact pushes the
+// body that really moves that part of the box.
+struct Piece {
+    int segment = 0;
+    int body = 0;       // joint whose body carries it
+    int next = -1;      // the joint where it ends (-1: the box's far end)
+    bool first = true;  // starts at the box's near end
+    dGeomID geom = nullptr;
+    float radius = 0;   // bounding sphere, for the broad phase
+};
+
 // A target adjustment: joints of one character moved by weight * offset,
 // eased in over [peak - lead, peak] and out over [peak, peak + tail].
 struct Pull {
@@ -182,8 +217,7 @@ struct Character {
     std::vector<double> mass, inertia;
     std::vector<double> reach;       // m: ankle to hip along the leg (pin compatibility)
     std::vector<dBodyID> bodies;
-    std::array<dGeomID, sim::kSegmentCount> geoms{};
-    std::array<float, sim::kSegmentCount> geomRadius{};
+    std::vector<Piece> pieces;  // collision boxes, by segment then along it
     std::array<dJointID, 2> pin{nullptr, nullptr};
     std::array<glm::dvec3, 2> pinAt{};
     double maxFootSpan = 2.0;
@@ -261,8 +295,8 @@ struct Simulator::Impl {
 
     ~Impl() {
         for (auto& c : chars) {
-            for (dGeomID g : c.geoms) {
-                if (g) dGeomDestroy(g);
+            for (const auto& piece : c.pieces) {
+                if (piece.geom) dGeomDestroy(piece.geom);
             }
         }
         for (auto& is : islands) {
@@ -648,10 +682,28 @@ struct Simulator::Impl {
         const auto boxes = sim::segmentBoxes(c.p1, c.roles);
         for (int s = 0; s < sim::kSegmentCount; ++s) {
             const Obb& box = boxes[static_cast<std::size_t>(s)];
-            dGeomID g = dCreateBox(nullptr, 2.0 * static_cast<double>(box.half.x), 2.0 * static_cast<double>(box.half.y), 2.0 * static_cast<double>(box.half.z));
-            dGeomSetBody(g, c.bodies[static_cast<std::size_t>(segmentBody(s, c.roles))]);
-            c.geoms[static_cast<std::size_t>(s)] = g;
-            c.geomRadius[static_cast<std::size_t>(s)] = box.radius();
+            // The bodies the box spans: its near joint's and, where the far
+            // joint is not that body's child, the ones in between.
+            const int near = segmentBody(s, c.roles);
+            const int far = segmentFar(s, c.roles);
+            std::vector<int> chain;
+            for (int k = far >= 0 ? sk.parents[static_cast<std::size_t>(far)] : -1; k >= 0; k = sk.parents[static_cast<std::size_t>(k)]) {
+                chain.push_back(k);
+                if (k == near) break;
+            }
+            if (chain.empty() || chain.back() != near) chain.assign(1, near);  // not a chain: one piece
+            std::reverse(chain.begin(), chain.end());
+            for (std::size_t k = 0; k < chain.size(); ++k) {
+                Piece piece;
+                piece.segment = s;
+                piece.body = chain[k];
+                piece.next = k + 1 < chain.size() ? chain[k + 1] : -1;
+                piece.first = k == 0;
+                piece.geom = dCreateBox(nullptr, 2.0 * static_cast<double>(box.half.x), 2.0 * static_cast<double>(box.half.y),
+                                        2.0 * static_cast<double>(box.half.z));
+                dGeomSetBody(piece.geom, c.bodies[static_cast<std::size_t>(piece.body)]);
+                c.pieces.push_back(piece);
+            }
         }
         syncGeoms(c);
         c.created = true;
@@ -845,16 +897,28 @@ struct Simulator::Impl {
         at.resize(static_cast<std::size_t>(c.jointCount));
         for (int j = 0; j < c.jointCount; ++j) at[static_cast<std::size_t>(j)] = glm::vec3(jointPos(c, j));
         const auto boxes = sim::segmentBoxes(at, c.roles);
-        for (int s = 0; s < sim::kSegmentCount; ++s) {
-            const Obb& box = boxes[static_cast<std::size_t>(s)];
-            const dGeomID g = c.geoms[static_cast<std::size_t>(s)];
-            dGeomSetOffsetWorldPosition(g, box.centre.x, box.centre.y, box.centre.z);
+        for (auto& piece : c.pieces) {
+            const Obb& box = boxes[static_cast<std::size_t>(piece.segment)];
+            const glm::vec3 axis = box.axes[0];
+            // Along the axis, from the box's centre: the piece runs from its
+            // body's joint to the next body's joint (the box's ends for the
+            // first and last pieces).
+            float u0 = -box.half.x, u1 = box.half.x;
+            if (!piece.first) u0 = std::clamp(glm::dot(at[static_cast<std::size_t>(piece.body)] - box.centre, axis), -box.half.x, box.half.x);
+            if (piece.next >= 0) u1 = std::clamp(glm::dot(at[static_cast<std::size_t>(piece.next)] - box.centre, axis), -box.half.x, box.half.x);
+            if (u1 < u0 + 0.01f) u1 = std::min(u0 + 0.01f, box.half.x), u0 = u1 - 0.01f;
+            const float halfLength = 0.5f * (u1 - u0);
+            const glm::vec3 centre = box.centre + axis * (0.5f * (u0 + u1));
+            dGeomBoxSetLengths(piece.geom, 2.0 * static_cast<double>(halfLength), 2.0 * static_cast<double>(box.half.y),
+                               2.0 * static_cast<double>(box.half.z));
+            piece.radius = glm::length(glm::vec3(halfLength, box.half.y, box.half.z));
+            dGeomSetOffsetWorldPosition(piece.geom, centre.x, centre.y, centre.z);
             dMatrix3 R;
             for (int r = 0; r < 3; ++r) {
                 for (int k = 0; k < 3; ++k) R[r * 4 + k] = static_cast<double>(box.axes[k][r]);
                 R[r * 4 + 3] = 0;
             }
-            dGeomSetOffsetWorldRotation(g, R);
+            dGeomSetOffsetWorldRotation(piece.geom, R);
         }
     }
 
@@ -870,7 +934,7 @@ struct Simulator::Impl {
         dContactGeom found[4];
         // Bodies of touching segments yield: their control is softened so the
         // contact, not the captured pose, decides where they meet.
-        auto add = [&](dGeomID a, dGeomID b, Character* ca, int sa, Character* cb, int sb) {
+        auto add = [&](dGeomID a, dGeomID b, Character* ca, int ba, Character* cb, int bb) {
             const int k = dCollide(a, b, 4, found, sizeof(dContactGeom));
             for (int i = 0; i < k; ++i) {
                 dContact contact{};
@@ -883,14 +947,14 @@ struct Simulator::Impl {
                 if (ca) ++is.contactsThisStep;
                 dJointAttach(joint, dGeomGetBody(a), dGeomGetBody(b));
             }
-            if (k > 0 && ca) ca->touched[static_cast<std::size_t>(segmentBody(sa, ca->roles))] = 1, ca->touching = true;
-            if (k > 0 && cb) cb->touched[static_cast<std::size_t>(segmentBody(sb, cb->roles))] = 1, cb->touching = true;
+            if (k > 0 && ca) ca->touched[static_cast<std::size_t>(ba)] = 1, ca->touching = true;
+            if (k > 0 && cb) cb->touched[static_cast<std::size_t>(bb)] = 1, cb->touching = true;
         };
         for (std::size_t x = 0; x < is.members.size(); ++x) {
             auto& a = chars[static_cast<std::size_t>(is.members[x])];
             if (!a.created) continue;
             if (!a.controlled) {
-                for (dGeomID g : a.geoms) add(g, is.floor, nullptr, 0, nullptr, 0);
+                for (const auto& piece : a.pieces) add(piece.geom, is.floor, nullptr, 0, nullptr, 0);
             }
             if (!opt.collisions) continue;
             const glm::dvec3 pa = vecOf(dBodyGetPosition(a.bodies[static_cast<std::size_t>(a.roles.pelvis)]));
@@ -899,12 +963,12 @@ struct Simulator::Impl {
                 if (!b.created) continue;
                 const glm::dvec3 pb = vecOf(dBodyGetPosition(b.bodies[static_cast<std::size_t>(b.roles.pelvis)]));
                 if (glm::length(pa - pb) > 2.5) continue;
-                for (int i = 0; i < sim::kSegmentCount; ++i) {
-                    const glm::dvec3 ca = vecOf(dGeomGetPosition(a.geoms[static_cast<std::size_t>(i)]));
-                    for (int k = 0; k < sim::kSegmentCount; ++k) {
-                        const glm::dvec3 cb = vecOf(dGeomGetPosition(b.geoms[static_cast<std::size_t>(k)]));
-                        if (glm::length(ca - cb) > static_cast<double>(a.geomRadius[static_cast<std::size_t>(i)] + b.geomRadius[static_cast<std::size_t>(k)])) continue;
-                        add(a.geoms[static_cast<std::size_t>(i)], b.geoms[static_cast<std::size_t>(k)], &a, i, &b, k);
+                for (const auto& qa : a.pieces) {
+                    const glm::dvec3 ca = vecOf(dGeomGetPosition(qa.geom));
+                    for (const auto& qb : b.pieces) {
+                        const glm::dvec3 cb = vecOf(dGeomGetPosition(qb.geom));
+                        if (glm::length(ca - cb) > static_cast<double>(qa.radius + qb.radius)) continue;
+                        add(qa.geom, qb.geom, &a, qa.body, &b, qb.body);
                     }
                 }
             }
