@@ -241,8 +241,10 @@ TEST(PostureSolver, OptionErrorsNameTheField) {
 namespace {
 
 // The chase (a planned scene) and the luggage chain (composed): feet and
-// pose meet the thresholds. Penetration between runners and porters
-// does not yet (docs/POSTURE.md has the numbers); it is printed, not asserted.
+// pose meet the thresholds, and the porters' bodies stay out of each
+// other (< 2 cm). The chase's penetration does not yet (one swinging foot
+// sinks into a neighbour's pinned shin at 21.57 s; docs/POSTURE.md): it is
+// asserted only to be below the kinematic playback's.
 TEST(PostureSolver, ChaseAndLuggageKeepFeetAndPose) {
     const auto chase = measure(test::plannedScene(kDemo + "chase.json"));
     record("chase_physics", chase.physics);
@@ -263,7 +265,7 @@ TEST(PostureSolver, ChaseAndLuggageKeepFeetAndPose) {
     EXPECT_LT(luggage.physics.footSkateMaxCm, 1.0);
     EXPECT_LT(luggage.physics.footSkateMeanCm, 0.2);
     EXPECT_LT(luggage.physics.deviationMeanCm, 3.0);
-    EXPECT_LT(luggage.physics.penetrationMaxCm, luggage.kinematic.penetrationMaxCm);
+    EXPECT_LT(luggage.physics.penetrationMaxCm, 2.0);
 }
 
 }  // namespace
