@@ -51,6 +51,8 @@ constexpr double kPinMaxHeight = 0.3;        // m: a supported ankle higher than
 constexpr double kPinShove = 0.004;          // m per frame: a pin yields to another character pressing on its leg
 constexpr double kContactMargin = 0.03;      // m: collision boxes are grown by this for finding contacts ahead (speculative)
 constexpr double kTouchGap = 0.005;          // m: closer than this a body counts as touching (its control yields)
+constexpr double kArmSlack = 1.05;           // a hand pin farther than this many arm lengths from the collar is let go
+constexpr double kHoldReach = 0.03;          // m: a porter holds a bag while its captured hands' midpoint is this close to the bag's centre (not while it passes between two porters)
 
 // ODE's QuickStep reorders constraints with dRandInt, which draws from one
 // process-wide generator (dRand). Two islands stepping at once would take
@@ -224,6 +226,12 @@ struct Character {
     std::array<dJointID, 2> pin{nullptr, nullptr};
     std::array<glm::dvec3, 2> pinAt{};
     double maxFootSpan = 2.0;
+    std::array<dJointID, 2> handPin{nullptr, nullptr};  // left, right hand pinned to a bag
+    std::array<glm::dvec3, 2> grip{};                   // where, in the bag's frame
+    std::array<bool, 2> gripped{false, false};          // grip taken in the current hold
+    int heldBag = -1;                                   // the scene character of the bag held
+    std::array<double, 2> armLength{0.6, 0.6};          // m: shoulder to hand
+    bool reportedReach = false;
     std::array<double, 2> legLength{1.0, 1.0};  // m: ankle to hip joint
     std::vector<glm::vec3> pinShift;  // per joint: targets moved onto the pins (pinned feet, their knees half)
     std::vector<std::uint8_t> pinHeld; // per joint: held by a pin (no velocity target)
@@ -267,6 +275,7 @@ struct Island {
     dThreadingImplementationID threading = nullptr;  // its own: ODE's default one is shared by all worlds
     std::vector<int> members;
     int contactsThisStep = 0;  // contacts between characters in the current step
+    double time = 0;           // s: the scene time at the start of the current step
     Report report;
 };
 
@@ -282,6 +291,7 @@ struct Simulator::Impl {
     std::vector<Pull> pulls;
     std::vector<std::vector<int>> pullsOf;  // per character
     std::vector<Blow> blows;
+    std::vector<int> bags;  // scene characters that are bags (hands pin to them)
     Report report;
     mutable Report mergedReport;
     std::vector<std::uint8_t> pinRefused;  // per Options::pins entry: already reported
@@ -293,6 +303,9 @@ struct Simulator::Impl {
         frames = static_cast<int>(std::floor(scene.duration * opt.fps)) + 1;
         h = 1.0 / (opt.fps * opt.substeps);
         pinRefused.assign(opt.pins.size(), 0);
+        for (std::size_t i = 0; i < scene.characters.size(); ++i) {
+            if (scene.characters[i].body == "bag" && !scene.characters[i].keys.empty()) bags.push_back(static_cast<int>(i));
+        }
         setupCharacters();
         setupPulls();
         setupIslands();
@@ -368,6 +381,11 @@ struct Simulator::Impl {
             const double leg = std::max(chain(c.roles.leftFoot, c.roles.pelvis), chain(c.roles.rightFoot, c.roles.pelvis));
             c.maxFootSpan = 2.0 * leg;
             c.legLength = {chain(c.roles.leftFoot, c.roles.leftHip), chain(c.roles.rightFoot, c.roles.rightHip)};
+            if (c.roles.hasHands() && c.roles.leftShoulder >= 0 && c.roles.rightShoulder >= 0) {
+                // From the shoulder joint's parent (the collar) to the hand: what the hand can reach.
+                c.armLength = {chain(c.roles.leftHand, sk.parents[static_cast<std::size_t>(c.roles.leftShoulder)]),
+                               chain(c.roles.rightHand, sk.parents[static_cast<std::size_t>(c.roles.rightShoulder)])};
+            }
             c.torqueScale.assign(n, 1.0f);
             c.pinShift.assign(n, glm::vec3(0.0f));
             c.pinHeld.assign(n, 0);
@@ -747,6 +765,10 @@ struct Simulator::Impl {
         for (auto& pin : c.pin) {
             if (pin) dJointDestroy(pin), pin = nullptr;
         }
+        for (auto& pin : c.handPin) {
+            if (pin) dJointDestroy(pin), pin = nullptr;
+        }
+        c.heldBag = -1;
         for (std::size_t j = 0; j < static_cast<std::size_t>(c.jointCount); ++j) {
             const glm::dquat q(c.r1[j]);
             const glm::dvec3 centre = glm::dvec3(c.p1[j]) + q * c.centre[j];
@@ -877,6 +899,99 @@ struct Simulator::Impl {
         // The pushes are gathered afresh over the coming frame's steps.
         std::fill(c.shove.begin(), c.shove.end(), glm::dvec3(0.0));
         std::fill(c.shoveDepth.begin(), c.shoveDepth.end(), 0.0);
+    }
+
+    // A bag's frame at t: origin at its root (an end) at its height, axes
+    // side, up and along the bag.
+    struct BagFrame {
+        glm::dvec3 origin, side, up{0, 1, 0}, along;
+        glm::dvec3 toWorld(const glm::dvec3& l) const { return origin + side * l.x + up * l.y + along * l.z; }
+        glm::dvec3 toLocal(const glm::dvec3& w) const {
+            const glm::dvec3 d = w - origin;
+            return {glm::dot(d, side), glm::dot(d, up), glm::dot(d, along)};
+        }
+    };
+    BagFrame bagFrame(int bag, double t) const {
+        const auto& sc = scene.characters[static_cast<std::size_t>(bag)];
+        const sim::RootXf at = sim::creatureAt(sc, t);
+        const glm::vec2 f = sim::headingVector(at.heading);
+        BagFrame b;
+        b.origin = {at.pos.x, sim::creatureHeightAt(sc, t), at.pos.y};
+        b.along = glm::dvec3(f.x, 0.0, f.y);
+        b.side = glm::cross(b.up, b.along);
+        return b;
+    }
+
+    // Hard constraints of a porter's hands on the bag it holds (the luggage
+    // chain: the bag is a kinematic creature following the holders' captured
+    // hands). A porter holds a bag while its captured hands' midpoint is
+    // within kHoldReach of the bag's centre; then each hand is pinned to the
+    // bag where it is when the hold starts, and follows the bag every step.
+    // A pin the arm cannot reach (farther than the arm's length from its
+    // shoulder, as with the feet pinned) is not set, so hands and feet never
+    // pin the body incompatibly.
+    void updateHandPins(Island& is, Character& c, double t) {
+        if (bags.empty() || !c.controlled || !c.roles.hasHands()) return;
+        const int hands[2] = {c.roles.leftHand, c.roles.rightHand};
+        const glm::dvec3 mid = 0.5 * (glm::dvec3(c.p1[static_cast<std::size_t>(hands[0])]) + glm::dvec3(c.p1[static_cast<std::size_t>(hands[1])]));
+        int held = -1;
+        for (int b : bags) {
+            const BagFrame f = bagFrame(b, t);
+            if (glm::length(f.toWorld({0.0, 0.0, 0.5 * static_cast<double>(sim::kBagLength)}) - mid) < kHoldReach) held = b;
+        }
+        if (held != c.heldBag) {
+            for (auto& pin : c.handPin) {
+                if (pin) dJointDestroy(pin), pin = nullptr;
+            }
+            c.gripped = {false, false};
+            c.heldBag = held;
+        }
+        if (held < 0) return;
+        // The bodies are where the last frame left them; the targets are this frame's.
+        const BagFrame f = bagFrame(held, std::max(0.0, t - 1.0 / opt.fps));
+        const BagFrame next = bagFrame(held, t);
+        for (int k = 0; k < 2; ++k) {
+            auto& pin = c.handPin[static_cast<std::size_t>(k)];
+            const int shoulder = k == 0 ? c.roles.leftShoulder : c.roles.rightShoulder;
+            const int collar = c.skeleton->parents[static_cast<std::size_t>(shoulder)];
+            const glm::dvec3 from = jointPos(c, collar >= 0 ? collar : shoulder);
+            // Where the hand took hold in this hold, else where it is now.
+            const glm::dvec3 at = c.gripped[static_cast<std::size_t>(k)] ? f.toWorld(c.grip[static_cast<std::size_t>(k)]) : jointPos(c, hands[k]);
+            if (glm::length(at - from) > kArmSlack * c.armLength[static_cast<std::size_t>(k)]) {
+                if (pin) dJointDestroy(pin), pin = nullptr, ++is.report.releasedPins;
+                else ++is.report.refusedPins;
+                if (!c.reportedReach) {
+                    c.reportedReach = true;
+                    is.report.note("character " + nameOf(c.index) + ": a hand pin on the bag at " + std::to_string(t) +
+                                   " s is beyond the arm's reach; not held");
+                }
+                continue;
+            }
+            if (!pin) {
+                pin = dJointCreateBall(is.world, nullptr);
+                dJointAttach(pin, c.bodies[static_cast<std::size_t>(hands[k])], nullptr);
+                dJointSetBallAnchor(pin, at.x, at.y, at.z);
+                dJointSetBallParam(pin, dParamERP, 0.95);
+                dJointSetBallParam(pin, dParamCFM, 1e-9);
+                if (!c.gripped[static_cast<std::size_t>(k)]) c.grip[static_cast<std::size_t>(k)] = f.toLocal(at);
+                c.gripped[static_cast<std::size_t>(k)] = true;
+            }
+            // The hand's target is its grip, so control does not pull against the pin.
+            c.pinShift[static_cast<std::size_t>(hands[k])] =
+                glm::vec3(next.toWorld(c.grip[static_cast<std::size_t>(k)])) - c.p1[static_cast<std::size_t>(hands[k])];
+        }
+    }
+
+    // Moves the hand pins with their bag to where it is at the end of a step.
+    void moveHandPins(Character& c, double t) {
+        if (c.heldBag < 0) return;
+        const BagFrame f = bagFrame(c.heldBag, t);
+        for (int k = 0; k < 2; ++k) {
+            const dJointID pin = c.handPin[static_cast<std::size_t>(k)];
+            if (!pin) continue;
+            const glm::dvec3 at = f.toWorld(c.grip[static_cast<std::size_t>(k)]);
+            dJointSetBallAnchor2(pin, at.x, at.y, at.z);
+        }
     }
 
     void control(Island& is, Character& c, double alpha) {
@@ -1080,14 +1195,17 @@ struct Simulator::Impl {
             if (!c.created) continue;
             any = true;
             updatePins(is, c, t);
+            if (opt.handPins) updateHandPins(is, c, t);
         }
         if (any && f > 0) {
             for (int s = 0; s < opt.substeps; ++s) {
                 const double alpha = static_cast<double>(s + 1) / opt.substeps;
+                is.time = (f - 1) / opt.fps + s * h;
                 collide(is);
                 for (int m : is.members) {
                     auto& c = chars[static_cast<std::size_t>(m)];
                     if (c.created && c.controlled) control(is, c, alpha);
+                    if (c.created) moveHandPins(c, is.time + h);
                 }
                 const double ts = (f - 1) / opt.fps + s * h;
                 pushBlows(is, ts, ts + h);
