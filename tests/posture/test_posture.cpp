@@ -67,6 +67,11 @@ Both measure(const sim::Scene& scene, const posture::Options& options = {}) {
                 static_cast<long long>(b.report.cappedForces), b.report.resets,
                 b.report.initialOverlaps);
     for (const auto& n : b.report.notes) std::printf("  %s\n", n.c_str());
+    if (const auto& w = b.physics.worstPenetration; w.a >= 0) {
+        std::printf("worst penetration (physics): %.2f cm at %.2f s, %s's %s and %s's %s\n", b.physics.penetrationMaxCm, w.time,
+                    scene.characters[static_cast<std::size_t>(w.a)].name.c_str(), sim::segmentName(w.segmentA),
+                    scene.characters[static_cast<std::size_t>(w.b)].name.c_str(), sim::segmentName(w.segmentB));
+    }
     return b;
 }
 
@@ -236,8 +241,10 @@ TEST(PostureSolver, OptionErrorsNameTheField) {
 namespace {
 
 // The chase (a planned scene) and the luggage chain (composed): feet and
-// pose meet the issue's thresholds. Penetration between runners and porters
-// does not yet (docs/POSTURE.md has the numbers); it is printed, not asserted.
+// pose meet the issue's thresholds, and the porters' bodies stay out of each
+// other (< 2 cm). The chase's penetration does not yet (one swinging foot
+// sinks into a neighbour's pinned shin at 21.57 s; docs/POSTURE.md): it is
+// asserted only to be below the kinematic playback's.
 TEST(PostureSolver, ChaseAndLuggageKeepFeetAndPose) {
     const auto chase = measure(test::plannedScene(kDemo + "chase.json"));
     record("chase_physics", chase.physics);
@@ -258,7 +265,90 @@ TEST(PostureSolver, ChaseAndLuggageKeepFeetAndPose) {
     EXPECT_LT(luggage.physics.footSkateMaxCm, 1.0);
     EXPECT_LT(luggage.physics.footSkateMeanCm, 0.2);
     EXPECT_LT(luggage.physics.deviationMeanCm, 3.0);
-    EXPECT_LT(luggage.physics.penetrationMaxCm, luggage.kinematic.penetrationMaxCm);
+    EXPECT_LT(luggage.physics.penetrationMaxCm, 2.0);
+}
+
+}  // namespace
+
+namespace {
+
+// Hard constraints on the luggage (issue 25): while a porter holds the bag
+// (its captured hands' midpoint within 3 cm of the bag's centre, so not while
+// the bag passes between two porters), each hand stays where it took hold of
+// it, in the bag's frame, as the bag moves; the captured hands drift on it,
+// and the physics hands without the pins more.
+TEST(PostureSolver, HandsStayOnTheLuggage) {
+    const auto& lib = demoWorld().library;
+    static const auto patches = test::demoPatches({"carry-walk-hand-receive-turn-carry", "carry-hand-receive-carry"});
+    sim::ComposeSpec spec = sim::ComposeSpec::of(sim::LuggageSpec{.porters = 4, .handoffs = 9});
+    spec.seed = 1;
+    spec.duration = 300;
+    auto composed = sim::compose(lib, patches, spec);
+    ASSERT_TRUE(composed) << composed.error().message;
+    sim::Scene scene = std::move(*composed);
+    scene.duration = std::min(scene.duration, 40.0);
+    int bag = -1;
+    for (std::size_t i = 0; i < scene.characters.size(); ++i) {
+        if (scene.characters[i].body == "bag") bag = static_cast<int>(i);
+    }
+    ASSERT_GE(bag, 0);
+    posture::Options on, off;
+    on.handPins = true;
+    const auto pinned = posture::simulate(scene, lib, on);
+    const auto free = posture::simulate(scene, lib, off);
+    ASSERT_TRUE(pinned && free);
+    const auto captured = sim::kinematicTracks(scene, lib, 60);
+    const auto& sc = scene.characters[static_cast<std::size_t>(bag)];
+    auto local = [&](double t, const glm::vec3& p) {  // p in the bag's frame
+        const sim::RootXf at = sim::creatureAt(sc, t);
+        const glm::vec2 f = sim::headingVector(at.heading);
+        const glm::vec3 d = p - glm::vec3(at.pos.x, sim::creatureHeightAt(sc, t), at.pos.y);
+        const glm::vec3 along(f.x, 0, f.y), side = glm::cross(glm::vec3(0, 1, 0), along);
+        return glm::vec3(glm::dot(d, side), d.y, glm::dot(d, along));
+    };
+    // The largest drift of a holder's hand on the bag over a hold (cm), and the frames held.
+    auto drift = [&](const sim::JointTracks& shown, int& held) {
+        double worst = 0;
+        held = 0;
+        for (int c = 0; c < bag; ++c) {
+            const auto& j = lib.motion(lib.action(scene.characters[static_cast<std::size_t>(c)].track[0].action).motion).joints;
+            std::array<glm::vec3, 2> grip{};
+            int since = 0;  // frames into the hold (the solver takes hold at a frame's start: the grip is read one frame in)
+            for (int f = 1; f < shown.frames; ++f) {
+                const double t = f / 60.0;
+                const auto k = captured.at(c, f);
+                const glm::vec3 mid = 0.5f * (k[static_cast<std::size_t>(j.leftHand)] + k[static_cast<std::size_t>(j.rightHand)]);
+                const bool now = scene.present(c, t) && glm::length(local(t, mid) - glm::vec3(0, 0, 0.5f * sim::kBagLength)) < 0.03f;
+                since = now ? since + 1 : 0;
+                const auto p = shown.at(c, f);
+                const std::array<glm::vec3, 2> hands{local(t, p[static_cast<std::size_t>(j.leftHand)]), local(t, p[static_cast<std::size_t>(j.rightHand)])};
+                if (since == 2) grip = hands;
+                if (since > 2) {
+                    ++held;
+                    for (int h = 0; h < 2; ++h) {
+                        const double d = 100.0 * static_cast<double>(glm::length(hands[static_cast<std::size_t>(h)] - grip[static_cast<std::size_t>(h)]));
+                        worst = std::max(worst, d);
+                    }
+                }
+            }
+        }
+        return worst;
+    };
+    int heldPinned = 0, heldFree = 0, heldCaptured = 0;
+    const double a = drift(pinned->world, heldPinned), b = drift(free->world, heldFree), k = drift(captured, heldCaptured);
+    std::printf("hands on the bag: drift over a hold %.2f cm pinned, %.2f cm without the pins, %.2f cm captured; %d hand frames held\n",
+                a, b, k, heldPinned);
+    std::printf("pins refused %d, released %d\n", pinned->report.refusedPins, pinned->report.releasedPins);
+    for (const auto& n : pinned->report.notes) std::printf("  %s\n", n.c_str());
+    RecordProperty("hand_drift_pinned_cm", std::to_string(a));
+    RecordProperty("hand_drift_free_cm", std::to_string(b));
+    EXPECT_GT(heldPinned, 600) << "porters hold the bag for most of the scene";
+    // Pinned, a hand slips a little where the pins of both feet and both
+    // hands close a loop through the body (2.9 cm at most here, docs/POSTURE.md).
+    EXPECT_LT(a, 4.0);
+    EXPECT_GT(b, 3.0 * a);
+    EXPECT_GT(k, 3.0 * a) << "the captured hands drift on the bag more than the pinned ones";
+    EXPECT_TRUE(allFinite(pinned->world));
 }
 
 }  // namespace

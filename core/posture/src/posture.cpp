@@ -48,6 +48,11 @@ constexpr double kPinSlide = 0.002;          // m per frame: a pin follows a sli
 constexpr double kPinSlideFast = 0.003;      // m per frame: the same while the hip's target is out of the leg's reach
 constexpr double kHitDepth = 0.01;           // m: a blow is aimed this far inside the target's box
 constexpr double kPinMaxHeight = 0.3;        // m: a supported ankle higher than this is not pinned
+constexpr double kPinShove = 0.004;          // m per frame: a pin yields to another character pressing on its leg
+constexpr double kContactMargin = 0.03;      // m: collision boxes are grown by this for finding contacts ahead (speculative)
+constexpr double kTouchGap = 0.005;          // m: closer than this a body counts as touching (its control yields)
+constexpr double kArmSlack = 1.05;           // a hand pin farther than this many arm lengths from the collar is let go
+constexpr double kHoldReach = 0.03;          // m: a porter holds a bag while its captured hands' midpoint is this close to the bag's centre (not while it passes between two porters)
 
 // ODE's QuickStep reorders constraints with dRandInt, which draws from one
 // process-wide generator (dRand). Two islands stepping at once would take
@@ -146,6 +151,41 @@ int segmentBody(int segment, const StandardJoints& j) {
     }
 }
 
+// The far joint of a segment's box (as sim::segmentBoxes spans it): the box
+// runs from segmentBody's joint to this one.
+int segmentFar(int segment, const StandardJoints& j) {
+    switch (segment) {
+        case sim::kPelvis: return j.spine >= 0 && j.spine != j.pelvis ? j.spine : j.chest;
+        case sim::kTorso: return j.neck >= 0 ? j.neck : j.head;
+        case sim::kHead: return j.head;
+        case sim::kLeftUpperArm: return j.leftElbow;
+        case sim::kLeftForearm: return j.leftHand;
+        case sim::kRightUpperArm: return j.rightElbow;
+        case sim::kRightForearm: return j.rightHand;
+        case sim::kLeftThigh: return j.leftKnee;
+        case sim::kLeftShin: return j.leftFoot;
+        case sim::kLeftFoot: return j.leftToe;
+        case sim::kRightThigh: return j.rightKnee;
+        case sim::kRightShin: return j.rightFoot;
+        case sim::kRightFoot: return j.rightToe;
+        default: return -1;
+    }
+}
+
+// One collision box of a character: the part of a segment's box that one
+// body carries. A segment box spanning several bodies (the torso: spine to
+// neck over three spine bodies) is cut across its axis at the joints between
+// them, each piece carried by the body it covers, so a contact pushes the
+// body that really moves that part of the box.
+struct Piece {
+    int segment = 0;
+    int body = 0;       // joint whose body carries it
+    int next = -1;      // the joint where it ends (-1: the box's far end)
+    bool first = true;  // starts at the box's near end
+    dGeomID geom = nullptr;
+    float radius = 0;   // bounding sphere, for the broad phase
+};
+
 // A target adjustment: joints of one character moved by weight * offset,
 // eased in over [peak - lead, peak] and out over [peak, peak + tail].
 struct Pull {
@@ -182,16 +222,23 @@ struct Character {
     std::vector<double> mass, inertia;
     std::vector<double> reach;       // m: ankle to hip along the leg (pin compatibility)
     std::vector<dBodyID> bodies;
-    std::array<dGeomID, sim::kSegmentCount> geoms{};
-    std::array<float, sim::kSegmentCount> geomRadius{};
+    std::vector<Piece> pieces;  // collision boxes, by segment then along it
     std::array<dJointID, 2> pin{nullptr, nullptr};
     std::array<glm::dvec3, 2> pinAt{};
     double maxFootSpan = 2.0;
+    std::array<dJointID, 2> handPin{nullptr, nullptr};  // left, right hand pinned to a bag
+    std::array<glm::dvec3, 2> grip{};                   // where, in the bag's frame
+    std::array<bool, 2> gripped{false, false};          // grip taken in the current hold
+    int heldBag = -1;                                   // the scene character of the bag held
+    std::array<double, 2> armLength{0.6, 0.6};          // m: shoulder to hand
+    bool reportedReach = false;
     std::array<double, 2> legLength{1.0, 1.0};  // m: ankle to hip joint
     std::vector<glm::vec3> pinShift;  // per joint: targets moved onto the pins (pinned feet, their knees half)
     std::vector<std::uint8_t> pinHeld; // per joint: held by a pin (no velocity target)
     std::vector<std::uint8_t> touched; // per joint: its body touches another character this step
     bool touching = false;             // any of them does
+    std::vector<glm::dvec3> shove;     // per joint: contact push from other characters over the last frame (sum of normal x depth)
+    std::vector<double> shoveDepth;    // per joint: the deepest of those contacts (m)
     std::vector<float> torqueScale;  // per joint: twist control eased off where a pull moves the limb
     // Targets at the last frame and this one.
     std::vector<glm::vec3> p0, p1, p2;  // targets at the last frame, this one and the next
@@ -228,6 +275,7 @@ struct Island {
     dThreadingImplementationID threading = nullptr;  // its own: ODE's default one is shared by all worlds
     std::vector<int> members;
     int contactsThisStep = 0;  // contacts between characters in the current step
+    double time = 0;           // s: the scene time at the start of the current step
     Report report;
 };
 
@@ -243,6 +291,7 @@ struct Simulator::Impl {
     std::vector<Pull> pulls;
     std::vector<std::vector<int>> pullsOf;  // per character
     std::vector<Blow> blows;
+    std::vector<int> bags;  // scene characters that are bags (hands pin to them)
     Report report;
     mutable Report mergedReport;
     std::vector<std::uint8_t> pinRefused;  // per Options::pins entry: already reported
@@ -254,6 +303,9 @@ struct Simulator::Impl {
         frames = static_cast<int>(std::floor(scene.duration * opt.fps)) + 1;
         h = 1.0 / (opt.fps * opt.substeps);
         pinRefused.assign(opt.pins.size(), 0);
+        for (std::size_t i = 0; i < scene.characters.size(); ++i) {
+            if (scene.characters[i].body == "bag" && !scene.characters[i].keys.empty()) bags.push_back(static_cast<int>(i));
+        }
         setupCharacters();
         setupPulls();
         setupIslands();
@@ -261,8 +313,8 @@ struct Simulator::Impl {
 
     ~Impl() {
         for (auto& c : chars) {
-            for (dGeomID g : c.geoms) {
-                if (g) dGeomDestroy(g);
+            for (const auto& piece : c.pieces) {
+                if (piece.geom) dGeomDestroy(piece.geom);
             }
         }
         for (auto& is : islands) {
@@ -329,10 +381,17 @@ struct Simulator::Impl {
             const double leg = std::max(chain(c.roles.leftFoot, c.roles.pelvis), chain(c.roles.rightFoot, c.roles.pelvis));
             c.maxFootSpan = 2.0 * leg;
             c.legLength = {chain(c.roles.leftFoot, c.roles.leftHip), chain(c.roles.rightFoot, c.roles.rightHip)};
+            if (c.roles.hasHands() && c.roles.leftShoulder >= 0 && c.roles.rightShoulder >= 0) {
+                // From the shoulder joint's parent (the collar) to the hand: what the hand can reach.
+                c.armLength = {chain(c.roles.leftHand, sk.parents[static_cast<std::size_t>(c.roles.leftShoulder)]),
+                               chain(c.roles.rightHand, sk.parents[static_cast<std::size_t>(c.roles.rightShoulder)])};
+            }
             c.torqueScale.assign(n, 1.0f);
             c.pinShift.assign(n, glm::vec3(0.0f));
             c.pinHeld.assign(n, 0);
             c.touched.assign(n, 0);
+            c.shove.assign(n, glm::dvec3(0.0));
+            c.shoveDepth.assign(n, 0.0);
             c.p0.assign(n, glm::vec3(0.0f));
             c.p1 = c.p2 = c.p0;
             c.r0.assign(n, glm::quat(1, 0, 0, 0));
@@ -648,10 +707,28 @@ struct Simulator::Impl {
         const auto boxes = sim::segmentBoxes(c.p1, c.roles);
         for (int s = 0; s < sim::kSegmentCount; ++s) {
             const Obb& box = boxes[static_cast<std::size_t>(s)];
-            dGeomID g = dCreateBox(nullptr, 2.0 * static_cast<double>(box.half.x), 2.0 * static_cast<double>(box.half.y), 2.0 * static_cast<double>(box.half.z));
-            dGeomSetBody(g, c.bodies[static_cast<std::size_t>(segmentBody(s, c.roles))]);
-            c.geoms[static_cast<std::size_t>(s)] = g;
-            c.geomRadius[static_cast<std::size_t>(s)] = box.radius();
+            // The bodies the box spans: its near joint's and, where the far
+            // joint is not that body's child, the ones in between.
+            const int near = segmentBody(s, c.roles);
+            const int far = segmentFar(s, c.roles);
+            std::vector<int> chain;
+            for (int k = far >= 0 ? sk.parents[static_cast<std::size_t>(far)] : -1; k >= 0; k = sk.parents[static_cast<std::size_t>(k)]) {
+                chain.push_back(k);
+                if (k == near) break;
+            }
+            if (chain.empty() || chain.back() != near) chain.assign(1, near);  // not a chain: one piece
+            std::reverse(chain.begin(), chain.end());
+            for (std::size_t k = 0; k < chain.size(); ++k) {
+                Piece piece;
+                piece.segment = s;
+                piece.body = chain[k];
+                piece.next = k + 1 < chain.size() ? chain[k + 1] : -1;
+                piece.first = k == 0;
+                piece.geom = dCreateBox(nullptr, 2.0 * static_cast<double>(box.half.x), 2.0 * static_cast<double>(box.half.y),
+                                        2.0 * static_cast<double>(box.half.z));
+                dGeomSetBody(piece.geom, c.bodies[static_cast<std::size_t>(piece.body)]);
+                c.pieces.push_back(piece);
+            }
         }
         syncGeoms(c);
         c.created = true;
@@ -688,6 +765,10 @@ struct Simulator::Impl {
         for (auto& pin : c.pin) {
             if (pin) dJointDestroy(pin), pin = nullptr;
         }
+        for (auto& pin : c.handPin) {
+            if (pin) dJointDestroy(pin), pin = nullptr;
+        }
+        c.heldBag = -1;
         for (std::size_t j = 0; j < static_cast<std::size_t>(c.jointCount); ++j) {
             const glm::dquat q(c.r1[j]);
             const glm::dvec3 centre = glm::dvec3(c.p1[j]) + q * c.centre[j];
@@ -736,6 +817,24 @@ struct Simulator::Impl {
                 if (off > kPinTolerance) {
                     const double cap = glm::length(hipTarget - at) > leg ? kPinSlideFast : kPinSlide;
                     at += d * (std::min(off - kPinTolerance, cap) / off);
+                    dJointSetBallAnchor2(pin, at.x, at.y, at.z);
+                }
+                // Another character pressing on this leg (a neighbour's leg
+                // in the way of a planted foot): the pin and the contact
+                // cannot both hold, so the pin gives way, along the floor,
+                // no faster than kPinShove per frame (a shuffled foot),
+                // until they part.
+                glm::dvec3 push(0.0);
+                double deepest = 0;
+                const int knee = f == 0 ? c.roles.leftKnee : c.roles.rightKnee;
+                for (const auto& [j, w] : limbJoints(c, knee >= 0 ? knee : foot, 1.0f)) {
+                    if (j == (f == 0 ? c.roles.leftHip : c.roles.rightHip)) continue;
+                    push += c.shove[static_cast<std::size_t>(j)];
+                    deepest = std::max(deepest, c.shoveDepth[static_cast<std::size_t>(j)]);
+                }
+                push.y = 0;
+                if (const double len = glm::length(push); len > 1e-9 && deepest > 0.002) {
+                    at += push * (std::min(deepest, kPinShove) / len);
                     dJointSetBallAnchor2(pin, at.x, at.y, at.z);
                 }
                 // Let go where the pose and the pin are far beyond compatible.
@@ -797,6 +896,102 @@ struct Simulator::Impl {
                 if (!c.pinHeld[j]) c.pinShift[j] += glm::vec3(bodyShift);
             }
         }
+        // The pushes are gathered afresh over the coming frame's steps.
+        std::fill(c.shove.begin(), c.shove.end(), glm::dvec3(0.0));
+        std::fill(c.shoveDepth.begin(), c.shoveDepth.end(), 0.0);
+    }
+
+    // A bag's frame at t: origin at its root (an end) at its height, axes
+    // side, up and along the bag.
+    struct BagFrame {
+        glm::dvec3 origin, side, up{0, 1, 0}, along;
+        glm::dvec3 toWorld(const glm::dvec3& l) const { return origin + side * l.x + up * l.y + along * l.z; }
+        glm::dvec3 toLocal(const glm::dvec3& w) const {
+            const glm::dvec3 d = w - origin;
+            return {glm::dot(d, side), glm::dot(d, up), glm::dot(d, along)};
+        }
+    };
+    BagFrame bagFrame(int bag, double t) const {
+        const auto& sc = scene.characters[static_cast<std::size_t>(bag)];
+        const sim::RootXf at = sim::creatureAt(sc, t);
+        const glm::vec2 f = sim::headingVector(at.heading);
+        BagFrame b;
+        b.origin = {at.pos.x, sim::creatureHeightAt(sc, t), at.pos.y};
+        b.along = glm::dvec3(f.x, 0.0, f.y);
+        b.side = glm::cross(b.up, b.along);
+        return b;
+    }
+
+    // Hard constraints of a porter's hands on the bag it holds (the luggage
+    // chain: the bag is a kinematic creature following the holders' captured
+    // hands). A porter holds a bag while its captured hands' midpoint is
+    // within kHoldReach of the bag's centre; then each hand is pinned to the
+    // bag where it is when the hold starts, and follows the bag every step.
+    // A pin the arm cannot reach (farther than the arm's length from its
+    // shoulder, as with the feet pinned) is not set, so hands and feet never
+    // pin the body incompatibly.
+    void updateHandPins(Island& is, Character& c, double t) {
+        if (bags.empty() || !c.controlled || !c.roles.hasHands()) return;
+        const int hands[2] = {c.roles.leftHand, c.roles.rightHand};
+        const glm::dvec3 mid = 0.5 * (glm::dvec3(c.p1[static_cast<std::size_t>(hands[0])]) + glm::dvec3(c.p1[static_cast<std::size_t>(hands[1])]));
+        int held = -1;
+        for (int b : bags) {
+            const BagFrame f = bagFrame(b, t);
+            if (glm::length(f.toWorld({0.0, 0.0, 0.5 * static_cast<double>(sim::kBagLength)}) - mid) < kHoldReach) held = b;
+        }
+        if (held != c.heldBag) {
+            for (auto& pin : c.handPin) {
+                if (pin) dJointDestroy(pin), pin = nullptr;
+            }
+            c.gripped = {false, false};
+            c.heldBag = held;
+        }
+        if (held < 0) return;
+        // The bodies are where the last frame left them; the targets are this frame's.
+        const BagFrame f = bagFrame(held, std::max(0.0, t - 1.0 / opt.fps));
+        const BagFrame next = bagFrame(held, t);
+        for (int k = 0; k < 2; ++k) {
+            auto& pin = c.handPin[static_cast<std::size_t>(k)];
+            const int shoulder = k == 0 ? c.roles.leftShoulder : c.roles.rightShoulder;
+            const int collar = c.skeleton->parents[static_cast<std::size_t>(shoulder)];
+            const glm::dvec3 from = jointPos(c, collar >= 0 ? collar : shoulder);
+            // Where the hand took hold in this hold, else where it is now.
+            const glm::dvec3 at = c.gripped[static_cast<std::size_t>(k)] ? f.toWorld(c.grip[static_cast<std::size_t>(k)]) : jointPos(c, hands[k]);
+            if (glm::length(at - from) > kArmSlack * c.armLength[static_cast<std::size_t>(k)]) {
+                if (pin) dJointDestroy(pin), pin = nullptr, ++is.report.releasedPins;
+                else ++is.report.refusedPins;
+                if (!c.reportedReach) {
+                    c.reportedReach = true;
+                    is.report.note("character " + nameOf(c.index) + ": a hand pin on the bag at " + std::to_string(t) +
+                                   " s is beyond the arm's reach; not held");
+                }
+                continue;
+            }
+            if (!pin) {
+                pin = dJointCreateBall(is.world, nullptr);
+                dJointAttach(pin, c.bodies[static_cast<std::size_t>(hands[k])], nullptr);
+                dJointSetBallAnchor(pin, at.x, at.y, at.z);
+                dJointSetBallParam(pin, dParamERP, 0.95);
+                dJointSetBallParam(pin, dParamCFM, 1e-9);
+                if (!c.gripped[static_cast<std::size_t>(k)]) c.grip[static_cast<std::size_t>(k)] = f.toLocal(at);
+                c.gripped[static_cast<std::size_t>(k)] = true;
+            }
+            // The hand's target is its grip, so control does not pull against the pin.
+            c.pinShift[static_cast<std::size_t>(hands[k])] =
+                glm::vec3(next.toWorld(c.grip[static_cast<std::size_t>(k)])) - c.p1[static_cast<std::size_t>(hands[k])];
+        }
+    }
+
+    // Moves the hand pins with their bag to where it is at the end of a step.
+    void moveHandPins(Character& c, double t) {
+        if (c.heldBag < 0) return;
+        const BagFrame f = bagFrame(c.heldBag, t);
+        for (int k = 0; k < 2; ++k) {
+            const dJointID pin = c.handPin[static_cast<std::size_t>(k)];
+            if (!pin) continue;
+            const glm::dvec3 at = f.toWorld(c.grip[static_cast<std::size_t>(k)]);
+            dJointSetBallAnchor2(pin, at.x, at.y, at.z);
+        }
     }
 
     void control(Island& is, Character& c, double alpha) {
@@ -845,16 +1040,31 @@ struct Simulator::Impl {
         at.resize(static_cast<std::size_t>(c.jointCount));
         for (int j = 0; j < c.jointCount; ++j) at[static_cast<std::size_t>(j)] = glm::vec3(jointPos(c, j));
         const auto boxes = sim::segmentBoxes(at, c.roles);
-        for (int s = 0; s < sim::kSegmentCount; ++s) {
-            const Obb& box = boxes[static_cast<std::size_t>(s)];
-            const dGeomID g = c.geoms[static_cast<std::size_t>(s)];
-            dGeomSetOffsetWorldPosition(g, box.centre.x, box.centre.y, box.centre.z);
+        for (auto& piece : c.pieces) {
+            const Obb& box = boxes[static_cast<std::size_t>(piece.segment)];
+            const glm::vec3 axis = box.axes[0];
+            // Along the axis, from the box's centre: the piece runs from its
+            // body's joint to the next body's joint (the box's ends for the
+            // first and last pieces).
+            float u0 = -box.half.x, u1 = box.half.x;
+            if (!piece.first) u0 = std::clamp(glm::dot(at[static_cast<std::size_t>(piece.body)] - box.centre, axis), -box.half.x, box.half.x);
+            if (piece.next >= 0) u1 = std::clamp(glm::dot(at[static_cast<std::size_t>(piece.next)] - box.centre, axis), -box.half.x, box.half.x);
+            if (u1 < u0 + 0.01f) u1 = std::min(u0 + 0.01f, box.half.x), u0 = u1 - 0.01f;
+            const float halfLength = 0.5f * (u1 - u0);
+            const glm::vec3 centre = box.centre + axis * (0.5f * (u0 + u1));
+            // Grown by the contact margin: contacts are found before the boxes
+            // meet (see collide()).
+            const auto grow = static_cast<float>(kContactMargin);
+            dGeomBoxSetLengths(piece.geom, 2.0 * static_cast<double>(halfLength + grow), 2.0 * static_cast<double>(box.half.y + grow),
+                               2.0 * static_cast<double>(box.half.z + grow));
+            piece.radius = glm::length(glm::vec3(halfLength, box.half.y, box.half.z) + grow);
+            dGeomSetOffsetWorldPosition(piece.geom, centre.x, centre.y, centre.z);
             dMatrix3 R;
             for (int r = 0; r < 3; ++r) {
                 for (int k = 0; k < 3; ++k) R[r * 4 + k] = static_cast<double>(box.axes[k][r]);
                 R[r * 4 + 3] = 0;
             }
-            dGeomSetOffsetWorldRotation(g, R);
+            dGeomSetOffsetWorldRotation(piece.geom, R);
         }
     }
 
@@ -870,8 +1080,17 @@ struct Simulator::Impl {
         dContactGeom found[4];
         // Bodies of touching segments yield: their control is softened so the
         // contact, not the captured pose, decides where they meet.
-        auto add = [&](dGeomID a, dGeomID b, Character* ca, int sa, Character* cb, int sb) {
+        // Speculative contacts: the boxes are grown by kContactMargin, so a
+        // contact is found while the real boxes are still up to a margin
+        // apart on each side. Such a contact has no friction and lets the
+        // bodies close the gap in this step and no further (the normal
+        // velocity may approach at gap / h), so fast limbs (a diving
+        // tackler's foot at 6 m/s moves 2.5 cm a step) stop at the surface
+        // instead of sinking into it before a contact exists.
+        auto add = [&](dGeomID a, dGeomID b, Character* ca, int ba, Character* cb, int bb) {
             const int k = dCollide(a, b, 4, found, sizeof(dContactGeom));
+            const double grown = cb ? 2.0 * kContactMargin : kContactMargin;  // the floor is not grown
+            bool touch = false;
             for (int i = 0; i < k; ++i) {
                 dContact contact{};
                 contact.surface.mode = dContactSoftCFM | dContactSoftERP | dContactApprox1;
@@ -879,18 +1098,35 @@ struct Simulator::Impl {
                 contact.surface.soft_erp = 0.5;
                 contact.surface.soft_cfm = 1e-7;
                 contact.geom = found[i];
+                const double depth = found[i].depth - grown;  // of the real boxes; negative: a gap
+                if (depth < 0) {
+                    contact.surface.mu = 0;
+                    contact.surface.mode |= dContactMotionN;
+                    contact.surface.motionN = depth / h;
+                    contact.geom.depth = 0;
+                } else {
+                    contact.geom.depth = depth;
+                }
+                touch = touch || depth > -kTouchGap;
                 dJointID joint = dJointCreateContact(is.world, is.contacts, &contact);
                 if (ca) ++is.contactsThisStep;
                 dJointAttach(joint, dGeomGetBody(a), dGeomGetBody(b));
+                if (!ca || !cb || depth <= 0) continue;
+                // How the contact pushes each side (away from the other's box), for the pins.
+                glm::dvec3 n = vecOf(found[i].normal);
+                if (glm::dot(n, vecOf(dGeomGetPosition(a)) - vecOf(dGeomGetPosition(b))) < 0) n = -n;
+                const auto ja = static_cast<std::size_t>(ba), jb = static_cast<std::size_t>(bb);
+                ca->shove[ja] += n * depth, ca->shoveDepth[ja] = std::max(ca->shoveDepth[ja], depth);
+                cb->shove[jb] -= n * depth, cb->shoveDepth[jb] = std::max(cb->shoveDepth[jb], depth);
             }
-            if (k > 0 && ca) ca->touched[static_cast<std::size_t>(segmentBody(sa, ca->roles))] = 1, ca->touching = true;
-            if (k > 0 && cb) cb->touched[static_cast<std::size_t>(segmentBody(sb, cb->roles))] = 1, cb->touching = true;
+            if (touch && ca) ca->touched[static_cast<std::size_t>(ba)] = 1, ca->touching = true;
+            if (touch && cb) cb->touched[static_cast<std::size_t>(bb)] = 1, cb->touching = true;
         };
         for (std::size_t x = 0; x < is.members.size(); ++x) {
             auto& a = chars[static_cast<std::size_t>(is.members[x])];
             if (!a.created) continue;
             if (!a.controlled) {
-                for (dGeomID g : a.geoms) add(g, is.floor, nullptr, 0, nullptr, 0);
+                for (const auto& piece : a.pieces) add(piece.geom, is.floor, nullptr, 0, nullptr, 0);
             }
             if (!opt.collisions) continue;
             const glm::dvec3 pa = vecOf(dBodyGetPosition(a.bodies[static_cast<std::size_t>(a.roles.pelvis)]));
@@ -899,12 +1135,12 @@ struct Simulator::Impl {
                 if (!b.created) continue;
                 const glm::dvec3 pb = vecOf(dBodyGetPosition(b.bodies[static_cast<std::size_t>(b.roles.pelvis)]));
                 if (glm::length(pa - pb) > 2.5) continue;
-                for (int i = 0; i < sim::kSegmentCount; ++i) {
-                    const glm::dvec3 ca = vecOf(dGeomGetPosition(a.geoms[static_cast<std::size_t>(i)]));
-                    for (int k = 0; k < sim::kSegmentCount; ++k) {
-                        const glm::dvec3 cb = vecOf(dGeomGetPosition(b.geoms[static_cast<std::size_t>(k)]));
-                        if (glm::length(ca - cb) > static_cast<double>(a.geomRadius[static_cast<std::size_t>(i)] + b.geomRadius[static_cast<std::size_t>(k)])) continue;
-                        add(a.geoms[static_cast<std::size_t>(i)], b.geoms[static_cast<std::size_t>(k)], &a, i, &b, k);
+                for (const auto& qa : a.pieces) {
+                    const glm::dvec3 ca = vecOf(dGeomGetPosition(qa.geom));
+                    for (const auto& qb : b.pieces) {
+                        const glm::dvec3 cb = vecOf(dGeomGetPosition(qb.geom));
+                        if (glm::length(ca - cb) > static_cast<double>(qa.radius + qb.radius)) continue;
+                        add(qa.geom, qb.geom, &a, qa.body, &b, qb.body);
                     }
                 }
             }
@@ -959,14 +1195,17 @@ struct Simulator::Impl {
             if (!c.created) continue;
             any = true;
             updatePins(is, c, t);
+            if (opt.handPins) updateHandPins(is, c, t);
         }
         if (any && f > 0) {
             for (int s = 0; s < opt.substeps; ++s) {
                 const double alpha = static_cast<double>(s + 1) / opt.substeps;
+                is.time = (f - 1) / opt.fps + s * h;
                 collide(is);
                 for (int m : is.members) {
                     auto& c = chars[static_cast<std::size_t>(m)];
                     if (c.created && c.controlled) control(is, c, alpha);
+                    if (c.created) moveHandPins(c, is.time + h);
                 }
                 const double ts = (f - 1) / opt.fps + s * h;
                 pushBlows(is, ts, ts + h);

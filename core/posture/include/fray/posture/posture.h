@@ -67,6 +67,8 @@ struct Options {
     double parryReach = 0.25;    // m: the farthest a parrying hand is pulled
     bool collisions = true;      // segments of different characters collide
     bool footPins = true;        // pin supported feet
+    bool handPins = false;       // pin a porter's hands to the bag it holds (the luggage chain); off by default:
+                                 // with it the porters' arms meet at hand-overs 8.9 cm deep (docs/POSTURE.md)
     bool hitTargets = true;      // pull blows onto the victim's surface
     std::vector<std::uint8_t> ragdoll;  // per character, 1: no control (falls as a rag doll); missing = controlled
     std::vector<FootPin> pins;   // extra pins from the user
