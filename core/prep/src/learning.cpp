@@ -72,19 +72,30 @@ RefitReport refitSegmentation(const std::vector<SegmentationExample>& examples, 
     const double factors[] = {0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 4.0};
     const double prominences[] = {0.0, 0.05, 0.1, 0.2, 0.4};
     const double caps[] = {0.03, 0.1, 0.3, 1e9};
+    const double stills[] = {1.0, 0.0, 0.5, 2.0};
+    int bestChanges = 0;  // the base set changes none  // x base.stillNoiseFactor; 0: idles start after the recovery beat
     for (double f : factors) {
         for (double pr : prominences) {
             for (double cap : caps) {
-                SegmentationParams p = base;
-                p.thresholdFactor = base.thresholdFactor * f;
-                if (base.highAccelThreshold) p.highAccelThreshold = *base.highAccelThreshold * f;
-                p.basinProminence = pr;
-                p.onsetCapFraction = cap;
-                ++report.tried;
-                const BoundaryScore s = score(p);
-                if (s.f1() > report.after.f1() + 1e-9) {
-                    report.after = s;
-                    report.params = p;
+                for (double still : stills) {
+                    SegmentationParams p = base;
+                    p.thresholdFactor = base.thresholdFactor * f;
+                    if (base.highAccelThreshold) p.highAccelThreshold = *base.highAccelThreshold * f;
+                    p.basinProminence = pr;
+                    p.onsetCapFraction = cap;
+                    p.stillNoiseFactor = base.stillNoiseFactor * still;
+                    ++report.tried;
+                    const BoundaryScore s = score(p);
+                    // Among sets that score alike, the one that changes the
+                    // fewest parameters (a few examples rarely say more).
+                    const int changes = (f != 1.0) + (pr != base.basinProminence) + (cap != base.onsetCapFraction) +
+                                        (still != 1.0);
+                    if (s.f1() > report.after.f1() + 1e-9 ||
+                        (s.f1() > report.after.f1() - 1e-9 && changes < bestChanges)) {
+                        report.after = s;
+                        report.params = p;
+                        bestChanges = changes;
+                    }
                 }
             }
         }
