@@ -82,6 +82,7 @@ SegmentationResult segment(const MotionSignals& signals, const FootContacts& con
     const int minRest = std::max(1, framesOf(params.minRestSeconds, fps));
     const int idle = std::max(1, framesOf(params.idleSeconds, fps));
     const int delay = framesOf(params.onsetDelaySeconds, fps);
+    const int minPhase = framesOf(params.minPhaseSeconds, fps);
     const int recovery = framesOf(params.recoverySeconds, fps);
     const int riseWindow = framesOf(params.onsetWindowSeconds, fps);
     const int apex = framesOf(params.attackApexSeconds, fps);
@@ -220,6 +221,8 @@ SegmentationResult segment(const MotionSignals& signals, const FootContacts& con
                        if (restEnd < frames - 1) candidates.push_back({std::min(frames - 1, restEnd + delay), 1e6 + restFrames});
                        return;
                    }
+                   // Shorter phases are the support flickering inside a movement.
+                   if (last - first + 1 < minPhase) return;
                    int at = (first + last) / 2;
                    if (params.placement == SegmentationParams::Placement::Minimum) {
                        for (int f = first; f <= last; ++f) {
