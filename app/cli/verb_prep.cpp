@@ -159,9 +159,11 @@ void runSegment(const SegmentArgs& a) {
         const auto refit = prep::refitSegmentation(examples, params);
         params = refit.params;
         std::printf("learned from %d confirmed stretch%s (%d cuts): boundary F1 on them %.3f -> %.3f "
-                    "(threshold factor %g, basin prominence %g, onset cap %g)\n",
+                    "(threshold factor %g, basin prominence %g, onset cap %g, still noise factor %g, "
+                    "min phase %g s)\n",
                     refit.examples, refit.examples == 1 ? "" : "es", refit.trueCuts, refit.before.f1(),
-                    refit.after.f1(), params.thresholdFactor, params.basinProminence, params.onsetCapFraction);
+                    refit.after.f1(), params.thresholdFactor, params.basinProminence, params.onsetCapFraction,
+                    params.stillNoiseFactor, params.minPhaseSeconds);
     }
     std::printf("%-24s %8s %8s %10s\n", "motion", "frames", "actions", "mean (s)");
     int total = 0;

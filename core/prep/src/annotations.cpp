@@ -88,6 +88,9 @@ Proposal propose(const Motion& motion, const StandardJoints& joints, const Motio
         }
         int end = peakAt;
         while (end + 1 < frames && relSpeed(end, arm.hand) > 0.5 * peak) ++end;
+        // ... where the hand comes to a stop: a punch stops at the end of its
+        // reach, a low block sweeps on down to the thigh.
+        while (end + 1 < frames && relSpeed(end + 1, arm.hand) < relSpeed(end, arm.hand)) ++end;
         // ... and away from the body (a wind-up ends by the head).
         const double length = arm.elbow >= 0 ? double(glm::length(at(0, arm.elbow) - at(0, arm.shoulder)) +
                                                       glm::length(at(0, arm.hand) - at(0, arm.elbow)))

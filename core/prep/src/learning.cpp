@@ -46,7 +46,8 @@ RefitReport refitSegmentation(const std::vector<SegmentationExample>& examples, 
     report.params = base;
     report.examples = static_cast<int>(examples.size());
     // Segment each motion once per candidate (examples of one motion share it).
-    auto score = [&](const SegmentationParams& p) {
+    // Also counts every cut the set makes on the examples' motions (`made`).
+    auto score = [&](const SegmentationParams& p, int* made = nullptr) {
         BoundaryScore total;
         const MotionSignals* lastSignals = nullptr;
         std::vector<int> cuts;
@@ -55,6 +56,7 @@ RefitReport refitSegmentation(const std::vector<SegmentationExample>& examples, 
             if (e.signals != lastSignals) {
                 cuts = segment(*e.signals, *e.contacts, p).cuts;
                 lastSignals = e.signals;
+                if (made) *made += static_cast<int>(cuts.size());
             }
             std::vector<int> predicted, actual;
             for (int c : cuts) {
@@ -66,25 +68,47 @@ RefitReport refitSegmentation(const std::vector<SegmentationExample>& examples, 
         return total;
     };
     for (const auto& e : examples) report.trueCuts += static_cast<int>(e.cuts.size());
-    report.before = score(base);
+    int bestMade = 0;
+    report.before = score(base, &bestMade);
     report.after = report.before;
     if (report.trueCuts == 0) return report;
     const double factors[] = {0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 4.0};
     const double prominences[] = {0.0, 0.05, 0.1, 0.2, 0.4};
     const double caps[] = {0.03, 0.1, 0.3, 1e9};
+    const double stills[] = {1.0, 0.0, 0.5, 2.0};  // x base.stillNoiseFactor; 0: idles start after the recovery beat
+    const double phases[] = {0.0, 0.05, 0.1};      // minPhaseSeconds
+    int bestChanges = 0;                           // the base set changes none
     for (double f : factors) {
         for (double pr : prominences) {
             for (double cap : caps) {
-                SegmentationParams p = base;
-                p.thresholdFactor = base.thresholdFactor * f;
-                if (base.highAccelThreshold) p.highAccelThreshold = *base.highAccelThreshold * f;
-                p.basinProminence = pr;
-                p.onsetCapFraction = cap;
-                ++report.tried;
-                const BoundaryScore s = score(p);
-                if (s.f1() > report.after.f1() + 1e-9) {
-                    report.after = s;
-                    report.params = p;
+                for (double still : stills) {
+                    for (double phase : phases) {
+                        SegmentationParams p = base;
+                        p.thresholdFactor = base.thresholdFactor * f;
+                        if (base.highAccelThreshold) p.highAccelThreshold = *base.highAccelThreshold * f;
+                        p.basinProminence = pr;
+                        p.onsetCapFraction = cap;
+                        p.stillNoiseFactor = base.stillNoiseFactor * still;
+                        p.minPhaseSeconds = phase;
+                        ++report.tried;
+                        int made = 0;
+                        const BoundaryScore s = score(p, &made);
+                        // Among sets that score alike, the one that changes
+                        // the fewest parameters, then the one that makes the
+                        // fewest cuts on the examples' motions (a few
+                        // examples rarely say more).
+                        const int changes = (f != 1.0) + (pr != base.basinProminence) +
+                                            (cap != base.onsetCapFraction) + (still != 1.0) +
+                                            (phase != base.minPhaseSeconds);
+                        const bool tie = s.f1() > report.after.f1() - 1e-9;
+                        if (s.f1() > report.after.f1() + 1e-9 ||
+                            (tie && (changes < bestChanges || (changes == bestChanges && made < bestMade)))) {
+                            report.after = s;
+                            report.params = p;
+                            bestChanges = changes;
+                            bestMade = made;
+                        }
+                    }
                 }
             }
         }

@@ -82,6 +82,7 @@ SegmentationResult segment(const MotionSignals& signals, const FootContacts& con
     const int minRest = std::max(1, framesOf(params.minRestSeconds, fps));
     const int idle = std::max(1, framesOf(params.idleSeconds, fps));
     const int delay = framesOf(params.onsetDelaySeconds, fps);
+    const int minPhase = framesOf(params.minPhaseSeconds, fps);
     const int recovery = framesOf(params.recoverySeconds, fps);
     const int riseWindow = framesOf(params.onsetWindowSeconds, fps);
     const int apex = framesOf(params.attackApexSeconds, fps);
@@ -130,21 +131,56 @@ SegmentationResult segment(const MotionSignals& signals, const FootContacts& con
         }
         return peaks;
     };
+    // The take's own effector jitter at rest: a real performer never stands
+    // perfectly still, a synthetic one does.
+    double stillSpeed = 0.0;
+    if (params.stillNoiseFactor > 0.0 && signals.effectorSpeed.size() == n) {
+        std::vector<float> atRest;
+        for (int f = 0; f < frames; ++f) {
+            if (resting(f)) atRest.push_back(signals.effectorSpeed[static_cast<std::size_t>(f)]);
+        }
+        if (!atRest.empty()) {
+            const auto q = atRest.begin() + static_cast<std::ptrdiff_t>(atRest.size() / 4);
+            std::nth_element(atRest.begin(), q, atRest.end());
+            stillSpeed = params.stillNoiseFactor * double(*q);
+        }
+    }
     forEachRun(frames, [&](int f) { return r.support[static_cast<std::size_t>(f)] == Support::Double && quiet(f); },
                [&](int first, int last) {
                    // Rests; a long one is an idle of its own, starting after
                    // the recovery beat of the action that came to rest.
                    int restFrames = 0, restEnd = -1;
+                   std::vector<std::pair<int, int>> rests;
                    forEachRun(last - first + 1, [&](int i) { return resting(first + i); },
                               [&](int a, int b) {
-                                  if (b - a + 1 < minRest) return;
-                                  restFrames = std::max(restFrames, b - a + 1);
-                                  const int restFirst = first + a, restLast = first + b;
-                                  restEnd = restLast;
-                                  if (b - a + 1 >= idle && restFirst > 0) {
-                                      candidates.push_back({std::min(restLast, restFirst + recovery), 1e6 + (b - a)});
-                                  }
+                                  if (b - a + 1 >= minRest) rests.emplace_back(first + a, first + b);
                               });
+                   for (std::size_t i = 0; i < rests.size(); ++i) {
+                       const auto [restFirst, restLast] = rests[i];
+                       restFrames = std::max(restFrames, restLast - restFirst + 1);
+                       restEnd = restLast;
+                       if (restFirst == 0) continue;
+                       // The idle starts after the recovery beat, or earlier
+                       // where no effector moves faster than the take's own
+                       // jitter at rest (a real performer settles slowly, and
+                       // the profile reaches the rest level late).
+                       int start = std::min(restLast, restFirst + recovery);
+                       if (stillSpeed > 0.0) {
+                           auto still = [&](int f) {
+                               return double(signals.effectorSpeed[static_cast<std::size_t>(f)]) <= stillSpeed;
+                           };
+                           const int from = i > 0 ? rests[i - 1].second + 1 : first;
+                           int f = restFirst;
+                           while (f > from && still(f - 1)) --f;
+                           if (still(f)) start = std::min(start, f);
+                       }
+                       // Long enough from where it starts to where movement
+                       // starts again (or the rest itself, as before).
+                       const int until = restLast < frames - 1 ? restLast + delay : restLast;
+                       if (std::max(restLast - restFirst + 1, until - start) >= idle) {
+                           candidates.push_back({start, 1e6 + (restLast - restFirst)});
+                       }
+                   }
                    // Several basins (a block between two punches): an action
                    // starts as each basin rises, but not at the still apex
                    // just after an attack. Not while on the ground, where a
@@ -185,6 +221,8 @@ SegmentationResult segment(const MotionSignals& signals, const FootContacts& con
                        if (restEnd < frames - 1) candidates.push_back({std::min(frames - 1, restEnd + delay), 1e6 + restFrames});
                        return;
                    }
+                   // Shorter phases are the support flickering inside a movement.
+                   if (last - first + 1 < minPhase) return;
                    int at = (first + last) / 2;
                    if (params.placement == SegmentationParams::Placement::Minimum) {
                        for (int f = first; f <= last; ++f) {

@@ -124,6 +124,24 @@ Result<MotionSignals> computeSignals(const Motion& motion, const StandardJoints&
         }
         if (!(s.bodyHeight > 1e-6) || !std::isfinite(s.bodyHeight)) s.bodyHeight = 1.7;
     }
+    if (joints.pelvis >= 0 && joints.hasHands()) {
+        s.effectorSpeed.resize(static_cast<std::size_t>(frames));
+        const double scale = motion.fps() / s.bodyHeight;
+        for (int f = 0; f < frames; ++f) {
+            const int a = std::max(0, f - 1), b = std::min(frames - 1, f + 1);
+            const double perFrame = scale / double(b - a);
+            double v = 0.0;
+            for (const int hand : {joints.leftHand, joints.rightHand}) {
+                const glm::dvec3 d = (glm::dvec3(at(b, hand)) - glm::dvec3(at(b, joints.pelvis))) -
+                                     (glm::dvec3(at(a, hand)) - glm::dvec3(at(a, joints.pelvis)));
+                v = std::max(v, glm::length(d) * perFrame);
+            }
+            for (const int foot : ankles) {
+                v = std::max(v, glm::length(glm::dvec3(at(b, foot)) - glm::dvec3(at(a, foot))) * perFrame);
+            }
+            s.effectorSpeed[static_cast<std::size_t>(f)] = static_cast<float>(v);
+        }
+    }
     return s;
 }
 

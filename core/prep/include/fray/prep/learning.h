@@ -37,9 +37,12 @@ struct RefitReport {
 };
 
 // Grid search around base over the parameters that carry a take's character
-// (high-acceleration threshold factor, basin prominence, onset cap), scored
-// by boundary F1 (+-0.1 s) against the examples' cuts, counting only cuts
-// inside each example. Keeps base unless a candidate scores strictly better.
+// (high-acceleration threshold factor, basin prominence, onset cap, the idle
+// start's still noise factor, the minimum quiet-phase length), scored by
+// boundary F1 (+-0.1 s) against the examples' cuts, counting only cuts inside
+// each example. Keeps base unless a candidate scores strictly better; among
+// candidates that score alike, the one that changes the fewest parameters,
+// then the one that makes the fewest cuts on the examples' motions.
 // Deterministic.
 RefitReport refitSegmentation(const std::vector<SegmentationExample>& examples, const SegmentationParams& base = {});
 

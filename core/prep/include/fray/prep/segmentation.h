@@ -44,10 +44,19 @@ struct SegmentationParams {
     double idleSeconds = 0.75;        // a rest this long becomes an action of its own
     double onsetDelaySeconds = 0.033; // the cut lands this long after the quiet frame (centred differences lead)
     double minActionSeconds = 0.25;   // no action shorter than this
+    // A quiet double-support phase without a rest that is shorter than this
+    // gives no cut (0: every phase does; learnt from the user's cuts, see learning.h).
+    double minPhaseSeconds = 0.0;
     // A rest of idleSeconds or more becomes an idle action that starts this
     // long after the body comes to rest: the action that came to rest keeps
     // its recovery beat (the demo actor's clips end with 0.03-0.1 s of it).
     double recoverySeconds = 0.1;
+    // ... or, earlier, where the fastest effector (MotionSignals::effectorSpeed)
+    // last fell to the take's own jitter at rest before the rest: a real
+    // performer settles slowly, and the profile reaches the rest level late.
+    // "Still" is stillNoiseFactor x the lower quartile of the effector speed
+    // over the resting frames of the take (0 disables).
+    double stillNoiseFactor = 4.0;
     // A quiet double-support phase holding several actions (a block or a slip
     // between two punches) is split at its basins: a peak of the profile that
     // rises and falls by basinProminence x the threshold separates two basins,

@@ -41,6 +41,11 @@ struct MotionSignals {
     // 1.9 x the pelvis height). Speeds "in body heights per second" divide by
     // it, so thresholds carry over between skeletons, units and performers.
     double bodyHeight = 1.7;
+    // Per frame, the fastest effector in body heights per second: each hand
+    // relative to the pelvis, each foot (ankle) in the world. Empty when the
+    // skeleton lacks a pelvis or hands. Segmentation uses it to find where an
+    // action has come to rest (no effector moving visibly).
+    std::vector<float> effectorSpeed;
 };
 
 // Computes the signals. Fails when the feet cannot be identified or the
