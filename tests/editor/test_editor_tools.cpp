@@ -83,7 +83,12 @@ struct EditorTools : ::testing::Test {
     fray::authoring::ProjectDocument* doc = nullptr;
 };
 
-TEST_F(EditorTools, CircleWithThreeTimedCheckpointsIsFollowedByTheFightingPair) {
+// What this shows: drawing, checkpoints, their inspector and undo through real mouse
+// events, and that the generated fight stays near the drawn circle (mean error under
+// 0.5 m, the figure). What it does not show: red going round the circle. With
+// the duel's default preset (w_path 0) the pair fights near red's start, which lies on
+// the circle, and the printed line says which checkpoints were reached (docs/EDITOR.md).
+TEST_F(EditorTools, CircleWithThreeTimedCheckpointsKeepsTheFightNearTheCircle) {
     ASSERT_TRUE(doc->addSetup("duel", fray::setup::SetupKind::Duel));
     ASSERT_TRUE(w->selectSetup("duel"));
     w->findChild<QCheckBox*>("sceneLive")->setChecked(false);  // generated once, below
@@ -136,7 +141,7 @@ TEST_F(EditorTools, CircleWithThreeTimedCheckpointsIsFollowedByTheFightingPair) 
     EXPECT_EQ(doc->serialized(), before);
     shot(editor, "floor-checkpoints.png");
 
-    // Generate: red follows the circle, passing the checkpoints.
+    // Generate, then measure red against the drawn circle.
     w->selectTool({});
     QTest::mouseClick(w->findChild<QPushButton*>("sceneGenerate"), Qt::LeftButton);
     ASSERT_TRUE(QTest::qWaitFor([&] { return !w->busy(); }, 120000));
