@@ -31,34 +31,12 @@
 namespace {
 
 using fray::test::DemoCopy;
+using fray::test::clickOnFloor;
+using fray::test::dragOnFloor;
+using fray::test::lookDown;
+using fray::test::pixelOf;
 
 namespace fs = std::filesystem;
-
-// The viewport looking down on the floor around `centre` from `height`.
-void lookDown(fray::editor::Viewport* v, glm::vec2 centre, float distance) {
-    auto& cam = v->frame().camera;
-    cam.target = glm::vec3(centre.x, 0.0f, centre.y);
-    cam.yaw = 0.0f;
-    cam.pitch = 1.3f;
-    cam.distance = distance;
-}
-
-QPoint pixelOf(fray::editor::Viewport* v, glm::vec2 floor) {
-    auto p = fray::editor::floorToPixel(v->frame().camera, v->aspect(), floor, QSizeF(v->size()));
-    EXPECT_TRUE(p.has_value());
-    return p ? p->toPoint() : QPoint();
-}
-
-// A left-button drag on the viewport window through floor points.
-void dragOnFloor(fray::editor::Viewport* v, std::vector<glm::vec2> path) {
-    QTest::mousePress(v, Qt::LeftButton, Qt::NoModifier, pixelOf(v, path.front()));
-    for (std::size_t i = 1; i < path.size(); ++i) {
-        QMouseEvent move(QEvent::MouseMove, QPointF(pixelOf(v, path[i])), v->mapToGlobal(QPointF(pixelOf(v, path[i]))),
-                         Qt::NoButton, Qt::LeftButton, Qt::NoModifier);
-        QGuiApplication::sendEvent(v, &move);
-    }
-    QTest::mouseRelease(v, Qt::LeftButton, Qt::NoModifier, pixelOf(v, path.back()));
-}
 
 bool paintedNear(const fray::setup::FloorPaint& f, glm::vec2 p, double radius) {
     for (int y = 0; y < f.height; ++y)
@@ -76,20 +54,7 @@ bool paintedAt(const fray::setup::FloorPaint& f, glm::vec2 p) {
     return x >= 0 && y >= 0 && x < f.width && y < f.height && f.at(x, y);
 }
 
-struct FloorTools : ::testing::Test {
-    void SetUp() override {
-        ASSERT_TRUE(editor.open(demo.project));
-        w = editor.window.get();
-        ASSERT_TRUE(QTest::qWaitForWindowExposed(w));
-        ASSERT_TRUE(QTest::qWaitFor([&] { return w->analysis() != nullptr; }, 120000));
-        doc = w->document();
-        ASSERT_NE(doc, nullptr);
-    }
-    DemoCopy demo;
-    fray::test::VulkanEditor editor;
-    fray::editor::MainWindow* w = nullptr;
-    fray::authoring::ProjectDocument* doc = nullptr;
-};
+struct FloorTools : fray::test::EditorOnFloor {};
 
 TEST_F(FloorTools, BrushPaintsADominoAreaAsOneUndoStepAndPeopleThereFall) {
     ASSERT_TRUE(doc->addSetup("dominoes", fray::setup::SetupKind::Domino));

@@ -30,35 +30,10 @@
 namespace {
 
 using fray::test::DemoCopy;
-
-void lookDown(fray::editor::Viewport* v, glm::vec2 centre, float distance) {
-    auto& cam = v->frame().camera;
-    cam.target = glm::vec3(centre.x, 0.0f, centre.y);
-    cam.yaw = 0.0f;
-    cam.pitch = 1.3f;
-    cam.distance = distance;
-}
-
-QPoint pixelOf(fray::editor::Viewport* v, glm::vec2 floor) {
-    auto p = fray::editor::floorToPixel(v->frame().camera, v->aspect(), floor, QSizeF(v->size()));
-    EXPECT_TRUE(p.has_value());
-    return p ? p->toPoint() : QPoint();
-}
-
-void moveTo(fray::editor::Viewport* v, glm::vec2 floor) {
-    const QPointF px(pixelOf(v, floor));
-    QMouseEvent move(QEvent::MouseMove, px, v->mapToGlobal(px), Qt::NoButton, Qt::LeftButton, Qt::NoModifier);
-    QGuiApplication::sendEvent(v, &move);
-}
-
-// A left-button drag on the viewport window through floor points.
-void dragOnFloor(fray::editor::Viewport* v, std::vector<glm::vec2> path) {
-    QTest::mousePress(v, Qt::LeftButton, Qt::NoModifier, pixelOf(v, path.front()));
-    for (std::size_t i = 1; i < path.size(); ++i) moveTo(v, path[i]);
-    QTest::mouseRelease(v, Qt::LeftButton, Qt::NoModifier, pixelOf(v, path.back()));
-}
-
-void clickOnFloor(fray::editor::Viewport* v, glm::vec2 p) { QTest::mouseClick(v, Qt::LeftButton, Qt::NoModifier, pixelOf(v, p)); }
+using fray::test::clickOnFloor;
+using fray::test::dragOnFloor;
+using fray::test::lookDown;
+using fray::test::pixelOf;
 
 void shot(fray::test::VulkanEditor& editor, const char* name) {
     QTest::qWait(200);
@@ -68,20 +43,7 @@ void shot(fray::test::VulkanEditor& editor, const char* name) {
     (void)fray::render::writePng(std::string(FRAY_EDITOR_SHOTS "/") + name, view);
 }
 
-struct EditorTools : ::testing::Test {
-    void SetUp() override {
-        ASSERT_TRUE(editor.open(demo.project));
-        w = editor.window.get();
-        ASSERT_TRUE(QTest::qWaitForWindowExposed(w));
-        ASSERT_TRUE(QTest::qWaitFor([&] { return w->analysis() != nullptr; }, 120000));
-        doc = w->document();
-        ASSERT_NE(doc, nullptr);
-    }
-    DemoCopy demo;
-    fray::test::VulkanEditor editor;
-    fray::editor::MainWindow* w = nullptr;
-    fray::authoring::ProjectDocument* doc = nullptr;
-};
+struct EditorTools : fray::test::EditorOnFloor {};
 
 // What this shows: drawing, checkpoints, their inspector and undo through real mouse
 // events, and that the generated fight stays near the drawn circle (mean error under

@@ -6,9 +6,14 @@
 #include <gtest/gtest.h>
 
 #include <QGuiApplication>
+#include <QMouseEvent>
+#include <QTest>
 #include <QVulkanInstance>
 #include <memory>
+#include <vector>
 
+#include "editor_fixture.h"
+#include "fray/authoring/project_document.h"
 #include "fray/render/vulkan_device.h"
 #include "main_window.h"
 #include "takes.h"
@@ -73,6 +78,55 @@ struct VulkanEditor {
         if (instance) instance->destroy();
         device.reset();
     }
+};
+
+// The viewport looking down on the floor around `centre` from `distance`.
+inline void lookDown(editor::Viewport* v, glm::vec2 centre, float distance) {
+    auto& cam = v->frame().camera;
+    cam.target = glm::vec3(centre.x, 0.0f, centre.y);
+    cam.yaw = 0.0f;
+    cam.pitch = 1.3f;
+    cam.distance = distance;
+}
+
+// The viewport pixel that shows a floor point (a test failure when none does).
+inline QPoint pixelOf(editor::Viewport* v, glm::vec2 floor) {
+    auto p = editor::floorToPixel(v->frame().camera, v->aspect(), floor, QSizeF(v->size()));
+    EXPECT_TRUE(p.has_value());
+    return p ? p->toPoint() : QPoint();
+}
+
+// The mouse moved over a floor point with the left button held.
+inline void moveTo(editor::Viewport* v, glm::vec2 floor) {
+    const QPointF px(pixelOf(v, floor));
+    QMouseEvent move(QEvent::MouseMove, px, v->mapToGlobal(px), Qt::NoButton, Qt::LeftButton, Qt::NoModifier);
+    QGuiApplication::sendEvent(v, &move);
+}
+
+// A left-button drag on the viewport window through floor points.
+inline void dragOnFloor(editor::Viewport* v, const std::vector<glm::vec2>& path) {
+    QTest::mousePress(v, Qt::LeftButton, Qt::NoModifier, pixelOf(v, path.front()));
+    for (std::size_t i = 1; i < path.size(); ++i) moveTo(v, path[i]);
+    QTest::mouseRelease(v, Qt::LeftButton, Qt::NoModifier, pixelOf(v, path.back()));
+}
+
+inline void clickOnFloor(editor::Viewport* v, glm::vec2 p) { QTest::mouseClick(v, Qt::LeftButton, Qt::NoModifier, pixelOf(v, p)); }
+
+// A test with the demo project open in the editor on its Vulkan viewport,
+// the project analysed (motion graph, library) before the test starts.
+struct EditorOnFloor : ::testing::Test {
+    void SetUp() override {
+        ASSERT_TRUE(editor.open(demo.project));
+        w = editor.window.get();
+        ASSERT_TRUE(QTest::qWaitForWindowExposed(w));
+        ASSERT_TRUE(QTest::qWaitFor([&] { return w->analysis() != nullptr; }, 120000));
+        doc = w->document();
+        ASSERT_NE(doc, nullptr);
+    }
+    DemoCopy demo;
+    VulkanEditor editor;
+    editor::MainWindow* w = nullptr;
+    authoring::ProjectDocument* doc = nullptr;
 };
 
 }  // namespace fray::test
