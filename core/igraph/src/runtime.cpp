@@ -144,6 +144,7 @@ struct Match::Impl {
     glm::vec2 pos(int c, double at) const { return bodies[static_cast<std::size_t>(c)].placement(lib(), at).pos; }
 
     std::vector<glm::vec2> here;  // every pelvis at the step's start
+    std::vector<std::pair<double, int>> due;  // decisions of this step
 
     // How fast any pelvis can move: its placement is a heading-rotated
     // polyline through the action's samples (speed <= the longest segment
@@ -291,15 +292,22 @@ struct Match::Impl {
         rebuildGrid();
         const auto start = std::chrono::steady_clock::now();
         // Decisions in time order (ties: character order), each at its action's end.
-        for (;;) {
-            int who = -1;
-            for (int c = 0; c < static_cast<int>(bodies.size()); ++c) {
-                const double e = bodies[static_cast<std::size_t>(c)].end;
-                if (e <= t + 1e-9 && (who < 0 || e < bodies[static_cast<std::size_t>(who)].end)) who = c;
-            }
-            if (who < 0) break;
-            const double at = bodies[static_cast<std::size_t>(who)].end;
+        // A queue of (end, index), earliest first: only the body just launched changes its end.
+        auto later = [](const std::pair<double, int>& x, const std::pair<double, int>& y) { return x > y; };
+        due.clear();
+        for (int c = 0; c < static_cast<int>(bodies.size()); ++c) {
+            if (bodies[static_cast<std::size_t>(c)].end <= t + 1e-9) due.emplace_back(bodies[static_cast<std::size_t>(c)].end, c);
+        }
+        std::make_heap(due.begin(), due.end(), later);
+        while (!due.empty()) {
+            std::pop_heap(due.begin(), due.end(), later);
+            const auto [at, who] = due.back();
+            due.pop_back();
             launchAt(who, decide(who, at), at);
+            if (const double e = bodies[static_cast<std::size_t>(who)].end; e <= t + 1e-9) {
+                due.emplace_back(e, who);
+                std::push_heap(due.begin(), due.end(), later);
+            }
         }
         stats.decideSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         // Blows within [t, t1] between nearby enemies, earliest first: only
