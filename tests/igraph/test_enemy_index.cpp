@@ -1,7 +1,7 @@
 // The indexed closest-enemy search of a graph-driven match (enemy_index.h)
 // against its reference, the plain rule with a full scan, on random
 // configurations: teams in lines, crowds, far-apart teams, far-flung bodies
-// (the sparse fallback), bodies on the same spot (ties), up to three sides,
+// (the sparse fallback), bodies on the same spot (ties), two, three or six sides,
 // and exact placements anywhere within the slack of the indexed positions.
 #include <gtest/gtest.h>
 
@@ -26,7 +26,8 @@ Config randomConfig(std::mt19937_64& rng, int kind) {
     std::uniform_real_distribution<double> u(0.0, 1.0);
     Config c;
     const int n = 1 + static_cast<int>(u(rng) * (kind == 0 ? 12 : 400));
-    const int sideCount = u(rng) < 0.15 ? 3 : 2;
+    const double pick = u(rng);
+    const int sideCount = pick < 0.15 ? 3 : (pick < 0.25 ? 6 : 2);  // 6: more sides than the coarse grids take
     const double extent = kind == 3 ? 5e4 : 2.0 + u(rng) * 80.0;  // kind 3: far-flung, the sparse path
     const double gap = kind == 2 ? 20.0 + u(rng) * 60.0 : 0.0;    // kind 2: two teams far apart
     c.slack = u(rng) < 0.2 ? 0.0 : u(rng) * 0.6;

@@ -16,8 +16,8 @@
 // known to be within `slack` metres of its "here" position at any time the
 // match asks about, so a candidate whose "here" is farther than the best
 // exact distance plus the slack is skipped, and the search for the closest
-// of all enemies goes out ring by ring and stops when no cell left can hold
-// a nearer one.
+// of all enemies goes out ring by ring (in a coarse 8 m grid of each enemy
+// side) and stops when no cell left can hold a nearer one.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -85,6 +85,7 @@ public:
         const int n = static_cast<int>(here->size());
         items_.clear();
         cellStart_.clear();
+        groups_.clear();
         sparse_ = false;
         if (n == 0) {
             nx_ = nz_ = 0;
@@ -120,6 +121,7 @@ public:
             const auto& q = (*here)[static_cast<std::size_t>(c)];
             items_[static_cast<std::size_t>(fill[static_cast<std::size_t>(cellOf[static_cast<std::size_t>(c)])]++)] = {q, c, (*sides)[static_cast<std::size_t>(c)]};
         }
+        buildGroups();
     }
     // Visits every body whose "here" cell is within `ring` cells (Chebyshev) of (cx, cz), in no set order.
     template <class F>
@@ -166,7 +168,26 @@ public:
             }
             return b.index;
         }
-        // None near: the closest of all, ring by ring outward from ring 3.
+        // None near: the closest of all. With few sides, from each enemy side's
+        // coarse grid; else ring by ring outward from ring 3 of the fine one.
+        if (!groups_.empty()) {
+            const int fx = coarseCellOf(p.x), fz = coarseCellOf(p.y);
+            for (const auto& g : groups_) {
+                if (g.side == side) continue;
+                const int maxRingG = std::max({fx - cx0_, cx0_ + cnx_ - 1 - fx, fz - cz0_, cz0_ + cnz_ - 1 - fz});
+                for (int ring = 0; ring <= maxRingG; ++ring) {
+                    if (b.index >= 0 && ring >= 2) {
+                        const double lower = (ring - 1) * kCoarseCell - slack_;
+                        if (lower > 0 && lower * lower > bound2(b.dist2)) break;
+                    }
+                    forRingOf(g.cellStart, g.items, cx0_, cz0_, cnx_, cnz_, fx, fz, ring, [&](const Item& it) {
+                        consider(b, it, p, where);
+                        return true;
+                    });
+                }
+            }
+            return b.index;
+        }
         const int maxRing = std::max({cx - x0_, x0_ + nx_ - 1 - cx, cz - z0_, z0_ + nz_ - 1 - cz});
         for (int ring = 3; ring <= maxRing; ++ring) {
             if (b.index >= 0) {
@@ -190,6 +211,7 @@ private:
     struct Best {
         int index = -1;
         float dist2 = std::numeric_limits<float>::max();
+        double skip2 = std::numeric_limits<double>::infinity();  // "here" farther than this (squared) cannot win
     };
     // A squared distance safely above d2 (float rounding of the exact placement).
     static double bound2(float d2) {
@@ -198,23 +220,29 @@ private:
     }
     template <class Where>
     void consider(Best& b, const Item& it, glm::vec2 p, Where&& where) const {
-        if (b.index >= 0) {
-            // Its exact placement is within slack of "here": skip it when that cannot reach the best.
-            const double lower = std::sqrt(static_cast<double>(enemyDistance2(it.here, p))) - slack_;
-            if (lower > 0 && lower * lower > bound2(b.dist2)) return;
-        }
+        // Its exact placement is within slack of "here": skip it when that cannot reach the best.
+        if (static_cast<double>(enemyDistance2(it.here, p)) > b.skip2) return;
         const float dd = enemyDistance2(where(it.index), p);
-        if (dd < b.dist2 || (dd == b.dist2 && it.index < b.index)) b.dist2 = dd, b.index = it.index;
+        if (dd < b.dist2 || (dd == b.dist2 && it.index < b.index)) {
+            b.dist2 = dd, b.index = it.index;
+            const double reach = std::sqrt(bound2(dd)) + slack_;
+            b.skip2 = reach * reach * (1 + 1e-6);
+        }
     }
     // Visits the items of the cells on Chebyshev ring `ring` around (cx, cz) until f returns false.
     template <class F>
     void forRing(int cx, int cz, int ring, F&& f) const {
+        forRingOf(cellStart_, items_, x0_, z0_, nx_, nz_, cx, cz, ring, f);
+    }
+    template <class F>
+    static void forRingOf(const std::vector<int>& cellStart, const std::vector<Item>& items, int gx0, int gz0, int gnx, int gnz, int cx,
+                          int cz, int ring, F&& f) {
         auto cell = [&](int x, int z) {
-            const int gx = x - x0_, gz = z - z0_;
-            if (gx < 0 || gz < 0 || gx >= nx_ || gz >= nz_) return true;
-            const auto k = static_cast<std::size_t>(gz * nx_ + gx);
-            for (int i = cellStart_[k]; i < cellStart_[k + 1]; ++i) {
-                if (!f(items_[static_cast<std::size_t>(i)])) return false;
+            const int gx = x - gx0, gz = z - gz0;
+            if (gx < 0 || gz < 0 || gx >= gnx || gz >= gnz) return true;
+            const auto k = static_cast<std::size_t>(gz * gnx + gx);
+            for (int i = cellStart[k]; i < cellStart[k + 1]; ++i) {
+                if (!f(items[static_cast<std::size_t>(i)])) return false;
             }
             return true;
         };
@@ -225,16 +253,61 @@ private:
         // Rows z = cz - ring and cz + ring in full, then the columns between them.
         for (int dz : {-ring, ring}) {
             const int z = cz + dz;
-            if (z - z0_ < 0 || z - z0_ >= nz_) continue;
-            for (int x = std::max(cx - ring, x0_); x <= std::min(cx + ring, x0_ + nx_ - 1); ++x) {
+            if (z - gz0 < 0 || z - gz0 >= gnz) continue;
+            for (int x = std::max(cx - ring, gx0); x <= std::min(cx + ring, gx0 + gnx - 1); ++x) {
                 if (!cell(x, z)) return;
             }
         }
         for (int dx : {-ring, ring}) {
             const int x = cx + dx;
-            if (x - x0_ < 0 || x - x0_ >= nx_) continue;
-            for (int z = std::max(cz - ring + 1, z0_); z <= std::min(cz + ring - 1, z0_ + nz_ - 1); ++z) {
+            if (x - gx0 < 0 || x - gx0 >= gnx) continue;
+            for (int z = std::max(cz - ring + 1, gz0); z <= std::min(cz + ring - 1, gz0 + gnz - 1); ++z) {
                 if (!cell(x, z)) return;
+            }
+        }
+    }
+
+    static constexpr double kCoarseCell = 8.0;  // m: the per-side grids for the search of all enemies
+    static int coarseCellOf(float v) { return static_cast<int>(std::floor(static_cast<double>(v) / kCoarseCell)); }
+    struct Group {
+        int side = 0;
+        std::vector<int> cellStart;
+        std::vector<Item> items;
+    };
+    // One coarse grid per side (at most 4 sides; more search the fine grid).
+    void buildGroups() {
+        groups_.clear();
+        const auto& here = *here_;
+        const auto& sides = *sides_;
+        int x0 = std::numeric_limits<int>::max(), z0 = x0, x1 = std::numeric_limits<int>::min(), z1 = x1;
+        for (std::size_t c = 0; c < here.size(); ++c) {
+            const int fx = coarseCellOf(here[c].x), fz = coarseCellOf(here[c].y);
+            x0 = std::min(x0, fx), x1 = std::max(x1, fx), z0 = std::min(z0, fz), z1 = std::max(z1, fz);
+            bool known = false;
+            for (const auto& g : groups_) known = known || g.side == sides[c];
+            if (!known) {
+                if (groups_.size() == 4) {
+                    groups_.clear();
+                    return;
+                }
+                groups_.push_back({sides[c], {}, {}});
+            }
+        }
+        cx0_ = x0, cz0_ = z0, cnx_ = x1 - x0 + 1, cnz_ = z1 - z0 + 1;
+        const auto cells = static_cast<std::size_t>(cnx_) * static_cast<std::size_t>(cnz_);
+        for (auto& g : groups_) {
+            g.cellStart.assign(cells + 1, 0);
+            for (std::size_t c = 0; c < here.size(); ++c) {
+                if (sides[c] != g.side) continue;
+                ++g.cellStart[static_cast<std::size_t>((coarseCellOf(here[c].y) - cz0_) * cnx_ + (coarseCellOf(here[c].x) - cx0_)) + 1];
+            }
+            for (std::size_t k = 1; k < g.cellStart.size(); ++k) g.cellStart[k] += g.cellStart[k - 1];
+            g.items.resize(static_cast<std::size_t>(g.cellStart.back()));
+            std::vector<int> fill(g.cellStart.begin(), g.cellStart.end() - 1);
+            for (std::size_t c = 0; c < here.size(); ++c) {
+                if (sides[c] != g.side) continue;
+                const auto k = static_cast<std::size_t>((coarseCellOf(here[c].y) - cz0_) * cnx_ + (coarseCellOf(here[c].x) - cx0_));
+                g.items[static_cast<std::size_t>(fill[k]++)] = {here[c], static_cast<int>(c), sides[c]};
             }
         }
     }
@@ -251,6 +324,8 @@ private:
     std::vector<Item> items_;
     std::vector<int> cellStart_;
     int x0_ = 0, z0_ = 0, nx_ = 0, nz_ = 0;
+    std::vector<Group> groups_;
+    int cx0_ = 0, cz0_ = 0, cnx_ = 0, cnz_ = 0;
     double slack_ = 0;
     bool sparse_ = false;
 };
