@@ -216,7 +216,9 @@ struct Match::Impl {
         const auto uc = static_cast<std::size_t>(c);
         const Body& me = bodies[uc];
         const int set = rules->nextSetOf(me.action);
+        const auto searchStart = std::chrono::steady_clock::now();
         const int opp = closestEnemy(c, at);
+        stats.enemySeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - searchStart).count();
         opponent[uc] = opp;
         ++stats.decisions;
         const Command cmd = pending[uc] != Command::None && at <= pendingUntil[uc] ? pending[uc] : Command::None;
