@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <tbb/parallel_for.h>
 
+#include "fray/igraph/enemy_index.h"
 #include "fray/igraph/runtime.h"
 #include "game.h"
 
@@ -26,9 +27,7 @@ constexpr CommandName kCommands[] = {{Command::Forward, "forward"},     {Command
                                      {Command::TurnRight, "turn-right"}, {Command::Punch, "punch"}, {Command::Kick, "kick"},
                                      {Command::Dodge, "dodge"},         {Command::Avoid, "avoid"}};
 
-constexpr double kGridCell = 2.0;     // m: the neighbour grid
 constexpr float kStrikeReach = 2.5f;  // m pelvis to pelvis: farther bodies cannot land a blow
-int cellOf(float v) { return static_cast<int>(std::floor(static_cast<double>(v) / kGridCell)); }
 
 }  // namespace
 
@@ -134,64 +133,65 @@ struct Match::Impl {
     sim::Scene scene;
     MatchStats stats;
     double t = 0;
-    std::unordered_map<std::int64_t, std::vector<int>> grid;
+    EnemyIndex index;        // the "here" positions, for the closest-enemy and blow searches
+    std::vector<int> sides;  // each body's side
+    std::vector<int> launches;  // launches of each body since the index was built
+    double window = 0;          // s: decisions this step are at most this far from the index's time
+    int maxLaunches = 0;
+    double vmax = -1, jump = 0;  // the library's fastest pelvis (m/s), largest step between actions (m)
 
     const ActionLibrary& lib() const { return rules->library(); }
-    static std::int64_t cellKey(int x, int z) { return (static_cast<std::int64_t>(x) << 32) ^ static_cast<std::int64_t>(static_cast<std::uint32_t>(z)); }
     glm::vec2 pos(int c, double at) const { return bodies[static_cast<std::size_t>(c)].placement(lib(), at).pos; }
 
     std::vector<glm::vec2> here;  // every pelvis at the step's start
+    std::vector<std::pair<double, int>> due;  // decisions of this step
 
-    void rebuildGrid() {
-        grid.clear();
-        here.resize(bodies.size());
-        for (int c = 0; c < static_cast<int>(bodies.size()); ++c) here[static_cast<std::size_t>(c)] = pos(c, t);
-        for (int c = 0; c < static_cast<int>(bodies.size()); ++c) {
-            const glm::vec2 p = here[static_cast<std::size_t>(c)];
-            grid[cellKey(cellOf(p.x), cellOf(p.y))].push_back(c);
+    // How fast any pelvis can move: its placement is a heading-rotated
+    // polyline through the action's samples (speed <= the longest segment
+    // times the sample rate), and a launch may step by the gap between the
+    // old action's last sample and its end placement plus the new one's first sample.
+    void measureLibrary() {
+        double v = 0, j = 0;
+        for (int a = 0; a < lib().size(); ++a) {
+            const auto& act = lib().action(a);
+            glm::vec2 prev = lib().rootAt(a, 0.0).pos;
+            for (int s = 1; s < act.sampleCount; ++s) {
+                const glm::vec2 q = lib().rootAt(a, static_cast<double>(s) / sim::kSampleRate).pos;
+                v = std::max(v, static_cast<double>(glm::length(q - prev)) * sim::kSampleRate);
+                prev = q;
+            }
+            j = std::max(j, static_cast<double>(glm::length(lib().rootAt(a, 0.0).pos)) +
+                                static_cast<double>(glm::length(act.end.pos - lib().rootAt(a, 1e9).pos)));
         }
+        vmax = v * 1.01 + 1e-3, jump = j * 1.01 + 1e-4;
     }
 
-    // The closest enemy (ties: the lower index); the grid first, everyone when it has none near.
+    void updateSlack() {
+        // A body not launched since the build is within vmax * window of "here"; each launch adds
+        // another window of motion and a jump.
+        const double w = window + 1e-6;
+        index.setSlack((1 + maxLaunches) * vmax * w + maxLaunches * jump + 1e-4);
+    }
+
+    void rebuildGrid() {
+        if (vmax < 0) measureLibrary();
+        const auto n = bodies.size();
+        here.resize(n);
+        sides.resize(n);
+        for (std::size_t c = 0; c < n; ++c) here[c] = pos(static_cast<int>(c), t), sides[c] = fighters[c].side;
+        index.build(&here, &sides);
+        launches.assign(n, 0);
+        maxLaunches = 0;
+        window = 0;
+        for (const auto& b : bodies) {
+            if (b.end <= t + 1e-9) window = std::max(window, std::fabs(t - b.end));
+        }
+        updateSlack();
+    }
+
+    // The closest enemy (ties: the lower index): see enemy_index.h for the rule.
     int closestEnemy(int c, double at) const {
-        const glm::vec2 p = pos(c, at);
-        const int side = fighters[static_cast<std::size_t>(c)].side;
-        int best = -1;
-        float bestD = std::numeric_limits<float>::max();
-        auto consider = [&](int o) {
-            if (fighters[static_cast<std::size_t>(o)].side == side) return;
-            const glm::vec2 d = pos(o, at) - p;
-            const float dd = glm::dot(d, d);
-            if (dd < bestD || (dd == bestD && o < best)) bestD = dd, best = o;
-        };
-        const int cx = cellOf(p.x), cz = cellOf(p.y);
-        for (int ring = 0; ring <= 2 && best < 0; ++ring) {
-            for (int dx = -ring; dx <= ring; ++dx) {
-                for (int dz = -ring; dz <= ring; ++dz) {
-                    if (std::max(std::abs(dx), std::abs(dz)) != ring) continue;
-                    if (auto it = grid.find(cellKey(cx + dx, cz + dz)); it != grid.end()) {
-                        for (int o : it->second) consider(o);
-                    }
-                }
-            }
-            // One more ring can hold a nearer one than a corner of this ring.
-            if (best >= 0 && ring < 2) {
-                ++ring;
-                for (int dx = -ring; dx <= ring; ++dx) {
-                    for (int dz = -ring; dz <= ring; ++dz) {
-                        if (std::max(std::abs(dx), std::abs(dz)) != ring) continue;
-                        if (auto it = grid.find(cellKey(cx + dx, cz + dz)); it != grid.end()) {
-                            for (int o : it->second) consider(o);
-                        }
-                    }
-                }
-                break;
-            }
-        }
-        if (best < 0) {
-            for (int o = 0; o < static_cast<int>(bodies.size()); ++o) consider(o);
-        }
-        return best;
+        return index.closest(pos(c, at), fighters[static_cast<std::size_t>(c)].side, [&](int o) { return pos(o, at); });
     }
 
     // A static target stays where it is: the idle action of its Next set
@@ -216,7 +216,9 @@ struct Match::Impl {
         const auto uc = static_cast<std::size_t>(c);
         const Body& me = bodies[uc];
         const int set = rules->nextSetOf(me.action);
+        const auto searchStart = std::chrono::steady_clock::now();
         const int opp = closestEnemy(c, at);
+        stats.enemySeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - searchStart).count();
         opponent[uc] = opp;
         ++stats.decisions;
         const Command cmd = pending[uc] != Command::None && at <= pendingUntil[uc] ? pending[uc] : Command::None;
@@ -280,6 +282,10 @@ struct Match::Impl {
     void launchAt(int c, int action, double at) {
         auto& b = bodies[static_cast<std::size_t>(c)];
         detail::launch(lib(), b, action, at);
+        if (static_cast<std::size_t>(c) < launches.size()) {
+            maxLaunches = std::max(maxLaunches, ++launches[static_cast<std::size_t>(c)]);
+            updateSlack();
+        }
         scene.characters[static_cast<std::size_t>(c)].track.push_back({action, at, 0.0, b.end, b.root, false, false});
     }
 
@@ -288,15 +294,22 @@ struct Match::Impl {
         rebuildGrid();
         const auto start = std::chrono::steady_clock::now();
         // Decisions in time order (ties: character order), each at its action's end.
-        for (;;) {
-            int who = -1;
-            for (int c = 0; c < static_cast<int>(bodies.size()); ++c) {
-                const double e = bodies[static_cast<std::size_t>(c)].end;
-                if (e <= t + 1e-9 && (who < 0 || e < bodies[static_cast<std::size_t>(who)].end)) who = c;
-            }
-            if (who < 0) break;
-            const double at = bodies[static_cast<std::size_t>(who)].end;
+        // A queue of (end, index), earliest first: only the body just launched changes its end.
+        auto later = [](const std::pair<double, int>& x, const std::pair<double, int>& y) { return x > y; };
+        due.clear();
+        for (int c = 0; c < static_cast<int>(bodies.size()); ++c) {
+            if (bodies[static_cast<std::size_t>(c)].end <= t + 1e-9) due.emplace_back(bodies[static_cast<std::size_t>(c)].end, c);
+        }
+        std::make_heap(due.begin(), due.end(), later);
+        while (!due.empty()) {
+            std::pop_heap(due.begin(), due.end(), later);
+            const auto [at, who] = due.back();
+            due.pop_back();
             launchAt(who, decide(who, at), at);
+            if (const double e = bodies[static_cast<std::size_t>(who)].end; e <= t + 1e-9) {
+                due.emplace_back(e, who);
+                std::push_heap(due.begin(), due.end(), later);
+            }
         }
         stats.decideSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         // Blows within [t, t1] between nearby enemies, earliest first: only
@@ -316,21 +329,14 @@ struct Match::Impl {
             const int a = attackers[k];
             const auto& ab = bodies[static_cast<std::size_t>(a)];
             const glm::vec2 p = here[static_cast<std::size_t>(a)];
-            const int cx = cellOf(p.x), cz = cellOf(p.y);
-            for (int dx = -1; dx <= 1; ++dx) {
-                for (int dz = -1; dz <= 1; ++dz) {
-                    auto it = grid.find(cellKey(cx + dx, cz + dz));
-                    if (it == grid.end()) continue;
-                    for (int d : it->second) {
-                        if (fighters[static_cast<std::size_t>(d)].side == fighters[static_cast<std::size_t>(a)].side) continue;
-                        const glm::vec2 diff = here[static_cast<std::size_t>(d)] - p;
-                        if (glm::dot(diff, diff) > kStrikeReach * kStrikeReach) continue;
-                        const auto& db = bodies[static_cast<std::size_t>(d)];
-                        const auto h = rules->engine().strike(ab.playing(), ab.spent, db.playing(), db.reacting, t, t1);
-                        if (h.time >= 0) found[k].push_back({h.time, a, d, h});
-                    }
-                }
-            }
+            index.forNear(enemyCellOf(p.x), enemyCellOf(p.y), 1, [&](int d) {
+                if (fighters[static_cast<std::size_t>(d)].side == fighters[static_cast<std::size_t>(a)].side) return;
+                const glm::vec2 diff = here[static_cast<std::size_t>(d)] - p;
+                if (glm::dot(diff, diff) > kStrikeReach * kStrikeReach) return;
+                const auto& db = bodies[static_cast<std::size_t>(d)];
+                const auto h = rules->engine().strike(ab.playing(), ab.spent, db.playing(), db.reacting, t, t1);
+                if (h.time >= 0) found[k].push_back({h.time, a, d, h});
+            });
         };
         if (attackers.size() > 16) {
             tbb::parallel_for(std::size_t{0}, attackers.size(), search);

@@ -63,6 +63,7 @@ struct MatchOptions {
 struct MatchStats {
     std::int64_t decisions = 0, lookups = 0, offGraph = 0, fallbacks = 0, commands = 0, commandsTaken = 0, forced = 0;
     double decideSeconds = 0;  // time spent deciding (look-ups and choices)
+    double enemySeconds = 0;   // of which in the closest-enemy search
 };
 
 class Match {
