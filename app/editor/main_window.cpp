@@ -457,6 +457,7 @@ void MainWindow::buildMenus() {
     frame->setShortcut(Qt::Key_F);
     QAction* reset = view->addAction("&Reset layout", this, &MainWindow::resetLayout);
     reset->setObjectName("actionResetLayout");
+    buildPostureMenu(view);
 
     QMenu* help = menuBar()->addMenu("&Help");
     help->setObjectName("HelpMenu");
