@@ -571,6 +571,7 @@ void MainWindow::showGenerated(PreparedPreview generated) {
     statusBar()->showMessage("Generated " + summary, 15000);
     frameAll();
     showTime();
+    solvePosture();  // physics on: this scene is solved too (a previewed patch included)
 }
 
 void MainWindow::stopPreview() {
