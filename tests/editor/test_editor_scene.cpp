@@ -346,7 +346,8 @@ TEST_F(SceneWindow, ABadSpecOrACancelLeavesAClearMessageAndNoScene) {
 // solver's: they leave the captured pose at a hit (the blow is pulled onto the
 // victim's surface) but stay within a few cm of it away from hits; back to
 // Kinematic is immediate and gives the kinematic joints bit for bit. A Cancel
-// of the solve leaves the kinematic poses and says so.
+// of the solve leaves the kinematic poses and says so; with Physics on, a
+// scene generated again is solved after it.
 TEST_F(SceneWindow, PhysicsPostureSolvesInTheBackgroundAndPlaysItsPoses) {
     // The demo duel (resources/demo/duel.json): the short one has no hit.
     QString duel;
@@ -471,6 +472,22 @@ TEST_F(SceneWindow, PhysicsPostureSolvesInTheBackgroundAndPlaysItsPoses) {
     EXPECT_EQ(choice->currentText(), "Kinematic");
     EXPECT_EQ(w->scene()->postureMode(), fray::posture::Mode::Kinematic);
     EXPECT_EQ(posed(hitTimes[0]), kinHit[0]);
+
+    // Physics on, then Generate: the new scene is solved after it, by itself.
+    w->findChild<QAction*>("actionPosturePhysics")->trigger();
+    ASSERT_TRUE(QTest::qWaitFor([&] { return !w->busy(); }, 60000));
+    ASSERT_TRUE(w->postureShown());
+    generateAndWait(w.get());
+    ASSERT_NE(w->scene(), nullptr);
+    EXPECT_EQ(w->scene()->postureMode(), fray::posture::Mode::Physics) << "the generated scene was not solved";
+    EXPECT_EQ(choice->currentText(), "Physics");
+    double regenMax = 0;
+    for (std::size_t i = 0; i < hitTimes.size(); ++i) {
+        double maxD = 0, meanD = 0;
+        compare(kinHit[i], posed(hitTimes[i]), maxD, meanD);
+        regenMax = std::max(regenMax, maxD);
+    }
+    EXPECT_GT(regenMax, 0.05);
 }
 
 }  // namespace
