@@ -168,7 +168,7 @@ public:
     int selectedCharacter() const { return selected_; }
     // Ends a generated preview: the viewport plays the library's motions again.
     void stopPreview();
-    // ---- Posture mode (window_scene.cpp, docs/EDITOR.md): a view setting, not
+    // ---- Posture mode (window_posture.cpp, docs/EDITOR.md): a view setting, not
     // a document edit (no undo command). Physics solves the scene playing with
     // the posture solver (docs/POSTURE.md) in the background (progress and
     // Cancel), then plays its poses; a scene generated while it is on is
