@@ -434,6 +434,7 @@ private:
     QAction* postureKinematic_ = nullptr;
     QAction* posturePhysics_ = nullptr;
     bool solvingPosture_ = false;
+    bool postureDropped_ = false;  // the running solve was cancelled by a switch to Kinematic
     // Starts the physics solve of the scene playing when physics is chosen and it lacks it.
     void solvePosture();
     void syncPostureControls();

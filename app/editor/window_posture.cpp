@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <utility>
 
 #include "fray/posture/posture.h"
 #include "gantt_view.h"
@@ -72,7 +73,10 @@ void MainWindow::setPostureMode(posture::Mode mode) {
     postureMode_ = mode;
     syncPostureControls();
     if (mode == posture::Mode::Kinematic) {
-        if (solvingPosture_ && jobThread_) jobCancel_ = true;  // its result is dropped
+        if (solvingPosture_ && jobThread_) {
+            jobCancel_ = true;  // its result is dropped
+            postureDropped_ = true;
+        }
         if (scene_) {
             if (Status st = scene_->setPosture(posture::Mode::Kinematic); !st) showError("Posture", qs(st.error().message));
         }
@@ -108,11 +112,13 @@ void MainWindow::solvePosture() {
         },
         [this, stage, made, clock] {
             solvingPosture_ = false;
+            const bool dropped = std::exchange(postureDropped_, false);
             const bool current = scene_.get() == stage && postureMode_ == posture::Mode::Physics;
             if (!*made || !**made) {
                 const bool cancelled = *made && (*made)->error().isCancelled();
                 if (!current) return;  // switched back to kinematic, or the scene changed
                 if (replanTimer_ && replanTimer_->isActive()) return;  // cancelled for a re-plan: solved after it
+                if (dropped) return;  // Kinematic then Physics again while it stopped: jobFinished solves again
                 // Cancelled or failed: the viewport keeps the kinematic poses, and says so.
                 postureMode_ = posture::Mode::Kinematic;
                 syncPostureControls();

@@ -473,10 +473,16 @@ TEST_F(SceneWindow, PhysicsPostureSolvesInTheBackgroundAndPlaysItsPoses) {
     EXPECT_EQ(w->scene()->postureMode(), fray::posture::Mode::Kinematic);
     EXPECT_EQ(posed(hitTimes[0]), kinHit[0]);
 
-    // Physics on, then Generate: the new scene is solved after it, by itself.
+    // Physics, Kinematic, Physics again at once: the solve that was stopped
+    // starts again, and Physics stays chosen.
+    w->findChild<QAction*>("actionPosturePhysics")->trigger();
+    w->findChild<QAction*>("actionPostureKinematic")->trigger();
     w->findChild<QAction*>("actionPosturePhysics")->trigger();
     ASSERT_TRUE(QTest::qWaitFor([&] { return !w->busy(); }, 60000));
     ASSERT_TRUE(w->postureShown());
+    EXPECT_EQ(w->scene()->postureMode(), fray::posture::Mode::Physics);
+
+    // Physics on, then Generate: the new scene is solved after it, by itself.
     generateAndWait(w.get());
     ASSERT_NE(w->scene(), nullptr);
     EXPECT_EQ(w->scene()->postureMode(), fray::posture::Mode::Physics) << "the generated scene was not solved";
