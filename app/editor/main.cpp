@@ -5,7 +5,7 @@
 // characters listed; motion files play side by side.
 //
 //   fray [SCENE.frayscene | PROJECT.frayproj | MOTION...] [--rig FILE] [--quit-after N] [--screenshot out.png]
-//        [--wait-analysis] [--fresh-layout] [--describe-ui]
+//        [--wait-analysis] [--fresh-layout] [--describe-ui] [--posture kinematic|physics]
 //
 // --rig FILE draws the characters as a skinned rig (glTF/GLB, FBX, ...)
 // instead of capsules (app/cli/rig_setup.h, shared with fray-play).
@@ -62,7 +62,7 @@ std::string displayProblem() {
 int main(int argc, char** argv) {
     std::vector<std::string> inputs;
     int quitAfter = 0;
-    std::string screenshot, viewportShot, quality = "auto", rig, generateSpec;
+    std::string screenshot, viewportShot, quality = "auto", rig, generateSpec, postureName = "kinematic";
     bool validate = false, describeUi = false, waitAnalysis = false, freshLayout = false;
     {
         CLI::App cli{"fray: the Fray editor"};
@@ -83,10 +83,16 @@ int main(int argc, char** argv) {
         cli.add_option("--generate", generateSpec,
                        "With a project: generate this scene spec (JSON) at start and play it; with --quit-after, "
                        "quit only once it plays");
+        cli.add_option("--posture", postureName,
+                       "The viewport's posture mode at start: kinematic (the captured clips) or physics (the posture "
+                       "solver, solved in the background; View > Posture changes it)")
+            ->capture_default_str();
         cli.add_flag("--fresh-layout", freshLayout, "Start with the default panel layout, not the one saved by the last run");
         CLI11_PARSE(cli, argc, argv);
     }
     if (quitAfter < 0) return fail("--quit-after must be >= 0", 2);
+    const auto postureMode = fray::posture::parseMode(postureName);
+    if (!postureMode) return fail("--posture: '" + postureName + "' is not kinematic or physics", 2);
     if ((!screenshot.empty() || !viewportShot.empty()) && quitAfter == 0) quitAfter = 10;
     fray::render::Quality q = fray::render::Quality::Auto;
     if (quality == "fast") q = fray::render::Quality::Fast;
@@ -191,6 +197,7 @@ int main(int argc, char** argv) {
             fray::editor::MainWindow window(viewport, std::move(takes), std::move(scene), projectFile,
                                             QString::fromStdString(title), options);
             window.show();
+            window.setPostureMode(*postureMode);
             code = QApplication::exec();
             if (code == 0) code = window.exitCode();
         }

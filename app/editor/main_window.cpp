@@ -168,6 +168,7 @@ MainWindow::~MainWindow() {
     // The workers write into this window: both must be done before it goes.
     if (analysisThread_) analysisThread_->wait();
     if (segmentThread_) segmentThread_->wait();
+    if (solvingPosture_) jobCancel_ = true;  // a physics solve is only a view: stop it
     if (jobThread_) jobThread_->wait();
 }
 
@@ -457,6 +458,7 @@ void MainWindow::buildMenus() {
     frame->setShortcut(Qt::Key_F);
     QAction* reset = view->addAction("&Reset layout", this, &MainWindow::resetLayout);
     reset->setObjectName("actionResetLayout");
+    buildPostureMenu(view);
 
     QMenu* help = menuBar()->addMenu("&Help");
     help->setObjectName("HelpMenu");

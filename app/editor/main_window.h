@@ -162,9 +162,21 @@ public:
     int replanOthers() const { return replanOthers_; }
     int replanKept() const { return replanKept_; }
     double playTime() const { return time_; }
+    // Pauses the scene playing at t (s) and poses it there, as the viewport draws it
+    // (scene()->jointPositions then reads that pose); the Gantt panel's seek.
+    void seek(double t);
     int selectedCharacter() const { return selected_; }
     // Ends a generated preview: the viewport plays the library's motions again.
     void stopPreview();
+    // ---- Posture mode (window_posture.cpp, docs/EDITOR.md): a view setting, not
+    // a document edit (no undo command). Physics solves the scene playing with
+    // the posture solver (docs/POSTURE.md) in the background (progress and
+    // Cancel), then plays its poses; a scene generated while it is on is
+    // solved again. Kinematic is immediate (the scene poser's poses).
+    void setPostureMode(posture::Mode mode);
+    posture::Mode postureMode() const { return postureMode_; }
+    // Whether the scene playing shows the chosen mode's poses (false while solving).
+    bool postureShown() const { return scene_ && scene_->postureMode() == postureMode_; }
     // ---- Edit a generated interaction (window_pins.cpp, docs/EDITOR.md)
     // The menu of a Gantt bar of the scene playing (the caller owns it):
     // "Replace with" the actions that fit there, "Pin", "Unpin". Items that
@@ -416,6 +428,17 @@ private:
     std::string cpCharacter_;
     int cpIndex_ = -1;
     std::uint64_t overlayRevision_ = 0;
+    // The posture mode (a view setting): the Scene panel's choice and the View menu's.
+    posture::Mode postureMode_ = posture::Mode::Kinematic;
+    QComboBox* posture_ = nullptr;
+    QAction* postureKinematic_ = nullptr;
+    QAction* posturePhysics_ = nullptr;
+    bool solvingPosture_ = false;
+    bool postureDropped_ = false;  // the running solve was cancelled by a switch to Kinematic
+    // Starts the physics solve of the scene playing when physics is chosen and it lacks it.
+    void solvePosture();
+    void syncPostureControls();
+    void buildPostureMenu(QMenu* view);
     QCheckBox* live_ = nullptr;        // re-plan after each edit of the current setup
     QTimer* replanTimer_ = nullptr;    // the live re-plan's debounce
     bool generatingReplan_ = false;    // the running generate is a live re-plan

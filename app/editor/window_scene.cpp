@@ -138,13 +138,26 @@ void MainWindow::buildSceneDocks() {
     live_->setToolTip("After an edit of the selected setup (a stroke, a moved checkpoint, a changed weight) the scene "
                       "regenerates by itself once you pause for a moment");
     layout->addWidget(live_);
+    auto* postureRow = new QHBoxLayout;
+    postureRow->addWidget(new QLabel("Posture:"));
+    posture_ = new QComboBox;
+    posture_->setObjectName("scenePosture");
+    posture_->addItem("Kinematic", "kinematic");
+    posture_->addItem("Physics", "physics");
+    posture_->setToolTip("The poses the viewport plays (a view setting, not an edit): kinematic (the captured clips) or "
+                         "physics (the posture solver, solved in the background; docs/POSTURE.md)");
+    connect(posture_, &QComboBox::currentIndexChanged, this, [this](int i) {
+        setPostureMode(i == 1 ? posture::Mode::Physics : posture::Mode::Kinematic);
+    });
+    postureRow->addWidget(posture_, 1);
+    layout->addLayout(postureRow);
     replanTimer_ = new QTimer(this);
     replanTimer_->setSingleShot(true);
     replanTimer_->setInterval(kReplanDebounceMs);
     connect(replanTimer_, &QTimer::timeout, this, [this] {
         if (jobThread_) {
             // A re-plan that is out of date already: cancel it and start again.
-            if (generatingReplan_) jobCancel_ = true;
+            if (generatingReplan_ || solvingPosture_) jobCancel_ = true;
             replanTimer_->start(50);
             return;
         }
@@ -171,13 +184,7 @@ void MainWindow::buildSceneDocks() {
         std::unique_ptr<QMenu> menu(ganttBarMenu(r, b));
         if (menu) menu->exec(global);
     });
-    connect(gantt_, &GanttView::seekRequested, this, [this](double t) {
-        if (!scene_) return;
-        time_ = std::clamp(t, 0.0, scene_->duration());
-        gantt_->setTime(time_);
-        if (playing_) togglePlay();
-        showTime();
-    });
+    connect(gantt_, &GanttView::seekRequested, this, &MainWindow::seek);
 
     // Metrics of the scene playing (`fray-cli metrics`).
     auto* metricsPanel = new QWidget;
@@ -385,6 +392,8 @@ void MainWindow::jobFinished() {
     jobDone_ = nullptr;
     updateBusy();
     if (done) done();
+    // A scene generated (or a job that held off the solve) while physics is on.
+    if (!jobThread_) solvePosture();
 }
 
 void MainWindow::updateBusy() {
@@ -561,6 +570,7 @@ void MainWindow::showGenerated(PreparedPreview generated) {
     statusBar()->showMessage("Generated " + summary, 15000);
     frameAll();
     showTime();
+    solvePosture();  // physics on: this scene is solved too (a previewed patch included)
 }
 
 void MainWindow::stopPreview() {
@@ -730,6 +740,7 @@ void MainWindow::exportDialog() {
     root->addItem("in place (root bone at the origin)", "in-place");
     auto* physics = new QCheckBox("Physics posture (the posture solver's poses, docs/POSTURE.md)");
     physics->setObjectName("exportPhysics");
+    physics->setChecked(postureMode_ == posture::Mode::Physics);
     form->addRow("Rig", rigRow);
     form->addRow("Root motion", root);
     form->addRow(physics);

@@ -31,11 +31,13 @@
 #include <QTest>
 #include <QTimer>
 #include <cstdio>
+#include <glm/glm.hpp>
 #include <filesystem>
 #include <fstream>
 
 #include "editor_fixture.h"
 #include "fray/authoring/project_document.h"
+#include "fray/posture/posture.h"
 #include "fray/sim/metrics.h"
 #include "fray/sim/scene.h"
 #include "gantt_view.h"
@@ -335,6 +337,163 @@ TEST_F(SceneWindow, ABadSpecOrACancelLeavesAClearMessageAndNoScene) {
     EXPECT_EQ(w->scene(), nullptr);
     EXPECT_TRUE(child<QLabel>(w.get(), "sceneInfo")->text().contains("cancelled"))
         << child<QLabel>(w.get(), "sceneInfo")->text().toStdString();
+}
+
+
+// The posture mode in the viewport (issue 25 item 5): on the demo duel of
+// the demo project, Scene panel > Posture: Physics solves the scene in the
+// background (the UI keeps running), then the posed joints are the posture
+// solver's: they leave the captured pose at a hit (the blow is pulled onto the
+// victim's surface) but stay within a few cm of it away from hits; back to
+// Kinematic is immediate and gives the kinematic joints bit for bit. A Cancel
+// of the solve leaves the kinematic poses and says so; with Physics on, a
+// scene generated again is solved after it.
+TEST_F(SceneWindow, PhysicsPostureSolvesInTheBackgroundAndPlaysItsPoses) {
+    // The demo duel (resources/demo/duel.json): the short one has no hit.
+    QString duel;
+    for (const QString& src : w->sceneSources())
+        if (src.endsWith("resources/demo/duel.json")) duel = src;
+    ASSERT_FALSE(duel.isEmpty());
+    ASSERT_TRUE(w->selectSceneSource(duel));
+    generateAndWait(w.get());
+    ASSERT_NE(w->scene(), nullptr) << w->lastError().toStdString();
+    const fray::sim::Scene& scene = w->scene()->scene();
+    const int n = static_cast<int>(scene.characters.size());
+    std::vector<double> hitTimes;
+    for (const auto& h : scene.hits) hitTimes.push_back(h.time);
+    ASSERT_FALSE(hitTimes.empty()) << "the demo duel has no hit";
+    // Times away from every hit (0.5 s either side) and from the ends.
+    std::vector<double> calm;
+    for (double t = 0.5; t < scene.duration - 0.5; t += 0.25) {
+        bool near = false;
+        for (const auto& h : scene.hits) near = near || std::abs(h.time - t) < 0.5;
+        if (!near) calm.push_back(t);
+    }
+    ASSERT_GE(calm.size(), 3u);
+    using Joints = std::vector<std::vector<glm::vec3>>;
+    const auto posed = [&](double t) {
+        w->seek(t);
+        Joints j(static_cast<std::size_t>(n));
+        for (int c = 0; c < n; ++c) {
+            const auto p = w->scene()->jointPositions(c);
+            j[static_cast<std::size_t>(c)].assign(p.begin(), p.end());
+        }
+        return j;
+    };
+    // Largest and mean joint distance (m) between two posings.
+    const auto compare = [](const Joints& a, const Joints& b, double& maxD, double& meanD) {
+        maxD = 0;
+        double sum = 0;
+        int count = 0;
+        for (std::size_t c = 0; c < a.size(); ++c) {
+            EXPECT_EQ(a[c].size(), b[c].size());
+            for (std::size_t k = 0; k < std::min(a[c].size(), b[c].size()); ++k) {
+                const double d = glm::length(a[c][k] - b[c][k]);
+                maxD = std::max(maxD, d);
+                sum += d;
+                ++count;
+            }
+        }
+        meanD = count ? sum / count : 0;
+    };
+    std::vector<Joints> kinHit, kinCalm;
+    for (double t : hitTimes) kinHit.push_back(posed(t));
+    for (double t : calm) kinCalm.push_back(posed(t));
+
+    // Physics, from the Scene panel: solved in the background.
+    auto* choice = child<QComboBox>(w.get(), "scenePosture");
+    ASSERT_EQ(choice->currentText(), "Kinematic");
+    QElapsedTimer clock;
+    clock.start();
+    qint64 last = 0, longest = 0;
+    QTimer probe;
+    QObject::connect(&probe, &QTimer::timeout, [&] {
+        const qint64 now = clock.elapsed();
+        longest = std::max(longest, now - last);
+        last = now;
+    });
+    probe.start(5);
+    choice->setCurrentIndex(1);
+    last = clock.elapsed();
+    EXPECT_TRUE(w->busy()) << "the solve should run in the background";
+    EXPECT_EQ(w->postureMode(), fray::posture::Mode::Physics);
+    EXPECT_FALSE(w->postureShown());
+    ASSERT_TRUE(QTest::qWaitFor([&] { return !w->busy(); }, 60000)) << "the physics solve did not finish";
+    probe.stop();
+    std::printf("editor: physics posture solved in %lld ms; the UI event loop stalled at most %lld ms\n",
+                static_cast<long long>(clock.elapsed()), static_cast<long long>(longest));
+    EXPECT_LT(longest, 100) << "the UI event loop stalled while solving";
+    ASSERT_TRUE(w->postureShown()) << w->lastError().toStdString();
+    EXPECT_EQ(w->scene()->postureMode(), fray::posture::Mode::Physics);
+    EXPECT_TRUE(w->findChild<QAction*>("actionPosturePhysics")->isChecked());
+
+    double hitMax = 0;
+    for (std::size_t i = 0; i < hitTimes.size(); ++i) {
+        double maxD = 0, meanD = 0;
+        compare(kinHit[i], posed(hitTimes[i]), maxD, meanD);
+        std::printf("editor: hit at %.2f s: physics vs kinematic joints max %.2f cm, mean %.2f cm\n", hitTimes[i],
+                    maxD * 100, meanD * 100);
+        hitMax = std::max(hitMax, maxD);
+    }
+    EXPECT_GT(hitMax, 0.05) << "no joint moved 5 cm at any hit: the physics poses are not shown";
+    double calmMeanWorst = 0, calmMean = 0;
+    for (std::size_t i = 0; i < calm.size(); ++i) {
+        double maxD = 0, meanD = 0;
+        compare(kinCalm[i], posed(calm[i]), maxD, meanD);
+        calmMeanWorst = std::max(calmMeanWorst, meanD);
+        calmMean += meanD / static_cast<double>(calm.size());
+    }
+    std::printf("editor: away from hits: physics vs kinematic joints mean %.2f cm (worst time %.2f cm)\n",
+                calmMean * 100, calmMeanWorst * 100);
+    EXPECT_GT(calmMean, 0.0) << "the physics poses equal the kinematic ones";
+    EXPECT_LT(calmMean, 0.03);
+    EXPECT_LT(calmMeanWorst, 0.06);
+    QDir().mkpath(FRAY_EDITOR_SHOTS);
+    w->grab().save(QString(FRAY_EDITOR_SHOTS) + "/posture-physics.png");
+
+    // Back to Kinematic from the View menu: immediate, the same joints bit for bit.
+    w->findChild<QAction*>("actionPostureKinematic")->trigger();
+    EXPECT_FALSE(w->busy());
+    EXPECT_EQ(choice->currentText(), "Kinematic");
+    EXPECT_EQ(w->scene()->postureMode(), fray::posture::Mode::Kinematic);
+    for (std::size_t i = 0; i < hitTimes.size(); ++i) EXPECT_EQ(posed(hitTimes[i]), kinHit[i]);
+    for (std::size_t i = 0; i < calm.size(); ++i) EXPECT_EQ(posed(calm[i]), kinCalm[i]);
+
+    // A cancelled solve: the kinematic poses stay, and the choice says so.
+    choice->setCurrentIndex(1);
+    ASSERT_TRUE(w->busy());
+    QPushButton* cancel = nullptr;
+    for (auto* b : w->findChildren<QPushButton*>())
+        if (b->text() == "Cancel") cancel = b;
+    ASSERT_NE(cancel, nullptr);
+    QTest::mouseClick(cancel, Qt::LeftButton);
+    ASSERT_TRUE(QTest::qWaitFor([&] { return !w->busy(); }, 60000));
+    EXPECT_EQ(w->postureMode(), fray::posture::Mode::Kinematic);
+    EXPECT_EQ(choice->currentText(), "Kinematic");
+    EXPECT_EQ(w->scene()->postureMode(), fray::posture::Mode::Kinematic);
+    EXPECT_EQ(posed(hitTimes[0]), kinHit[0]);
+
+    // Physics, Kinematic, Physics again at once: the solve that was stopped
+    // starts again, and Physics stays chosen.
+    w->findChild<QAction*>("actionPosturePhysics")->trigger();
+    w->findChild<QAction*>("actionPostureKinematic")->trigger();
+    w->findChild<QAction*>("actionPosturePhysics")->trigger();
+    ASSERT_TRUE(QTest::qWaitFor([&] { return !w->busy(); }, 60000));
+    ASSERT_TRUE(w->postureShown());
+    EXPECT_EQ(w->scene()->postureMode(), fray::posture::Mode::Physics);
+
+    // Physics on, then Generate: the new scene is solved after it, by itself.
+    generateAndWait(w.get());
+    ASSERT_NE(w->scene(), nullptr);
+    EXPECT_EQ(w->scene()->postureMode(), fray::posture::Mode::Physics) << "the generated scene was not solved";
+    EXPECT_EQ(choice->currentText(), "Physics");
+    double regenMax = 0;
+    for (std::size_t i = 0; i < hitTimes.size(); ++i) {
+        double maxD = 0, meanD = 0;
+        compare(kinHit[i], posed(hitTimes[i]), maxD, meanD);
+        regenMax = std::max(regenMax, maxD);
+    }
+    EXPECT_GT(regenMax, 0.05);
 }
 
 }  // namespace
