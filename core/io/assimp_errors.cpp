@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include <assimp/Importer.hpp>
+#include <assimp/config.h>
 
 // Debian's Assimp 5.2.5 is built with its internal assertions on, and a failed
 // one calls Assimp::aiAssertViolation, which aborts the process. Damaged files
@@ -28,6 +29,15 @@ std::string assimpErrorText(const Assimp::Importer& importer) {
         if (c == '\n' || c == '\r' || c == '\t') c = ' ';
     while (!s.empty() && s.back() == ' ') s.pop_back();
     return s.empty() ? std::string("unknown error") : s;
+}
+
+void configureRigImporter(Assimp::Importer& importer) {
+    importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_MATERIALS, false);
+    importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_TEXTURES, false);
+    importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_CAMERAS, false);
+    importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_LIGHTS, false);
+    importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_ANIMATIONS, false);
+    importer.SetPropertyBool(AI_CONFIG_IMPORT_NO_SKELETON_MESHES, true);
 }
 
 }  // namespace fray

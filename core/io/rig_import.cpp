@@ -186,13 +186,7 @@ public:
             return fail("the skeleton has " + std::to_string(sk_.jointCount()) + " joints; rigs support at most " +
                         std::to_string(kMaxSkinnedJoints));
         Assimp::Importer importer;
-        importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_MATERIALS, false);
-        importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_TEXTURES, false);
-        importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_CAMERAS, false);
-        importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_LIGHTS, false);
-        importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_ANIMATIONS, false);
-        // A motion file is not a rig: no stick-figure mesh for skeletons without one (BVH).
-        importer.SetPropertyBool(AI_CONFIG_IMPORT_NO_SKELETON_MESHES, true);
+        configureRigImporter(importer);
         const aiScene* scene = importer.ReadFile(file_, 0);
         if (!scene) return fail("Assimp cannot read the file: " + assimpErrorText(importer));
         // Said before validation, which would call a scene without meshes invalid.

@@ -69,13 +69,8 @@ Result<RigSkeleton> loadRigSkeleton(const std::filesystem::path& path) {
     if (ext == ".bvh") return fromBvh(path);
 
     Assimp::Importer importer;
-    importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_MATERIALS, false);
-    importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_TEXTURES, false);
-    importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_CAMERAS, false);
-    importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_LIGHTS, false);
-    importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_ANIMATIONS, false);
+    configureRigImporter(importer);
     importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, false);
-    importer.SetPropertyBool(AI_CONFIG_IMPORT_NO_SKELETON_MESHES, true);
     const aiScene* scene = importer.ReadFile(file, aiProcess_ValidateDataStructure);
     if (!scene || !scene->mRootNode) return makeError(file + ": Assimp cannot read the file: " + assimpErrorText(importer));
 
