@@ -27,6 +27,18 @@ SegmentationResult segmentTake(const test::RealTake& t, const SegmentationParams
     return segment(t.signals, heuristicContacts(t.signals), params);
 }
 
+// Boundary F1 over every labelled take, segmented with `params` (0 when a take is missing).
+double score(const SegmentationParams& params) {
+    BoundaryScore total;
+    for (const auto& [take, labels] : test::readActionLabels("actions.csv")) {
+        const auto* t = test::realTake(take);
+        if (!t) return 0.0;
+        const auto truth = test::trueCuts(labels, t->signals.frameCount, t->signals.fps);
+        total += scoreBoundaries(segmentTake(*t, params).cuts, truth, tolerance(t->signals.fps));
+    }
+    return total.f1();
+}
+
 bool isAttack(const std::string& w) { return w == "punch" || w == "kick"; }
 
 }  // namespace
@@ -61,16 +73,6 @@ TEST(RealCaptures, SegmentationBoundaryF1) {
 // takes: real attacks peak at tens of times the threshold.
 TEST(RealCaptures, OnsetCapHelps) {
     if (!test::requireSharedMocap()) return;
-    auto score = [](const SegmentationParams& params) {
-        BoundaryScore total;
-        for (const auto& [take, labels] : test::readActionLabels("actions.csv")) {
-            const auto* t = test::realTake(take);
-            if (!t) return 0.0;
-            const auto truth = test::trueCuts(labels, t->signals.frameCount, t->signals.fps);
-            total += scoreBoundaries(segmentTake(*t, params).cuts, truth, tolerance(t->signals.fps));
-        }
-        return total.f1();
-    };
     const double ours = score({});
     SegmentationParams noCap;
     noCap.onsetCapFraction = 1e9;
@@ -83,16 +85,6 @@ TEST(RealCaptures, OnsetCapHelps) {
 // takes, where the profile of a performer settling reaches the rest level late.
 TEST(RealCaptures, IdleStartFromStillEffectorsHelps) {
     if (!test::requireSharedMocap()) return;
-    auto score = [](const SegmentationParams& params) {
-        BoundaryScore total;
-        for (const auto& [take, labels] : test::readActionLabels("actions.csv")) {
-            const auto* t = test::realTake(take);
-            if (!t) return 0.0;
-            const auto truth = test::trueCuts(labels, t->signals.frameCount, t->signals.fps);
-            total += scoreBoundaries(segmentTake(*t, params).cuts, truth, tolerance(t->signals.fps));
-        }
-        return total.f1();
-    };
     SegmentationParams off;
     off.stillNoiseFactor = 0.0;
     const double ours = score({}), without = score(off);
