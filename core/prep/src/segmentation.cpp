@@ -145,6 +145,7 @@ SegmentationResult segment(const MotionSignals& signals, const FootContacts& con
             stillSpeed = params.stillNoiseFactor * double(*q);
         }
     }
+    const double movingSpeed = params.movingFactor * stillSpeed;
     forEachRun(frames, [&](int f) { return r.support[static_cast<std::size_t>(f)] == Support::Double && quiet(f); },
                [&](int first, int last) {
                    // Rests; a long one is an idle of its own, starting after
@@ -155,6 +156,21 @@ SegmentationResult segment(const MotionSignals& signals, const FootContacts& con
                               [&](int a, int b) {
                                   if (b - a + 1 >= minRest) rests.emplace_back(first + a, first + b);
                               });
+                   // A rest interrupted by a stir of the profile in which no
+                   // effector moves faster than the take's jitter is one rest
+                   // (a real performer's profile flickers around the rest level).
+                   if (stillSpeed > 0.0 && rests.size() > 1) {
+                       std::vector<std::pair<int, int>> joined{rests.front()};
+                       for (std::size_t i = 1; i < rests.size(); ++i) {
+                           bool stillBetween = true;
+                           for (int f = joined.back().second + 1; f < rests[i].first && stillBetween; ++f) {
+                               stillBetween = double(signals.effectorSpeed[static_cast<std::size_t>(f)]) <= stillSpeed;
+                           }
+                           if (stillBetween) joined.back().second = rests[i].second;
+                           else joined.push_back(rests[i]);
+                       }
+                       rests = std::move(joined);
+                   }
                    for (std::size_t i = 0; i < rests.size(); ++i) {
                        const auto [restFirst, restLast] = rests[i];
                        restFrames = std::max(restFrames, restLast - restFirst + 1);
@@ -171,7 +187,18 @@ SegmentationResult segment(const MotionSignals& signals, const FootContacts& con
                            };
                            const int from = i > 0 ? rests[i - 1].second + 1 : first;
                            int f = restFirst;
-                           while (f > from && still(f - 1)) --f;
+                           // Back over still frames; a stir shorter than
+                           // minRestSeconds (jitter) does not end the rest.
+                           while (f > from) {
+                               if (still(f - 1)) {
+                                   --f;
+                                   continue;
+                               }
+                               int g = f - 1, stir = 0;
+                               while (g >= from && !still(g) && stir < minRest) --g, ++stir;
+                               if (stir >= minRest || g < from) break;
+                               f = g;
+                           }
                            if (still(f)) start = std::min(start, f);
                        }
                        // Long enough from where it starts to where movement
@@ -204,6 +231,16 @@ SegmentationResult segment(const MotionSignals& signals, const FootContacts& con
                                }
                            }
                            const int at = onset(a, b, peak);
+                           // A peak with no effector moving clearly faster
+                           // than the take's jitter is a sway of the trunk or
+                           // a hand settling, not a movement: its basins are one.
+                           if (movingSpeed > 0.0 && i < peaks.size()) {
+                               double fastest = 0.0;
+                               for (int f = at; f <= std::min(frames - 1, at + riseWindow); ++f) {
+                                   fastest = std::max(fastest, double(signals.effectorSpeed[static_cast<std::size_t>(f)]));
+                               }
+                               if (fastest <= movingSpeed) continue;
+                           }
                            const bool atApex = afterAttack && at - first < apex;
                            if (!atApex) {
                                split.push_back({at, restFrames > 0 ? 1e6 + restFrames : double(b - a + 1)});

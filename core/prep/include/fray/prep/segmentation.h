@@ -45,8 +45,11 @@ struct SegmentationParams {
     double onsetDelaySeconds = 0.033; // the cut lands this long after the quiet frame (centred differences lead)
     double minActionSeconds = 0.25;   // no action shorter than this
     // A quiet double-support phase without a rest that is shorter than this
-    // gives no cut (0: every phase does; learnt from the user's cuts, see learning.h).
-    double minPhaseSeconds = 0.0;
+    // gives no cut (learnt from the user's cuts, see learning.h). The default
+    // is half the smoothing window: a dip of the smoothed profile below the
+    // threshold that is narrower than the filter's half-width is the
+    // threshold crossing flickering, not a phase the profile resolves.
+    double minPhaseSeconds = 0.025;
     // A rest of idleSeconds or more becomes an idle action that starts this
     // long after the body comes to rest: the action that came to rest keeps
     // its recovery beat (the demo actor's clips end with 0.03-0.1 s of it).
@@ -56,7 +59,16 @@ struct SegmentationParams {
     // performer settles slowly, and the profile reaches the rest level late.
     // "Still" is stillNoiseFactor x the lower quartile of the effector speed
     // over the resting frames of the take (0 disables).
+    // Rests of the profile separated only by frames where no effector is
+    // faster than that still level are one rest (and the walk back to where
+    // the effectors fell still steps over stirs shorter than minRestSeconds).
     double stillNoiseFactor = 4.0;
+    // A basin of a quiet phase is split off only when an effector moves faster
+    // than movingFactor x the still level within onsetWindowSeconds of the
+    // cut: a bump of the profile without it is a sway of the trunk or a hand
+    // settling. A take whose performer stands perfectly still (still level 0,
+    // as the synthetic demo actor) keeps every basin.
+    double movingFactor = 4.0;
     // A quiet double-support phase holding several actions (a block or a slip
     // between two punches) is split at its basins: a peak of the profile that
     // rises and falls by basinProminence x the threshold separates two basins,
