@@ -240,6 +240,10 @@ SegmentationResult segment(const MotionSignals& signals, const FootContacts& con
                                    fastest = std::max(fastest, double(signals.effectorSpeed[static_cast<std::size_t>(f)]));
                                }
                                if (fastest <= movingSpeed) continue;
+                               // Nor is a cut where that movement is already
+                               // under way (a slow movement's profile rises
+                               // late, so its onset lands mid-stroke).
+                               if (double(signals.effectorSpeed[static_cast<std::size_t>(at)]) > params.pauseFraction * fastest) continue;
                            }
                            const bool atApex = afterAttack && at - first < apex;
                            if (!atApex) {

@@ -69,6 +69,10 @@ struct SegmentationParams {
     // settling. A take whose performer stands perfectly still (still level 0,
     // as the synthetic demo actor) keeps every basin.
     double movingFactor = 4.0;
+    // ... and only where that movement has not yet reached pauseFraction of
+    // its top speed in the window (the profile of a slow movement rises late,
+    // and its onset would land mid-stroke).
+    double pauseFraction = 0.5;
     // A quiet double-support phase holding several actions (a block or a slip
     // between two punches) is split at its basins: a peak of the profile that
     // rises and falls by basinProminence x the threshold separates two basins,
