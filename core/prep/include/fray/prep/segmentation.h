@@ -66,8 +66,8 @@ struct SegmentationParams {
     // A basin of a quiet phase is split off only when an effector moves faster
     // than movingFactor x the still level within onsetWindowSeconds of the
     // cut: a bump of the profile without it is a sway of the trunk or a hand
-    // settling. A take whose performer stands perfectly still (still level 0,
-    // as the synthetic demo actor) keeps every basin.
+    // settling. A take whose performer stands still (still level near 0, as
+    // the synthetic demo actor) keeps its basins.
     double movingFactor = 4.0;
     // ... and only where that movement has not yet reached pauseFraction of
     // its top speed in the window (the profile of a slow movement rises late,
