@@ -76,7 +76,8 @@ RefitReport refitSegmentation(const std::vector<SegmentationExample>& examples, 
     const double prominences[] = {0.0, 0.05, 0.1, 0.2, 0.4};
     const double caps[] = {0.03, 0.1, 0.3, 1e9};
     const double stills[] = {1.0, 0.0, 0.5, 2.0};  // x base.stillNoiseFactor; 0: idles start after the recovery beat
-    const double phases[] = {0.0, 0.05, 0.1};      // minPhaseSeconds
+    // minPhaseSeconds: the base's own (half the smoothing window by default) first, so a refit can keep it
+    const double phases[] = {base.minPhaseSeconds, 0.0, 0.05, 0.1};
     int bestChanges = 0;                           // the base set changes none
     for (double f : factors) {
         for (double pr : prominences) {
