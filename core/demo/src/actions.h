@@ -67,7 +67,7 @@ inline constexpr double kCarryEndStep = 0.8;     // s (48 frames)
 inline constexpr double kCarryEndStride = 0.28;  // m per step (+-6 %)
 inline constexpr double kCarryEndTurn = 0.20;    // rad per turning step (+-6 %)
 inline constexpr double kCarryEndPivot = 1.22;   // m: the box's middle ahead of the base (1.6 m grip span / 2 + grip reach)
-enum class CarryEndMove : std::uint8_t { Forward, Back, Left, Right, TurnLeft, TurnRight, Hold };
+enum class CarryEndMove : std::uint8_t { Forward, Back, Left, Right, TurnLeft, TurnRight, Hold, ForwardLeft, ForwardRight, BackLeft, BackRight };
 void carryEndLift(Builder& b);  // Stand -> holding the end
 void carryEndStep(Builder& b, CarryEndMove move);
 

@@ -138,6 +138,19 @@ void carryEndStep(Builder& b, CarryEndMove move) {
             lead = move == CarryEndMove::TurnLeft ? 1 : 0;
             break;
         }
+        case CarryEndMove::ForwardLeft:
+        case CarryEndMove::ForwardRight:
+        case CarryEndMove::BackLeft:
+        case CarryEndMove::BackRight: {
+            // The same stride along a diagonal.
+            const bool fwd = move == CarryEndMove::ForwardLeft || move == CarryEndMove::ForwardRight;
+            const bool left = move == CarryEndMove::ForwardLeft || move == CarryEndMove::BackLeft;
+            const double c = stride * std::sqrt(0.5);
+            local = dvec3(left ? c : -c, 0.0, fwd ? c : -c);
+            name = fwd ? (left ? "carry_end_forward_left" : "carry_end_forward_right") : (left ? "carry_end_back_left" : "carry_end_back_right");
+            lead = left ? 0 : 1;
+            break;
+        }
         case CarryEndMove::Hold: break;
     }
     const dvec3 p1 = p0 + rotY(h0) * local;

@@ -96,6 +96,10 @@ const std::vector<ActionInfo>& actionTable() {
         {"carry_end_turn_left", false, {"carry", "turn"}, {"LeftFoot", "RightFoot"}, nullptr, nullptr, nullptr},
         {"carry_end_turn_right", false, {"carry", "turn"}, {"RightFoot", "LeftFoot"}, nullptr, nullptr, nullptr},
         {"carry_end_hold", false, {"carry", "idle"}, {}, nullptr, nullptr, nullptr},
+        {"carry_end_forward_left", false, {"carry", "step"}, {"LeftFoot", "RightFoot"}, nullptr, nullptr, nullptr},
+        {"carry_end_forward_right", false, {"carry", "step"}, {"RightFoot", "LeftFoot"}, nullptr, nullptr, nullptr},
+        {"carry_end_back_left", false, {"carry", "step"}, {"LeftFoot", "RightFoot"}, nullptr, nullptr, nullptr},
+        {"carry_end_back_right", false, {"carry", "step"}, {"RightFoot", "LeftFoot"}, nullptr, nullptr, nullptr},
     };
     return table;
 }

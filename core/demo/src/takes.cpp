@@ -362,7 +362,7 @@ void carrying(Builder& b, double seconds) {
 
 // ---- one end of a long box -------------------------------------------------------
 
-// Lifts the end, then steps in a shuffled deck of the seven carry-end
+// Lifts the end, then steps in a shuffled deck of the eleven carry-end
 // moves (every move equally often), steered back toward the origin when the
 // take wanders more than 3 m away.
 void carryingEnd(Builder& b, double seconds) {
@@ -374,7 +374,8 @@ void carryingEnd(Builder& b, double seconds) {
         if (deck.empty()) {
             if (b.now() >= seconds - 1e-9) break;
             deck = {CarryEndMove::Forward, CarryEndMove::Back, CarryEndMove::Left, CarryEndMove::Right,
-                    CarryEndMove::TurnLeft, CarryEndMove::TurnRight, CarryEndMove::Hold};
+                    CarryEndMove::TurnLeft, CarryEndMove::TurnRight, CarryEndMove::Hold, CarryEndMove::ForwardLeft,
+                    CarryEndMove::ForwardRight, CarryEndMove::BackLeft, CarryEndMove::BackRight};
             b.rng.shuffle(deck);
         }
         CarryEndMove m = deck.back();
@@ -454,7 +455,8 @@ std::vector<std::string> actionKindsOf(TakeKind kind) {
             return {"idle_stand", "jog", "run", "turn_run", "juke_left", "juke_right", "tackle", "get_up", "turn_walk"};
         case TakeKind::CarryingEnd:
             return {"idle_stand", "carry_end_lift", "carry_end_forward", "carry_end_back", "carry_end_left", "carry_end_right",
-                    "carry_end_turn_left", "carry_end_turn_right", "carry_end_hold"};
+                    "carry_end_turn_left", "carry_end_turn_right", "carry_end_hold", "carry_end_forward_left",
+                    "carry_end_forward_right", "carry_end_back_left", "carry_end_back_right"};
         case TakeKind::Walking: break;
     }
     return {"idle_stand", "walk", "turn_walk", "backpedal"};

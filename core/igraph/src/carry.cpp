@@ -282,6 +282,7 @@ Result<CarryGraph> buildCarryGraph(const sim::ActionLibrary& lib, const CarryOpt
         std::vector<InteractionState> next;
         std::int64_t added = 0, seen = 0;
         for (const auto& list : kids) {
+            if (static_cast<std::int64_t>(cells.size()) >= o.maxSamples) break;  // the archive is full (the rest of the round is dropped, in node order)
             for (std::size_t c = 0; c < list.size(); ++c) {
                 added += store(list[c].s) ? 1 : 0;
                 ++seen;

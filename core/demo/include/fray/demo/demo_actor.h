@@ -71,8 +71,8 @@ std::uint64_t takeSeed(std::uint64_t librarySeed, std::string_view takeName);
 // once, whatever the length.
 Take generateTake(const TakeSpec& spec, std::uint64_t seed);
 
-// Every action name the demo actor can perform (59 kinds, three of them only
-// in the football set, eight only in the carry set), and the action kinds of one take kind.
+// Every action name the demo actor can perform (63 kinds, three of them only
+// in the football set, twelve only in the carry set), and the action kinds of one take kind.
 const std::vector<std::string>& actionKinds();
 std::vector<std::string> actionKindsOf(TakeKind kind);
 

@@ -49,7 +49,7 @@ struct CarryOptions {
     // and degrees, not the duel's 0.5 m and 30 degrees.
     DistanceScale scale{0.03, 0.03, 4};
     int kmeansIterations = 2;
-    int variantsPerClass = 2;   // edge actions per action name and carrier
+    int variantsPerClass = 1;   // edge actions per action name and carrier (0: every variant)
     double joinRadius = 1.5;
     bool parallel = true;       // TBB; results do not depend on it
 };
