@@ -27,5 +27,6 @@ expect_fail "non-finite carry weight" "reward weight w_d is not a finite number"
 echo '{"version": 1, "points": [[0, 0], [1, "a"]]}' > "$tmp/bad.json"
 expect_fail "bad path" "bad.json: /points/1" "$cli" igraph play "$p" --kind carry --path "$tmp/bad.json" -o "$tmp/x.frayscene" -q
 expect_fail "bad circle" "the radius must be a number" "$cli" igraph play "$p" --kind carry --path circle:x -o "$tmp/x.frayscene" -q
+expect_fail "carry with a graph file" "the carry graph is built in memory" "$cli" igraph play "$p" --kind carry --graph "$tmp/g.igraph" -o "$tmp/x.frayscene" -q
 check "no scene or graph from bad input" "[ ! -e '$tmp/x.frayscene' ] && [ ! -e '$tmp/g.igraph' ]"
 echo "cli_igraph_carry: ok"

@@ -231,6 +231,8 @@ Result<igraph::Mind> mindOf(const std::string& s, const char* flag) {
 
 // --kind carry: two carriers of one long box following --path (SPEC 3.4-3.5, collaborative).
 void runCarryPlay(const PlayArgs& a, const fs::path& outFile) {
+    if (!a.graph.empty()) return fail("--graph: the carry graph is built in memory by each run (--carry-states), not read from a file");
+    if (!a.input.empty()) return fail("--input: user commands steer a duel or team fight; two carriers follow --path");
     if (!(a.seconds > 0 && a.seconds <= sim::kMaxSceneSeconds)) return fail("--seconds must be in (0, 3600]");
     igraph::CarryWeights w;
     for (const auto& e : a.carryEdits) {
