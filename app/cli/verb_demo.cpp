@@ -138,7 +138,7 @@ void registerDemoLibrary(CLI::App& app) {
                     "Total length of the library in minutes (default: shadow-boxing takes of 2 min, others ~1 min)")
         ->check(CLI::Range(0.0, 600.0));
     cmd->add_option("--set", args->set,
-                    "Which takes: default (fighting, running, falls, carrying, walking) or football (runs, cuts, tackles)")
+                    "Which takes: default (fighting, running, falls, carrying, walking), football (runs, cuts, tackles) or carry (one end of a long box)")
         ->check(CLI::IsMember(demo::librarySets()));
     cmd->add_flag("--report", args->report, "Also print quality figures (foot skate, speeds, style durations)");
     cmd->callback([args] { run(*args); });

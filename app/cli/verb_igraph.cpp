@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "fray/core/atomic_file.h"
+#include "fray/igraph/carry.h"
 #include "fray/igraph/igraph.h"
 #include "fray/igraph/runtime.h"
 #include "fray/sim/geometry.h"
@@ -213,6 +214,9 @@ void runPolicy(const PolicyArgs& a) {
 // ---- play -------------------------------------------------------------------------------
 struct PlayArgs {
     std::string project, graph, kind = "duel", input, out, preset = "general", opponentPreset = "general", you = "graph", opponent = "graph";
+    std::string path = "circle:3";           // --kind carry
+    std::vector<std::string> carryEdits;     // --carry-set name=value
+    int carryStates = 20000;
     int characters = 2, depth = 3, opponentDepth = 3;
     double seconds = 20;
     std::uint64_t seed = 1;
@@ -225,10 +229,71 @@ Result<igraph::Mind> mindOf(const std::string& s, const char* flag) {
     return makeError(std::string(flag) + ": '" + s + "' is not graph or static");
 }
 
+// --kind carry: two carriers of one long box following --path (SPEC 3.4-3.5, collaborative).
+void runCarryPlay(const PlayArgs& a, const fs::path& outFile) {
+    if (!a.graph.empty()) return fail("--graph: the carry graph is built in memory by each run (--carry-states), not read from a file");
+    if (!a.input.empty()) return fail("--input: user commands steer a duel or team fight; two carriers follow --path");
+    if (!(a.seconds > 0 && a.seconds <= sim::kMaxSceneSeconds)) return fail("--seconds must be in (0, 3600]");
+    igraph::CarryWeights w;
+    for (const auto& e : a.carryEdits) {
+        if (auto st = igraph::applyCarryEdit(w, e); !st) return fail("--carry-set: " + st.error().message);
+    }
+    Result<igraph::CarryPath> path = makeError("");
+    if (a.path.rfind("circle:", 0) == 0) {
+        path = igraph::parseCarryPath(a.path);
+    } else {
+        auto text = readWholeFile(a.path, "the path file");
+        if (!text) return fail(text.error().message);
+        path = igraph::carryPathFromJson(*text, a.path);
+    }
+    if (!path) return fail("--path: " + path.error().message);
+    const auto progress = stderrProgress(a.quiet);
+    auto ss = openSimSession(a.project, progress);
+    if (!ss) return fail(ss.error().message);
+    const auto& lib = (*ss)->library;
+    igraph::CarryOptions o;
+    o.seed = a.seed;
+    o.maxSamples = a.carryStates;
+    auto g = igraph::buildCarryGraph(lib, o, progress);
+    if (!g) return fail(a.project + ": " + g.error().message);
+    std::vector<igraph::CarryPolicy> policies;
+    double policySeconds = 0;
+    for (int k = 0; k < igraph::kCarryDirections; ++k) {
+        auto p = igraph::computeCarryPolicy(*g, w, k, a.depth);
+        if (!p) return fail(p.error().message);
+        policySeconds += p->seconds;
+        policies.push_back(std::move(*p));
+    }
+    nlohmann::ordered_json record;
+    record["igraph"] = {{"kind", "carry"}, {"path", a.path}, {"seconds", a.seconds}, {"seed", a.seed}, {"depth", a.depth},
+                        {"w_theta", w.wTheta}, {"w_d", w.wD}, {"w_v", w.wV}, {"speed", w.speed}, {"gamma", w.gamma}};
+    igraph::CarryRunOptions ro;
+    ro.duration = a.seconds;
+    ro.seed = a.seed;
+    ro.record = record.dump();
+    const auto t0 = Clock::now();
+    auto run = igraph::runCarry(lib, *g, policies, *path, ro, progress);
+    if (!run) return fail(run.error().message);
+    sim::Scene& scene = run->scene;
+    scene.project = sceneProjectReference(outFile, a.project);
+    scene.stats.seconds = since(t0);
+    scene.stats.decisions = run->stats.decisions;
+    if (auto st = sim::saveScene(scene, lib, outFile); !st) return fail(st.error().message);
+    const auto& st = run->stats;
+    std::printf("carry graph: %zu states, %zu edges, %.1f MiB, %lld samples in %lld rounds, built in %.2f s; 8 policies (depth %d) in %.3f s\n",
+                g->states.size(), g->edges.size(), static_cast<double>(g->memoryBytes()) / (1024.0 * 1024.0), static_cast<long long>(g->samples),
+                static_cast<long long>(g->rounds), g->seconds, a.depth, policySeconds);
+    std::printf("%s: 2 carriers, %.1f s, %lld decisions (%lld off the graph, %lld holds); path error mean %.3f m, max %.3f m; "
+                "hand-to-hand distance within %.2f %% of the box (%.2f m)\n",
+                a.out.c_str(), a.seconds, static_cast<long long>(st.decisions), static_cast<long long>(st.offGraph),
+                static_cast<long long>(st.holds), st.pathErrorMean, st.pathErrorMax, 100.0 * st.gripErrorMax, o.boxLength);
+}
+
 void runPlay(const PlayArgs& a) {
     const fs::path outFile(a.out);
     if (Status st = checkSceneOutput(outFile); !st) return fail(st.error().message);
-    if (a.kind != "duel" && a.kind != "teams") return fail("--kind: '" + a.kind + "' is not duel or teams");
+    if (a.kind == "carry") return runCarryPlay(a, outFile);
+    if (a.kind != "duel" && a.kind != "teams") return fail("--kind: '" + a.kind + "' is not duel, teams or carry");
     if (!(a.seconds > 0 && a.seconds <= sim::kMaxSceneSeconds)) return fail("--seconds must be in (0, 3600]");
     if (a.characters < 2 || a.characters > 10000) return fail("--characters must be between 2 and 10000");
     auto you = mindOf(a.you, "--you");
@@ -474,7 +539,10 @@ void registerIgraph(CLI::App& app) {
         auto* cmd = ig->add_subcommand("play", "A graph-driven duel or team fight, written as a scene");
         cmd->add_option("project", a->project, "Project file")->required();
         cmd->add_option("--graph", a->graph, "Graph file (default: PROJECT.igraph)");
-        cmd->add_option("--kind", a->kind, "duel | teams");
+        cmd->add_option("--kind", a->kind, "duel | teams | carry");
+        cmd->add_option("--path", a->path, "carry: the path, circle:R or a JSON file {version: 1, loop, points: [[x, z], ...]}");
+        cmd->add_option("--carry-set", a->carryEdits, "carry: reward edits name=value (w_theta, w_d, w_v, speed, gamma)");
+        cmd->add_option("--carry-states", a->carryStates, "carry: the carry graph's archive size limit")->check(CLI::Range(16, 1000000));
         cmd->add_option("--characters", a->characters, "Characters in a team fight (two teams)");
         cmd->add_option("--seconds", a->seconds, "Duration");
         cmd->add_option("--seed", a->seed, "Seed of the start placements");

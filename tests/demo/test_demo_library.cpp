@@ -1,6 +1,6 @@
 // Quality of the demo library against its own ground truth. A small library
 // (about 2.5 minutes, every action kind at least once, and a minute of the
-// football set) is generated once and
+// football set and one of the carry set) is generated once and
 // every threshold is checked on every action kind.
 #include <gtest/gtest.h>
 
@@ -45,6 +45,11 @@ const Library& library() {
         football.set = "football";
         football.minutes = 1.0;
         for (const TakeSpec& spec : planLibrary(football)) plan.push_back(spec);
+        // The carry set's box-end steps too.
+        LibraryOptions carry = o;
+        carry.set = "carry";
+        carry.minutes = 1.0;
+        for (const TakeSpec& spec : planLibrary(carry)) plan.push_back(spec);
         for (const TakeSpec& spec : plan) {
             l.takes.push_back(generateTake(spec, takeSeed(o.seed, spec.name)));
             const Take& t = l.takes.back();

@@ -61,6 +61,16 @@ void putDown(Builder& b);
 void handOver(Builder& b);
 void receiveBox(Builder& b);
 
+// One end of a long box, held at both hands, face to face with a second
+// carrier (the carry set). Every action lasts kCarryEndStep s.
+inline constexpr double kCarryEndStep = 0.8;     // s (48 frames)
+inline constexpr double kCarryEndStride = 0.28;  // m per step (+-6 %)
+inline constexpr double kCarryEndTurn = 0.20;    // rad per turning step (+-6 %)
+inline constexpr double kCarryEndPivot = 1.22;   // m: the box's middle ahead of the base (1.6 m grip span / 2 + grip reach)
+enum class CarryEndMove : std::uint8_t { Forward, Back, Left, Right, TurnLeft, TurnRight, Hold, ForwardLeft, ForwardRight, BackLeft, BackRight };
+void carryEndLift(Builder& b);  // Stand -> holding the end
+void carryEndStep(Builder& b, CarryEndMove move);
+
 // Football (actions_football.cpp), from and back to a run.
 void juke(Builder& b, int side);  // a two-step cut 0.6-0.7 m to this side (0 left, 1 right), still running
 void tackle(Builder& b);          // one run step, a dive with the arms forward, landing face down (Prone)

@@ -82,3 +82,93 @@ void receiveBox(Builder& b) {
 }
 
 }  // namespace fray::demo::detail
+
+// ---- one end of a long box (the carry set) ------------------------------------
+// Both hands hold one end of a long box whose other end a second capture's
+// actor holds, face to face. Every carry-end action lasts kCarryEndStep s
+// and keeps the grip fixed in front of the chest, so two captures pair
+// action by action: both carriers decide at the same times, and the grips
+// move with the bases by the same eased profile.
+
+namespace fray::demo::detail {
+
+namespace {
+
+Pose carryEndPose() {
+    Pose p;
+    p.set(ShiftX, 0).set(ShiftZ, 0).set(PelvisRoll, 0).set(SpineRoll, 0).set(HeadYaw, 0).set(HeadRoll, 0);
+    p.set(Height, 0.98).set(PelvisYaw, 0).set(PelvisPitch, 0.02).set(SpinePitch, 0.04).set(SpineYaw, 0);
+    p.set(HeadPitch, 0.06).set(Gaze, 0.0);
+    p.setHand(0, {0.12, -0.16, 0.40}).setHand(1, {-0.12, -0.16, 0.40});
+    p.setPole(0, {0.6, -1.0, -0.2}).setPole(1, {-0.6, -1.0, -0.2});
+    return p;
+}
+
+constexpr double kFootWidth = 0.12;  // m either side of the base
+
+}  // namespace
+
+void carryEndLift(Builder& b) {
+    const double t0 = b.now(), t1 = t0 + kCarryEndStep;
+    b.pose(t0, t1 - 0.1, carryEndPose());
+    b.mode = Mode::Carry;
+    b.finish("carry_end_lift", t1);
+}
+
+void carryEndStep(Builder& b, CarryEndMove move) {
+    const double t0 = b.now(), t1 = t0 + kCarryEndStep;
+    const double h0 = b.heading(t0);
+    const dvec3 p0 = b.base(t0);
+    const double stride = kCarryEndStride * b.rng.jitter(0.06);
+    dvec3 local(0.0);  // x left, z forward
+    double turn = 0;
+    const char* name = "carry_end_hold";
+    int lead = b.rng.below(2);
+    switch (move) {
+        case CarryEndMove::Forward: local.z = stride, name = "carry_end_forward"; break;
+        case CarryEndMove::Back: local.z = -stride, name = "carry_end_back"; break;
+        case CarryEndMove::Left: local.x = stride, name = "carry_end_left", lead = 0; break;
+        case CarryEndMove::Right: local.x = -stride, name = "carry_end_right", lead = 1; break;
+        case CarryEndMove::TurnLeft:
+        case CarryEndMove::TurnRight: {
+            // Round the box's middle, kCarryEndPivot ahead: the grip stays on the circle the box end makes.
+            turn = (move == CarryEndMove::TurnLeft ? 1.0 : -1.0) * kCarryEndTurn * b.rng.jitter(0.06);
+            local = dvec3(-kCarryEndPivot * std::sin(turn), 0.0, kCarryEndPivot - kCarryEndPivot * std::cos(turn));
+            name = move == CarryEndMove::TurnLeft ? "carry_end_turn_left" : "carry_end_turn_right";
+            lead = move == CarryEndMove::TurnLeft ? 1 : 0;
+            break;
+        }
+        case CarryEndMove::ForwardLeft:
+        case CarryEndMove::ForwardRight:
+        case CarryEndMove::BackLeft:
+        case CarryEndMove::BackRight: {
+            // The same stride along a diagonal.
+            const bool fwd = move == CarryEndMove::ForwardLeft || move == CarryEndMove::ForwardRight;
+            const bool left = move == CarryEndMove::ForwardLeft || move == CarryEndMove::BackLeft;
+            const double c = stride * std::sqrt(0.5);
+            local = dvec3(left ? c : -c, 0.0, fwd ? c : -c);
+            name = fwd ? (left ? "carry_end_forward_left" : "carry_end_forward_right") : (left ? "carry_end_back_left" : "carry_end_back_right");
+            lead = left ? 0 : 1;
+            break;
+        }
+        case CarryEndMove::Hold: break;
+    }
+    const dvec3 p1 = p0 + rotY(h0) * local;
+    const double h1 = h0 + turn;
+    b.moveBase(t0, t1, p1, h1);
+    if (move == CarryEndMove::Hold) {
+        Pose s = carryEndPose();
+        b.pose(t0, t1, s);
+    } else {
+        // Two short steps, the leading foot first, each to the end stance.
+        const double T = t1 - t0;
+        const int other = 1 - lead;
+        b.step(lead, t0 + 0.06 * T, t0 + 0.50 * T, Builder::plantAt(p1, h1, sideSign(lead) * kFootWidth, 0.0, 0.0), 0.05);
+        b.step(other, t0 + 0.46 * T, t0 + 0.92 * T, Builder::plantAt(p1, h1, sideSign(other) * kFootWidth, 0.0, 0.0), 0.05);
+        b.pose(t0, t1, carryEndPose());
+    }
+    b.mode = Mode::Carry;
+    b.finish(name, t1);
+}
+
+}  // namespace fray::demo::detail

@@ -87,6 +87,19 @@ const std::vector<ActionInfo>& actionTable() {
         {"juke_left", false, {"avoid"}, {"LeftFoot", "RightFoot"}, nullptr, nullptr, "torso"},
         {"juke_right", false, {"avoid"}, {"RightFoot", "LeftFoot"}, nullptr, nullptr, "torso"},
         {"tackle", false, {"tackle"}, {"LeftHand", "RightHand"}, "straight", "torso", nullptr},
+        // one end of a long box (the carry set only)
+        {"carry_end_lift", false, {"carry", "transition"}, {"LeftHand", "RightHand"}, nullptr, nullptr, nullptr},
+        {"carry_end_forward", false, {"carry", "step"}, {"LeftFoot", "RightFoot"}, nullptr, nullptr, nullptr},
+        {"carry_end_back", false, {"carry", "step"}, {"LeftFoot", "RightFoot"}, nullptr, nullptr, nullptr},
+        {"carry_end_left", false, {"carry", "step"}, {"LeftFoot", "RightFoot"}, nullptr, nullptr, nullptr},
+        {"carry_end_right", false, {"carry", "step"}, {"RightFoot", "LeftFoot"}, nullptr, nullptr, nullptr},
+        {"carry_end_turn_left", false, {"carry", "turn"}, {"LeftFoot", "RightFoot"}, nullptr, nullptr, nullptr},
+        {"carry_end_turn_right", false, {"carry", "turn"}, {"RightFoot", "LeftFoot"}, nullptr, nullptr, nullptr},
+        {"carry_end_hold", false, {"carry", "idle"}, {}, nullptr, nullptr, nullptr},
+        {"carry_end_forward_left", false, {"carry", "step"}, {"LeftFoot", "RightFoot"}, nullptr, nullptr, nullptr},
+        {"carry_end_forward_right", false, {"carry", "step"}, {"RightFoot", "LeftFoot"}, nullptr, nullptr, nullptr},
+        {"carry_end_back_left", false, {"carry", "step"}, {"LeftFoot", "RightFoot"}, nullptr, nullptr, nullptr},
+        {"carry_end_back_right", false, {"carry", "step"}, {"RightFoot", "LeftFoot"}, nullptr, nullptr, nullptr},
     };
     return table;
 }

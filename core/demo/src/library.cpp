@@ -14,7 +14,7 @@ Result<std::vector<WrittenTake>> writeDemoLibrary(const std::filesystem::path& o
     std::filesystem::create_directories(outDir, ec);
     if (ec) return makeError(outDir.string() + ": cannot create directory: " + ec.message());
     const std::vector<TakeSpec> plan = planLibrary(options);
-    if (plan.empty()) return makeError("demo library: unknown set '" + options.set + "' (known: default, football)");
+    if (plan.empty()) return makeError("demo library: unknown set '" + options.set + "' (known: default, football, carry)");
     std::vector<WrittenTake> written;
     nlohmann::ordered_json index;
     index["format"] = "fray-demo-library";

@@ -34,6 +34,7 @@ std::string_view toString(TakeKind kind) {
         case TakeKind::Falls: return "falls";
         case TakeKind::Carrying: return "carrying";
         case TakeKind::Football: return "football";
+        case TakeKind::CarryingEnd: return "carrying_end";
         case TakeKind::Walking: break;
     }
     return "walking";
@@ -69,6 +70,11 @@ constexpr DefaultTake kDefaultTakes[] = {
 constexpr DefaultTake kFootballTakes[] = {
     {"football_1", TakeKind::Football, Style::Neutral, 90.0},
     {"football_2", TakeKind::Football, Style::Neutral, 90.0},
+};
+// The carry set: one end of a long box, two takes (two captures to pair).
+constexpr DefaultTake kCarryTakes[] = {
+    {"carry_end_1", TakeKind::CarryingEnd, Style::Neutral, 60.0},
+    {"carry_end_2", TakeKind::CarryingEnd, Style::Neutral, 60.0},
 };
 
 // ---- helpers -----------------------------------------------------------------
@@ -354,6 +360,36 @@ void carrying(Builder& b, double seconds) {
     detail::idleStand(b, 1.0);
 }
 
+// ---- one end of a long box -------------------------------------------------------
+
+// Lifts the end, then steps in a shuffled deck of the eleven carry-end
+// moves (every move equally often), steered back toward the origin when the
+// take wanders more than 3 m away.
+void carryingEnd(Builder& b, double seconds) {
+    using detail::CarryEndMove;
+    detail::idleStand(b, b.rng.uniform(0.8, 1.2));
+    detail::carryEndLift(b);
+    std::vector<CarryEndMove> deck;
+    while (b.now() < seconds - 1e-9 || deck.size() > 0) {
+        if (deck.empty()) {
+            if (b.now() >= seconds - 1e-9) break;
+            deck = {CarryEndMove::Forward, CarryEndMove::Back, CarryEndMove::Left, CarryEndMove::Right,
+                    CarryEndMove::TurnLeft, CarryEndMove::TurnRight, CarryEndMove::Hold, CarryEndMove::ForwardLeft,
+                    CarryEndMove::ForwardRight, CarryEndMove::BackLeft, CarryEndMove::BackRight};
+            b.rng.shuffle(deck);
+        }
+        CarryEndMove m = deck.back();
+        deck.pop_back();
+        if (distanceFromOrigin(b) > 3.0 && m != CarryEndMove::TurnLeft && m != CarryEndMove::TurnRight && m != CarryEndMove::Hold) {
+            // The step of the four that heads most toward the origin.
+            const dvec3 o = originInHeadingFrame(b);
+            m = std::abs(o.z) >= std::abs(o.x) ? (o.z > 0 ? CarryEndMove::Forward : CarryEndMove::Back)
+                                                : (o.x > 0 ? CarryEndMove::Left : CarryEndMove::Right);
+        }
+        detail::carryEndStep(b, m);
+    }
+}
+
 }  // namespace
 
 double defaultLibraryMinutes() {
@@ -363,7 +399,7 @@ double defaultLibraryMinutes() {
 }
 
 const std::vector<std::string>& librarySets() {
-    static const std::vector<std::string> sets = {"default", "football"};
+    static const std::vector<std::string> sets = {"default", "football", "carry"};
     return sets;
 }
 
@@ -374,6 +410,13 @@ std::vector<TakeSpec> planLibrary(const LibraryOptions& options) {
         for (const auto& t : kFootballTakes) total += t.seconds;
         const double scale = options.minutes > 0 ? options.minutes * 60.0 / total : 1.0;
         for (const auto& t : kFootballTakes) out.push_back({t.name, t.kind, t.style, t.seconds * scale});
+        return out;
+    }
+    if (options.set == "carry") {
+        double total = 0;
+        for (const auto& t : kCarryTakes) total += t.seconds;
+        const double scale = options.minutes > 0 ? options.minutes * 60.0 / total : 1.0;
+        for (const auto& t : kCarryTakes) out.push_back({t.name, t.kind, t.style, t.seconds * scale});
         return out;
     }
     if (options.set != "default") return out;
@@ -410,6 +453,10 @@ std::vector<std::string> actionKindsOf(TakeKind kind) {
             return {"idle_stand", "pick_up_box", "walk_carry", "turn_carry", "hand_over", "receive", "put_down", "walk"};
         case TakeKind::Football:
             return {"idle_stand", "jog", "run", "turn_run", "juke_left", "juke_right", "tackle", "get_up", "turn_walk"};
+        case TakeKind::CarryingEnd:
+            return {"idle_stand", "carry_end_lift", "carry_end_forward", "carry_end_back", "carry_end_left", "carry_end_right",
+                    "carry_end_turn_left", "carry_end_turn_right", "carry_end_hold", "carry_end_forward_left",
+                    "carry_end_forward_right", "carry_end_back_left", "carry_end_back_right"};
         case TakeKind::Walking: break;
     }
     return {"idle_stand", "walk", "turn_walk", "backpedal"};
@@ -434,6 +481,7 @@ Take generateTake(const TakeSpec& spec, std::uint64_t seed) {
         case TakeKind::Carrying: carrying(b, spec.seconds); break;
         case TakeKind::Walking: walking(b, spec.seconds); break;
         case TakeKind::Football: football(b, spec.seconds); break;
+        case TakeKind::CarryingEnd: carryingEnd(b, spec.seconds); break;
     }
     Take take;
     take.spec = spec;

@@ -29,6 +29,7 @@ std::uint64_t fnv(std::uint64_t h, std::uint64_t v) {
 Rules::~Rules() = default;
 
 Result<std::shared_ptr<const Rules>> Rules::make(const ActionLibrary& lib, std::vector<int> actions) {
+    bool anyAttack = true;
     if (actions.empty()) {
         // The fighting captures: motions with an attack in them (not the
         // walks, runs and carries beside them).
@@ -36,6 +37,7 @@ Result<std::shared_ptr<const Rules>> Rules::make(const ActionLibrary& lib, std::
         for (const auto& la : lib.actions()) {
             if (la.is(sim::kAttack) && la.effector >= 0) fighting[static_cast<std::size_t>(la.motion)] = 1;
         }
+        anyAttack = std::any_of(fighting.begin(), fighting.end(), [](char f) { return f != 0; });
         for (int a = 0; a < lib.size(); ++a) {
             const auto& la = lib.action(a);
             if (la.is(kChoosable) && !la.is(sim::kReactive) && fighting[static_cast<std::size_t>(la.motion)]) actions.push_back(a);
@@ -50,6 +52,10 @@ Result<std::shared_ptr<const Rules>> Rules::make(const ActionLibrary& lib, std::
         }
     }
     if (lib.size() > Edge::kMaxAction) return makeError("Interaction Graph: the library has more than 32767 actions");
+    if (!anyAttack) {
+        return makeError("Interaction Graph: the project has no attack actions (punch or kick); annotate some actions as punches or kicks "
+                         "first (two carriers of a box: igraph play --kind carry)");
+    }
     if (actions.empty()) return makeError("Interaction Graph: the project has no actions a boxer can choose (punch, kick, block, avoid, step, idle)");
     if (std::none_of(actions.begin(), actions.end(), [&](int a) { return lib.action(a).is(sim::kAttack) && lib.action(a).effector >= 0; })) {
         return makeError("Interaction Graph: the project has no attack actions (punch or kick) among the chosen actions; "

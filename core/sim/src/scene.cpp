@@ -205,7 +205,11 @@ struct BodyKind {
     std::string_view name;
     float length, height;
 };
-constexpr BodyKind kBodyKinds[] = {{"rat", kRatLength, kRatHeight}, {"bag", kBagLength, 0.0f}};
+// "box": the long box two carriers hold in the Interaction Graph's carrying
+// (fray/igraph/carry.h): its root at one carrier's grip, 1.6 m (the demo
+// pair's grip span) to the other's.
+constexpr float kCarryBoxLength = 1.6f;
+constexpr BodyKind kBodyKinds[] = {{"rat", kRatLength, kRatHeight}, {"bag", kBagLength, 0.0f}, {"box", kCarryBoxLength, 0.0f}};
 
 const BodyKind* bodyKind(std::string_view name) {
     for (const auto& k : kBodyKinds) {

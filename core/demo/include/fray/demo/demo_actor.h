@@ -27,7 +27,7 @@ Skeleton makeDemoSkeleton();
 enum class Style : std::uint8_t { Neutral, Energetic, Tired };
 std::string_view toString(Style style);
 
-enum class TakeKind : std::uint8_t { ShadowBoxing, RunningAround, Falls, Carrying, Walking, Football };
+enum class TakeKind : std::uint8_t { ShadowBoxing, RunningAround, Falls, Carrying, Walking, Football, CarryingEnd };
 std::string_view toString(TakeKind kind);
 
 struct TakeSpec {
@@ -49,7 +49,9 @@ struct LibraryOptions {
     // (shadow-boxing takes of 2 minutes, the others about 1 minute).
     double minutes = 0.0;
     // Which takes: "default" (fighting, running, falls, carrying, walking) or
-    // "football" (running with cuts and tackles, for the football scene).
+    // "football" (running with cuts and tackles, for the football scene) or
+    // "carry" (one end of a long box, two takes to pair, for the Interaction
+    // Graph's carrying).
     std::string set = "default";
 };
 
@@ -69,8 +71,8 @@ std::uint64_t takeSeed(std::uint64_t librarySeed, std::string_view takeName);
 // once, whatever the length.
 Take generateTake(const TakeSpec& spec, std::uint64_t seed);
 
-// Every action name the demo actor can perform (51 kinds, three of them only
-// in the football set), and the action kinds of one take kind.
+// Every action name the demo actor can perform (63 kinds, three of them only
+// in the football set, twelve only in the carry set), and the action kinds of one take kind.
 const std::vector<std::string>& actionKinds();
 std::vector<std::string> actionKindsOf(TakeKind kind);
 
