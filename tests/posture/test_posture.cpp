@@ -182,6 +182,45 @@ TEST(PostureSolver, WithoutControlACharacterFallsAsARagDoll) {
     EXPECT_TRUE(allFinite(frames->world));
 }
 
+// End joints without a box or pin (the demo actor's finger and toe ends) are
+// no bodies of their own: each sits on its parent's frame at its bone's
+// offset, turned by its captured rotation relative to the parent.
+TEST(PostureSolver, EndJointsRideOnTheirParents) {
+    const auto& scene = duel();
+    const auto& lib = demoWorld().library;
+    posture::Simulator solver(scene, lib, {});
+    sim::ScenePoser poser(scene, lib);
+    Pose pose;
+    int checked = 0;
+    for (int f = 0; f <= 90; ++f) {
+        solver.step();
+        if (f % 30 != 0) continue;
+        for (int c = 0; c < 2; ++c) {
+            const auto& sk = poser.skeleton(c);
+            const auto roles = lib.motion(lib.actions()[static_cast<std::size_t>(scene.characters[static_cast<std::size_t>(c)].track[0].action)].motion).joints;
+            const auto pos = solver.positions(c);
+            const auto rot = solver.rotations(c);
+            poser.pose(c, f / 60.0, pose);
+            for (int j = 0; j < sk.jointCount(); ++j) {
+                const int p = sk.parents[static_cast<std::size_t>(j)];
+                if (p < 0 || !sk.children(j).empty() || j == roles.head || j == roles.leftHand || j == roles.rightHand ||
+                    j == roles.leftFoot || j == roles.rightFoot) {
+                    continue;
+                }
+                const auto u = static_cast<std::size_t>(j), up = static_cast<std::size_t>(p);
+                const glm::vec3 expected = pos[up] + rot[up] * sk.offsets[u];
+                EXPECT_LT(glm::length(pos[u] - expected), 1e-4f) << sk.names[u] << " at frame " << f;
+                const glm::quat relative = glm::conjugate(rot[up]) * rot[u];
+                const glm::quat diff = glm::conjugate(pose.rotations[u]) * relative;
+                const float turn = 2.0f * glm::length(glm::vec3(diff.x, diff.y, diff.z));  // radians, for small turns
+                EXPECT_LT(turn, 1e-3f) << sk.names[u] << " at frame " << f << ": not its captured rotation on its parent";
+                ++checked;
+            }
+        }
+    }
+    EXPECT_EQ(checked, 4 * 2 * 4) << "two finger ends and two toe ends per character, at four frames";
+}
+
 TEST(PostureSolver, BadInputStaysFiniteAndIsReported) {
     const auto& lib = demoWorld().library;
     sim::Scene scene = duel();

@@ -211,6 +211,15 @@ struct Blow {
     double scale = 1;  // blocked blows push less
 };
 
+// What control() pulls a body towards over one frame's substeps, computed
+// once a frame from the targets (the substeps only interpolate).
+struct Aim {
+    glm::dvec3 c0{0.0}, c1{0.0};     // centre of mass at the last frame's targets and this one's
+    glm::dvec3 v01{0.0}, v12{0.0};   // captured velocity before and after this frame
+    glm::dvec3 acc{0.0}, spin{0.0};  // captured acceleration and angular velocity
+    glm::dquat q0{1, 0, 0, 0}, q1{1, 0, 0, 0};
+};
+
 struct Character {
     int index = 0;
     const Skeleton* skeleton = nullptr;
@@ -221,7 +230,8 @@ struct Character {
     std::vector<glm::dvec3> centre;  // body centre (mass) in its joint's frame
     std::vector<double> mass, inertia;
     std::vector<double> reach;       // m: ankle to hip along the leg (pin compatibility)
-    std::vector<dBodyID> bodies;
+    std::vector<dBodyID> bodies;     // per joint (null where it rides)
+    std::vector<std::uint8_t> rides; // per joint: an end joint that is no body of its own (see rider())
     std::vector<Piece> pieces;  // collision boxes, by segment then along it
     std::array<dJointID, 2> pin{nullptr, nullptr};
     std::array<glm::dvec3, 2> pinAt{};
@@ -252,6 +262,7 @@ struct Character {
     std::vector<glm::quat> outRot;
     std::vector<glm::vec3> scratch;
     std::vector<glm::vec3> deviation;  // output minus target at the last frame (where it really is)
+    std::vector<Aim> aims;             // per body: what control() pulls towards this frame (set once a frame)
 };
 
 // Is joint j on the spine (from the chest down to, not including, the pelvis)?
@@ -274,6 +285,7 @@ struct Island {
     dGeomID floor = nullptr;
     dThreadingImplementationID threading = nullptr;  // its own: ODE's default one is shared by all worlds
     std::vector<int> members;
+    std::vector<int> blows;    // Impl::blows whose victim is a member, in order
     int contactsThisStep = 0;  // contacts between characters in the current step
     double time = 0;           // s: the scene time at the start of the current step
     Report report;
@@ -387,6 +399,8 @@ struct Simulator::Impl {
                                chain(c.roles.rightHand, sk.parents[static_cast<std::size_t>(c.roles.rightShoulder)])};
             }
             c.torqueScale.assign(n, 1.0f);
+            c.rides.assign(n, 0);
+            for (int j = 0; j < c.jointCount; ++j) c.rides[static_cast<std::size_t>(j)] = rider(c, j) ? 1 : 0;
             c.pinShift.assign(n, glm::vec3(0.0f));
             c.pinHeld.assign(n, 0);
             c.touched.assign(n, 0);
@@ -632,6 +646,16 @@ struct Simulator::Impl {
             is.contacts = dJointGroupCreate(0);
             is.floor = dCreatePlane(nullptr, 0, 1, 0, 0);
         }
+        // Each island looks only at the blows on its own members (not at every
+        // blow of the scene every step).
+        std::vector<int> islandOfChar(chars.size(), -1);
+        for (const auto& is : islands) {
+            for (int m : is.members) islandOfChar[static_cast<std::size_t>(m)] = is.index;
+        }
+        for (std::size_t b = 0; b < blows.size(); ++b) {
+            const int i = islandOfChar[static_cast<std::size_t>(blows[b].defender)];
+            if (i >= 0) islands[static_cast<std::size_t>(i)].blows.push_back(static_cast<int>(b));
+        }
     }
 
     // Targets of character c at time t, adjusted, with non-finite values held.
@@ -673,15 +697,51 @@ struct Simulator::Impl {
         }
     }
 
+    // An end joint (no children) that carries no collision box, no pin and
+    // no big mass (a finger or toe end, not the head, a hand or a foot) is
+    // no body of its own: it rides on its parent's body, turned by its
+    // captured rotation relative to the parent. Each such body cost three
+    // constraint rows and its light mass slowed the solver's convergence.
+    bool rider(const Character& c, int j) const {
+        const auto& sk = *c.skeleton;
+        if (sk.parents[static_cast<std::size_t>(j)] < 0 || !sk.children(j).empty()) return false;
+        const auto& r = c.roles;
+        if (j == r.head || j == r.neck || j == r.leftHand || j == r.rightHand || j == r.leftFoot || j == r.rightFoot) return false;
+        for (int s = 0; s < sim::kSegmentCount; ++s) {
+            if (segmentBody(s, r) == j) return false;
+        }
+        return true;
+    }
+
     glm::dvec3 jointPos(const Character& c, int j) const {
+        if (c.rides[static_cast<std::size_t>(j)]) {
+            const int p = c.skeleton->parents[static_cast<std::size_t>(j)];
+            const dBodyID b = c.bodies[static_cast<std::size_t>(p)];
+            return vecOf(dBodyGetPosition(b)) +
+                   quatOf(dBodyGetQuaternion(b)) * (glm::dvec3(c.skeleton->offsets[static_cast<std::size_t>(j)]) -
+                                                    c.centre[static_cast<std::size_t>(p)]);
+        }
         const dBodyID b = c.bodies[static_cast<std::size_t>(j)];
         return vecOf(dBodyGetPosition(b)) - quatOf(dBodyGetQuaternion(b)) * c.centre[static_cast<std::size_t>(j)];
+    }
+
+    // A joint's world rotation: its body's, or for a rider its parent's
+    // turned by the captured relative rotation.
+    glm::dquat jointRot(const Character& c, int j) const {
+        const auto u = static_cast<std::size_t>(j);
+        if (!c.rides[u]) return quatOf(dBodyGetQuaternion(c.bodies[u]));
+        const auto p = static_cast<std::size_t>(c.skeleton->parents[u]);
+        return quatOf(dBodyGetQuaternion(c.bodies[p])) * (glm::conjugate(glm::dquat(c.r1[p])) * glm::dquat(c.r1[u]));
     }
 
     void create(Island& is, Character& c) {
         const auto n = static_cast<std::size_t>(c.jointCount);
         c.bodies.resize(n);
         for (std::size_t j = 0; j < n; ++j) {
+            if (c.rides[j]) {
+                c.bodies[j] = nullptr;
+                continue;
+            }
             dBodyID b = dBodyCreate(is.world);
             dMass m;
             dMassSetZero(&m);
@@ -699,7 +759,7 @@ struct Simulator::Impl {
         const auto& sk = *c.skeleton;
         for (std::size_t j = 1; j < n; ++j) {
             const int p = sk.parents[j];
-            if (p < 0) continue;
+            if (p < 0 || c.rides[j]) continue;
             dJointID joint = dJointCreateBall(is.world, nullptr);
             dJointAttach(joint, c.bodies[static_cast<std::size_t>(p)], c.bodies[j]);
             dJointSetBallAnchor(joint, c.p1[j].x, c.p1[j].y, c.p1[j].z);
@@ -756,7 +816,7 @@ struct Simulator::Impl {
         c.deviation.resize(static_cast<std::size_t>(c.jointCount));
         for (std::size_t j = 0; j < static_cast<std::size_t>(c.jointCount); ++j) {
             c.outPos[j] = glm::vec3(jointPos(c, static_cast<int>(j)));
-            c.outRot[j] = glm::quat(quatOf(dBodyGetQuaternion(c.bodies[j])));
+            c.outRot[j] = glm::quat(jointRot(c, static_cast<int>(j)));
             c.deviation[j] = c.outPos[j] - c.p1[j];
         }
     }
@@ -770,6 +830,7 @@ struct Simulator::Impl {
         }
         c.heldBag = -1;
         for (std::size_t j = 0; j < static_cast<std::size_t>(c.jointCount); ++j) {
+            if (c.rides[j]) continue;
             const glm::dquat q(c.r1[j]);
             const glm::dvec3 centre = glm::dvec3(c.p1[j]) + q * c.centre[j];
             dBodySetPosition(c.bodies[j], centre.x, centre.y, centre.z);
@@ -994,21 +1055,36 @@ struct Simulator::Impl {
         }
     }
 
+    // The frame's aims of every body (the parts of control() that do not
+    // change between substeps).
+    void aim(Character& c) const {
+        c.aims.resize(static_cast<std::size_t>(c.jointCount));
+        for (std::size_t j = 0; j < static_cast<std::size_t>(c.jointCount); ++j) {
+            Aim& a = c.aims[j];
+            a.q0 = glm::dquat(c.r0[j]), a.q1 = glm::dquat(c.r1[j]);
+            a.c0 = glm::dvec3(c.p0[j]) + a.q0 * c.centre[j];
+            a.c1 = glm::dvec3(c.p1[j]) + a.q1 * c.centre[j];
+            const glm::dvec3 c2 = glm::dvec3(c.p2[j]) + glm::dquat(c.r2[j]) * c.centre[j];
+            // The captured motion's velocity and acceleration, fed forward so
+            // the PD terms only correct the error (no lag on fast blows).
+            a.v01 = (a.c1 - a.c0) * opt.fps, a.v12 = (c2 - a.c1) * opt.fps;
+            a.acc = (a.v12 - a.v01) * opt.fps;
+            a.spin = rotationVector(a.q1 * glm::conjugate(a.q0)) * opt.fps;
+        }
+    }
+
     void control(Island& is, Character& c, double alpha) {
         const double w = kTwoPi * opt.frequency, kd = 2.0 * opt.dampingRatio * w;
         const double wr = kTwoPi * opt.angularFrequency, kdr = 2.0 * opt.dampingRatio * wr;
         for (std::size_t j = 0; j < static_cast<std::size_t>(c.jointCount); ++j) {
             const dBodyID b = c.bodies[j];
-            const glm::dquat q0(c.r0[j]), q1(c.r1[j]);
-            const glm::dvec3 c0 = glm::dvec3(c.p0[j]) + q0 * c.centre[j];
-            const glm::dvec3 c1 = glm::dvec3(c.p1[j]) + q1 * c.centre[j];
-            const glm::dvec3 c2 = glm::dvec3(c.p2[j]) + glm::dquat(c.r2[j]) * c.centre[j];
+            if (!b) continue;  // rides on its parent
+            const Aim& a = c.aims[j];
+            const glm::dvec3 &c0 = a.c0, &c1 = a.c1, &v01 = a.v01, &v12 = a.v12;
+            const glm::dquat &q0 = a.q0, &q1 = a.q1;
             glm::dvec3 target = c0 + (c1 - c0) * alpha;
-            // The captured motion's velocity and acceleration, fed forward so
-            // the PD terms only correct the error (no lag on fast blows).
-            const glm::dvec3 v01 = (c1 - c0) * opt.fps, v12 = (c2 - c1) * opt.fps;
             glm::dvec3 targetVel = v01 + (v12 - v01) * (alpha - 0.5);
-            glm::dvec3 targetAcc = (v12 - v01) * opt.fps;
+            glm::dvec3 targetAcc = a.acc;
             if (c.pinHeld[j]) {
                 target = c1 + glm::dvec3(c.pinShift[j]);
                 targetVel = targetAcc = glm::dvec3(0.0);
@@ -1024,7 +1100,7 @@ struct Simulator::Impl {
 
             const glm::dquat qt = glm::slerp(q0, q1, alpha);
             const glm::dvec3 err = rotationVector(qt * glm::conjugate(quatOf(dBodyGetQuaternion(b))));
-            const glm::dvec3 targetSpin = rotationVector(q1 * glm::conjugate(q0)) * opt.fps;
+            const glm::dvec3& targetSpin = a.spin;
             const double I = c.inertia[j] * static_cast<double>(c.torqueScale[j]);
             glm::dvec3 torque = I * (wr * wr * err + kdr * (targetSpin - vecOf(dBodyGetAngularVel(b))));
             const double tmax = c.inertia[j] * opt.maxAngularAcceleration;
@@ -1148,11 +1224,12 @@ struct Simulator::Impl {
     }
 
     void pushBlows(Island& is, double t0, double t1) {
-        for (const auto& blow : blows) {
+        for (int b : is.blows) {
+            const Blow& blow = blows[static_cast<std::size_t>(b)];
             if (blow.time < t0 || blow.time >= t1) continue;
             auto& a = chars[static_cast<std::size_t>(blow.attacker)];
             auto& d = chars[static_cast<std::size_t>(blow.defender)];
-            if (!a.created || !d.created || std::find(is.members.begin(), is.members.end(), blow.defender) == is.members.end()) continue;
+            if (!a.created || !d.created) continue;
             const glm::dvec3 v = vecOf(dBodyGetLinearVel(a.bodies[static_cast<std::size_t>(blow.tipJoint)]));
             const glm::dvec3 impulse = opt.hitForce * blow.scale * blow.mass * v;
             if (!std::isfinite(impulse.x + impulse.y + impulse.z)) continue;
@@ -1163,6 +1240,7 @@ struct Simulator::Impl {
 
     bool finiteState(const Character& c) const {
         for (dBodyID b : c.bodies) {
+            if (!b) continue;
             const dReal* p = dBodyGetPosition(b);
             const dReal* q = dBodyGetQuaternion(b);
             const dReal* v = dBodyGetLinearVel(b);
@@ -1198,6 +1276,10 @@ struct Simulator::Impl {
             if (opt.handPins) updateHandPins(is, c, t);
         }
         if (any && f > 0) {
+            for (int m : is.members) {
+                auto& c = chars[static_cast<std::size_t>(m)];
+                if (c.created && c.controlled) aim(c);
+            }
             for (int s = 0; s < opt.substeps; ++s) {
                 const double alpha = static_cast<double>(s + 1) / opt.substeps;
                 is.time = (f - 1) / opt.fps + s * h;
