@@ -310,6 +310,7 @@ struct TableArgs {
     double seconds = 30;
     std::vector<int> depths = {1, 3, 5};
     std::vector<int> treeDepths = {2, 3};
+    std::vector<std::string> edits;
     bool refine = false;
     bool quiet = false;
 };
@@ -325,7 +326,7 @@ void runTable(const TableArgs& a) {
     for (int d : a.treeDepths) {
         if (d < 1 || d > 8) return fail("--tree-depths: " + std::to_string(d) + " is not a depth from 1 to 8");
     }
-    auto w = weightsFor(a.preset, {});
+    auto w = weightsFor(a.preset, a.edits);
     if (!w) return fail(w.error().message);
     auto l = openGraph(a.project, a.graph, a.quiet);
     if (!l) return fail(l.error().message);
@@ -544,6 +545,7 @@ void registerIgraph(CLI::App& app) {
         cmd->add_option("--tree-depths", a->treeDepths, "Depths of the tree-expansion opponents");
         cmd->add_option("--tree-preset", a->treePreset, "Planner preset of the tree-expansion opponents");
         cmd->add_flag("--refine", a->refine, "The graph boxer re-simulates its state's edges from the real bodies (MatchOptions::refine)");
+        cmd->add_option("--set", a->edits, "Reward weight edit of the graph boxer, name=value (w_theta, w_d, d_p, w_a, w_r, gamma)");
         cmd->add_flag("-q,--quiet", a->quiet, "No progress on stderr");
         cmd->callback([a] { runTable(*a); });
     }
