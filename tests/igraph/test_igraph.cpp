@@ -543,6 +543,13 @@ TEST(IgraphTable, DeeperScoresHigherAndTreeColumnsArePlayed) {
     std::printf("vs static target: depth 1 %.2f, depth 3 %.2f, depth 5 %.2f\n", mean[0], mean[1], mean[2]);
     EXPECT_LT(mean[0], mean[1]);
     EXPECT_LT(mean[1], mean[2]);
+    // Refined look-ups (the state's edges re-simulated from the real bodies) land more.
+    auto refined = so;
+    refined.refine = true;
+    auto r3 = igraph::playSeries(igWorld().rules, tableGraph(), policies[1], target, refined);
+    ASSERT_TRUE(r3);
+    std::printf("depth 3 refined: %.2f\n", r3->mean);
+    EXPECT_GT(r3->mean, mean[1]);
 
     igraph::SeriesOptions small;
     small.matches = 3;
