@@ -316,8 +316,14 @@ struct TableArgs {
 };
 
 std::string cell(const igraph::SeriesResult& r) {
-    char buf[96];
-    std::snprintf(buf, sizeof buf, "%.1f (%d..%d; %.1f-%.1f)", r.mean, r.min, r.max, r.meanLanded(), r.meanReceived());
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.1f (%d..%d)", r.mean, r.min, r.max);
+    return buf;
+}
+
+std::string detail(const igraph::SeriesResult& r) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.1f / %.1f / %.1f %%", r.meanLanded(), r.meanReceived(), 100.0 * r.offGraphShare());
     return buf;
 }
 
@@ -344,10 +350,9 @@ void runTable(const TableArgs& a) {
     }
     std::string header = "| graph depth | vs static-target boxer";
     for (int d : a.treeDepths) header += " | vs tree expansion depth " + std::to_string(d);
-    header += " | off-graph decisions |\n|---|---";
+    header += " |\n|---";
     for (std::size_t k = 0; k < opponents.size(); ++k) header += "|---";
-    std::printf("%s|\n", header.c_str());
-    std::fflush(stdout);
+    header += "|\n";
     igraph::SeriesOptions so;
     so.matches = a.matches;
     so.seconds = a.seconds;
@@ -355,26 +360,25 @@ void runTable(const TableArgs& a) {
     so.refine = a.refine;
     const auto t0 = Clock::now();
     std::vector<sim::TreeDecisionStats> treeStats(opponents.size());
+    std::string scores = header, details;
     for (int depth : a.depths) {
         auto p = igraph::computePolicy(*l->graph, *w, depth);
         if (!p) return fail(p.error().message);
         const auto policy = std::make_shared<const igraph::Policy>(std::move(*p));
-        std::string row = "| " + std::to_string(depth);
-        std::int64_t off = 0, lookups = 0;
+        std::string row = "| " + std::to_string(depth), more = "| " + std::to_string(depth);
         for (std::size_t k = 0; k < opponents.size(); ++k) {
             auto r = igraph::playSeries(l->rules, l->graph, policy, opponents[k], so, stderrProgress(a.quiet));
             if (!r) return fail(r.error().message);
             row += " | " + cell(*r);
-            off += r->offGraph, lookups += r->lookups;
+            more += " | " + detail(*r);
             treeStats[k].decisions += r->tree.decisions, treeStats[k].leaves += r->tree.leaves, treeStats[k].shallower += r->tree.shallower,
                 treeStats[k].fallbacks += r->tree.fallbacks;
         }
-        char share[32];
-        std::snprintf(share, sizeof share, "%.1f %%", lookups > 0 ? 100.0 * static_cast<double>(off) / static_cast<double>(lookups) : 0.0);
-        std::printf("%s | %s |\n", row.c_str(), share);
-        std::fflush(stdout);
+        scores += row + " |\n";
+        details += more + " |\n";
     }
-    std::printf("(cells: mean score (min..max; mean landed-received) over %d seeded matches of %.0f s; graph style %s%s, tree preset %s; "
+    std::printf("%s\nlanded / received / graph boxer's decisions off the graph, per match:\n\n%s%s\n", scores.c_str(), header.c_str(), details.c_str());
+    std::printf("(cells: mean score (min..max) over %d seeded matches of %.0f s; graph style %s%s, tree preset %s; "
                 "score = unblocked blows landed by the graph boxer minus the opponent's)\n",
                 a.matches, a.seconds, a.preset.c_str(), a.refine ? " (refined look-ups)" : "", a.treePreset.c_str());
     for (std::size_t k = 1; k < opponents.size(); ++k) {

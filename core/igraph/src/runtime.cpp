@@ -240,7 +240,7 @@ struct Match::Impl {
         return bestAction;
     }
 
-    // Character c's choice by tree expansion against `opp`, from the bodies as they are at `at`.
+    // Character c as tree expansion sees it at a decision: its body and its last six actions, newest first.
     sim::DuelSideState sideOf(int c) const {
         const auto uc = static_cast<std::size_t>(c);
         const Body& b = bodies[uc];
@@ -251,6 +251,8 @@ struct Match::Impl {
         for (auto it = track.rbegin(); it != track.rend() && s.recent.size() < 6; ++it) s.recent.push_back(it->action);
         return s;
     }
+    // Character c's choice by tree expansion against `opp`, from the bodies as they are at `at`
+    // (a planner error, which valid bodies do not give, counts as a fallback to standing).
     int treeChoice(int c, int opp, double at, int set) {
         auto a = fighters[static_cast<std::size_t>(c)].tree->decide(sideOf(c), sideOf(opp), at, &stats.tree);
         if (a) return *a;
