@@ -32,6 +32,12 @@ check "metrics read the scene" "grep -q '^you' '$tmp/metrics.txt'"
 "$cli" metrics "$tmp/teams.frayscene" --json -q > /dev/null
 check "team scene" "grep -q 'blue 4' '$tmp/teams.frayscene'"
 
+# Table 5.1, tiny: the static target and a tree-expansion boxer at depth 2.
+"$cli" igraph table "$p" --graph "$tmp/g.igraph" --matches 2 --seconds 4 --depths 1 --tree-depths 2 -q > "$tmp/table.txt"
+check "table columns" "grep -q 'vs tree expansion depth 2' '$tmp/table.txt' && grep -q '^| 1 | ' '$tmp/table.txt'"
+check "tree expansion decided" "grep -Eq 'tree expansion depth 2: [1-9][0-9]* decisions' '$tmp/table.txt'"
+expect_fail "table: unknown tree preset" "no planner preset named 'nobody'" "$cli" igraph table "$p" --graph "$tmp/g.igraph" --tree-preset nobody -q
+
 # Bad input.
 cp "$tmp/g.igraph" "$tmp/bad.igraph"
 printf '\x00\x00\x00\x00' | dd of="$tmp/bad.igraph" bs=1 seek=4000 conv=notrunc 2> /dev/null

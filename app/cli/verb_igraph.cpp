@@ -15,7 +15,9 @@
 #include "fray/igraph/carry.h"
 #include "fray/igraph/igraph.h"
 #include "fray/igraph/runtime.h"
+#include "fray/igraph/table.h"
 #include "fray/sim/geometry.h"
+#include "fray/sim/spec.h"
 #include "cli_session.h"
 #include "verbs.h"
 
@@ -220,6 +222,7 @@ struct PlayArgs {
     int characters = 2, depth = 3, opponentDepth = 3;
     double seconds = 20;
     std::uint64_t seed = 1;
+    bool refine = false;
     bool quiet = false;
 };
 
@@ -339,7 +342,9 @@ void runPlay(const PlayArgs& a) {
     record["igraph"] = {{"kind", a.kind}, {"characters", n}, {"seconds", a.seconds}, {"seed", a.seed}, {"preset", a.preset},
                         {"depth", a.depth}, {"opponent", a.opponent}, {"opponent_preset", a.opponentPreset},
                         {"opponent_depth", a.opponentDepth}, {"you", a.you}, {"input", a.input}};
+    if (a.refine) record["igraph"]["refine"] = true;
     igraph::MatchOptions mo;
+    mo.refine = a.refine;
     mo.duration = a.seconds;
     mo.seed = a.seed;
     mo.record = record.dump();
@@ -365,47 +370,89 @@ void runPlay(const PlayArgs& a) {
 
 // ---- table (thesis table 5.1) ----------------------------------------------------------------
 struct TableArgs {
-    std::string project, graph, preset = "general";
+    std::string project, graph, preset = "general", treePreset = "general-boxer";
     int matches = 20;
     double seconds = 30;
     std::vector<int> depths = {1, 3, 5};
+    std::vector<int> treeDepths = {2, 3};
+    std::vector<std::string> edits;
+    bool refine = false;
     bool quiet = false;
 };
 
+std::string cell(const igraph::SeriesResult& r) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.1f (%d..%d)", r.mean, r.min, r.max);
+    return buf;
+}
+
+std::string detail(const igraph::SeriesResult& r) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.1f / %.1f / %.1f %%", r.meanLanded(), r.meanReceived(), 100.0 * r.offGraphShare());
+    return buf;
+}
+
 void runTable(const TableArgs& a) {
     if (a.matches < 1 || !(a.seconds > 0 && a.seconds <= 600)) return fail("--matches must be >= 1 and --seconds in (0, 600]");
-    auto w = weightsFor(a.preset, {});
+    for (int d : a.treeDepths) {
+        if (d < 1 || d > 8) return fail("--tree-depths: " + std::to_string(d) + " is not a depth from 1 to 8");
+    }
+    auto w = weightsFor(a.preset, a.edits);
     if (!w) return fail(w.error().message);
     auto l = openGraph(a.project, a.graph, a.quiet);
     if (!l) return fail(l.error().message);
-    std::printf("| graph depth | vs static-target boxer: mean score | min | max | landed | received | off-graph decisions |\n|---|---|---|---|---|---|---|\n");
+    const auto& project = l->session->session.project;
+    auto presets = sim::projectPresets(project, a.project);
+    if (!presets) return fail(presets.error().message);
+    const auto preset = std::find_if(presets->begin(), presets->end(), [&](const sim::Preset& p) { return p.name == a.treePreset; });
+    if (preset == presets->end()) return fail("--tree-preset: no planner preset named '" + a.treePreset + "'");
+    std::vector<igraph::FighterSpec> opponents;
+    opponents.push_back({"static target", 1, igraph::Mind::Static, nullptr, "static", {}, nullptr});
+    for (int d : a.treeDepths) {
+        auto tree = igraph::treeBoxer(*l->rules, project.combos, preset->weights, d);
+        if (!tree) return fail(tree.error().message);
+        opponents.push_back({"tree expansion depth " + std::to_string(d), 1, igraph::Mind::Tree, nullptr, a.treePreset, {}, *tree});
+    }
+    std::string header = "| graph depth | vs static-target boxer";
+    for (int d : a.treeDepths) header += " | vs tree expansion depth " + std::to_string(d);
+    header += " |\n|---";
+    for (std::size_t k = 0; k < opponents.size(); ++k) header += "|---";
+    header += "|\n";
+    igraph::SeriesOptions so;
+    so.matches = a.matches;
+    so.seconds = a.seconds;
+    so.style = a.preset;
+    so.refine = a.refine;
+    const auto t0 = Clock::now();
+    std::vector<sim::TreeDecisionStats> treeStats(opponents.size());
+    std::string scores = header, details;
     for (int depth : a.depths) {
         auto p = igraph::computePolicy(*l->graph, *w, depth);
         if (!p) return fail(p.error().message);
         const auto policy = std::make_shared<const igraph::Policy>(std::move(*p));
-        double sum = 0, lo = 1e9, hi = -1e9, given = 0, got = 0, off = 0, decisions = 0;
-        for (int m = 0; m < a.matches; ++m) {
-            const auto seed = static_cast<std::uint64_t>(m + 1);
-            const auto starts = igraph::duelStarts(1.3, seed, 0.3);
-            std::vector<igraph::FighterSpec> f(2);
-            f[0] = {"graph", 0, igraph::Mind::Graph, policy, a.preset, starts[0]};
-            f[1] = {"static target", 1, igraph::Mind::Static, nullptr, "static", starts[1]};
-            igraph::MatchOptions mo;
-            mo.duration = a.seconds;
-            mo.seed = seed;
-            igraph::Match match(l->rules, l->graph, std::move(f), mo);
-            if (auto st = match.run(); !st) return fail(st.error().message);
-            const auto landed = match.landed();
-            const double score = landed[0] - landed[1];
-            sum += score, lo = std::min(lo, score), hi = std::max(hi, score), given += landed[0], got += landed[1];
-            off += static_cast<double>(match.stats().offGraph), decisions += static_cast<double>(match.stats().lookups);
+        std::string row = "| " + std::to_string(depth), more = "| " + std::to_string(depth);
+        for (std::size_t k = 0; k < opponents.size(); ++k) {
+            auto r = igraph::playSeries(l->rules, l->graph, policy, opponents[k], so, stderrProgress(a.quiet));
+            if (!r) return fail(r.error().message);
+            row += " | " + cell(*r);
+            more += " | " + detail(*r);
+            treeStats[k].decisions += r->tree.decisions, treeStats[k].leaves += r->tree.leaves, treeStats[k].shallower += r->tree.shallower,
+                treeStats[k].fallbacks += r->tree.fallbacks;
         }
-        std::printf("| %d | %.1f | %.0f | %.0f | %.1f | %.1f | %.1f %% |\n", depth, sum / a.matches, lo, hi, given / a.matches, got / a.matches,
-                    decisions > 0 ? 100.0 * off / decisions : 0.0);
-        std::fflush(stdout);
+        scores += row + " |\n";
+        details += more + " |\n";
     }
-    std::printf("(%d seeded matches of %.0f s per depth, style %s; score = unblocked blows landed by the graph boxer minus the target's)\n",
-                a.matches, a.seconds, a.preset.c_str());
+    std::printf("%s\nlanded / received / graph boxer's decisions off the graph, per match:\n\n%s%s\n", scores.c_str(), header.c_str(), details.c_str());
+    std::printf("(cells: mean score (min..max) over %d seeded matches of %.0f s; graph style %s%s, tree preset %s; "
+                "score = unblocked blows landed by the graph boxer minus the opponent's)\n",
+                a.matches, a.seconds, a.preset.c_str(), a.refine ? " (refined look-ups)" : "", a.treePreset.c_str());
+    for (std::size_t k = 1; k < opponents.size(); ++k) {
+        const auto& t = treeStats[k];
+        std::printf("%s: %lld decisions, %.0f leaves each, %lld at a lower depth (budget), %lld fallbacks\n", opponents[k].name.c_str(),
+                    static_cast<long long>(t.decisions), t.decisions > 0 ? static_cast<double>(t.leaves) / static_cast<double>(t.decisions) : 0.0,
+                    static_cast<long long>(t.shallower), static_cast<long long>(t.fallbacks));
+    }
+    std::printf("table: %.1f s wall clock\n", since(t0));
 }
 
 // ---- bench ----------------------------------------------------------------------------------
@@ -554,18 +601,23 @@ void registerIgraph(CLI::App& app) {
         cmd->add_option("--opponent-preset", a->opponentPreset, "Style of the other side");
         cmd->add_option("--opponent-depth", a->opponentDepth, "Policy depth of the other side")->check(CLI::Range(1, 64));
         cmd->add_option("-o,--out", a->out, "Scene file to write (*.frayscene)")->required();
+        cmd->add_flag("--refine", a->refine, "Graph characters re-simulate their state's edges from the real bodies (MatchOptions::refine)");
         cmd->add_flag("-q,--quiet", a->quiet, "No progress on stderr");
         cmd->callback([a] { runPlay(*a); });
     }
     {
         auto a = std::make_shared<TableArgs>();
-        auto* cmd = ig->add_subcommand("table", "Thesis table 5.1: graph depths against a static-target boxer");
+        auto* cmd = ig->add_subcommand("table", "Thesis table 5.1: graph depths against a static-target boxer and tree-expansion boxers");
         cmd->add_option("project", a->project, "Project file")->required();
         cmd->add_option("--graph", a->graph, "Graph file (default: PROJECT.igraph)");
         cmd->add_option("--matches", a->matches, "Seeded matches per depth");
         cmd->add_option("--seconds", a->seconds, "Seconds per match");
         cmd->add_option("--depths", a->depths, "Graph depths");
         cmd->add_option("--preset", a->preset, "Style of the graph boxer");
+        cmd->add_option("--tree-depths", a->treeDepths, "Depths of the tree-expansion opponents");
+        cmd->add_option("--tree-preset", a->treePreset, "Planner preset of the tree-expansion opponents");
+        cmd->add_flag("--refine", a->refine, "The graph boxer re-simulates its state's edges from the real bodies (MatchOptions::refine)");
+        cmd->add_option("--set", a->edits, "Reward weight edit of the graph boxer, name=value (w_theta, w_d, d_p, w_a, w_r, gamma)");
         cmd->add_flag("-q,--quiet", a->quiet, "No progress on stderr");
         cmd->callback([a] { runTable(*a); });
     }

@@ -4,17 +4,23 @@
 // and bad input (no attacks, non-finite weights) gives clear errors.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include "fray/igraph/igraph.h"
 #include "fray/igraph/runtime.h"
+#include "fray/igraph/table.h"
 #include "fray/sim/geometry.h"
 #include "fray/sim/patches.h"
+#include "fray/sim/planner.h"
+#include "fray/sim/spec.h"
+#include "fray/sim/tree_decider.h"
 #include "sim/demo_world.h"
 
 namespace fray::test {
@@ -422,6 +428,153 @@ TEST(IgraphBadInput, NoAttackActionsAndBadCommands) {
     EXPECT_NE(c.error().message.find("cmd.json: /commands/0/command"), std::string::npos) << c.error().message;
     EXPECT_FALSE(igraph::parseCommands(R"({"version": 1, "commands": [{"time": -1, "command": "punch"}]})", "cmd.json"));
     EXPECT_FALSE(igraph::parseCommands("not json", "cmd.json"));
+}
+
+const sim::StyleWeights& generalBoxer() {
+    for (const auto& p : sim::builtinPresets()) {
+        if (p.name == "general-boxer") return p.weights;
+    }
+    throw std::runtime_error("no general-boxer preset");
+}
+
+// The decider is tree expansion itself: handed the states a simulated duel
+// had at its decisions, it chooses what simulate chose there.
+TEST(IgraphTable, TreeDeciderChoosesAsSimulateDoes) {
+    const auto& lib = demoWorld().library;
+    const auto& rules = *igWorld().rules;
+    sim::SceneSpec spec;
+    spec.options.duration = 6;
+    spec.options.seed = 3;
+    std::vector<int> reactions;
+    for (int a = 0; a < lib.size(); ++a) {
+        if (lib.action(a).is(sim::kReactive)) reactions.push_back(a);
+    }
+    const auto starts = igraph::duelStarts(1.6, 3, 0.0);
+    for (int i = 0; i < 2; ++i) {
+        sim::CharacterSpec c;
+        c.name = i == 0 ? "a" : "b";
+        c.side = i;
+        c.preset = "general-boxer";
+        c.weights = generalBoxer();
+        c.depth = 2;
+        c.allowed = rules.actions();
+        c.reactions = reactions;
+        c.start = starts[static_cast<std::size_t>(i)];
+        spec.characters.push_back(c);
+    }
+    auto scene = sim::simulate(lib, demoWorld().project.combos, spec);
+    ASSERT_TRUE(scene) << scene.error().message;
+    std::array<std::unique_ptr<sim::TreeDecider>, 2> deciders;
+    for (int i = 0; i < 2; ++i) {
+        auto d = sim::TreeDecider::make(lib, demoWorld().project.combos, spec.characters[static_cast<std::size_t>(i)],
+                                        spec.characters[static_cast<std::size_t>(1 - i)]);
+        ASSERT_TRUE(d) << d.error().message;
+        deciders[static_cast<std::size_t>(i)] = std::move(*d);
+    }
+    const double firstHit = scene->hits.empty() ? spec.options.duration : scene->hits.front().time;
+    int checked = 0;
+    for (int i = 0; i < 2; ++i) {
+        const auto& mine = scene->characters[static_cast<std::size_t>(i)].track;
+        const auto& theirs = scene->characters[static_cast<std::size_t>(1 - i)].track;
+        for (std::size_t j = 1; j < mine.size() && mine[j].start < firstHit; ++j) {
+            const double t = mine[j].start;
+            const sim::ActionInstance* other = nullptr;
+            bool tie = false;
+            for (const auto& e : theirs) {
+                if (e.start <= t && t < e.end) other = &e;
+                if (e.end == t) tie = true;
+            }
+            if (!other || tie) continue;  // ties: the other's decision order is simulate's
+            auto side = [&](const std::vector<sim::ActionInstance>& track, const sim::ActionInstance& e) {
+                sim::DuelSideState s;
+                s.action = e.action, s.start = e.start, s.offset = e.offset, s.end = e.end, s.root = e.root;
+                for (const sim::ActionInstance* k = &e; s.recent.size() < 6; --k) {
+                    s.recent.push_back(k->action);
+                    if (k == track.data()) break;
+                }
+                return s;
+            };
+            sim::DuelSideState me = side(mine, mine[j - 1]);
+            me.end = t;
+            auto a = deciders[static_cast<std::size_t>(i)]->decide(me, side(theirs, *other), t);
+            ASSERT_TRUE(a) << a.error().message;
+            EXPECT_EQ(*a, mine[j].action) << "character " << i << " at " << t << " s";
+            ++checked;
+        }
+    }
+    std::printf("%d decisions before the first blow (%.2f s) re-decided\n", checked, firstHit);
+    EXPECT_GE(checked, 3);
+}
+
+// A graph of a quarter of the thesis' size (20,000 states), for table 5.1 reduced.
+const std::shared_ptr<const igraph::Graph>& tableGraph() {
+    static const std::shared_ptr<const igraph::Graph> g = [] {
+        igraph::BuildOptions o;
+        o.maxSamples = 20000;
+        o.coverageStarts = 0;
+        auto built = igraph::buildGraph(*igWorld().rules, o);
+        if (!built) throw std::runtime_error(built.error().message);
+        return std::make_shared<const igraph::Graph>(std::move(*built));
+    }();
+    return g;
+}
+
+// Table 5.1 (reduced): deeper graph policies score higher against the static
+// target, and the columns against tree expansion at depth 2 and 3 are
+// played, with the same numbers whether the matches run in parallel or not.
+TEST(IgraphTable, DeeperScoresHigherAndTreeColumnsArePlayed) {
+    auto w = igraph::stylePreset("general");
+    ASSERT_TRUE(w);
+    igraph::SeriesOptions so;
+    so.matches = 12;
+    so.seconds = 20;
+    const igraph::FighterSpec target{"static target", 1, igraph::Mind::Static, nullptr, "static", {}, nullptr};
+    std::vector<double> mean;
+    std::vector<std::shared_ptr<const igraph::Policy>> policies;
+    for (int depth : {1, 3, 5}) {
+        auto p = igraph::computePolicy(*tableGraph(), *w, depth);
+        ASSERT_TRUE(p);
+        policies.push_back(std::make_shared<const igraph::Policy>(std::move(*p)));
+        auto r = igraph::playSeries(igWorld().rules, tableGraph(), policies.back(), target, so);
+        ASSERT_TRUE(r) << r.error().message;
+        ASSERT_EQ(r->scores.size(), 12u);
+        mean.push_back(r->mean);
+    }
+    std::printf("vs static target: depth 1 %.2f, depth 3 %.2f, depth 5 %.2f\n", mean[0], mean[1], mean[2]);
+    EXPECT_LT(mean[0], mean[1]);
+    EXPECT_LT(mean[1], mean[2]);
+    // Refined look-ups (the state's edges re-simulated from the real bodies) land more.
+    auto refined = so;
+    refined.refine = true;
+    auto r3 = igraph::playSeries(igWorld().rules, tableGraph(), policies[1], target, refined);
+    ASSERT_TRUE(r3);
+    std::printf("depth 3 refined: %.2f\n", r3->mean);
+    EXPECT_GT(r3->mean, mean[1]);
+
+    igraph::SeriesOptions small;
+    small.matches = 3;
+    small.seconds = 8;
+    for (int depth : {2, 3}) {
+        auto tree = igraph::treeBoxer(*igWorld().rules, demoWorld().project.combos, generalBoxer(), depth);
+        ASSERT_TRUE(tree) << tree.error().message;
+        const igraph::FighterSpec opp{"tree", 1, igraph::Mind::Tree, nullptr, "general-boxer", {}, *tree};
+        auto r = igraph::playSeries(igWorld().rules, tableGraph(), policies[1], opp, small);
+        ASSERT_TRUE(r) << r.error().message;
+        EXPECT_GT(r->tree.decisions, 6) << "the tree-expansion boxer decided";
+        EXPECT_GT(r->tree.leaves, r->tree.decisions) << "it searched a tree";
+        for (std::size_t m = 0; m < r->scores.size(); ++m) EXPECT_EQ(r->scores[m], r->landed[m] - r->received[m]);
+        auto serial = small;
+        serial.parallel = false;
+        auto again = igraph::playSeries(igWorld().rules, tableGraph(), policies[1], opp, serial);
+        ASSERT_TRUE(again);
+        EXPECT_EQ(r->scores, again->scores);
+        EXPECT_EQ(r->tree.leaves, again->tree.leaves);
+        std::printf("vs tree expansion depth %d: mean %.2f over 3 matches, %lld decisions, %lld leaves\n", depth, r->mean,
+                    static_cast<long long>(r->tree.decisions), static_cast<long long>(r->tree.leaves));
+    }
+    // A tree opponent without its planner is refused.
+    const igraph::FighterSpec none{"tree", 1, igraph::Mind::Tree, nullptr, "x", {}, nullptr};
+    EXPECT_FALSE(igraph::playSeries(igWorld().rules, tableGraph(), policies[0], none, small));
 }
 
 }  // namespace

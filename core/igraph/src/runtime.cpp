@@ -138,6 +138,7 @@ struct Match::Impl {
     std::vector<int> launches;  // launches of each body since the index was built
     double window = 0;          // s: decisions this step are at most this far from the index's time
     int maxLaunches = 0;
+    bool refine = false;        // MatchOptions::refine
     double vmax = -1, jump = 0;  // the library's fastest pelvis (m/s), largest step between actions (m)
 
     const ActionLibrary& lib() const { return rules->library(); }
@@ -211,6 +212,56 @@ struct Match::Impl {
         return best >= 0 ? best : next.front();
     }
 
+    // MatchOptions::refine: the edges of the state found, each simulated from
+    // the real bodies to the next decision (as the graph's edges were from the
+    // state's mean), scored by the policy's reward with the real blows and
+    // geometry plus gamma V below of the state that decision falls in.
+    int refinedChoice(int c, int opp, double at, int state, const Policy& policy) {
+        const auto& w = policy.weights;
+        int bestAction = -1;
+        double bestValue = -std::numeric_limits<double>::infinity();
+        for (const Edge* e = graph->edgesBegin(state); e != graph->edgesEnd(state); ++e) {
+            std::array<Body, 2> b = {bodies[static_cast<std::size_t>(c)], bodies[static_cast<std::size_t>(opp)]};
+            detail::launch(lib(), b[0], e->action(), at);
+            detail::Outcome oc;
+            const double t1 = detail::advanceDuel(*rules, b, at, oc);
+            const int nc = detail::chooser(b);
+            const auto un = static_cast<std::size_t>(nc);
+            const int to = graph->find(detail::stateOf(*rules, b[un], b[1 - un], t1), false);
+            if (to < 0) continue;
+            const InteractionState mine = detail::stateOf(*rules, b[0], b[1], t1);
+            const double d = mine.r - w.dP;
+            const auto ut = static_cast<std::size_t>(to);
+            const double below = nc == 0 ? (policy.mineBelow.empty() ? 0.0 : policy.mineBelow[ut]) : (policy.theirsBelow.empty() ? 0.0 : policy.theirsBelow[ut]);
+            const double v = -w.wTheta * mine.thetaA * mine.thetaA - w.wD * d * d + w.wA * static_cast<double>(oc.given[0]) -
+                             w.wR * static_cast<double>(oc.received[0]) + w.gamma * below;
+            if (v > bestValue) bestValue = v, bestAction = e->action();
+        }
+        return bestAction;
+    }
+
+    // Character c as tree expansion sees it at a decision: its body and its last six actions, newest first.
+    sim::DuelSideState sideOf(int c) const {
+        const auto uc = static_cast<std::size_t>(c);
+        const Body& b = bodies[uc];
+        sim::DuelSideState s;
+        s.action = b.action, s.start = b.start, s.offset = b.offset, s.end = b.end, s.root = b.root;
+        s.attackDone = b.spent, s.reacting = b.reacting;
+        const auto& track = scene.characters[uc].track;
+        for (auto it = track.rbegin(); it != track.rend() && s.recent.size() < 6; ++it) s.recent.push_back(it->action);
+        return s;
+    }
+    // Character c's choice by tree expansion against `opp`, from the bodies as they are at `at`
+    // (a planner error, which valid bodies do not give, counts as a fallback to standing).
+    int treeChoice(int c, int opp, double at, int set) {
+        auto a = fighters[static_cast<std::size_t>(c)].tree->decide(sideOf(c), sideOf(opp), at, &stats.tree);
+        if (a) return *a;
+        ++stats.fallbacks;
+        ++scene.stats.fallbacks;
+        ++scene.characters[static_cast<std::size_t>(c)].fallbacks;
+        return staticChoice(set);
+    }
+
     // One decision of character c at time `at` (its action's end).
     int decide(int c, double at) {
         const auto uc = static_cast<std::size_t>(c);
@@ -267,8 +318,12 @@ struct Match::Impl {
                 }
             }
         }
+        if (f.mind == Mind::Tree && f.tree) return treeChoice(c, opp, at, set);
         if (f.mind == Mind::Static || !policy) return staticChoice(set);
         if (state >= 0 && static_cast<std::size_t>(state) < policy->best.size() && policy->best[static_cast<std::size_t>(state)] >= 0) {
+            if (refine) {
+                if (const int a = refinedChoice(c, opp, at, state, *policy); a >= 0) return a;
+            }
             const int a = graph->edges[static_cast<std::size_t>(policy->best[static_cast<std::size_t>(state)])].action();
             // The state found may belong to a neighbouring frame bucket: its Next set is the same by construction.
             return a;
@@ -377,6 +432,7 @@ Match::Match(std::shared_ptr<const Rules> rules, std::shared_ptr<const Graph> gr
     m.rules = std::move(rules);
     m.graph = std::move(graph);
     m.fighters = std::move(fighters);
+    m.refine = options_.refine;
     const auto& lib = m.rules->library();
     m.scene.duration = options_.duration;
     m.scene.seed = options_.seed;
@@ -388,7 +444,7 @@ Match::Match(std::shared_ptr<const Rules> rules, std::shared_ptr<const Graph> gr
         sc.name = f.name;
         sc.side = f.side;
         sc.preset = f.style;
-        sc.depth = f.policy ? f.policy->depth : 0;
+        sc.depth = f.mind == Mind::Tree && f.tree ? f.tree->depth() : f.policy ? f.policy->depth : 0;
         // Each starts in an idle action (seeded), at a seeded point of it, so the team does not move in step.
         const int idle = m.rules->idle()[rng.below(m.rules->idle().size())];
         const double clip = rng.uniform(0.0, 0.5 * lib.action(idle).duration);

@@ -42,41 +42,11 @@ std::vector<std::vector<int>> foldVariants(const ActionLibrary& lib, const std::
     return folded;
 }
 
-}  // namespace planner
-
-using namespace planner;
-
-Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos, const SceneSpec& spec,
-                       const ProgressFn& progress) {
-    const auto& opt = spec.options;
-    if (!(opt.duration > 0)) return makeError("scene duration must be positive");
-    if (spec.characters.empty()) return makeError("the scene has no characters");
-    const auto wallStart = std::chrono::steady_clock::now();
-
-    Scene scene;
-    scene.duration = opt.duration;
-    scene.seed = opt.seed;
-    scene.arena = opt.arena;
-    scene.spec = spec.text;
-    for (const auto& c : spec.characters) {
-        if (c.allowed.empty()) return makeError("character '" + c.name + "' has no usable action");
-        if (c.depth < 1) return makeError("character '" + c.name + "': depth must be at least 1");
-        SceneCharacter sc;
-        sc.name = c.name;
-        sc.side = c.side;
-        sc.group = c.group;
-        sc.preset = c.preset;
-        sc.depth = c.depth;
-        sc.path = c.path;
-        sc.loopPath = c.loopPath;
-        sc.opponent = c.opponent;
-        scene.characters.push_back(std::move(sc));
-    }
-
+std::vector<float> comboMatrix(const ActionLibrary& lib, const prep::ComboTable& combos, const std::vector<CharacterSpec>& characters) {
     // Suitability of every (mine, theirs) pair among the actions in play.
     std::vector<int> inPlay;
-    for (const auto& c : spec.characters) inPlay.insert(inPlay.end(), c.allowed.begin(), c.allowed.end());
-    for (const auto& c : spec.characters) inPlay.insert(inPlay.end(), c.reactions.begin(), c.reactions.end());
+    for (const auto& c : characters) inPlay.insert(inPlay.end(), c.allowed.begin(), c.allowed.end());
+    for (const auto& c : characters) inPlay.insert(inPlay.end(), c.reactions.begin(), c.reactions.end());
     std::sort(inPlay.begin(), inPlay.end());
     inPlay.erase(std::unique(inPlay.begin(), inPlay.end()), inPlay.end());
     const int n = lib.size();
@@ -91,13 +61,17 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
             }
         }
     }
+    return combo;
+}
 
+Context baseContext(const ActionLibrary& lib, const SimOptions& opt, const std::vector<float>& combo,
+                    const detail::InteractionEngine& engine) {
+    const int n = lib.size();
     Context base;
     base.lib = &lib;
     base.combo = &combo;
     base.comboN = n;
     base.opt = &opt;
-    detail::InteractionEngine engine(lib);
     base.engine = &engine;
     {
         std::map<std::string, int> names;
@@ -136,6 +110,43 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
         }
     }
     base.testPelvisBegin.push_back(base.testPelvis.size());
+    return base;
+}
+
+}  // namespace planner
+
+using namespace planner;
+
+Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos, const SceneSpec& spec,
+                       const ProgressFn& progress) {
+    const auto& opt = spec.options;
+    if (!(opt.duration > 0)) return makeError("scene duration must be positive");
+    if (spec.characters.empty()) return makeError("the scene has no characters");
+    const auto wallStart = std::chrono::steady_clock::now();
+
+    Scene scene;
+    scene.duration = opt.duration;
+    scene.seed = opt.seed;
+    scene.arena = opt.arena;
+    scene.spec = spec.text;
+    for (const auto& c : spec.characters) {
+        if (c.allowed.empty()) return makeError("character '" + c.name + "' has no usable action");
+        if (c.depth < 1) return makeError("character '" + c.name + "': depth must be at least 1");
+        SceneCharacter sc;
+        sc.name = c.name;
+        sc.side = c.side;
+        sc.group = c.group;
+        sc.preset = c.preset;
+        sc.depth = c.depth;
+        sc.path = c.path;
+        sc.loopPath = c.loopPath;
+        sc.opponent = c.opponent;
+        scene.characters.push_back(std::move(sc));
+    }
+
+    const std::vector<float> combo = comboMatrix(lib, combos, spec.characters);
+    detail::InteractionEngine engine(lib);
+    const Context base = baseContext(lib, opt, combo, engine);
 
     // Groups, in order of first appearance.
     std::vector<int> groupIds;

@@ -113,6 +113,12 @@ struct Context {
     bool boundedFrontier = false;        // a duel scored by blows: frontier edges can be bounded (boundedFrontier)
 };
 
+// The suitability matrix (Context::combo) over the actions the characters may play or be forced into.
+std::vector<float> comboMatrix(const ActionLibrary& lib, const prep::ComboTable& combos, const std::vector<CharacterSpec>& characters);
+// A planning context without members: per-action tables built once per planning run.
+Context baseContext(const ActionLibrary& lib, const SimOptions& opt, const std::vector<float>& combo,
+                    const detail::InteractionEngine& engine);
+
 struct Value {
     double comp = 0, coop = 0;
 };

@@ -16,6 +16,7 @@
 #include "fray/core/result.h"
 #include "fray/igraph/igraph.h"
 #include "fray/sim/scene.h"
+#include "fray/sim/tree_decider.h"
 
 namespace fray::igraph {
 
@@ -41,6 +42,7 @@ Result<std::vector<TimedCommand>> parseCommands(std::string_view json, std::stri
 enum class Mind {
     Graph,   // its policy's choice by look-up
     Static,  // a static target: idles (and guards) where it stands, never attacks
+    Tree,    // temporal tree expansion (SPEC 2) from the match's state at each decision (FighterSpec::tree)
 };
 
 struct FighterSpec {
@@ -50,6 +52,9 @@ struct FighterSpec {
     std::shared_ptr<const Policy> policy;  // Mind::Graph
     std::string style;                     // for the scene's record
     sim::RootXf start;
+    // Mind::Tree: decides against its closest enemy (a duel: the planner
+    // sees these two). May be shared by matches running in parallel.
+    std::shared_ptr<const sim::TreeDecider> tree{};
 };
 
 struct MatchOptions {
@@ -58,12 +63,20 @@ struct MatchOptions {
     double commandHold = 1.0;  // s a command waits for a decision that can carry it out (the next decision always sees it)
     std::uint64_t seed = 1;
     std::string record;        // the match's description, kept as the scene's spec text
+    // Graph characters re-simulate the edges of the state they fall in from
+    // the real bodies (one step, as the graph's edges were built from the
+    // state's mean) and take the best by the policy's reward plus gamma V of
+    // the state reached, instead of the state's stored choice. The graph's
+    // states are up to sigma_r, sigma_theta from the real geometry, and a
+    // blow predicted there can miss here. Costs a simulation per edge.
+    bool refine = false;
 };
 
 struct MatchStats {
     std::int64_t decisions = 0, lookups = 0, offGraph = 0, fallbacks = 0, commands = 0, commandsTaken = 0, forced = 0;
     double decideSeconds = 0;  // time spent deciding (look-ups and choices)
     double enemySeconds = 0;   // of which in the closest-enemy search
+    sim::TreeDecisionStats tree;  // decisions by tree expansion (Mind::Tree)
 };
 
 class Match {
