@@ -719,7 +719,7 @@ TEST(PatchCompose, DominoFallsInsideThePaintedAreaOnly) {
         std::printf("seed %llu: %d of 30 bystanders stand (%.2f m from the painted area)\n", static_cast<unsigned long long>(seed), dst.bystanders,
                     dst.bystanderClearance);
         EXPECT_EQ(outside, dst.bystanders);
-        EXPECT_GE(dst.bystanders, 10);
+        EXPECT_EQ(dst.bystanders, 30);
         EXPECT_GE(dst.chainFalls, 3) << "seed " << seed;
         EXPECT_EQ(static_cast<int>(scene->hits.size()), dst.chainFalls);
         // Beyond the first faller's victims, every fall comes through a

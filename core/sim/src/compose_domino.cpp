@@ -226,15 +226,16 @@ struct DominoComposer : KindComposer<DominoSpec, DominoStats> {
         // Bystanders outside the painted area, clear of every fall. The floor
         // is cut into cells of kBystanderCell; each cell has a spot jittered
         // inside it and a priority, both drawn from the seed and the cell
-        // alone. Of the `background` cells of lowest priority, those whose
+        // alone. The `background` cells of lowest priority among those whose
         // spots are clear of the painted area by the longest fall (of a chain
         // patch, from where its person stood, plus the boxes' margins) hold a
-        // bystander each, named after the cell; the others stay empty. So
-        // where a bystander stands depends on the painting near it only, not
-        // on how the chain went or on the other bystanders: an edit to the
-        // floor adds or removes only the bystanders near the stroke, and the
-        // others keep their tracks (live re-plan, issue 23; docs/AUTHORING.md
-        // "Affected characters").
+        // bystander each, named after the cell. So where a bystander stands
+        // depends on the painting near it, not on how the chain went or on the
+        // other bystanders: paint removes only the bystanders near the stroke
+        // (and brings in others, in cells of next priority), and the others
+        // keep their tracks (live re-plan, issue 23; docs/AUTHORING.md
+        // "Affected characters"). Erasing may free a cell of lower priority
+        // than a standing bystander's, who then gives way to it.
         const glm::vec2 lo = own.floor.extentMin(), hi = own.floor.extentMax();
         float fallReach = 0;
         for (std::size_t idx : chainPatches) {
@@ -279,8 +280,8 @@ struct DominoComposer : KindComposer<DominoSpec, DominoStats> {
             const auto px = cells[static_cast<std::size_t>(x)].priority, py = cells[static_cast<std::size_t>(y)].priority;
             return px != py ? px < py : x < y;
         });
-        if (static_cast<int>(order.size()) > own.background) order.resize(static_cast<std::size_t>(own.background));
         for (int id : order) {
+            if (ownStats.bystanders >= own.background) break;
             const Cell& cell = cells[static_cast<std::size_t>(id)];
             if (!cell.free) continue;  // a fall could reach it: no one stands there
             RootXf place;

@@ -37,7 +37,7 @@ struct DominoStats {
     // m: how far from the painted area bystanders stand (the longest fall
     // of a chain patch from where its person stood, plus the body's box).
     double bystanderClearance = 0;
-    int bystanders = 0;  // of the spec's `background`, those standing (the others' spots a fall could reach)
+    int bystanders = 0;  // of the spec's `background`, those standing (fewer when few cells are clear of every fall)
     static constexpr float kCoverRadius = 1.0f;
 };
 
