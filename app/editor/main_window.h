@@ -448,7 +448,7 @@ private:
     QString previewSetup_;
     std::vector<setup::Pin> previewPins_;  // the pins the scene playing was planned with
     std::vector<int> replanAffected_;
-    std::vector<std::vector<sim::ActionInstance>> replanBase_;
+    std::vector<std::pair<std::string, std::vector<sim::ActionInstance>>> replanBase_;  // name and track, before the edits
     bool replanOther_ = false;         // an edit that affects everyone
     int replanOthers_ = -1, replanKept_ = -1;
     double lastGenerateSeconds_ = 0;

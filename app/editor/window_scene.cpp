@@ -304,7 +304,7 @@ void MainWindow::setupEdited(const authoring::ChangeEvent& event) {
     // Who this edit can affect in the scene playing (when it is this setup's).
     if (scene_ && sceneIsPreview_ && qs(event.setup) == previewSetup_ && doc_) {
         if (replanBase_.empty())
-            for (const sim::SceneCharacter& c : scene_->scene().characters) replanBase_.push_back(c.track);
+            for (const sim::SceneCharacter& c : scene_->scene().characters) replanBase_.emplace_back(c.name, c.track);
         setup::SetupEdit edit;
         using authoring::ChangeKind;
         if (event.kind == ChangeKind::SetupFloor && !event.pixels.empty()) {
@@ -504,7 +504,9 @@ void MainWindow::generate() {
                 for (std::size_t c = 0; c < replanBase_.size(); ++c) {
                     if (std::find(replanAffected_.begin(), replanAffected_.end(), static_cast<int>(c)) != replanAffected_.end()) continue;
                     ++others;
-                    keptCount += c < now.size() && same(replanBase_[c], now[c].track) ? 1 : 0;
+                    // Matched by name: a longer or shorter chain renumbers no one else.
+                    const auto it = std::find_if(now.begin(), now.end(), [&](const sim::SceneCharacter& x) { return x.name == replanBase_[c].first; });
+                    keptCount += it != now.end() && same(replanBase_[c].second, it->track) ? 1 : 0;
                 }
                 replanOthers_ = others;
                 replanKept_ = keptCount;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <nlohmann/json.hpp>
 
@@ -29,6 +30,7 @@ bool planned(const sim::Scene& scene) {
     const auto j = nlohmann::ordered_json::parse(scene.spec, nullptr, false);
     return j.is_object() && j.contains("characters") && !j.contains("kind");
 }
+
 
 }  // namespace
 
@@ -65,9 +67,39 @@ std::vector<int> affectedCharacters(const sim::Scene& previous, const sim::Actio
     case SetupEdit::Kind::Stroke: {
         const Point lo{std::min(edit.lo.x, edit.hi.x), std::min(edit.lo.z, edit.hi.z)};
         const Point hi{std::max(edit.lo.x, edit.hi.x), std::max(edit.lo.z, edit.hi.z)};
+        // A domino bystander stands at least as far from the painted area as
+        // a fall reaches, and its spot depends on the painting that near only
+        // (compose_domino.cpp). That distance is at most the nearest
+        // bystander's distance to the painted area: a stroke within it of a
+        // bystander may take its spot (or its cell's), one further away cannot.
+        const bool domino = !previous.floor.empty();  // only a domino scene keeps its painted floor
+        auto stands = [&](int c) {
+            return std::none_of(previous.hits.begin(), previous.hits.end(), [&](const sim::HitEvent& h) { return h.attacker == c || h.defender == c; });
+        };
+        auto toPainted = [&](glm::vec2 p) {  // to 1 cm, up to 100 m
+            double a = 0, b = 100;
+            if (!previous.floor.paintedWithin(p, b)) return b;
+            while (b - a > 0.01) {
+                const double m = 0.5 * (a + b);
+                (previous.floor.paintedWithin(p, m) ? b : a) = m;
+            }
+            return a;
+        };
+        double clearance = std::numeric_limits<double>::max();
+        if (domino) {
+            for (int c = 0; c < n; ++c) {
+                if (!previous.characters[static_cast<std::size_t>(c)].track.empty() && stands(c))
+                    clearance = std::min(clearance, toPainted(positionAt(previous, lib, c, previous.characters[static_cast<std::size_t>(c)].track.front().start)));
+            }
+        }
         for (int c = 0; c < n; ++c) {
             const auto& ch = previous.characters[static_cast<std::size_t>(c)];
             if (ch.track.empty() && !previous.isCreature(c)) continue;
+            if (domino && !ch.track.empty() && stands(c)) {
+                const double toStroke = boxDistance(positionAt(previous, lib, c, ch.track.front().start), lo, hi);
+                if (toStroke <= std::max(kAffectReach, clearance)) hit[static_cast<std::size_t>(c)] = 1;
+                continue;
+            }
             // Sampled every 0.25 s from the stroke's start time (or the character's entry) on.
             const double t0 = std::max(from, ch.track.empty() ? 0.0 : ch.track.front().start);
             for (double t = t0; t <= previous.duration + 1e-9; t += 0.25) {

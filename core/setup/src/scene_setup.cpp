@@ -480,7 +480,8 @@ SceneSetup makeSetup(std::string name, SetupKind kind) {
         break;
     case SetupKind::OneVsOne: j = json{{"kind", "one-vs-one"}, {"duration", 40}, {"seed", 1}}; break;
     case SetupKind::Domino: {
-        j = json{{"kind", "domino"}, {"seed", 1}};
+        // A duration, so the people left standing stand that long however the chain ends.
+        j = json{{"kind", "domino"}, {"seed", 1}, {"duration", 20}};
         j["floor"] = json{{"bitmap", "(painted)"}, {"metres_per_pixel", 0.1}, {"origin", {-10, -6}}};
         j["starts"] = json::array({json{{"time", 0.5}, {"x", 0}, {"z", 0}}});
         j["background"] = 30;

@@ -85,6 +85,7 @@ std::string kindList() {
 // The fields every kind reads: the scene, the patches it may use and the user's commands.
 Status parseCommon(const prep::JsonReader& rd, const Json& j, const std::vector<PatternList>& patterns, ComposeCommonSpec& s) {
     if (auto st = detail::optionalNumber(rd, j, "duration", 0, 3600, "seconds", s.duration); !st) return st.error();
+    s.durationGiven = j.contains("duration");
     if (auto f = rd.field(j, "", "seed", false); !f) return f.error();
     else if (*f) {
         FRAY_TRY(d, rd.integer(**f, "/seed"));

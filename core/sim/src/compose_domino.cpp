@@ -7,6 +7,20 @@ namespace fray::sim::detail {
 
 namespace {
 
+constexpr float kBystanderCell = 1.5f;    // m: one bystander at most per cell of the floor
+constexpr double kBystanderJitter = 0.25;  // m: how far a bystander stands from its cell's centre
+
+// Bystander cell b's own random stream: the scene's seed and b, mixed (splitmix64).
+std::uint64_t bystanderSeed(std::uint64_t seed, int b) {
+    auto mix = [](std::uint64_t z) {
+        z += 0x9e3779b97f4a7c15ull;
+        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+        z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+        return z ^ (z >> 31);
+    };
+    return mix(seed ^ mix(0xb7u + static_cast<std::uint64_t>(b)));
+}
+
 struct DominoComposer : KindComposer<DominoSpec, DominoStats> {
     using KindComposer::KindComposer;
 
@@ -209,25 +223,81 @@ struct DominoComposer : KindComposer<DominoSpec, DominoStats> {
         }
         ownStats.paintedCoverage = coverage(spots);
         scene.floor = own.floor;  // the viewers draw the painted area
-        // Bystanders outside the painted area, clear of every fall.
+        // Bystanders outside the painted area, clear of every fall. The floor
+        // is cut into cells of kBystanderCell; each cell has a spot jittered
+        // inside it and a priority, both drawn from the seed and the cell
+        // alone. The `background` cells of lowest priority among those whose
+        // spots are clear of the painted area by the longest fall (of a chain
+        // patch, from where its person stood, plus the boxes' margins) hold a
+        // bystander each, named after the cell. So where a bystander stands
+        // depends on the painting near it, not on how the chain went or on the
+        // other bystanders: paint removes only the bystanders near the stroke
+        // (and brings in others, in cells of next priority), and the others
+        // keep their tracks (live re-plan, issue 23; docs/AUTHORING.md
+        // "Affected characters"). Erasing may free a cell of lower priority
+        // than a standing bystander's, who then gives way to it.
         const glm::vec2 lo = own.floor.extentMin(), hi = own.floor.extentMax();
-        for (int b = 0, tries = 0; b < own.background && tries < 200 * own.background; ++tries) {
-            const float ux = static_cast<float>(unit(rng)), uz = static_cast<float>(unit(rng));
-            const glm::vec2 q(lo.x + ux * (hi.x - lo.x), lo.y + uz * (hi.y - lo.y));
-            if (own.floor.paintedAt(q)) continue;
-            Print box;
-            box.add(standingBox(q));
-            if (!printClear(box, -1, 0.3f)) continue;
-            RootXf at;
-            at.pos = q;
-            at.heading = wrapAngle(unit(rng) * 2 * std::numbers::pi);
-            const int c = addCharacter("bystander-" + std::to_string(b + 1), 1);
-            append(c, hold, 0.0, at * lib.rootAt(hold, 0).inverse());
-            addPrint(box, q);
-            ++b;
+        float fallReach = 0;
+        for (std::size_t idx : chainPatches) {
+            const Patch& p = patches.patches()[idx];
+            for (int role = 0; role < 2; ++role) {
+                const glm::vec2 q = p.tracks[static_cast<std::size_t>(role)].front().placementAt(lib, 0).pos;
+                for (const auto& box : footprint(p, role, RootXf{}).parts) {
+                    const glm::vec2 far(std::max(std::fabs(box.lo.x - q.x), std::fabs(box.hi.x - q.x)),
+                                        std::max(std::fabs(box.lo.y - q.y), std::fabs(box.hi.y - q.y)));
+                    fallReach = std::max(fallReach, glm::length(far));
+                }
+            }
         }
-        // Everyone still standing stays until the last one has fallen.
-        double end = 0;
+        const float clearance = fallReach + 0.35f + 0.3f;  // the standing box and the margin kept from a fall
+        ownStats.bystanderClearance = clearance;
+        struct Cell {
+            std::uint64_t priority = 0;
+            glm::vec2 q{0.0f};
+            double heading = 0;
+            bool free = false;  // clear of the painted area and of every fall
+        };
+        const int cols = std::max(0, static_cast<int>(std::floor((hi.x - lo.x) / kBystanderCell)));
+        const int rows = std::max(0, static_cast<int>(std::floor((hi.y - lo.y) / kBystanderCell)));
+        std::vector<Cell> cells(own.background > 0 ? static_cast<std::size_t>(cols) * static_cast<std::size_t>(rows) : 0u);
+        std::vector<int> order;
+        for (int id = 0; id < static_cast<int>(cells.size()); ++id) {
+            Cell& cell = cells[static_cast<std::size_t>(id)];
+            std::mt19937_64 cellRng(bystanderSeed(spec.seed, id));
+            cell.priority = cellRng();
+            // The jitter keeps two spots at least kBystanderCell - 2 kBystanderJitter apart.
+            const float jx = static_cast<float>((2 * unit(cellRng) - 1) * kBystanderJitter);
+            const float jz = static_cast<float>((2 * unit(cellRng) - 1) * kBystanderJitter);
+            cell.q = lo + glm::vec2((static_cast<float>(id % cols) + 0.5f) * kBystanderCell + jx, (static_cast<float>(id / cols) + 0.5f) * kBystanderCell + jz);
+            cell.heading = wrapAngle(unit(cellRng) * 2 * std::numbers::pi);
+            Print box;
+            box.add(standingBox(cell.q));
+            // printClear is a safeguard: the clearance keeps every fall away already.
+            cell.free = !own.floor.paintedWithin(cell.q, clearance) && printClear(box, -1, 0.3f);
+            order.push_back(id);
+        }
+        std::sort(order.begin(), order.end(), [&](int x, int y) {
+            const auto px = cells[static_cast<std::size_t>(x)].priority, py = cells[static_cast<std::size_t>(y)].priority;
+            return px != py ? px < py : x < y;
+        });
+        for (int id : order) {
+            if (ownStats.bystanders >= own.background) break;
+            const Cell& cell = cells[static_cast<std::size_t>(id)];
+            if (!cell.free) continue;  // a fall could reach it: no one stands there
+            RootXf place;
+            place.pos = cell.q;
+            place.heading = cell.heading;
+            const int c = addCharacter("bystander-" + std::to_string(id + 1), 1);
+            append(c, hold, 0.0, place * lib.rootAt(hold, 0).inverse());
+            Print box;
+            box.add(standingBox(cell.q));
+            addPrint(box, cell.q);
+            ++ownStats.bystanders;
+        }
+        // Everyone still standing stays until the last one has fallen, or to
+        // the spec's duration when it gives one and that is later (a setup
+        // gives one, so that bystanders' tracks do not depend on the chain).
+        double end = spec.durationGiven ? spec.duration : 0.0;
         for (int c = 0; c < static_cast<int>(scene.characters.size()); ++c) end = std::max(end, freeAt(c));
         for (int c = 0; c < static_cast<int>(scene.characters.size()); ++c) {
             if (!act(track(c).back().action).is(kReactive)) waitUntil(c, end);

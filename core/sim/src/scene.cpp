@@ -124,6 +124,24 @@ bool FloorBitmap::paintedAt(glm::vec2 floor) const {
     return painted[static_cast<std::size_t>(static_cast<int>(y)) * static_cast<std::size_t>(width) + static_cast<std::size_t>(static_cast<int>(x))] != 0;
 }
 
+bool FloorBitmap::paintedWithin(glm::vec2 q, double r) const {
+    if (empty() || !(metresPerPixel > 0) || !(r >= 0)) return false;
+    const double px = metresPerPixel, qx = q.x, qz = q.y, ox = origin.x, oz = origin.y;
+    const auto lo = [&](double v) { return static_cast<int>(std::clamp(std::floor(v / px), -1.0, 1e9)); };
+    const int x0 = std::max(0, lo(qx - r - ox)), x1 = std::min(width - 1, lo(qx + r - ox));
+    const int y0 = std::max(0, lo(qz - r - oz)), y1 = std::min(height - 1, lo(qz + r - oz));
+    for (int y = y0; y <= y1; ++y) {
+        for (int x = x0; x <= x1; ++x) {
+            if (!painted[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)]) continue;
+            // The pixel's nearest point to q.
+            const double cx = std::clamp(qx, ox + x * px, ox + (x + 1) * px);
+            const double cz = std::clamp(qz, oz + y * px, oz + (y + 1) * px);
+            if (std::hypot(cx - qx, cz - qz) <= r) return true;
+        }
+    }
+    return false;
+}
+
 namespace {
 
 // A painted floor in the scene file: one string per image row of run lengths,

@@ -48,6 +48,7 @@ struct UserCommand {
 // What every kind reads: the scene, the patches it may use and how they are scored.
 struct ComposeCommonSpec {
     double duration = 30;          // s (one-vs-one stops here; one-vs-many when the enemies are used up or here)
+    bool durationGiven = false;    // the spec named a duration (domino: everyone stands at least this long)
     std::uint64_t seed = 1;
     double entryRadius = 8;        // m: newcomers enter from this far out
     std::vector<std::string> patterns;  // pattern names to use; empty: all in the library

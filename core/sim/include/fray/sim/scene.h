@@ -84,6 +84,8 @@ struct FloorBitmap {
     double metresPerPixel = 0.1;
     bool empty() const { return width <= 0 || height <= 0; }
     bool paintedAt(glm::vec2 floor) const;
+    // Is any painted pixel within r metres of q?
+    bool paintedWithin(glm::vec2 q, double r) const;
     glm::vec2 extentMin() const { return origin; }
     glm::vec2 extentMax() const {
         return origin + glm::vec2(static_cast<float>(width * metresPerPixel), static_cast<float>(height * metresPerPixel));

@@ -34,6 +34,10 @@ struct DominoStats {
     // Share of the painted area within kCoverRadius of where someone stood
     // and fell (sampled every 0.25 m); how much of the area the chains fill.
     double paintedCoverage = 0;
+    // m: how far from the painted area bystanders stand (the longest fall
+    // of a chain patch from where its person stood, plus the body's box).
+    double bystanderClearance = 0;
+    int bystanders = 0;  // of the spec's `background`, those standing (fewer when few cells are clear of every fall)
     static constexpr float kCoverRadius = 1.0f;
 };
 
