@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <numbers>
 
+#include <tbb/task_arena.h>
+
 #include "fray/sim/geometry.h"
 #include "fray/sim/metrics.h"
 #include "fray/sim/scene.h"
@@ -207,6 +209,27 @@ TEST(SimPlanner, DeterministicAndParallelIndependent) {
     auto c = runSpec(duelSpec(3, 3, 8, 6.0));
     ASSERT_TRUE(c.ok());
     EXPECT_NE(sceneToJson(*a, lib), sceneToJson(*c, lib));
+}
+
+// The search statistics the scene stores (nodes, leaves, cutoffs) and the
+// choices are the same whatever the number of threads the root children
+// share (each thread keeps its own memo of frontier nodes, replayed with
+// the counts of a fresh run).
+TEST(SimPlanner, SameBytesWhateverTheThreadCount) {
+    const auto& lib = demoWorld().library;
+    auto parsed = parseSpec(duelSpec(4, 2, 5, 8.0));
+    ASSERT_TRUE(parsed.ok()) << parsed.error().message;
+    std::string first;
+    for (int threads : {1, 2, 3, 4}) {
+        tbb::task_arena arena(threads);
+        Result<Scene> scene = makeError("not run");
+        arena.execute([&] { scene = simulate(lib, demoWorld().project.combos, *parsed); });
+        ASSERT_TRUE(scene.ok()) << scene.error().message;
+        EXPECT_GT(scene->stats.leaves, 1000);
+        const std::string text = sceneToJson(*scene, lib);
+        if (first.empty()) first = text;
+        EXPECT_EQ(text, first) << threads << " threads";
+    }
 }
 
 TEST(SimPlanner, TimelineIsContinuous) {
