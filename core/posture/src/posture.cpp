@@ -42,6 +42,7 @@ constexpr double kMaxCorrectingSpeed = 2.0;  // m/s: contacts push overlapping b
 constexpr double kPinReach = 3.0;            // a pin is let go when the hip's target is this many legs away (a jump cut)
 constexpr double kContactYield = 0.25;       // control gain left to a body touching another character
 constexpr double kBodyYield = 0.6;           // and to the rest of that character's bodies
+                                             // (a touching body's whole limb, or its trunk, yields as the body does)
 constexpr double kPinComfort = 0.97;         // share of the leg's length the hip's target is kept within from a pin
 constexpr double kPinTolerance = 0.02;       // m: a pin stays put while its foot's target is this close
 constexpr double kPinSlide = 0.002;          // m per frame: a pin follows a sliding target no faster
@@ -236,6 +237,8 @@ struct Character {
     std::vector<glm::vec3> pinShift;  // per joint: targets moved onto the pins (pinned feet, their knees half)
     std::vector<std::uint8_t> pinHeld; // per joint: held by a pin (no velocity target)
     std::vector<std::uint8_t> touched; // per joint: its body touches another character this step
+    std::vector<std::uint8_t> group;   // per joint: 0 the trunk (pelvis, spine, neck, head), 1-4 a leg or an arm (hip or shoulder down)
+    std::array<std::uint8_t, 5> groupTouched{};  // per group: one of its bodies touches another character this step
     bool touching = false;             // any of them does
     std::vector<glm::dvec3> shove;     // per joint: contact push from other characters over the last frame (sum of normal x depth)
     std::vector<double> shoveDepth;    // per joint: the deepest of those contacts (m)
@@ -390,6 +393,15 @@ struct Simulator::Impl {
             c.pinShift.assign(n, glm::vec3(0.0f));
             c.pinHeld.assign(n, 0);
             c.touched.assign(n, 0);
+            c.group.assign(n, 0);
+            for (int j = 0; j < c.jointCount; ++j) {
+                const int roots[4] = {c.roles.leftHip, c.roles.rightHip, c.roles.leftShoulder, c.roles.rightShoulder};
+                for (int k = j; k >= 0 && c.group[static_cast<std::size_t>(j)] == 0; k = sk.parents[static_cast<std::size_t>(k)]) {
+                    for (int g = 0; g < 4; ++g) {
+                        if (roots[g] >= 0 && k == roots[g]) c.group[static_cast<std::size_t>(j)] = static_cast<std::uint8_t>(g + 1);
+                    }
+                }
+            }
             c.shove.assign(n, glm::dvec3(0.0));
             c.shoveDepth.assign(n, 0.0);
             c.p0.assign(n, glm::vec3(0.0f));
@@ -1015,7 +1027,14 @@ struct Simulator::Impl {
             } else {
                 target += glm::dvec3(c.pinShift[j]);
             }
-            const double m = c.mass[j] * (c.touched[j] ? kContactYield : (c.touching ? kBodyYield : 1.0));
+            // A body touching another character yields, and so does the rest
+            // of its limb (or trunk): the control of the thigh and shin behind
+            // a touching foot would otherwise drive the foot through the
+            // contact (the chase's swinging foot into a neighbour's shin).
+            // A limb pulled onto a body (a blow, a catch, a parry) is meant to
+            // meet it: only its touching bodies yield.
+            const bool yields = c.touched[j] || (c.groupTouched[c.group[j]] && c.torqueScale[j] >= 1.0f);
+            const double m = c.mass[j] * (yields ? kContactYield : (c.touching ? kBodyYield : 1.0));
             glm::dvec3 f = m * (w * w * (target - vecOf(dBodyGetPosition(b))) + kd * (targetVel - vecOf(dBodyGetLinearVel(b))) +
                                 targetAcc);
             const double fmax = c.mass[j] * opt.maxAcceleration;
@@ -1075,6 +1094,7 @@ struct Simulator::Impl {
             if (!c.created) continue;
             syncGeoms(c);
             std::fill(c.touched.begin(), c.touched.end(), std::uint8_t{0});
+            c.groupTouched.fill(0);
             c.touching = false;
         }
         dContactGeom found[4];
@@ -1119,8 +1139,8 @@ struct Simulator::Impl {
                 ca->shove[ja] += n * depth, ca->shoveDepth[ja] = std::max(ca->shoveDepth[ja], depth);
                 cb->shove[jb] -= n * depth, cb->shoveDepth[jb] = std::max(cb->shoveDepth[jb], depth);
             }
-            if (touch && ca) ca->touched[static_cast<std::size_t>(ba)] = 1, ca->touching = true;
-            if (touch && cb) cb->touched[static_cast<std::size_t>(bb)] = 1, cb->touching = true;
+            if (touch && ca) ca->touched[static_cast<std::size_t>(ba)] = 1, ca->groupTouched[ca->group[static_cast<std::size_t>(ba)]] = 1, ca->touching = true;
+            if (touch && cb) cb->touched[static_cast<std::size_t>(bb)] = 1, cb->groupTouched[cb->group[static_cast<std::size_t>(bb)]] = 1, cb->touching = true;
         };
         for (std::size_t x = 0; x < is.members.size(); ++x) {
             auto& a = chars[static_cast<std::size_t>(is.members[x])];
