@@ -53,6 +53,8 @@ constexpr double kPinShove = 0.004;          // m per frame: a pin yields to ano
 constexpr double kContactMargin = 0.03;      // m: collision boxes are grown by this for finding contacts ahead (speculative)
 constexpr double kTouchGap = 0.005;          // m: closer than this a body counts as touching (its control yields)
 constexpr double kArmSlack = 1.05;           // a hand pin farther than this many arm lengths from the collar is let go
+constexpr int kSettleSteps = 60;             // at most this many contact-only steps separate characters that start inside each other
+constexpr double kSettleDepth = 0.005;       // m: until no two characters' boxes are deeper than this inside each other
 constexpr double kHoldReach = 0.03;          // m: a porter holds a bag while its captured hands' midpoint is this close to the bag's centre (not while it passes between two porters)
 
 // ODE's QuickStep reorders constraints with dRandInt, which draws from one
@@ -278,6 +280,7 @@ struct Island {
     dThreadingImplementationID threading = nullptr;  // its own: ODE's default one is shared by all worlds
     std::vector<int> members;
     int contactsThisStep = 0;  // contacts between characters in the current step
+    double deepest = 0;        // m: the deepest of them (of the real boxes)
     double time = 0;           // s: the scene time at the start of the current step
     Report report;
 };
@@ -1089,6 +1092,7 @@ struct Simulator::Impl {
 
     void collide(Island& is) {
         is.contactsThisStep = 0;
+        is.deepest = 0;
         for (int m : is.members) {
             auto& c = chars[static_cast<std::size_t>(m)];
             if (!c.created) continue;
@@ -1130,6 +1134,7 @@ struct Simulator::Impl {
                 touch = touch || depth > -kTouchGap;
                 dJointID joint = dJointCreateContact(is.world, is.contacts, &contact);
                 if (ca) ++is.contactsThisStep;
+                if (ca && cb) is.deepest = std::max(is.deepest, depth);
                 dJointAttach(joint, dGeomGetBody(a), dGeomGetBody(b));
                 if (!ca || !cb || depth <= 0) continue;
                 // How the contact pushes each side (away from the other's box), for the pins.
@@ -1246,6 +1251,7 @@ struct Simulator::Impl {
                 dJointGroupEmpty(is.contacts);
             }
         }
+        const int overlaps = is.report.initialOverlaps;
         for (int m : is.members) {
             auto& c = chars[static_cast<std::size_t>(m)];
             if (c.created) {
@@ -1258,6 +1264,61 @@ struct Simulator::Impl {
                 c.outPos = c.p1, c.outRot = c.r1;
             }
         }
+        if (is.report.initialOverlaps > overlaps) settle(is, f);
+    }
+
+    // Characters that appear inside one another (a composed crowd placed
+    // overlapping) are separated before their first frame is shown: contacts
+    // alone (no gravity, no control) push the bodies apart, at most
+    // kSettleSteps steps, until no contact is deeper than kSettleDepth; then
+    // every body gets its velocity back.
+    void settle(Island& is, int f) {
+        std::vector<std::array<dReal, 6>> velocity;
+        for (int m : is.members) {
+            for (dBodyID b : chars[static_cast<std::size_t>(m)].bodies) {
+                const dReal* v = dBodyGetLinearVel(b);
+                const dReal* w = dBodyGetAngularVel(b);
+                velocity.push_back({v[0], v[1], v[2], w[0], w[1], w[2]});
+                dBodySetLinearVel(b, 0, 0, 0);
+                dBodySetAngularVel(b, 0, 0, 0);
+            }
+        }
+        dWorldSetGravity(is.world, 0, 0, 0);
+        int steps = 0;
+        for (; steps < kSettleSteps; ++steps) {
+            collide(is);
+            if (is.deepest <= kSettleDepth) {
+                dJointGroupEmpty(is.contacts);
+                break;
+            }
+            const auto seed = static_cast<std::uint32_t>(static_cast<unsigned long>(is.index) * 1000003ul + static_cast<unsigned long>(f) * 64ul + 63ul - static_cast<unsigned long>(steps));
+            if (perThreadRandom) {
+                StepRandomScope scope(seed);
+                dWorldQuickStep(is.world, h);
+            } else {
+                const std::lock_guard<std::mutex> lock(stepMutex());
+                dRandSetSeed(seed);
+                dWorldQuickStep(is.world, h);
+            }
+            dJointGroupEmpty(is.contacts);
+        }
+        dWorldSetGravity(is.world, 0, -9.81, 0);
+        std::size_t k = 0;
+        for (int m : is.members) {
+            auto& c = chars[static_cast<std::size_t>(m)];
+            for (dBodyID b : c.bodies) {
+                const auto& v = velocity[k++];
+                dBodySetLinearVel(b, v[0], v[1], v[2]);
+                dBodySetAngularVel(b, v[3], v[4], v[5]);
+            }
+            std::fill(c.shove.begin(), c.shove.end(), glm::dvec3(0.0));
+            std::fill(c.shoveDepth.begin(), c.shoveDepth.end(), 0.0);
+            if (c.created) readOut(c);
+        }
+        char line[160];
+        std::snprintf(line, sizeof line, "frame %d: starting overlaps separated in %d contact-only steps (deepest left %.1f cm)", f, steps,
+                      100.0 * is.deepest);
+        is.report.note(line);
     }
 
     void step() {
