@@ -26,6 +26,19 @@ Result<posture::Mode> postureMode(const std::string& flag) {
     return *mode;
 }
 
+void addHandPinsFlag(CLI::App* cmd, bool& on) {
+    cmd->add_flag("--hand-pins", on,
+                  "With --posture physics: pin a porter's hands to the luggage it holds (hard constraints; off by default, "
+                  "docs/POSTURE.md)");
+}
+
+Result<posture::Options> postureOptions(const std::string& mode, bool handPins) {
+    posture::Options o;
+    if (handPins && mode != "physics") return makeError("--hand-pins: only with --posture physics");
+    o.handPins = handPins;
+    return o;
+}
+
 void printPostureNotes(const posture::Report& r, bool quiet) {
     if (quiet) return;
     if (r.refusedPins + r.releasedPins + r.nonFiniteTargets + r.resets + r.initialOverlaps > 0) {

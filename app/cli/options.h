@@ -34,6 +34,12 @@ void addImportFlags(CLI::App* cmd, ImportFlags& flags);
 void addPostureFlag(CLI::App* cmd, std::string& mode, const std::string& help);
 // The mode named by --posture ("" = kinematic); the error names the flag.
 Result<posture::Mode> postureMode(const std::string& flag);
+// --hand-pins: with --posture physics, a porter's hands are pinned to the
+// luggage it holds (posture::Options::handPins, off by default).
+void addHandPinsFlag(CLI::App* cmd, bool& on);
+// The solver's options of these flags; the error names --hand-pins where it
+// is given without --posture physics.
+Result<posture::Options> postureOptions(const std::string& mode, bool handPins);
 // The solver's report as "note:" lines (to stderr; nothing when quiet or empty).
 void printPostureNotes(const posture::Report& report, bool quiet);
 

@@ -82,12 +82,12 @@ SceneStage::SceneStage(pipeline::LoadedScene scene) : loaded_(std::move(scene)) 
     }
 }
 
-Status SceneStage::setPosture(posture::Mode mode, const ProgressFn& progress) {
+Status SceneStage::setPosture(posture::Mode mode, const ProgressFn& progress, const posture::Options& options) {
     if (mode == posture::Mode::Kinematic) {
         physics_.reset();
         return {};
     }
-    auto poses = posture::ScenePoses::make(mode, loaded_.scene, loaded_.session->library, {}, progress);
+    auto poses = posture::ScenePoses::make(mode, loaded_.scene, loaded_.session->library, options, progress);
     if (!poses) return poses.error();
     physics_ = std::make_unique<posture::ScenePoses>(std::move(*poses));
     return {};

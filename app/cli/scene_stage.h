@@ -38,7 +38,7 @@ public:
     // The posture mode (docs/POSTURE.md): kinematic (the scene poser, the
     // default) or physics (the posture solver runs over the whole scene here,
     // once; poses are then read from its frames). Errors: cancelled.
-    Status setPosture(posture::Mode mode, const ProgressFn& progress = {});
+    Status setPosture(posture::Mode mode, const ProgressFn& progress = {}, const posture::Options& options = {});
     // Installs poses made elsewhere: posture::ScenePoses::make(mode, scene(),
     // library(), options, progress) run in a worker thread (it takes seconds),
     // then this on the thread that calls pose().

@@ -29,7 +29,7 @@ struct ExportArgs {
     std::string scene, format = "gltf", out, name, posture;
     std::string rig, rootMotion = "none";
     double fps = 30.0;
-    bool quiet = false;
+    bool quiet = false, handPins = false;
 };
 
 void runExport(const ExportArgs& a) {
@@ -59,13 +59,15 @@ void runExport(const ExportArgs& a) {
     const auto progress = stderrProgress(a.quiet);
     const auto mode = postureMode(a.posture);
     if (!mode) return fail(mode.error().message);
+    const auto postureOpts = postureOptions(a.posture, a.handPins);
+    if (!postureOpts) return fail(postureOpts.error().message);
     auto loaded = openScene(a.scene, progress);
     if (!loaded) return fail(loaded.error().message);
     // --posture physics: the solver's poses (docs/POSTURE.md), simulated once
     // at 60 fps and sampled at the export rate.
     std::optional<posture::ScenePoses> physics;
     if (*mode == posture::Mode::Physics) {
-        auto poses = posture::ScenePoses::make(*mode, loaded->scene, loaded->session->library, {}, progress);
+        auto poses = posture::ScenePoses::make(*mode, loaded->scene, loaded->session->library, *postureOpts, progress);
         if (!poses) return fail(poses.error().message);
         physics.emplace(std::move(*poses));
         printPostureNotes(physics->report(), a.quiet);
@@ -100,6 +102,7 @@ void registerExport(CLI::App& app) {
                     "stays at the origin)");
     addPostureFlag(cmd, args->posture,
                    "Posture mode: kinematic (the captured clips; default) or physics (the posture solver, docs/POSTURE.md)");
+    addHandPinsFlag(cmd, args->handPins);
     cmd->add_flag("-q,--quiet", args->quiet, "No progress on stderr");
     cmd->callback([args] { runExport(*args); });
 }

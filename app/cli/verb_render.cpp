@@ -63,6 +63,7 @@ struct RenderArgs {
     bool quiet = false;
     std::string rig;
     std::string posture;  // scenes: kinematic | physics
+    bool handPins = false;  // --hand-pins (with --posture physics)
     ImportFlags flags;
 };
 
@@ -303,6 +304,8 @@ constexpr double kSceneFps = 30.0;
 void runScene(const RenderArgs& a, const FrameRange& range, std::pair<int, int> size) {
     if (a.contactSheet) return fail("--contact-sheet: takes motions or a project, not a scene", 2);
     if (const auto mode = postureMode(a.posture); !mode) return fail(mode.error().message, 2);
+    const auto postureOpts = postureOptions(a.posture, a.handPins);
+    if (!postureOpts) return fail(postureOpts.error().message, 2);
     auto loaded = openScene(a.inputs[0], stderrProgress(a.quiet));
     if (!loaded) return fail(loaded.error().message);
     const int frames = static_cast<int>(std::floor(loaded->scene.duration * kSceneFps)) + 1;
@@ -312,7 +315,7 @@ void runScene(const RenderArgs& a, const FrameRange& range, std::pair<int, int> 
                     2);
     const int first = range.first, last = range.last.value_or(frames - 1);
     SceneStage stage(std::move(*loaded));
-    if (Status s = stage.setPosture(*postureMode(a.posture), stderrProgress(a.quiet)); !s) return fail(s.error().message);
+    if (Status s = stage.setPosture(*postureMode(a.posture), stderrProgress(a.quiet), *postureOpts); !s) return fail(s.error().message);
     if (const auto* report = stage.postureReport()) printPostureNotes(*report, a.quiet);
     const auto rigs = loadRigOption(a, stage.skeletons());
     if (!rigs) return fail(rigs.error().message);
@@ -414,6 +417,7 @@ void run(const RenderArgs& a) {
     if (a.columns < 0 || a.maxCells < 1) return fail("--columns must be >= 0 and --max-cells >= 1", 2);
     if (a.inputs.size() == 1 && fs::path(a.inputs[0]).extension() == ".frayscene") return runScene(a, *range, *size);
     if (!a.posture.empty()) return fail("--posture: only for a scene (.frayscene); motions and projects are drawn as captured", 2);
+    if (a.handPins) return fail("--hand-pins: only for a scene (.frayscene) with --posture physics", 2);
     auto clips = loadClips(a);
     if (!clips) return fail(clips.error().message);
 
@@ -585,6 +589,7 @@ void registerRender(CLI::App& app) {
     addPostureFlag(cmd, a->posture,
                    "A scene's posture mode: kinematic (the captured clips; default) or physics (the posture solver, "
                    "docs/POSTURE.md)");
+    addHandPinsFlag(cmd, a->handPins);
     addImportFlags(cmd, a->flags);
     cmd->callback([a] { run(*a); });
 }

@@ -15,6 +15,7 @@
 #include "fray/sim/planner.h"
 #include "fray/sim/spec.h"
 #include "cli_session.h"
+#include "options.h"
 #include "verbs.h"
 
 namespace fray::cli {
@@ -79,12 +80,14 @@ void runSimulate(const SimulateArgs& a) {
 // ---- metrics ------------------------------------------------------------------
 struct MetricsArgs {
     std::string scene, posture;
-    bool json = false, quiet = false;
+    bool json = false, quiet = false, handPins = false;
 };
 
 void runMetrics(const MetricsArgs& a) {
     const auto mode = posture::parseMode(a.posture.empty() ? "kinematic" : a.posture);
     if (!mode) return fail("--posture: '" + a.posture + "' is not kinematic or physics");
+    const auto options = postureOptions(a.posture, a.handPins);
+    if (!options) return fail(options.error().message);
     auto loaded = openScene(a.scene, stderrProgress(a.quiet));
     if (!loaded) return fail(loaded.error().message);
     const auto& lib = loaded->session->library;
@@ -93,7 +96,7 @@ void runMetrics(const MetricsArgs& a) {
     if (!a.json || a.posture.empty()) std::fputs((a.json ? sim::metricsToJson(m) : sim::metricsToText(m)).c_str(), stdout);
     if (a.posture.empty()) return;
     const auto captured = sim::kinematicTracks(loaded->scene, lib);
-    auto shown = posture::tracks(*mode, loaded->scene, lib);
+    auto shown = posture::tracks(*mode, loaded->scene, lib, *options);
     if (!shown) return fail(shown.error().message);
     const auto p = sim::computePostureMetrics(loaded->scene, lib, *shown, captured);
     std::fputs((a.json ? sim::postureMetricsToJson(p) : sim::postureMetricsToText(p)).c_str(), stdout);
@@ -186,6 +189,7 @@ void registerSim(CLI::App& app) {
         cmd->add_option("scene", args->scene, "Scene file")->required();
         cmd->add_flag("--json", args->json, "JSON output");
         cmd->add_option("--posture", args->posture, "Also the posture metrics of this mode: kinematic | physics (with --json: only them)");
+        addHandPinsFlag(cmd, args->handPins);
         cmd->add_flag("-q,--quiet", args->quiet, "No progress on stderr");
         cmd->callback([args] { runMetrics(*args); });
     }

@@ -70,6 +70,7 @@ struct Args {
     bool hidePanel = false;
     std::string rig;
     std::string posture;  // a scene's: kinematic | physics
+    bool handPins = false;  // --hand-pins (with --posture physics)
     // The Interaction Graph duel and team fight.
     bool duel = false;
     int teams = 0;
@@ -126,6 +127,8 @@ int main(int argc, char** argv) {
                    "joints by name");
     cli.add_option("--posture", args.posture,
                    "A scene's posture mode: kinematic (the captured clips; default) or physics (the posture solver)");
+    cli.add_flag("--hand-pins", args.handPins,
+                 "With --posture physics: pin a porter's hands to the luggage it holds (off by default, docs/POSTURE.md)");
     cli.add_flag("--duel", args.duel,
                  "Fight the Interaction Graph's boxer: steer yours with the keyboard or a gamepad (the input: the project)");
     cli.add_option("--teams", args.teams, "A team fight of N characters on the Interaction Graph, the user steering one");
@@ -151,6 +154,7 @@ int main(int argc, char** argv) {
     if (duelMode && !args.posture.empty()) return fail("--posture: only for a scene (.frayscene)", 2);
     const auto postureMode = fray::posture::parseMode(args.posture.empty() ? "kinematic" : args.posture);
     if (!postureMode) return fail("--posture: '" + args.posture + "' is not kinematic or physics", 2);
+    if (args.handPins && *postureMode != fray::posture::Mode::Physics) return fail("--hand-pins: only with --posture physics", 2);
     int width = 1280, height = 720;
     if (std::sscanf(args.size.c_str(), "%dx%d", &width, &height) != 2 || width < 64 || height < 64)
         return fail("--size " + args.size + ": expected WIDTHxHEIGHT, at least 64x64", 2);
@@ -195,7 +199,9 @@ int main(int argc, char** argv) {
         scene = std::make_unique<cli::SceneStage>(std::move(*loaded));
         if (*postureMode == fray::posture::Mode::Physics) {
             std::fprintf(stderr, "fray-play: posture solver over the scene...\n");
-            if (Status st = scene->setPosture(*postureMode); !st) return fail(st.error().message);
+            fray::posture::Options postureOptions;
+            postureOptions.handPins = args.handPins;
+            if (Status st = scene->setPosture(*postureMode, {}, postureOptions); !st) return fail(st.error().message);
             for (const auto& n : scene->postureReport()->notes) std::fprintf(stderr, "fray-play: note: %s\n", n.c_str());
         }
     } else {

@@ -34,4 +34,16 @@ expect_fail "export: bad mode" "--posture: 'ragdoll' is not kinematic or physics
 "$cli" render "$tmp/duel.frayscene" --out "$tmp/frames" --frames 60 --size 160x90 --fast --posture physics --quiet > /dev/null
 check "render: a frame" "[ -s '$tmp/frames/scene_000060.png' ] || ls '$tmp/frames' | grep -q png"
 expect_fail "render: bad mode" "--posture: 'ragdoll' is not kinematic or physics" "$cli" render "$tmp/duel.frayscene" --out "$tmp/frames" --posture ragdoll --quiet
+# --hand-pins: a small luggage chain, the porters' hands pinned to the bag
+# (posture::Options::handPins) change the physics poses; only with physics.
+"$cli" patches generate "$tmp/lib/demo.frayproj" --pattern carry-hand-receive-carry --out "$tmp/carry.patches" -q > /dev/null
+echo '{"kind": "luggage", "porters": 3, "handoffs": 2, "seed": 1, "duration": 60}' > "$tmp/luggage.json"
+"$cli" compose "$tmp/lib/demo.frayproj" --patches "$tmp/carry.patches" --spec "$tmp/luggage.json" --out "$tmp/luggage.frayscene" -q > /dev/null 2>&1
+"$cli" metrics "$tmp/luggage.frayscene" --posture physics --json -q > "$tmp/free.json"
+"$cli" metrics "$tmp/luggage.frayscene" --posture physics --hand-pins --json -q > "$tmp/pinned.json"
+"$cli" metrics "$tmp/luggage.frayscene" --posture physics --hand-pins --json -q > "$tmp/pinned2.json"
+check "hand pins change the physics poses" "! cmp -s '$tmp/free.json' '$tmp/pinned.json'"
+check "hand pins: same bytes twice" "cmp -s '$tmp/pinned.json' '$tmp/pinned2.json'"
+expect_fail "hand pins need physics" "--hand-pins: only with --posture physics" "$cli" metrics "$tmp/luggage.frayscene" --posture kinematic --hand-pins -q
+expect_fail "export: hand pins need physics" "--hand-pins: only with --posture physics" "$cli" export "$tmp/luggage.frayscene" --out "$tmp/bad" --hand-pins -q
 echo "cli posture: ok"

@@ -42,6 +42,7 @@ constexpr double kMaxCorrectingSpeed = 2.0;  // m/s: contacts push overlapping b
 constexpr double kPinReach = 3.0;            // a pin is let go when the hip's target is this many legs away (a jump cut)
 constexpr double kContactYield = 0.25;       // control gain left to a body touching another character
 constexpr double kBodyYield = 0.6;           // and to the rest of that character's bodies
+                                             // (a touching body's whole limb, or its trunk, yields as the body does)
 constexpr double kPinComfort = 0.97;         // share of the leg's length the hip's target is kept within from a pin
 constexpr double kPinTolerance = 0.02;       // m: a pin stays put while its foot's target is this close
 constexpr double kPinSlide = 0.002;          // m per frame: a pin follows a sliding target no faster
@@ -52,6 +53,8 @@ constexpr double kPinShove = 0.004;          // m per frame: a pin yields to ano
 constexpr double kContactMargin = 0.03;      // m: collision boxes are grown by this for finding contacts ahead (speculative)
 constexpr double kTouchGap = 0.005;          // m: closer than this a body counts as touching (its control yields)
 constexpr double kArmSlack = 1.05;           // a hand pin farther than this many arm lengths from the collar is let go
+constexpr int kSettleSteps = 60;             // at most this many contact-only steps separate characters that start inside each other
+constexpr double kSettleDepth = 0.005;       // m: until no two characters' boxes are deeper than this inside each other
 constexpr double kHoldReach = 0.03;          // m: a porter holds a bag while its captured hands' midpoint is this close to the bag's centre (not while it passes between two porters)
 
 // ODE's QuickStep reorders constraints with dRandInt, which draws from one
@@ -246,6 +249,8 @@ struct Character {
     std::vector<glm::vec3> pinShift;  // per joint: targets moved onto the pins (pinned feet, their knees half)
     std::vector<std::uint8_t> pinHeld; // per joint: held by a pin (no velocity target)
     std::vector<std::uint8_t> touched; // per joint: its body touches another character this step
+    std::vector<std::uint8_t> group;   // per joint: 0 the trunk (pelvis, spine, neck, head), 1-4 a leg or an arm (hip or shoulder down)
+    std::array<std::uint8_t, 5> groupTouched{};  // per group: one of its bodies touches another character this step
     bool touching = false;             // any of them does
     std::vector<glm::dvec3> shove;     // per joint: contact push from other characters over the last frame (sum of normal x depth)
     std::vector<double> shoveDepth;    // per joint: the deepest of those contacts (m)
@@ -287,6 +292,7 @@ struct Island {
     std::vector<int> members;
     std::vector<int> blows;    // Impl::blows whose victim is a member, in order
     int contactsThisStep = 0;  // contacts between characters in the current step
+    double deepest = 0;        // m: the deepest of them (of the real boxes)
     double time = 0;           // s: the scene time at the start of the current step
     Report report;
 };
@@ -404,6 +410,15 @@ struct Simulator::Impl {
             c.pinShift.assign(n, glm::vec3(0.0f));
             c.pinHeld.assign(n, 0);
             c.touched.assign(n, 0);
+            c.group.assign(n, 0);
+            for (int j = 0; j < c.jointCount; ++j) {
+                const int roots[4] = {c.roles.leftHip, c.roles.rightHip, c.roles.leftShoulder, c.roles.rightShoulder};
+                for (int k = j; k >= 0 && c.group[static_cast<std::size_t>(j)] == 0; k = sk.parents[static_cast<std::size_t>(k)]) {
+                    for (int g = 0; g < 4; ++g) {
+                        if (roots[g] >= 0 && k == roots[g]) c.group[static_cast<std::size_t>(j)] = static_cast<std::uint8_t>(g + 1);
+                    }
+                }
+            }
             c.shove.assign(n, glm::dvec3(0.0));
             c.shoveDepth.assign(n, 0.0);
             c.p0.assign(n, glm::vec3(0.0f));
@@ -1091,7 +1106,14 @@ struct Simulator::Impl {
             } else {
                 target += glm::dvec3(c.pinShift[j]);
             }
-            const double m = c.mass[j] * (c.touched[j] ? kContactYield : (c.touching ? kBodyYield : 1.0));
+            // A body touching another character yields, and so does the rest
+            // of its limb (or trunk): the control of the thigh and shin behind
+            // a touching foot would otherwise drive the foot through the
+            // contact (the chase's swinging foot into a neighbour's shin).
+            // A limb pulled onto a body (a blow, a catch, a parry) is meant to
+            // meet it: only its touching bodies yield.
+            const bool yields = c.touched[j] || (c.groupTouched[c.group[j]] && c.torqueScale[j] >= 1.0f);
+            const double m = c.mass[j] * (yields ? kContactYield : (c.touching ? kBodyYield : 1.0));
             glm::dvec3 f = m * (w * w * (target - vecOf(dBodyGetPosition(b))) + kd * (targetVel - vecOf(dBodyGetLinearVel(b))) +
                                 targetAcc);
             const double fmax = c.mass[j] * opt.maxAcceleration;
@@ -1146,11 +1168,13 @@ struct Simulator::Impl {
 
     void collide(Island& is) {
         is.contactsThisStep = 0;
+        is.deepest = 0;
         for (int m : is.members) {
             auto& c = chars[static_cast<std::size_t>(m)];
             if (!c.created) continue;
             syncGeoms(c);
             std::fill(c.touched.begin(), c.touched.end(), std::uint8_t{0});
+            c.groupTouched.fill(0);
             c.touching = false;
         }
         dContactGeom found[4];
@@ -1186,6 +1210,7 @@ struct Simulator::Impl {
                 touch = touch || depth > -kTouchGap;
                 dJointID joint = dJointCreateContact(is.world, is.contacts, &contact);
                 if (ca) ++is.contactsThisStep;
+                if (ca && cb) is.deepest = std::max(is.deepest, depth);
                 dJointAttach(joint, dGeomGetBody(a), dGeomGetBody(b));
                 if (!ca || !cb || depth <= 0) continue;
                 // How the contact pushes each side (away from the other's box), for the pins.
@@ -1195,8 +1220,8 @@ struct Simulator::Impl {
                 ca->shove[ja] += n * depth, ca->shoveDepth[ja] = std::max(ca->shoveDepth[ja], depth);
                 cb->shove[jb] -= n * depth, cb->shoveDepth[jb] = std::max(cb->shoveDepth[jb], depth);
             }
-            if (touch && ca) ca->touched[static_cast<std::size_t>(ba)] = 1, ca->touching = true;
-            if (touch && cb) cb->touched[static_cast<std::size_t>(bb)] = 1, cb->touching = true;
+            if (touch && ca) ca->touched[static_cast<std::size_t>(ba)] = 1, ca->groupTouched[ca->group[static_cast<std::size_t>(ba)]] = 1, ca->touching = true;
+            if (touch && cb) cb->touched[static_cast<std::size_t>(bb)] = 1, cb->groupTouched[cb->group[static_cast<std::size_t>(bb)]] = 1, cb->touching = true;
         };
         for (std::size_t x = 0; x < is.members.size(); ++x) {
             auto& a = chars[static_cast<std::size_t>(is.members[x])];
@@ -1308,6 +1333,7 @@ struct Simulator::Impl {
                 dJointGroupEmpty(is.contacts);
             }
         }
+        const int overlaps = is.report.initialOverlaps;
         for (int m : is.members) {
             auto& c = chars[static_cast<std::size_t>(m)];
             if (c.created) {
@@ -1320,6 +1346,61 @@ struct Simulator::Impl {
                 c.outPos = c.p1, c.outRot = c.r1;
             }
         }
+        if (is.report.initialOverlaps > overlaps) settle(is, f);
+    }
+
+    // Characters that appear inside one another (a composed crowd placed
+    // overlapping) are separated before their first frame is shown: contacts
+    // alone (no gravity, no control) push the bodies apart, at most
+    // kSettleSteps steps, until no contact is deeper than kSettleDepth; then
+    // every body gets its velocity back.
+    void settle(Island& is, int f) {
+        std::vector<std::array<dReal, 6>> velocity;
+        for (int m : is.members) {
+            for (dBodyID b : chars[static_cast<std::size_t>(m)].bodies) {
+                const dReal* v = dBodyGetLinearVel(b);
+                const dReal* w = dBodyGetAngularVel(b);
+                velocity.push_back({v[0], v[1], v[2], w[0], w[1], w[2]});
+                dBodySetLinearVel(b, 0, 0, 0);
+                dBodySetAngularVel(b, 0, 0, 0);
+            }
+        }
+        dWorldSetGravity(is.world, 0, 0, 0);
+        int steps = 0;
+        for (; steps < kSettleSteps; ++steps) {
+            collide(is);
+            if (is.deepest <= kSettleDepth) {
+                dJointGroupEmpty(is.contacts);
+                break;
+            }
+            const auto seed = static_cast<std::uint32_t>(static_cast<unsigned long>(is.index) * 1000003ul + static_cast<unsigned long>(f) * 64ul + 63ul - static_cast<unsigned long>(steps));
+            if (perThreadRandom) {
+                StepRandomScope scope(seed);
+                dWorldQuickStep(is.world, h);
+            } else {
+                const std::lock_guard<std::mutex> lock(stepMutex());
+                dRandSetSeed(seed);
+                dWorldQuickStep(is.world, h);
+            }
+            dJointGroupEmpty(is.contacts);
+        }
+        dWorldSetGravity(is.world, 0, -9.81, 0);
+        std::size_t k = 0;
+        for (int m : is.members) {
+            auto& c = chars[static_cast<std::size_t>(m)];
+            for (dBodyID b : c.bodies) {
+                const auto& v = velocity[k++];
+                dBodySetLinearVel(b, v[0], v[1], v[2]);
+                dBodySetAngularVel(b, v[3], v[4], v[5]);
+            }
+            std::fill(c.shove.begin(), c.shove.end(), glm::dvec3(0.0));
+            std::fill(c.shoveDepth.begin(), c.shoveDepth.end(), 0.0);
+            if (c.created) readOut(c);
+        }
+        char line[160];
+        std::snprintf(line, sizeof line, "frame %d: starting overlaps separated in %d contact-only steps (deepest left %.1f cm)", f, steps,
+                      100.0 * is.deepest);
+        is.report.note(line);
     }
 
     void step() {

@@ -339,8 +339,19 @@ double boxSignedDistance(const Obb& a, const Obb& b, glm::vec3* normal) {
 
 namespace {
 
+// A blow with the body (a push, a bump, a fall onto someone): the pelvis,
+// torso or head is the hit's effector.
+bool bodyBlow(int effector) { return effector == kPelvis || effector == kTorso || effector == kHead; }
+
 // The segments of the limb that strikes with `effector` (itself included).
+// A body blow strikes with the whole body: whichever segment meets the
+// victim first (a pushing forearm, a falling body's head or arm).
 std::vector<int> strikingLimb(int effector) {
+    if (bodyBlow(effector)) {
+        std::vector<int> all(kSegmentCount);
+        for (int s = 0; s < kSegmentCount; ++s) all[static_cast<std::size_t>(s)] = s;
+        return all;
+    }
     switch (effector) {
         case kLeftForearm: return {kLeftUpperArm, kLeftForearm};
         case kRightForearm: return {kRightUpperArm, kRightForearm};
@@ -463,6 +474,17 @@ PostureMetrics computePostureMetrics(const Scene& scene, const ActionLibrary& li
     m.deviationMeanCm = devCount > 0 ? devSum / static_cast<double>(devCount) : 0.0;
 
     // Penetration between bodies outside intended contacts, at sampleRate.
+    // A body blow's two bodies lean on each other after it, until the end of
+    // the attacker's action at the blow (a faller lying on the next domino, a
+    // pushed neighbour): intended until then, plus the hit window.
+    std::vector<double> leanUntil(scene.hits.size(), -1.0);
+    for (std::size_t i = 0; i < scene.hits.size(); ++i) {
+        const auto& h = scene.hits[i];
+        if (!bodyBlow(h.effector) || h.attacker < 0 || h.attacker >= n) continue;
+        const int inst = scene.instanceAt(h.attacker, h.time);
+        const auto& track = scene.characters[static_cast<std::size_t>(h.attacker)].track;
+        if (inst >= 0 && static_cast<std::size_t>(inst) < track.size()) leanUntil[i] = track[static_cast<std::size_t>(inst)].end + options.hitWindow;
+    }
     const int step = std::max(1, static_cast<int>(std::lround(fps / options.sampleRate)));
     std::vector<std::array<Obb, kSegmentCount>> boxes(static_cast<std::size_t>(n));
     std::vector<std::uint8_t> live(static_cast<std::size_t>(n));
@@ -482,7 +504,8 @@ PostureMetrics computePostureMetrics(const Scene& scene, const ActionLibrary& li
                 const bool intended =
                     std::any_of(scene.hits.begin(), scene.hits.end(), [&](const HitEvent& h) {
                         const bool pair = (h.attacker == a && h.defender == b) || (h.attacker == b && h.defender == a);
-                        return pair && std::fabs(h.time - t) <= options.hitWindow;
+                        const double until = leanUntil[static_cast<std::size_t>(&h - scene.hits.data())];
+                        return pair && (std::fabs(h.time - t) <= options.hitWindow || (t >= h.time && t <= until));
                     }) ||
                     std::any_of(scene.catches.begin(), scene.catches.end(), [&](const CatchEvent& k) {
                         const bool pair = (k.chaser == a && k.runaway == b) || (k.chaser == b && k.runaway == a);

@@ -132,7 +132,10 @@ struct PostureMetrics {
 // `shown`: the poses measured; `captured`: the kinematic playback at the same
 // rate (the reference for the deviation; pass `shown` itself for the
 // kinematic mode). Intended contacts: the two characters of a hit or catch
-// within options.hitWindow of it, and hand-overs (hand/receive actions).
+// within options.hitWindow of it, those of a body blow (pelvis, torso or head:
+// a push, a bump, a fall onto someone) until the attacker's action at the
+// blow ends (plus the window), and hand-overs (hand/receive actions). A body
+// blow's striking limb is the whole body.
 PostureMetrics computePostureMetrics(const Scene& scene, const ActionLibrary& lib, const JointTracks& shown,
                                      const JointTracks& captured, const MetricsOptions& options = {});
 std::string postureMetricsToJson(const PostureMetrics& m);
