@@ -5,7 +5,7 @@
 # scripts/blender-import-check.py on every file (skipped with a message
 # otherwise); then the Khronos glTF-Validator (scripts/validate-gltf.mjs) on
 # the .gltf and .glb, and on the demo rat scene (a one-joint creature among
-# people) as .glb: no error and no warning. Without node or the validator the
+# people standing as looped idles) as .glb: no error and no warning. Without node or the validator the
 # validator part is skipped (exit 77), unless REQUIRED is ON (the ci preset):
 # then it fails.
 # Usage: export_validate.sh FRAY_CLI DEMO_PROJECT SOURCE_DIR REQUIRED
@@ -36,6 +36,8 @@ fi
 
 sed 's/"crowd": [0-9]*/"crowd": 20/' "$repo/resources/demo/rat.json" > "$tmp/rat.json"
 "$cli" compose "$project" --spec "$tmp/rat.json" --out "$tmp/rat.frayscene" -q > /dev/null
+# Its bystanders stand as looped idles (scene version 2): the export plays them time round after time round.
+check "the rat scene has looped idles" "grep -q '\"version\": 2' '$tmp/rat.frayscene' && grep -q '\"loop\": ' '$tmp/rat.frayscene'"
 "$cli" export "$tmp/rat.frayscene" --format glb --out "$tmp/out" -q > /dev/null
 GLTF_VALIDATOR_DIR=$validator node "$repo/scripts/validate-gltf.mjs" "$tmp/out/duel.gltf" "$tmp/out/duel.glb" "$tmp/out/rat.glb" | tee "$tmp/report.txt"
 check "all three files validated" "[ \$(grep -c ': 0 errors, 0 warnings' '$tmp/report.txt') -eq 3 ]"

@@ -496,7 +496,7 @@ void MainWindow::generate() {
                     for (std::size_t i = 0; i < a.size(); ++i)
                         if (a[i].action != b[i].action || a[i].start != b[i].start || a[i].end != b[i].end ||
                             a[i].offset != b[i].offset || a[i].root.pos != b[i].root.pos || a[i].root.heading != b[i].root.heading ||
-                            a[i].forced != b[i].forced)
+                            a[i].forced != b[i].forced || a[i].loop != b[i].loop)
                             return false;
                     return true;
                 };

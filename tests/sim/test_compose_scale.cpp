@@ -14,6 +14,7 @@
 #include "fray/sim/compose.h"
 #include "fray/sim/compose/domino.h"
 #include "fray/sim/compose/football.h"
+#include "fray/sim/compose/rat.h"
 #include "fray/sim/metrics.h"
 #include "fray/sim/patches.h"
 #include "fray/sim/patterns.h"
@@ -178,6 +179,122 @@ TEST(ComposeScale, FootballRunsSideBySide) {
         oneThread = sceneToJson(*again, lib);
     });
     EXPECT_EQ(oneThread, sceneToJson(*scene, lib));
+}
+
+}  // namespace
+}  // namespace fray::sim
+
+namespace fray::sim {
+namespace {
+
+// A looped idle (ActionInstance::loop) poses, contacts and measures as the
+// repetitions it stands for did when each was an instance of its own, and
+// the rat's bystanders are one looped instance each (issue 27: a bystander
+// of a 1,000 s scene was a thousand instances).
+TEST(LoopedIdle, RatBystandersLoopAndPoseAsRepeatedInstances) {
+    const auto& lib = demoWorld().library;
+    ComposeSpec spec = ComposeSpec::of(RatSpec{});
+    auto& own = *spec.part<RatSpec>();
+    own.ratPath = {{-6, 0}, {6, 0.5f}, {6, 3}, {-6, 3}};  // 27 s of rat: a bystander stands through many times round
+    own.crowd = 40;
+    own.spacing = 0.8;
+    own.reach = 0.6;
+    spec.seed = 3;
+    const PatchLibrary none;
+    auto scene = compose(lib, none, spec);
+    ASSERT_TRUE(scene) << scene.error().message;
+    int looped = 0, standers = 0;
+    for (std::size_t c = 1; c < scene->characters.size(); ++c) {
+        const auto& track = scene->characters[c].track;
+        ASSERT_FALSE(track.empty());
+        EXPECT_LE(track.size(), 4u) << "person " << c << ": standing takes one instance, not one a time round";
+        if (track.size() == 1) ++standers;
+        for (const auto& inst : track) looped += inst.looped() ? 1 : 0;
+    }
+    EXPECT_GE(standers, 10);
+    ASSERT_GE(looped, standers);
+
+    // The same scene with every looped instance written out as its
+    // repetitions (the format before loops).
+    Scene expanded = *scene;
+    for (auto& ch : expanded.characters) {
+        std::vector<ActionInstance> out;
+        for (const auto& inst : ch.track) {
+            for (int k = 0; k < inst.repeats(); ++k) {
+                ActionInstance once = inst;
+                once.loop = 0;
+                once.start = inst.repeatStart(k);
+                if (inst.looped()) once.end = std::min(inst.end, inst.repeatStart(k + 1));
+                out.push_back(once);
+            }
+        }
+        ch.track = std::move(out);
+    }
+    const ScenePoser a(*scene, lib), b(expanded, lib);
+    Pose pa, pb;
+    int seams = 0;
+    for (std::size_t c = 1; c < scene->characters.size(); c += 3) {
+        const auto& inst = scene->characters[c].track.front();
+        if (inst.looped()) seams += inst.repeats() - 1;
+        for (int f = 0; f <= static_cast<int>(scene->duration * 30) + 2; ++f) {
+            const double t = f / 30.0;
+            a.pose(static_cast<int>(c), t, pa);
+            b.pose(static_cast<int>(c), t, pb);
+            ASSERT_EQ(pa.translations, pb.translations) << "person " << c << " at " << t << " s";
+            ASSERT_EQ(pa.rotations, pb.rotations) << "person " << c << " at " << t << " s";
+            ASSERT_EQ(a.contacts(static_cast<int>(c), t), b.contacts(static_cast<int>(c), t));
+        }
+        // Just before, at and just after each seam (the 0.15 s blend).
+        if (inst.looped()) {
+            for (int k = 1; k < inst.repeats(); ++k) {
+                for (double dt : {-1e-9, 0.0, 1e-9, 0.05}) {
+                    const double t = inst.repeatStart(k) + dt;
+                    a.pose(static_cast<int>(c), t, pa);
+                    b.pose(static_cast<int>(c), t, pb);
+                    ASSERT_EQ(pa.translations, pb.translations) << "person " << c << " at seam " << k;
+                    ASSERT_EQ(pa.rotations, pb.rotations) << "person " << c << " at seam " << k;
+                }
+            }
+        }
+    }
+    EXPECT_GE(seams, 40);  // over the third of the crowd posed here
+    // The metrics, the kinematic one over every seam included, are the same.
+    EXPECT_EQ(metricsToJson(computeMetrics(*scene, lib)), metricsToJson(computeMetrics(expanded, lib)));
+    const JointTracks ka = kinematicTracks(*scene, lib, 30), kb = kinematicTracks(expanded, lib, 30);
+    ASSERT_EQ(ka.joints, kb.joints);
+    const PostureMetrics qa = computePostureMetrics(*scene, lib, ka, ka), qb = computePostureMetrics(expanded, lib, kb, kb);
+    EXPECT_EQ(postureMetricsToJson(qa), postureMetricsToJson(qb));
+    int boundaries = 0;
+    for (const auto& c : qa.characters) boundaries += c.boundaries;
+    EXPECT_GE(boundaries, seams);
+
+    // Saved as version 2 with the loops, read back the same; the expanded
+    // scene (no loops) is still written as version 1.
+    const std::string text = sceneToJson(*scene, lib);
+    EXPECT_NE(text.find("\"version\": 2"), std::string::npos);
+    EXPECT_NE(text.find("\"loop\": "), std::string::npos);
+    EXPECT_NE(sceneToJson(expanded, lib).find("\"version\": 1"), std::string::npos);
+    auto back = sceneFromJson(text, "l.frayscene", lib);
+    ASSERT_TRUE(back) << back.error().message;
+    EXPECT_EQ(sceneToJson(*back, lib), text);
+    // A loop in a version-1 file, or one longer than the clip, is refused by name.
+    std::string v1 = text;
+    v1.replace(v1.find("\"version\": 2"), 12, "\"version\": 1");
+    auto bad = sceneFromJson(v1, "l.frayscene", lib);
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.error().message.find("l.frayscene: /characters/"), std::string::npos) << bad.error().message;
+    EXPECT_NE(bad.error().message.find("/loop: looped instances need scene version 2"), std::string::npos) << bad.error().message;
+    std::string longLoop = text;
+    const auto at = longLoop.find("\"loop\": ");
+    longLoop.replace(at, longLoop.find_first_of(",\n}", at) - at, "\"loop\": 500");
+    bad = sceneFromJson(longLoop, "l.frayscene", lib);
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.error().message.find("/loop: must be between"), std::string::npos) << bad.error().message;
+    std::string v3 = text;
+    v3.replace(v3.find("\"version\": 2"), 12, "\"version\": 3");
+    bad = sceneFromJson(v3, "l.frayscene", lib);
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.error().message.find("/version: version 3 is not supported"), std::string::npos) << bad.error().message;
 }
 
 }  // namespace

@@ -66,7 +66,17 @@ json characterJson(const sim::SceneCharacter& c, const CharacterTake& take, cons
                    const sim::ActionLibrary& lib) {
     const Skeleton& sk = take.motion.skeleton();
     json actions = json::array();
-    for (const auto& inst : c.track) actions.push_back(actionJson(inst, lib));
+    for (const auto& inst : c.track) {
+        // A looped idle is listed once a time round, each from its clip's
+        // start, as a reader of the files sees it played.
+        for (int k = 0; k < inst.repeats(); ++k) {
+            sim::ActionInstance once = inst;
+            once.loop = 0;
+            once.start = inst.repeatStart(k);
+            if (inst.looped()) once.end = std::min(inst.end, inst.repeatStart(k + 1));
+            actions.push_back(actionJson(once, lib));
+        }
+    }
     json out = {{"name", c.name},
             {"file_name", take.fileName},
             {"side", c.side},
@@ -87,7 +97,7 @@ json characterJson(const sim::SceneCharacter& c, const CharacterTake& take, cons
 std::optional<glm::vec3> hitPosition(const sim::Scene& scene, const sim::ActionLibrary& lib, const sim::HitEvent& h) {
     for (const auto& inst : scene.characters[static_cast<std::size_t>(h.attacker)].track) {
         if (inst.action != h.attackAction || h.time < inst.start - 1e-9 || h.time > inst.end + 1e-9) continue;
-        const int sample = lib.sampleAt(inst.action, inst.offset + (h.time - inst.start));
+        const int sample = lib.sampleAt(inst.action, inst.offset + (h.time - inst.repeatStart(inst.repeatAt(h.time))));
         return lib.boxesAt(inst.action, sample)[h.effector].placed(inst.root).centre;
     }
     return std::nullopt;

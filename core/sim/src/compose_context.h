@@ -91,6 +91,7 @@ struct Composer {
     RootXf leaves(int c) const {
         const auto& t = scene.characters[static_cast<std::size_t>(c)].track;
         const auto& i = t.back();
+        if (i.looped()) return i.placementAt(lib, i.clipTimeAt(i.end));  // a looped idle: where its last time round leaves off
         const double natural = i.start + act(i.action).duration - i.offset;
         if (i.end < natural - 1e-6) return i.placementAt(lib, i.offset + (i.end - i.start));
         return i.root * act(i.action).end;

@@ -324,15 +324,24 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         return first.first >= 0 ? first : std::pair<int, double>{-1, 0.0};
     }
 
+    // `idle` played from its start over and over from `from` until `until`,
+    // placed at `root`: one looped instance (ActionInstance::loop), so
+    // someone standing for minutes costs one instance, not one a time round.
+    // None when there is no time to stand.
+    std::optional<ActionInstance> loopedIdle(int idle, double from, double until, const RootXf& root) const {
+        if (from >= until - 1e-6) return std::nullopt;
+        const double d = act(idle).duration;
+        // Whole repetitions until within 1e-6 s of `until`, the last cut at `until`.
+        const double n = std::max(1.0, std::ceil((until - 1e-6 - from) / d));
+        ActionInstance inst{idle, from, 0.0, std::min(until, from + n * d), root, false, false};
+        inst.loop = d;
+        return inst;
+    }
+
     // Stands in the guard at `at` from 0 until `until` (the clip from its start each time round).
     std::vector<ActionInstance> standing(const RootXf& at, double until) const {
         std::vector<ActionInstance> plan;
-        const RootXf root = at * lib.rootAt(hold, 0).inverse();
-        for (double t = 0; t < until - 1e-6;) {
-            const double end = std::min(until, t + act(hold).duration);
-            plan.push_back({hold, t, 0.0, end, root, false, false});
-            t = end;
-        }
+        if (auto inst = loopedIdle(hold, 0.0, until, at * lib.rootAt(hold, 0).inverse())) plan.push_back(*inst);
         return plan;
     }
 
@@ -351,11 +360,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             t = end;
         }
         const int idle = idleAfter(actions.back());
-        while (t < until - 1e-6) {
-            const double e = std::min(until, t + act(idle).duration);
-            plan.push_back({idle, t, 0.0, e, place * lib.rootAt(idle, 0).inverse(), false, false});
-            t = e;
-        }
+        if (auto inst = loopedIdle(idle, t, until, place * lib.rootAt(idle, 0).inverse())) plan.push_back(*inst);
         return plan;
     }
 

@@ -28,7 +28,7 @@ Placed placedAt(const Scene& scene, const ActionLibrary& lib, int c, double t) {
     const int i = scene.instanceAt(c, t);
     if (i < 0) return p;
     const auto& inst = scene.characters[static_cast<std::size_t>(c)].track[static_cast<std::size_t>(i)];
-    const double tau = inst.offset + (t - inst.start);
+    const double tau = inst.offset + (t - inst.repeatStart(inst.repeatAt(t)));  // a looped idle: the repetition under way
     p.action = inst.action;
     p.tau = tau;
     p.root = inst.root;
@@ -61,9 +61,10 @@ SceneMetrics computeMetrics(const Scene& scene, const ActionLibrary& lib, const 
         const auto& sc = scene.characters[static_cast<std::size_t>(c)];
         auto& cm = m.characters[static_cast<std::size_t>(c)];
         cm.name = sc.name;
-        cm.actions = static_cast<int>(sc.track.size());
+        cm.actions = 0;
         cm.fallbacks = sc.fallbacks;
         for (const auto& inst : sc.track) {
+            cm.actions += inst.repeats();  // each time round a looped idle counts, as when it was one instance a time
             if (inst.forced) ++cm.forcedReactions;
             if (!inst.forced && lib.actions()[static_cast<std::size_t>(inst.action)].is(kAttack)) ++m.attacks;
         }
@@ -433,8 +434,13 @@ PostureMetrics computePostureMetrics(const Scene& scene, const ActionLibrary& li
         // Joint-velocity jumps at action boundaries.
         const auto& track = scene.characters[static_cast<std::size_t>(c)].track;
         double jumpSum = 0;
-        for (std::size_t i = 1; i < track.size(); ++i) {
-            const int f = static_cast<int>(std::lround(track[i].start * fps));
+        // Every seam: between instances and between a looped idle's repetitions.
+        std::vector<double> seams;
+        for (std::size_t i = 0; i < track.size(); ++i) {
+            for (int k = i == 0 ? 1 : 0; k < track[i].repeats(); ++k) seams.push_back(track[i].repeatStart(k));
+        }
+        for (const double seam : seams) {
+            const int f = static_cast<int>(std::lround(seam * fps));
             if (f < 1 || f + 1 >= shown.frames) continue;
             const auto a = shown.at(c, f - 1), b = shown.at(c, f), e = shown.at(c, f + 1);
             double worst = 0;

@@ -299,7 +299,13 @@ int instanceIndexAt(std::span<const ActionInstance> track, double t) {
 std::string sceneToJson(const Scene& scene, const ActionLibrary& lib) {
     json j;
     j["format"] = "fray-scene";
-    j["version"] = kSceneVersion;
+    // Version 1 unless an instance loops (kSceneVersion): a scene without
+    // looped idles keeps the bytes it had before they existed.
+    bool loops = false;
+    for (const auto& c : scene.characters) {
+        loops = loops || std::any_of(c.track.begin(), c.track.end(), [](const ActionInstance& i) { return i.looped(); });
+    }
+    j["version"] = loops ? kSceneVersion : kSceneVersionNoLoops;
     j["project"] = scene.project;
     j["duration"] = scene.duration;
     j["seed"] = scene.seed;
@@ -344,6 +350,7 @@ std::string sceneToJson(const Scene& scene, const ActionLibrary& lib) {
             ij["start"] = inst.start;
             ij["offset"] = inst.offset;
             ij["end"] = inst.end;
+            if (inst.looped()) ij["loop"] = inst.loop;
             ij["root"] = {inst.root.pos.x, inst.root.pos.y, inst.root.heading};
             ij["forced"] = inst.forced;
             ij["fallback"] = inst.fallback;
@@ -401,7 +408,7 @@ Result<std::string> sceneProjectPath(std::string_view text, std::string_view fil
 
 // One character's track: its actions in time order, each within its clip.
 Result<std::vector<ActionInstance>> trackFromJson(const JsonReader& rd, const ActionIndex& index, const ActionLibrary& lib,
-                                                  const json& track, const std::string& path) {
+                                                  const json& track, const std::string& path, int version) {
     std::vector<ActionInstance> out;
     if (!track.is_array()) return rd.error(path, "must be an array");
     double previousStart = -1;
@@ -422,6 +429,18 @@ Result<std::vector<ActionInstance>> trackFromJson(const JsonReader& rd, const Ac
         if (offset < 0 || offset > dur) return rd.error(ip + "/offset", "must lie within the action (0.." + std::to_string(dur) + " s)");
         previousStart = start;
         inst.start = start, inst.offset = offset, inst.end = end;
+        if (const auto lf = ij.find("loop"); lf != ij.end()) {
+            if (version < 2) return rd.error(ip + "/loop", "looped instances need scene version 2 (this file says version " + std::to_string(version) + ")");
+            FRAY_TRY(loop, rd.number(*lf, ip + "/loop"));
+            // At least a sample long (so a loop over an hour stays a few
+            // hundred thousand repetitions at most) and within the clip from the offset.
+            if (!(loop >= 1.0 / kSampleRate - 1e-9) || loop > dur - offset + 1e-9) {
+                return rd.error(ip + "/loop", "must be between " + std::to_string(1.0 / kSampleRate) + " s and the rest of the clip after the offset (" +
+                                                  std::to_string(dur - offset) + " s)");
+            }
+            if (!(end - start <= kMaxSceneSeconds)) return rd.error(ip + "/end", "a looped instance lasts at most 3600 s");
+            inst.loop = loop;
+        }
         FRAY_TRY(rf, rd.field(ij, ip, "root"));
         if (!rf->is_array() || rf->size() != 3) return rd.error(ip + "/root", "must be [x, z, heading]");
         FRAY_TRY(rx, rd.number((*rf)[0], ip + "/root/0"));
@@ -441,9 +460,9 @@ Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, co
     FRAY_TRY(j, prep::parseJson(text, fileName));
     FRAY_TRY(projectPath, projectOf(rd, j));
     FRAY_TRY(version, rd.integerAt(j, "", "version"));
-    if (version != kSceneVersion) {
+    if (version < kSceneVersionNoLoops || version > kSceneVersion) {
         return rd.error("/version", "version " + std::to_string(version) + " is not supported (this build reads " +
-                                        std::to_string(kSceneVersion) + ")");
+                                        std::to_string(kSceneVersionNoLoops) + " to " + std::to_string(kSceneVersion) + ")");
     }
     const ActionIndex index(lib);
     Scene scene;
@@ -549,7 +568,7 @@ Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, co
         FRAY_TRY(loop, rd.booleanAt(c, p, "loop_path"));
         sc.loopPath = loop;
         FRAY_TRY(tf, rd.field(c, p, "track"));
-        FRAY_TRY(track, trackFromJson(rd, index, lib, *tf, p + "/track"));
+        FRAY_TRY(track, trackFromJson(rd, index, lib, *tf, p + "/track", static_cast<int>(version)));
         sc.track = std::move(track);
         scene.characters.push_back(std::move(sc));
     }
@@ -640,10 +659,16 @@ const Skeleton& ScenePoser::skeleton(int character) const {
 
 void ScenePoser::rawPose(int character, int instance, double t, Pose& out) const {
     const auto& inst = scene_.characters[static_cast<std::size_t>(character)].track[static_cast<std::size_t>(instance)];
+    // A looped instance plays the repetition under way at t.
+    rawPoseAt(character, instance, inst.offset + (t - inst.repeatStart(inst.repeatAt(t))), out);
+}
+
+void ScenePoser::rawPoseAt(int character, int instance, double clipTime, Pose& out) const {
+    const auto& inst = scene_.characters[static_cast<std::size_t>(character)].track[static_cast<std::size_t>(instance)];
     const auto& a = lib_.actions()[static_cast<std::size_t>(inst.action)];
     const auto& lm = lib_.motion(a.motion);
     const double fps = lm.motion.fps();
-    const double tau = std::clamp(inst.offset + (t - inst.start), 0.0, a.duration);
+    const double tau = std::clamp(clipTime, 0.0, a.duration);
     const double frame = std::min(a.firstFrame + tau * fps, static_cast<double>(a.lastFrame));
     lm.motion.sample(frame / fps, out);
     // The clip's first-frame placement in its motion, moved to inst.root.
@@ -665,12 +690,20 @@ void ScenePoser::pose(int character, double t, Pose& out) const {
     rawPose(character, i, t, out);
     const auto& track = scene_.characters[static_cast<std::size_t>(character)].track;
     const auto& inst = track[static_cast<std::size_t>(i)];
-    const double x = (t - inst.start) / blend_;
-    if (i == 0 || blend_ <= 0 || x >= 1.0 || x < 0.0) return;
+    // A looped instance's repetitions meet at seams of their own: the clip's
+    // end (where the previous repetition leaves off) blends into its start.
+    const int k = inst.repeatAt(t);
+    const double seamTime = inst.repeatStart(k);
+    const double x = (t - seamTime) / blend_;
+    if ((i == 0 && k == 0) || blend_ <= 0 || x >= 1.0 || x < 0.0) return;
     // Offsets from the previous action's pose at the seam, fading out.
     Pose prev, seam;
-    rawPose(character, i - 1, inst.start, prev);
-    rawPose(character, i, inst.start, seam);
+    if (k > 0) {
+        rawPoseAt(character, i, inst.offset + (seamTime - inst.repeatStart(k - 1)), prev);
+    } else {
+        rawPose(character, i - 1, inst.start, prev);
+    }
+    rawPoseAt(character, i, inst.offset, seam);
     const float w = static_cast<float>(1.0 - x * x * (3.0 - 2.0 * x));
     for (std::size_t j = 0; j < out.rotations.size(); ++j) {
         const glm::quat off = prev.rotations[j] * glm::inverse(seam.rotations[j]);
@@ -695,7 +728,7 @@ std::array<bool, 2> ScenePoser::contacts(int character, double t) const {
     const auto& inst = scene_.characters[static_cast<std::size_t>(character)].track[static_cast<std::size_t>(i)];
     const auto& a = lib_.actions()[static_cast<std::size_t>(inst.action)];
     const auto& c = lib_.motion(a.motion).contacts;
-    const int f = lib_.frameAt(inst.action, inst.offset + (t - inst.start));
+    const int f = lib_.frameAt(inst.action, inst.offset + (t - inst.repeatStart(inst.repeatAt(t))));
     if (f < 0 || f >= c.frameCount()) return {false, false};
     return {c.left[static_cast<std::size_t>(f)] != 0, c.right[static_cast<std::size_t>(f)] != 0};
 }

@@ -6,6 +6,7 @@
 // motion id and frame range, so it stays valid while the project's actions
 // do, and says clearly when they changed.
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -23,7 +24,10 @@
 
 namespace fray::sim {
 
-inline constexpr int kSceneVersion = 1;
+// Version 2 adds looped instances (ActionInstance::loop); a scene with none
+// is written as version 1, byte for byte as before, and both are read.
+inline constexpr int kSceneVersion = 2;
+inline constexpr int kSceneVersionNoLoops = 1;
 // Limits of scene specs and scene files (docs/FILES.md): a scene lasts at
 // most an hour; positions on the floor stay within 10 km of the origin.
 inline constexpr double kMaxSceneSeconds = 3600.0;
@@ -37,10 +41,41 @@ struct ActionInstance {
     RootXf root;          // placement of the clip's first frame in the scene
     bool forced = false;  // a reaction to a hit: no choice was made
     bool fallback = false;  // the planner had no legal action and took an idle/guard one
+    // > 0: a looped idle. The clip plays from `offset` for `loop` s, then
+    // starts over from `offset` at the same root, and so on until `end`: one
+    // instance for someone standing for minutes (repetition k starts at
+    // start + k * loop). 0: the clip plays once.
+    double loop = 0;
+    bool looped() const { return loop > 0; }
     // Placement of the character at clip time tau (s).
     RootXf placementAt(const ActionLibrary& lib, double tau) const { return root * lib.rootAt(action, tau); }
+    // How many times the clip starts: 1 unless looped.
+    int repeats() const {
+        if (!looped() || end <= start) return 1;
+        return std::max(1, static_cast<int>(std::ceil((end - start) / loop - 1e-6)));
+    }
+    // Scene time repetition k (0 <= k < repeats()) starts.
+    double repeatStart(int k) const { return looped() ? start + k * loop : start; }
+    // The repetition playing at scene time t (clamped to [start, end]; at
+    // `end` the one that ends there).
+    int repeatAt(double t) const {
+        if (!looped()) return 0;
+        const int last = repeats() - 1;
+        const double c = std::clamp(t, start, end);
+        if (c >= end) return last;
+        // The repetition whose start (as repeatStart computes it) is at or
+        // before c and whose successor's is after it, whatever the rounding of the division.
+        int k = std::clamp(static_cast<int>(std::floor((c - start) / loop)), 0, last);
+        while (k < last && repeatStart(k + 1) <= c) ++k;
+        while (k > 0 && repeatStart(k) > c) --k;
+        return k;
+    }
     // Clip time at scene time t, held at the instance's ends outside it.
-    double clipTimeAt(double t) const { return offset + (std::clamp(t, start, end) - start); }
+    double clipTimeAt(double t) const {
+        const double c = std::clamp(t, start, end);
+        if (!looped()) return offset + (c - start);
+        return offset + std::min(loop, c - repeatStart(repeatAt(c)));
+    }
 };
 
 // Index of the instance playing at time t in a time-ordered track (the first
@@ -209,6 +244,8 @@ public:
 
 private:
     void rawPose(int character, int instance, double t, Pose& out) const;
+    // The instance's pose at a clip time (s into its clip, held at its ends).
+    void rawPoseAt(int character, int instance, double clipTime, Pose& out) const;
     const Scene& scene_;
     const ActionLibrary& lib_;
     double blend_;
