@@ -7,7 +7,6 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -32,15 +31,12 @@ inline void writeBytes(const std::filesystem::path& file, const std::string& byt
 // The skeleton as Fray exports a character: its capsule body skinned to its
 // joints in the rest pose (glb: joint names as they are; fbx: centimetres,
 // joints named "<name>_<joint>").
-// `skin` (bound to the skeleton), when given, is the body instead of the capsules.
-inline void writeExportedRig(const Skeleton& skeleton, const std::filesystem::path& file, bool fbx, const std::string& name = "rig",
-                             std::shared_ptr<const SkinnedMesh> skin = nullptr) {
+inline void writeExportedRig(const Skeleton& skeleton, const std::filesystem::path& file, bool fbx, const std::string& name = "rig") {
     exporter::SampledScene scene;
     exporter::CharacterTake take;
     take.name = name;
     take.fileName = name;
     take.motion = Motion(skeleton, 30.0, 2);
-    take.skin = std::move(skin);
     scene.characters.push_back(std::move(take));
     scene.fps = 30.0;
     scene.frames = 2;

@@ -264,8 +264,9 @@ void runGraph(const GraphArgs& a) {
                     presetName.c_str(), options.threshold, st.nodes, st.edges, st.meanOutDegree, st.maxOutDegree,
                     st.largestSccActions, 100.0 * st.sccShare, st.deadEnds, graph.naturalEdges, cached ? " (cached)" : "");
         if (built->thresholdFromData) {
-            std::printf("threshold %.3f from the data (%.0f %% of action ends have a start within it; the default %g "
-                        "joins too few of these poses); --threshold or the project's graph threshold overrides it\n",
+            std::printf("threshold %.3f from the data (1.5 x the distance within which %.0f %% of action ends find a start; "
+                        "the default %g joins too few of these poses); --threshold or the project's graph threshold "
+                        "overrides it\n",
                         options.threshold, 100.0 * prep::kDataThresholdShare, prep::GraphOptions{}.threshold);
         }
     }

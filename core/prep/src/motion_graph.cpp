@@ -839,7 +839,10 @@ Result<std::vector<double>> transitionGaps(std::span<const Motion* const> motion
 double thresholdFromGaps(std::span<const double> sortedGaps) {
     if (sortedGaps.empty()) return 0.0;
     const auto i = static_cast<std::size_t>(std::ceil(kDataThresholdShare * static_cast<double>(sortedGaps.size()))) - 1;
-    return sortedGaps[std::min(i, sortedGaps.size() - 1)];
+    // K-means centres are means of their poses, not poses: an end and a start
+    // g apart share a cluster reliably only with some slack over g.
+    constexpr double kMargin = 1.5;
+    return kMargin * sortedGaps[std::min(i, sortedGaps.size() - 1)];
 }
 
 }  // namespace fray::prep

@@ -183,8 +183,8 @@ Result<std::vector<double>> transitionGaps(std::span<const Motion* const> motion
                                            int maxEnds = 4000, const ProgressFn& progress = {});
 
 // The threshold the data asks for (docs/MOTION_GRAPH.md, "Threshold from the
-// data"): kDataThresholdShare of the ends must find a start within
-// the threshold, i.e. the gap at that quantile. The graph uses
+// data"): the gap that kDataThresholdShare of the ends are within, times
+// a margin of 1.5 (centres are means, not poses). The graph uses
 // max(default threshold, this) when the user set no threshold.
 inline constexpr double kDataThresholdShare = 0.9;
 inline constexpr int kDataThresholdMaxEnds = 4000;
