@@ -55,6 +55,7 @@ void runExport(const ExportArgs& a) {
         if (!a.quiet)
             for (const auto& w : rig->warnings) std::fprintf(stderr, "fray-cli: note: %s: %s\n", a.rig.c_str(), w.c_str());
         options.rig = std::move(rig->target);
+        if (rig->skin) options.rigSkin = std::make_shared<const SkinnedMesh>(std::move(*rig->skin));
     }
     const auto progress = stderrProgress(a.quiet);
     const auto mode = postureMode(a.posture);

@@ -243,6 +243,8 @@ void runGraph(const GraphArgs& a) {
         nlohmann::ordered_json j;
         j["preset"] = presetName;
         j["threshold"] = options.threshold;
+        j["threshold_from_data"] = built->thresholdFromData;
+        j["data_threshold"] = built->dataThreshold;
         j["nodes"] = st.nodes;
         j["edges"] = st.edges;
         j["mean_out_degree"] = st.meanOutDegree;
@@ -261,6 +263,12 @@ void runGraph(const GraphArgs& a) {
                     "capture continuations added to Next(): %d%s\n",
                     presetName.c_str(), options.threshold, st.nodes, st.edges, st.meanOutDegree, st.maxOutDegree,
                     st.largestSccActions, 100.0 * st.sccShare, st.deadEnds, graph.naturalEdges, cached ? " (cached)" : "");
+        if (built->thresholdFromData) {
+            std::printf("threshold %.3f from the data (1.5 x the distance within which %.0f %% of action ends find a start; "
+                        "the default %g joins too few of these poses); --threshold or the project's graph threshold "
+                        "overrides it\n",
+                        options.threshold, 100.0 * prep::kDataThresholdShare, prep::GraphOptions{}.threshold);
+        }
     }
     printWarnings(s->project);
     if (cached) return;

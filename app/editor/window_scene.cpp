@@ -39,6 +39,7 @@
 #include <cstring>
 #include <cstdio>
 #include <fstream>
+#include <memory>
 #include <sstream>
 
 #include "fray/authoring/project_document.h"
@@ -651,6 +652,7 @@ void MainWindow::exportScene(const QString& format, double fps, const QString& d
                 }
                 notes = rig->warnings;
                 o.rig = std::move(rig->target);
+                if (rig->skin) o.rigSkin = std::make_shared<const SkinnedMesh>(std::move(*rig->skin));
             }
             // The posture solver's poses: simulated once here, in the worker (docs/POSTURE.md).
             std::optional<posture::ScenePoses> poses;

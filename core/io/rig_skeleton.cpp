@@ -176,6 +176,17 @@ Result<RigSkeleton> loadRigSkeleton(const std::filesystem::path& path) {
         t.rotations.push_back(glm::quat(glm::normalize(localRot)));
     }
     if (auto msg = t.skeleton.validate()) return makeError(file + ": the rig's skeleton is not usable: " + *msg);
+    if (out.skinned) {
+        auto skin = loadRig(path, t.skeleton);
+        if (skin) {
+            out.skin = std::move(*skin);
+            out.warnings.push_back("the rig's own skinned mesh (" + std::to_string(out.skin->vertices.size()) +
+                                   " vertices) is the exported body");
+        } else {
+            out.warnings.push_back("the rig's skin could not be bound to its skeleton (" + skin.error().message +
+                                   "): Fray's capsule body is used");
+        }
+    }
     return out;
 }
 

@@ -8,7 +8,14 @@
 #include <cstdio>
 #include <fstream>
 
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <set>
+
 #include "export_fixture.h"
+#include "gltf_writer.h"  // core/export/src
+#include "rig.h"          // core/export/src
 #include "fray/core/body_mesh.h"
 #include "fray/core/kinematics.h"
 #include "fray/core/retarget.h"
@@ -368,6 +375,137 @@ TEST(RigExport, CmuBaseSkeletonFbxWithoutMeshIsARigOfBones) {
     const std::string text = readBytes(dir / "duel.gltf");
     EXPECT_NE(text.find("\"Neo_Hips\""), std::string::npos);
     EXPECT_NE(text.find("\"root\""), std::string::npos);
+}
+
+// A skin of the rig's own: Fray's capsules on the skeleton, every vertex
+// pushed 3 cm out along its normal (a coat no capsule body has), so a copy of
+// the rig's mesh and a capsule body built on the rig's skeleton differ.
+std::shared_ptr<const SkinnedMesh> coatSkin(const Skeleton& sk) {
+    const exporter::ExportBody body = exporter::exportBody(sk, nullptr);
+    auto skin = std::make_shared<SkinnedMesh>();
+    for (std::size_t v = 0; v < body.positions.size(); ++v)
+        skin->vertices.push_back({body.positions[v] + 0.03f * body.normals[v], body.normals[v], body.joints[v], body.weights[v]});
+    skin->indices = body.indices;
+    for (const glm::mat4& m : body.inverseBind) skin->inverseBind.push_back({glm::vec3(m[3]), glm::quat(1, 0, 0, 0)});
+    skin->jointCount = sk.jointCount();
+    skin->skeletonFingerprint = skeletonFingerprint(sk);
+    return skin;
+}
+
+// Bone names of every mesh of an Assimp scene, and its vertex positions.
+struct ReadBack {
+    std::vector<std::set<std::string>> bones;
+    std::vector<std::vector<glm::vec3>> vertices;
+};
+ReadBack readBack(const fs::path& file) {
+    Assimp::Importer importer;
+    const aiScene* scene = importer.ReadFile(file.string(), aiProcess_ValidateDataStructure);
+    EXPECT_TRUE(scene) << importer.GetErrorString();
+    ReadBack out;
+    for (unsigned m = 0; scene && m < scene->mNumMeshes; ++m) {
+        const aiMesh* mesh = scene->mMeshes[m];
+        std::set<std::string> names;
+        for (unsigned b = 0; b < mesh->mNumBones; ++b) names.insert(mesh->mBones[b]->mName.C_Str());
+        out.bones.push_back(std::move(names));
+        std::vector<glm::vec3> v;
+        for (unsigned i = 0; i < mesh->mNumVertices; ++i) v.emplace_back(mesh->mVertices[i].x, mesh->mVertices[i].y, mesh->mVertices[i].z);
+        out.vertices.push_back(std::move(v));
+    }
+    return out;
+}
+
+// export --rig with a skinned rig: each retargeted character wears the rig's
+// own mesh (its vertices, bind space, weights), not capsules; the FBX has a
+// bone for every joint of the rig's skeleton (Blender shows them all).
+TEST(RigExport, SkinnedRigsMeshIsCopiedAndEveryBoneWritten) {
+    TempFolder dir;
+    auto mixamo = loadMotion(writeText(dir, "mixamo.bvh", kMixamoRig));
+    ASSERT_TRUE(mixamo) << mixamo.error().message;
+    const Skeleton& sk = mixamo->skeleton();  // centimetres
+    const fs::path rigFile = dir.path() / "mixamo_skinned.glb";
+    {  // The rig as a GLB written by Fray's own glTF writer, one character in its rest pose.
+        exporter::SampledScene rigScene;
+        exporter::CharacterTake take;
+        take.name = take.fileName = "mixamo";
+        take.motion = Motion(sk, 30.0, 2);
+        take.skin = coatSkin(sk);
+        rigScene.characters.push_back(std::move(take));
+        rigScene.frames = 2;
+        std::ofstream f(rigFile, std::ios::binary);
+        f << exporter::writeGltf(rigScene, "rig", exporter::GltfContainer::Binary);
+    }
+    auto rig = loadRigSkeleton(rigFile);
+    ASSERT_TRUE(rig) << rig.error().message;
+    ASSERT_TRUE(rig->skinned);
+    ASSERT_TRUE(rig->skin.has_value()) << (rig->warnings.empty() ? "" : rig->warnings.back());
+    const std::size_t vertices = rig->skin->vertices.size();
+    const std::size_t capsuleVertices = exporter::exportBody(rig->target.skeleton, nullptr).positions.size();
+    ASSERT_GT(vertices, 0u);
+    for (auto format : {exporter::Format::Fbx, exporter::Format::Glb}) {
+        TempFolder out;
+        auto o = optionsFor(format, out.path() / "out");
+        o.rig = rig->target;
+        o.rigSkin = std::make_shared<const SkinnedMesh>(*rig->skin);
+        o.rootMotion = exporter::RootMotion::Floor;
+        auto report = exporter::exportScene(exportDuel(), exportLibrary(), o);
+        ASSERT_TRUE(report) << report.error().message;
+        bool said = false;
+        for (const auto& n : report->notes) said = said || n.find("wear the rig's own skinned mesh") != std::string::npos;
+        EXPECT_TRUE(said);
+        const ReadBack back = readBack(out.path() / "out" / (format == exporter::Format::Fbx ? "duel.fbx" : "duel.glb"));
+        ASSERT_EQ(back.vertices.size(), 2u);
+        const float unit = format == exporter::Format::Fbx ? 0.01f : 1.0f;  // FBX in centimetres
+        const std::vector<glm::vec3> capsules = exporter::exportBody(rig->target.skeleton, nullptr).positions;
+        // Distance from p to the nearest of `points`.
+        auto nearest = [](const glm::vec3& p, const std::vector<glm::vec3>& points) {
+            float best = 1e9f;
+            for (const glm::vec3& q : points) best = std::min(best, glm::length(p - q));
+            return static_cast<double>(best);
+        };
+        std::vector<glm::vec3> rigVertices;
+        for (const SkinnedVertex& v : rig->skin->vertices) rigVertices.push_back(v.position);
+        for (std::size_t m = 0; m < 2; ++m) {
+            // Assimp's FBX reader unshares vertices per face corner; glTF keeps them.
+            if (format == exporter::Format::Glb) {
+                EXPECT_EQ(back.vertices[m].size(), vertices);
+            }
+            EXPECT_GE(back.vertices[m].size(), vertices);
+            // Every joint of the rig's skeleton and the root bone is a bone.
+            EXPECT_EQ(back.bones[m].size(), static_cast<std::size_t>(rig->target.skeleton.jointCount() + 1));
+            double worst = 0, offCapsules = 0;
+            for (std::size_t v = 0; v < back.vertices[m].size(); v += 7) {
+                worst = std::max(worst, nearest(back.vertices[m][v] * unit, rigVertices));
+                offCapsules = std::max(offCapsules, nearest(back.vertices[m][v] * unit, capsules));
+            }
+            EXPECT_LT(worst, 1e-3) << "bind-space vertices are the rig's";
+            EXPECT_GT(offCapsules, 0.02) << "not the capsule body";
+        }
+        std::printf("%s: %zu vertices per character (the rig's; capsules would be %zu), %zu bones\n",
+                    format == exporter::Format::Fbx ? "FBX" : "GLB", back.vertices[0].size(), capsuleVertices, back.bones[0].size());
+    }
+}
+
+// The CMU base skeleton (bones only): every joint is a bone of the FBX, the
+// root bone included (Blender showed 18 of 23 when only joints with capsule
+// vertices were bones), and the body stays Fray's capsules.
+TEST(RigExport, BonesOnlyRigKeepsCapsulesWithEveryJointABone) {
+    if (!requireSharedMocap()) return;
+    auto rig = loadRigSkeleton(sharedMocap() / "cmu_fbx/Base.fbx");
+    ASSERT_TRUE(rig) << rig.error().message;
+    EXPECT_FALSE(rig->skin.has_value());
+    TempFolder out;
+    auto o = optionsFor(exporter::Format::Fbx, out.path() / "out");
+    o.rig = rig->target;
+    o.rootMotion = exporter::RootMotion::Floor;
+    auto report = exporter::exportScene(exportDuel(), exportLibrary(), o);
+    ASSERT_TRUE(report) << report.error().message;
+    const ReadBack back = readBack(out.path() / "out" / "duel.fbx");
+    ASSERT_EQ(back.bones.size(), 2u);
+    const std::size_t capsules = exporter::exportBody(rig->target.skeleton, nullptr).positions.size();
+    for (std::size_t m = 0; m < 2; ++m) {
+        EXPECT_EQ(back.bones[m].size(), static_cast<std::size_t>(rig->target.skeleton.jointCount() + 1));
+        EXPECT_GE(back.vertices[m].size(), capsules);
+    }
 }
 
 TEST(RigExport, BadRigsAndTakesSayWhatIsMissing) {

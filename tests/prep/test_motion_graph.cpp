@@ -133,6 +133,49 @@ TEST(MotionGraph, DemoLibraryIsMostlyOneStronglyConnectedComponent) {
     EXPECT_DOUBLE_EQ(s.sccShare, static_cast<double>(s.largestSccActions) / s.edges);
 }
 
+// The threshold from the data (docs/MOTION_GRAPH.md): 1.5 x the 90th
+// percentile of the transition gaps. The demo's poses are dense, so its
+// graph keeps the default; an end's own continuation is never its gap.
+TEST(MotionGraph, ThresholdFromTheDataKeepsTheDemoDefault) {
+    const std::vector<double> gaps = {0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0};
+    EXPECT_DOUBLE_EQ(thresholdFromGaps(gaps), 1.5 * 0.9);  // the 90th percentile of 10: the 9th, with the margin
+    EXPECT_DOUBLE_EQ(thresholdFromGaps(std::vector<double>(gaps.begin(), gaps.begin() + 2)), 1.5 * 0.2);
+    EXPECT_DOUBLE_EQ(thresholdFromGaps(std::vector<double>{}), 0.0);
+    const auto& in = demoGraphInput();
+    auto demo = transitionGaps(in.motions, in.joints, in.actions, GraphWeights::fighting());
+    ASSERT_TRUE(demo) << demo.error().message;
+    ASSERT_EQ(demo->size(), in.actions.size());
+    EXPECT_TRUE(std::is_sorted(demo->begin(), demo->end()));
+    std::printf("demo transition gaps: median %.3f, 90th percentile %.3f -> threshold from the data %.3f\n",
+                (*demo)[demo->size() / 2], (*demo)[demo->size() * 9 / 10], thresholdFromGaps(*demo));
+    EXPECT_LT(thresholdFromGaps(*demo), GraphOptions{}.threshold);
+    // Capped: an even stride over the ends, about the same statistic.
+    auto sampled = transitionGaps(in.motions, in.joints, in.actions, GraphWeights::fighting(), 100);
+    ASSERT_TRUE(sampled);
+    const std::size_t step = (in.actions.size() + 99) / 100;
+    EXPECT_EQ(sampled->size(), (in.actions.size() + step - 1) / step);
+    EXPECT_NEAR(thresholdFromGaps(*sampled), thresholdFromGaps(*demo), 0.25 * thresholdFromGaps(*demo));
+    // Two actions of one take: the first one's end is a frame from the
+    // second one's start, which is its continuation and not a gap.
+    const Motion* m = in.motions[0];
+    const std::vector<ActionRef> two = {{0, 0, 40}, {0, 41, 80}};
+    auto own = transitionGaps(std::span(&m, 1), std::span(in.joints.data(), 1), two, GraphWeights::fighting());
+    ASSERT_TRUE(own);
+    ASSERT_EQ(own->size(), 2u);
+    const PoseFeature end0 = poseFeature(*m, in.joints[0], 40), start0 = poseFeature(*m, in.joints[0], 0);
+    const PoseFeature end1 = poseFeature(*m, in.joints[0], 80), start1 = poseFeature(*m, in.joints[0], 41);
+    const double d00 = poseDistance(end0, start0, GraphWeights::fighting());
+    const double d10 = poseDistance(end1, start0, GraphWeights::fighting()), d11 = poseDistance(end1, start1, GraphWeights::fighting());
+    std::vector<double> expected = {d00, std::min(d10, d11)};
+    std::sort(expected.begin(), expected.end());
+    EXPECT_NEAR((*own)[0], expected[0], 1e-4);
+    EXPECT_NEAR((*own)[1], expected[1], 1e-4);
+    auto bad = transitionGaps(std::span(&m, 1), std::span(in.joints.data(), 1), std::vector<ActionRef>{{0, 0, 1 << 30}},
+                              GraphWeights::fighting());
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.error().message.find("not a range inside motion 0"), std::string::npos) << bad.error().message;
+}
+
 TEST(MotionGraph, DeterministicForASeed) {
     const auto& in = demoGraphInput();
     GraphOptions o;

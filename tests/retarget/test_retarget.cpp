@@ -160,14 +160,18 @@ TEST(Retarget, MixedProjectBuildsOneMotionGraph) {
         EXPECT_LT(skate.mean, 0.005) << m.id;
     }
     // The default threshold (0.2, set on the synthetic demo) joins few real
-    // poses, from one source or several (CMU or Bandai alone: 40-52 %); 0.5
-    // connects the real takes.
-    auto graph = pipeline::projectGraph(*s, "", 0.0, {});
-    ASSERT_TRUE(graph) << graph.error().message;
-    std::printf("threshold 0.2: %d nodes, largest SCC %.1f %%\n", graph->graph.nodeCount, graph->graph.stats.sccShare * 100);
-    auto wide = pipeline::projectGraph(*s, "", 0.5, {});
+    // poses, from one source or several (CMU or Bandai alone: 40-52 %). With
+    // no threshold set, the project's graph takes the threshold its data's
+    // transition gaps ask for, and connects the real takes without tuning.
+    auto tight = pipeline::projectGraph(*s, "", 0.2, {});
+    ASSERT_TRUE(tight) << tight.error().message;
+    std::printf("threshold 0.2: %d nodes, largest SCC %.1f %%\n", tight->graph.nodeCount, tight->graph.stats.sccShare * 100);
+    auto wide = pipeline::projectGraph(*s, "", 0.0, {});
     ASSERT_TRUE(wide) << wide.error().message;
-    std::printf("threshold 0.5: %d nodes, largest SCC %.1f %%\n", wide->graph.nodeCount, wide->graph.stats.sccShare * 100);
+    std::printf("threshold from the data %.3f: %d nodes, largest SCC %.1f %%\n", wide->options.threshold, wide->graph.nodeCount,
+                wide->graph.stats.sccShare * 100);
+    EXPECT_TRUE(wide->thresholdFromData);
+    EXPECT_GT(wide->options.threshold, 0.2);
     EXPECT_GE(wide->graph.stats.sccShare, 0.8);
     // Some node joins poses of different sources.
     std::vector<int> firstAction;

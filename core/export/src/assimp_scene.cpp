@@ -48,22 +48,37 @@ aiNode* jointNodes(const CharacterTake& c, float scale) {
     return nodes.front();
 }
 
-// One bone per joint that has vertices, rigid weights, the bind pose's inverse as offset.
-void addBones(aiMesh* mesh, const CharacterTake& c, const BindMesh& body, float scale) {
+aiMatrix4x4 toAiMatrix(const glm::mat4& m, float scale) {
+    aiMatrix4x4 out;
+    for (unsigned r = 0; r < 4; ++r)
+        for (unsigned c = 0; c < 4; ++c) out[r][c] = m[static_cast<glm::length_t>(c)][static_cast<glm::length_t>(r)];
+    out.a4 *= scale;
+    out.b4 *= scale;
+    out.c4 *= scale;
+    return out;
+}
+
+// One bone per joint, the inverse bind as offset. Every joint is a bone, even
+// one that moves no vertex (an end site, the root bone): Assimp's FBX exporter
+// makes LimbNodes only of bones and their parents, and readers (Blender) leave
+// the other joints out of the armature.
+void addBones(aiMesh* mesh, const CharacterTake& c, const ExportBody& body, float scale) {
     const Skeleton& sk = c.motion.skeleton();
-    const auto bind = bindPositions(sk);
+    std::vector<std::vector<aiVertexWeight>> weights(static_cast<std::size_t>(sk.jointCount()));
+    for (std::size_t v = 0; v < body.joints.size(); ++v) {
+        for (std::size_t k = 0; k < 4; ++k) {
+            const float w = body.weights[v][static_cast<glm::length_t>(k)];
+            if (w > 0.0f) weights[body.joints[v][k]].emplace_back(static_cast<unsigned>(v), w);
+        }
+    }
     std::vector<aiBone*> bones;
     for (int j = 0; j < sk.jointCount(); ++j) {
-        std::vector<aiVertexWeight> weights;
-        for (std::size_t v = 0; v < body.joints.size(); ++v) {
-            if (body.joints[v] == static_cast<std::uint32_t>(j)) weights.emplace_back(static_cast<unsigned>(v), 1.0f);
-        }
-        if (weights.empty()) continue;
         auto* bone = new aiBone();
+        const auto& w = weights[static_cast<std::size_t>(j)];
         bone->mName = jointNodeName(c, j);
-        bone->mNumWeights = static_cast<unsigned>(weights.size());
-        bone->mWeights = copyArray(weights);
-        bone->mOffsetMatrix = translation(-bind[static_cast<std::size_t>(j)] * scale);
+        bone->mNumWeights = static_cast<unsigned>(w.size());
+        bone->mWeights = w.empty() ? nullptr : copyArray(w);
+        bone->mOffsetMatrix = toAiMatrix(body.inverseBind[static_cast<std::size_t>(j)], scale);
         bones.push_back(bone);
     }
     mesh->mNumBones = static_cast<unsigned>(bones.size());
@@ -71,7 +86,7 @@ void addBones(aiMesh* mesh, const CharacterTake& c, const BindMesh& body, float 
 }
 
 aiMesh* bodyMesh(const CharacterTake& c, unsigned material, float scale) {
-    const BindMesh body = bindMesh(c.motion.skeleton());
+    const ExportBody body = exportBody(c.motion.skeleton(), c.skin.get());
     auto* mesh = new aiMesh();
     mesh->mName = c.fileName + "_body";
     mesh->mPrimitiveTypes = aiPrimitiveType_TRIANGLE;

@@ -11,6 +11,7 @@
 #include "fbx_writer.h"
 #include "gltf_writer.h"
 #include "retarget_export.h"
+#include "rig.h"
 #include "sampled_scene.h"
 #include "summary.h"
 
@@ -134,14 +135,33 @@ Result<ExportReport> exportScene(const sim::Scene& scene, const sim::ActionLibra
     auto sampled = sampleScene(scene, lib, options.fps, scaled(progress, 0.0, 0.5), options.poses);
     if (!sampled) return sampled.error();
     std::vector<std::string> rigNotes;
+    std::vector<char> retargeted;
     if (options.rig) {
-        std::vector<char> retargeted;
         if (auto st = retargetCharacters(*sampled, *options.rig, rigNotes, &retargeted); !st) return st.error();
         if (const int moved = landHits(*sampled, scene, retargeted); moved > 0)
             rigNotes.push_back(std::to_string(moved) + " of " + std::to_string(scene.hits.size()) +
                                " hits brought onto the defender's body by arm or leg IK (the rig's proportions left them off)");
     }
     for (auto& c : sampled->characters) addRootBone(c.motion, options.rootMotion);
+    // The rig's own skin on every retargeted character, bound by joint name
+    // (a root bone may have been added above the rig's pelvis).
+    if (options.rig && options.rigSkin) {
+        int worn = 0;
+        for (std::size_t i = 0; i < sampled->characters.size(); ++i) {
+            if (i >= retargeted.size() || !retargeted[i]) continue;
+            auto& c = sampled->characters[i];
+            auto skin = std::make_shared<SkinnedMesh>();
+            if (!rebindSkin(*options.rigSkin, options.rig->skeleton, c.motion.skeleton(), *skin)) {
+                rigNotes.push_back("character \"" + c.name + "\": the rig's skin does not fit its skeleton; Fray's capsule body is used");
+                continue;
+            }
+            c.skin = std::move(skin);
+            ++worn;
+        }
+        if (worn > 0)
+            rigNotes.push_back(std::to_string(worn) + " character(s) wear the rig's own skinned mesh (" +
+                               std::to_string(options.rigSkin->vertices.size()) + " vertices)");
+    }
     const auto planned = plannedFiles(*sampled, options);
     if (auto st = prepareFolder(options.outDir); !st) return st.error();
     auto earlier = checkReplaceable(options.outDir, planned, summaryName(options), legacySummaryName(options));

@@ -85,13 +85,14 @@ std::vector<float> flatten(const std::vector<glm::vec3>& v) {
     return out;
 }
 
-// The capsule body of one character as a mesh; returns the mesh index.
-int addBodyMesh(BufferBuilder& buf, json& meshes, const CharacterTake& c, int material) {
-    const BindMesh body = bindMesh(c.motion.skeleton());
+// The body of one character (the rig's skin or the capsules) as a mesh;
+// returns the mesh index.
+int addBodyMesh(BufferBuilder& buf, json& meshes, const CharacterTake& c, const ExportBody& body, int material) {
     const std::size_t n = body.positions.size();
     const std::vector<float> positions = flatten(body.positions), normals = flatten(body.normals);
     std::vector<float> weights(n * 4, 0.0f);
-    for (std::size_t i = 0; i < n; ++i) weights[i * 4] = 1.0f;
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t k = 0; k < 4; ++k) weights[i * 4 + k] = body.weights[i][static_cast<glm::length_t>(k)];
 
     const int pos = buf.addAccessor(buf.addView(positions, kArrayBuffer), 0, kFloat, n, "VEC3");
     buf.setBounds(pos, positions, 3);
@@ -99,11 +100,13 @@ int addBodyMesh(BufferBuilder& buf, json& meshes, const CharacterTake& c, int ma
     int joints = 0;
     if (c.motion.jointCount() <= 256) {
         std::vector<std::uint8_t> j(n * 4, 0);
-        for (std::size_t i = 0; i < n; ++i) j[i * 4] = static_cast<std::uint8_t>(body.joints[i]);
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t k = 0; k < 4; ++k) j[i * 4 + k] = static_cast<std::uint8_t>(body.joints[i][k]);
         joints = buf.addAccessor(buf.addView(j, kArrayBuffer), 0, kUnsignedByte, n, "VEC4");
     } else {
         std::vector<std::uint16_t> j(n * 4, 0);
-        for (std::size_t i = 0; i < n; ++i) j[i * 4] = static_cast<std::uint16_t>(body.joints[i]);
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t k = 0; k < 4; ++k) j[i * 4 + k] = body.joints[i][k];
         joints = buf.addAccessor(buf.addView(j, kArrayBuffer), 0, kUnsignedShort, n, "VEC4");
     }
     const int wts = buf.addAccessor(buf.addView(weights, kArrayBuffer), 0, kFloat, n, "VEC4");
@@ -123,14 +126,14 @@ int addBodyMesh(BufferBuilder& buf, json& meshes, const CharacterTake& c, int ma
     return static_cast<int>(meshes.size()) - 1;
 }
 
-// Inverse bind matrices (column-major): the bind pose has no rotation, so each
-// is a translation by minus the joint's bind position.
-int addInverseBindMatrices(BufferBuilder& buf, const Skeleton& sk) {
+// Inverse bind matrices (column-major), one per joint (for the capsules a
+// translation by minus the joint's bind position: that bind pose has no rotation).
+int addInverseBindMatrices(BufferBuilder& buf, const ExportBody& body) {
     std::vector<float> m;
-    for (const glm::vec3& p : bindPositions(sk)) {
-        m.insert(m.end(), {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, -p.x, -p.y, -p.z, 1});
-    }
-    return buf.addAccessor(buf.addView(m, 0), 0, kFloat, static_cast<std::size_t>(sk.jointCount()), "MAT4");
+    for (const glm::mat4& b : body.inverseBind)
+        for (glm::length_t col = 0; col < 4; ++col)
+            for (glm::length_t row = 0; row < 4; ++row) m.push_back(b[col][row]);
+    return buf.addAccessor(buf.addView(m, 0), 0, kFloat, body.inverseBind.size(), "MAT4");
 }
 
 // The character's group node, its joint nodes (rest pose) and skin; returns
@@ -265,9 +268,9 @@ std::string writeGltf(const SampledScene& scene, std::string_view name, GltfCont
     const int time = addTimeAccessor(buf, scene);
     for (const auto& c : scene.characters) {
         int firstJoint = 0;
-        const int skin = addCharacterNodes(nodes, skins, sceneNodes, c, addInverseBindMatrices(buf, c.motion.skeleton()),
-                                           firstJoint);
-        const int mesh = addBodyMesh(buf, meshes, c, materialOfSide.at(c.side));
+        const ExportBody body = exportBody(c.motion.skeleton(), c.skin.get());
+        const int skin = addCharacterNodes(nodes, skins, sceneNodes, c, addInverseBindMatrices(buf, body), firstJoint);
+        const int mesh = addBodyMesh(buf, meshes, c, body, materialOfSide.at(c.side));
         sceneNodes.push_back(static_cast<int>(nodes.size()));
         nodes.push_back({{"name", c.name + " body"}, {"mesh", mesh}, {"skin", skin}});
         addCharacterAnimation(buf, samplers, channels, c, firstJoint, time);

@@ -1,12 +1,16 @@
 #pragma once
 // What the skinned formats (glTF, FBX) share: the bind pose, the body mesh in
 // bind space, and a colour per side.
+#include <array>
 #include <cstdint>
 #include <vector>
 
+#include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 #include "fray/core/skeleton.h"
+#include "fray/core/skinned_mesh.h"
 
 namespace fray::exporter {
 
@@ -23,6 +27,25 @@ struct BindMesh {
     std::vector<std::uint32_t> indices;  // triangles, counter-clockwise seen from outside
 };
 BindMesh bindMesh(const Skeleton& skeleton);
+
+// What the skinned writers draw for one character: its rig skin when it has
+// one, else the capsules, with up to four joints per vertex and, per joint,
+// its inverse bind matrix (bind space -> joint space; column-major, metres).
+struct ExportBody {
+    std::vector<glm::vec3> positions;
+    std::vector<glm::vec3> normals;
+    std::vector<std::array<std::uint16_t, 4>> joints;  // per vertex
+    std::vector<glm::vec4> weights;                    // per vertex, sum 1
+    std::vector<std::uint32_t> indices;
+    std::vector<glm::mat4> inverseBind;  // per skeleton joint
+};
+ExportBody exportBody(const Skeleton& skeleton, const SkinnedMesh* skin);
+
+// A skin bound to `from` moved onto `to` by joint name (a root bone added
+// above the rig's pelvis, ...). Joints of `to` that `from` lacks get no
+// vertices and an identity inverse bind; false when a weighted joint of
+// `from` is missing in `to`.
+bool rebindSkin(const SkinnedMesh& skin, const Skeleton& from, const Skeleton& to, SkinnedMesh& out);
 
 // Linear RGB tint of a side (team): red, blue, green, gold, then again.
 glm::vec3 sideColour(int side);

@@ -105,7 +105,7 @@ Result<SampledScene> sampleScene(const sim::Scene& scene, const sim::ActionLibra
         if (!reportProgress(progress, static_cast<double>(c) / n, "export: sampling")) return cancelled();
         const auto& sc = scene.characters[static_cast<std::size_t>(c)];
         CharacterTake take{sc.name, names[static_cast<std::size_t>(c)], sc.side, sc.group,
-                           Motion(poser.skeleton(c), fps, out.frames)};
+                           Motion(poser.skeleton(c), fps, out.frames), nullptr};
         if (auto st = sampleCharacter(poser, poses, c, out, take.motion); !st) {
             return makeError("character '" + sc.name + "': " + st.error().message);
         }

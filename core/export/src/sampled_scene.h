@@ -2,12 +2,14 @@
 // A scene sampled for export: per character its skeleton and a Motion at the
 // export rate whose root joint is in scene space (what every writer needs).
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "fray/core/motion.h"
 #include "fray/core/progress.h"
 #include "fray/core/result.h"
+#include "fray/core/skinned_mesh.h"
 #include "fray/sim/action_library.h"
 #include "fray/sim/scene.h"
 
@@ -18,6 +20,9 @@ struct CharacterTake {
     std::string fileName;  // for file and node names: [A-Za-z0-9_.-] only, unique within the scene
     int side = 0, group = 0;
     Motion motion;         // at the export fps; root joint in scene space, metres, Y up
+    // The body to write: the rig's own skin bound to motion's skeleton, or
+    // empty for Fray's capsules.
+    std::shared_ptr<const SkinnedMesh> skin;
 };
 
 struct SampledScene {

@@ -169,23 +169,41 @@ Result<ProjectGraph> projectGraph(Session& s, const std::string& presetOverride,
     const auto weights = prep::GraphWeights::preset(out.preset);
     if (!weights) return makeError("graph preset: expected fighting or locomotion, got '" + out.preset + "'");
     out.options.weights = *weights;
+    const bool thresholdSet = thresholdOverride > 0 || s.project.settings.graphThreshold.has_value();
     if (thresholdOverride > 0) out.options.threshold = thresholdOverride;
     else if (s.project.settings.graphThreshold) out.options.threshold = *s.project.settings.graphThreshold;
 
     std::vector<const Motion*> motions;
     std::vector<StandardJoints> joints;
     std::vector<prep::ActionRef> actions;
-    std::uint64_t key = prep::hashString(out.preset);
-    key = prep::hashBytes(&out.options.threshold, sizeof out.options.threshold, key);
     for (std::size_t i = 0; i < s.motions.size(); ++i) {
         motions.push_back(&s.motions[i].motion);
         joints.push_back(s.motions[i].joints);
         const auto& doc = s.project.motions[i].actions;
-        key = prep::hashBytes(&s.motions[i].fileKey, sizeof(std::uint64_t), key);
-        for (int c : doc.cuts) key = prep::hashBytes(&c, sizeof c, key);
         for (int k = 0; k < doc.actionCount(); ++k) actions.push_back({static_cast<int>(i), doc.firstFrame(k), doc.lastFrame(k)});
     }
     if (actions.empty()) return makeError(s.file.string() + ": the project has no actions (import motions first)");
+    // No threshold set: the data's own transition gaps may raise the default
+    // (docs/MOTION_GRAPH.md, "Threshold from the data"). The key holds the
+    // threshold used, so a project whose data keeps the default keeps its cache.
+    ProgressFn graphProgress = progress;
+    if (!thresholdSet) {
+        auto gaps = prep::transitionGaps(motions, joints, actions, out.options.weights, prep::kDataThresholdMaxEnds,
+                                         [&](double f, std::string_view what) { return reportProgress(progress, 0.2 * f, what); });
+        if (!gaps) return gaps.error();
+        out.dataThreshold = prep::thresholdFromGaps(*gaps);
+        if (out.dataThreshold > out.options.threshold) {
+            out.options.threshold = out.dataThreshold;
+            out.thresholdFromData = true;
+        }
+        graphProgress = [&](double f, std::string_view what) { return reportProgress(progress, 0.2 + 0.8 * f, what); };
+    }
+    std::uint64_t key = prep::hashString(out.preset);
+    key = prep::hashBytes(&out.options.threshold, sizeof out.options.threshold, key);
+    for (std::size_t i = 0; i < s.motions.size(); ++i) {
+        key = prep::hashBytes(&s.motions[i].fileKey, sizeof(std::uint64_t), key);
+        for (int c : s.project.motions[i].actions.cuts) key = prep::hashBytes(&c, sizeof c, key);
+    }
     // A fresh cached graph only needs reconnecting; otherwise cluster again.
     out.cached = s.cache.graph && s.cache.graph->key == key && s.cache.graph->startNode.size() == actions.size();
     if (out.cached) {
@@ -193,7 +211,7 @@ Result<ProjectGraph> projectGraph(Session& s, const std::string& presetOverride,
         prep::connectNodes(out.graph, s.cache.graph->startNode, s.cache.graph->endNode, prep::naturalSuccessors(actions));
         return out;
     }
-    auto graph = prep::buildMotionGraph(motions, joints, actions, out.options, progress);
+    auto graph = prep::buildMotionGraph(motions, joints, actions, out.options, graphProgress);
     if (!graph) return graph.error();
     out.graph = std::move(*graph);
     s.cache.graph = prep::CachedGraph{key, out.graph.nodeCount, out.graph.startNode, out.graph.endNode};

@@ -652,16 +652,15 @@ void connectNodes(MotionGraph& g, std::vector<int> startNode, std::vector<int> e
         static_cast<int>(std::count_if(g.next.begin(), g.next.end(), [](const auto& n) { return n.empty(); }));
 }
 
-Result<MotionGraph> buildMotionGraph(std::span<const Motion* const> motions, std::span<const StandardJoints> joints,
-                                     std::span<const ActionRef> actions, const GraphOptions& options,
-                                     const ProgressFn& progress) {
+namespace {
+// Checks shared by buildMotionGraph and transitionGaps.
+Status checkGraphInput(std::span<const Motion* const> motions, std::span<const StandardJoints> joints,
+                       std::span<const ActionRef> actions) {
     if (motions.empty()) return makeError("motion graph: no motions");
     if (motions.size() != joints.size())
         return makeError("motion graph: " + std::to_string(motions.size()) + " motions but " +
                          std::to_string(joints.size()) + " joint sets");
     if (actions.empty()) return makeError("motion graph: no actions");
-    if (!(options.threshold > 0.0)) return makeError("motion graph: the threshold must be positive");
-    if (options.maxNodes < 1) return makeError("motion graph: maxNodes must be at least 1");
     for (std::size_t m = 0; m < motions.size(); ++m) {
         const std::string which = "motion graph: motion " + std::to_string(m);
         if (!motions[m]) return makeError(which + " is null");
@@ -686,6 +685,16 @@ Result<MotionGraph> buildMotionGraph(std::span<const Motion* const> motions, std
                              std::to_string(r.lastFrame) + " are not a range inside motion " +
                              std::to_string(r.motion) + " (frames 0.." + std::to_string(frames - 1) + ")");
     }
+    return {};
+}
+}  // namespace
+
+Result<MotionGraph> buildMotionGraph(std::span<const Motion* const> motions, std::span<const StandardJoints> joints,
+                                     std::span<const ActionRef> actions, const GraphOptions& options,
+                                     const ProgressFn& progress) {
+    if (auto st = checkGraphInput(motions, joints, actions); !st) return st.error();
+    if (!(options.threshold > 0.0)) return makeError("motion graph: the threshold must be positive");
+    if (options.maxNodes < 1) return makeError("motion graph: maxNodes must be at least 1");
     const auto cancelled = [] { return fray::cancelled("motion graph"); };
     if (!reportProgress(progress, 0.0, "pose features")) return cancelled();
 
@@ -778,6 +787,62 @@ Result<MotionGraph> buildMotionGraph(std::span<const Motion* const> motions, std
     g.kmeansRounds = rounds;
     if (!reportProgress(progress, 1.0, "graph")) return cancelled();
     return g;
+}
+
+Result<std::vector<double>> transitionGaps(std::span<const Motion* const> motions, std::span<const StandardJoints> joints,
+                                           std::span<const ActionRef> actions, const GraphWeights& graphWeights, int maxEnds,
+                                           const ProgressFn& progress) {
+    if (auto st = checkGraphInput(motions, joints, actions); !st) return st.error();
+    if (maxEnds < 1) return makeError("motion graph: maxEnds must be at least 1");
+    const auto cancelled = [] { return fray::cancelled("transition gaps"); };
+    if (!reportProgress(progress, 0.0, "pose features")) return cancelled();
+    FeatureExtractor extract(motions[0]->skeleton(), joints[0]);
+    Layout layout;
+    layout.n = static_cast<int>(extract.rotationCount());
+    const auto stride = static_cast<std::size_t>(layout.stride());
+    const std::size_t n = actions.size();
+    // Ends measured: every one, or an even stride over them.
+    std::vector<std::size_t> ends;
+    const std::size_t step = (n + static_cast<std::size_t>(maxEnds) - 1) / static_cast<std::size_t>(maxEnds);
+    for (std::size_t a = 0; a < n; a += step) ends.push_back(a);
+    std::vector<float> starts(n * stride), endRows(ends.size() * stride);
+    for (std::size_t a = 0; a < n; ++a) {
+        const Motion& m = *motions[static_cast<std::size_t>(actions[a].motion)];
+        pack(extract(m, actions[a].firstFrame), layout, starts.data() + a * stride);
+    }
+    for (std::size_t e = 0; e < ends.size(); ++e) {
+        const ActionRef& r = actions[ends[e]];
+        pack(extract(*motions[static_cast<std::size_t>(r.motion)], r.lastFrame), layout, endRows.data() + e * stride);
+    }
+    if (!reportProgress(progress, 0.2, "transition gaps")) return cancelled();
+    const std::vector<int> successor = naturalSuccessors(actions);
+    const Weights w(graphWeights);
+    std::vector<double> gaps(ends.size(), std::numeric_limits<double>::infinity());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ends.size(), 8), [&](const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t e = range.begin(); e != range.end(); ++e) {
+            const int own = successor[ends[e]];
+            double best = std::numeric_limits<double>::infinity();
+            for (std::size_t b = 0; b < n; ++b) {
+                if (static_cast<int>(b) == own) continue;
+                best = std::min(best, static_cast<double>(packedDistance(endRows.data() + e * stride, starts.data() + b * stride, layout, w)));
+            }
+            gaps[e] = best;
+        }
+    });
+    if (!reportProgress(progress, 1.0, "transition gaps")) return cancelled();
+    // One action whose only start is its own continuation has no gap.
+    gaps.erase(std::remove_if(gaps.begin(), gaps.end(), [](double g) { return !std::isfinite(g); }), gaps.end());
+    std::sort(gaps.begin(), gaps.end());
+    return gaps;
+}
+
+double thresholdFromGaps(std::span<const double> sortedGaps) {
+    if (sortedGaps.empty()) return 0.0;
+    const auto i = static_cast<std::size_t>(std::ceil(kDataThresholdShare * static_cast<double>(sortedGaps.size()))) - 1;
+    // K-means centres are means of their poses, not poses: an end and a start
+    // g apart share a cluster reliably only with some slack over g.
+    constexpr double kMargin = 1.5;
+    return kMargin * sortedGaps[std::min(i, sortedGaps.size() - 1)];
 }
 
 }  // namespace fray::prep

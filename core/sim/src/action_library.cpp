@@ -307,8 +307,17 @@ Result<ActionLibrary> buildActionLibrary(const prep::Project& project, std::vect
                     if (a.effector >= 0) break;
                 }
                 if (a.effector < 0) {
+                    // A punch lands with an arm and a kick with a leg: a real
+                    // lunge punch steps forward, and its stepping ankle can
+                    // move faster than the fist (CMU oi-zuki). Other attacks
+                    // (tackle, both) take the fastest limb.
                     double best = -1;
-                    const int candidates[] = {kLeftForearm, kRightForearm, kLeftShin, kRightShin};
+                    std::vector<int> candidates;
+                    if (a.is(kPunch) != a.is(kKick)) {
+                        candidates = a.is(kPunch) ? std::vector<int>{kLeftForearm, kRightForearm} : std::vector<int>{kLeftShin, kRightShin};
+                    } else {
+                        candidates = {kLeftForearm, kRightForearm, kLeftShin, kRightShin};
+                    }
                     for (int seg : candidates) {
                         const int tip = effectorTip(seg, j);
                         for (int f = a.firstFrame; f <= a.lastFrame; ++f) {

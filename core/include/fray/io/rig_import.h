@@ -26,6 +26,7 @@
 // (Assimp's message), no mesh, no skinned mesh, bones that match no joint
 // (up to five names), vertices without weights.
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -48,6 +49,10 @@ Result<SkinnedMesh> loadRig(const std::filesystem::path& path, const Skeleton& s
 struct RigSkeleton {
     RetargetTarget target;
     bool skinned = false;               // the file has a mesh with bone weights
+    // The rig's own skinned mesh bound to target.skeleton (loadRig), for the
+    // export to write instead of Fray's capsules; empty when the file has no
+    // skin or it could not be bound (a warning then says why).
+    std::optional<SkinnedMesh> skin;
     std::vector<std::string> warnings;  // for the user
 };
 Result<RigSkeleton> loadRigSkeleton(const std::filesystem::path& path);

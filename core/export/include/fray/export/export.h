@@ -11,6 +11,7 @@
 // Deterministic: the same scene and options give byte-identical files.
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -19,6 +20,7 @@
 #include "fray/core/motion.h"
 #include "fray/core/progress.h"
 #include "fray/core/retarget.h"
+#include "fray/core/skinned_mesh.h"
 #include "fray/core/result.h"
 #include "fray/sim/action_library.h"
 #include "fray/sim/scene.h"
@@ -59,6 +61,9 @@ struct ExportOptions {
     // onto its skeleton (joint names, hierarchy, proportions, local frames)
     // before writing; the report goes to ExportReport::notes.
     std::optional<RetargetTarget> rig;
+    // The rig's own skinned mesh, bound to rig->skeleton (RigSkeleton::skin):
+    // the retargeted characters wear it instead of Fray's capsules. Empty: capsules.
+    std::shared_ptr<const SkinnedMesh> rigSkin;
     RootMotion rootMotion = RootMotion::None;
     // Where each character's pose at a scene time comes from (local pose,
     // root in scene space): empty = sim::ScenePoser (kinematic playback);

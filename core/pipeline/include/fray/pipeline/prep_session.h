@@ -74,10 +74,16 @@ struct ProjectGraph {
     std::string preset;
     prep::GraphOptions options;
     bool cached = false;  // reconnected from a fresh cache entry (s.cache is then unchanged)
+    // When the project sets no threshold and none is given: the threshold its
+    // transition gaps ask for (prep::thresholdFromGaps), and whether it was
+    // used (it was above the default).
+    double dataThreshold = 0;
+    bool thresholdFromData = false;
 };
 // The project's action-level motion graph: from the cache when its key
 // (preset, threshold, files, cuts) matches, else built and stored in s.cache
-// (write the cache to keep it). Empty overrides use the project's settings.
+// (write the cache to keep it). Empty overrides use the project's settings;
+// with no threshold set either, max(default, the data's threshold).
 Result<ProjectGraph> projectGraph(Session& s, const std::string& presetOverride, double thresholdOverride,
                                   const ProgressFn& progress);
 

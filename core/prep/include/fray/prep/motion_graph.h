@@ -170,6 +170,26 @@ std::vector<int> naturalSuccessors(std::span<const ActionRef> actions);
 void connectNodes(MotionGraph& g, std::vector<int> startNode, std::vector<int> endNode,
                   std::span<const int> successors = {});
 
+// The transition gaps of a set of actions: for every action's end pose, D to
+// the nearest start pose of any action other than its own continuation in its
+// capture (naturalSuccessors), ascending. Clusters hold the poses within the
+// threshold of a centre (itself near a pose), so an end joins a start of gap g
+// reliably only when the threshold is about g or more: these gaps say
+// how sparse the data is, whatever its skeleton, rate or source. At most
+// maxEnds ends are measured (an even stride over them). Same validation and
+// errors as buildMotionGraph.
+Result<std::vector<double>> transitionGaps(std::span<const Motion* const> motions, std::span<const StandardJoints> joints,
+                                           std::span<const ActionRef> actions, const GraphWeights& weights,
+                                           int maxEnds = 4000, const ProgressFn& progress = {});
+
+// The threshold the data asks for (docs/MOTION_GRAPH.md, "Threshold from the
+// data"): the gap that kDataThresholdShare of the ends are within, times
+// a margin of 1.5 (centres are means, not poses). The graph uses
+// max(default threshold, this) when the user set no threshold.
+inline constexpr double kDataThresholdShare = 0.9;
+inline constexpr int kDataThresholdMaxEnds = 4000;
+double thresholdFromGaps(std::span<const double> sortedGaps);
+
 // Builds the graph. motions and joints are parallel; every motion must have
 // the same skeleton (names and hierarchy). Deterministic for a seed. Fails
 // with a readable message on bad input, or "cancelled" when progress says so.
