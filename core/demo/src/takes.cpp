@@ -405,20 +405,16 @@ const std::vector<std::string>& librarySets() {
 
 std::vector<TakeSpec> planLibrary(const LibraryOptions& options) {
     std::vector<TakeSpec> out;
-    if (options.set == "football") {
+    // A named set: its takes, scaled to the minutes asked for.
+    auto scaled = [&](const auto& takes) {
         double total = 0;
-        for (const auto& t : kFootballTakes) total += t.seconds;
+        for (const auto& t : takes) total += t.seconds;
         const double scale = options.minutes > 0 ? options.minutes * 60.0 / total : 1.0;
-        for (const auto& t : kFootballTakes) out.push_back({t.name, t.kind, t.style, t.seconds * scale});
+        for (const auto& t : takes) out.push_back({t.name, t.kind, t.style, t.seconds * scale});
         return out;
-    }
-    if (options.set == "carry") {
-        double total = 0;
-        for (const auto& t : kCarryTakes) total += t.seconds;
-        const double scale = options.minutes > 0 ? options.minutes * 60.0 / total : 1.0;
-        for (const auto& t : kCarryTakes) out.push_back({t.name, t.kind, t.style, t.seconds * scale});
-        return out;
-    }
+    };
+    if (options.set == "football") return scaled(kFootballTakes);
+    if (options.set == "carry") return scaled(kCarryTakes);
     if (options.set != "default") return out;
     const double scale = options.minutes > 0 ? options.minutes / defaultLibraryMinutes() : 1.0;
     for (const auto& t : kDefaultTakes) out.push_back({t.name, t.kind, t.style, t.seconds * scale});

@@ -283,6 +283,19 @@ std::mutex& stepMutex() {
     return m;
 }
 
+// One ODE quick step of `world` by h, its random stream seeded first: per
+// thread where ODE allows it, else under one lock (see StepRandom).
+void seededQuickStep(dWorldID world, dReal h, std::uint32_t seed) {
+    if (perThreadRandom) {
+        StepRandomScope scope(seed);
+        dWorldQuickStep(world, h);
+    } else {
+        const std::lock_guard<std::mutex> lock(stepMutex());
+        dRandSetSeed(seed);
+        dWorldQuickStep(world, h);
+    }
+}
+
 struct Island {
     int index = 0;
     dWorldID world = nullptr;
@@ -1322,14 +1335,7 @@ struct Simulator::Impl {
                 const unsigned long seed = static_cast<unsigned long>(is.index) * 1000003ul +
                                            static_cast<unsigned long>(f) * 64ul + static_cast<unsigned long>(s);
                 dWorldSetQuickStepNumIterations(is.world, is.contactsThisStep > 0 ? opt.iterations : opt.freeIterations);
-                if (perThreadRandom) {
-                    StepRandomScope scope(static_cast<std::uint32_t>(seed));
-                    dWorldQuickStep(is.world, h);
-                } else {
-                    const std::lock_guard<std::mutex> lock(stepMutex());
-                    dRandSetSeed(seed);
-                    dWorldQuickStep(is.world, h);
-                }
+                seededQuickStep(is.world, h, static_cast<std::uint32_t>(seed));
                 dJointGroupEmpty(is.contacts);
             }
         }
@@ -1374,14 +1380,7 @@ struct Simulator::Impl {
                 break;
             }
             const auto seed = static_cast<std::uint32_t>(static_cast<unsigned long>(is.index) * 1000003ul + static_cast<unsigned long>(f) * 64ul + 63ul - static_cast<unsigned long>(steps));
-            if (perThreadRandom) {
-                StepRandomScope scope(seed);
-                dWorldQuickStep(is.world, h);
-            } else {
-                const std::lock_guard<std::mutex> lock(stepMutex());
-                dRandSetSeed(seed);
-                dWorldQuickStep(is.world, h);
-            }
+            seededQuickStep(is.world, h, seed);
             dJointGroupEmpty(is.contacts);
         }
         dWorldSetGravity(is.world, 0, -9.81, 0);
