@@ -1364,6 +1364,7 @@ struct Simulator::Impl {
         std::vector<std::array<dReal, 6>> velocity;
         for (int m : is.members) {
             for (dBodyID b : chars[static_cast<std::size_t>(m)].bodies) {
+                if (!b) continue;  // rides on its parent
                 const dReal* v = dBodyGetLinearVel(b);
                 const dReal* w = dBodyGetAngularVel(b);
                 velocity.push_back({v[0], v[1], v[2], w[0], w[1], w[2]});
@@ -1388,6 +1389,7 @@ struct Simulator::Impl {
         for (int m : is.members) {
             auto& c = chars[static_cast<std::size_t>(m)];
             for (dBodyID b : c.bodies) {
+                if (!b) continue;  // rides on its parent
                 const auto& v = velocity[k++];
                 dBodySetLinearVel(b, v[0], v[1], v[2]);
                 dBodySetAngularVel(b, v[3], v[4], v[5]);
