@@ -346,9 +346,10 @@ TEST(PostureSolver, DominoCrowdNearlyMeetsTheIssueThresholds) {
     ASSERT_GT(both.physics.landed, 10);
     // Every threshold but two, which are near and chaotic (this scene and the
     // CLI's, planned from the demo files, are the same to the metrics'
-    // precision; docs/POSTURE.md): the skate maximum (0.90 cm here, 1.21 cm
-    // on the CLI's scene; issue < 1 cm) and the hits on the surface (34 of
-    // 36 here; 35 of 36 on the CLI's, the other 2.02 cm away; issue 95 %).
+    // precision, and the bystanders' islands shift the solve; docs/POSTURE.md):
+    // the skate maximum (1.48 cm here, 1.49 cm on the CLI's scene; issue < 1 cm)
+    // and the hits on the surface (34 of 36 here and on the CLI's, whose misses
+    // are 2.02 and 2.14 cm away; issue 95 %).
     EXPECT_LT(both.physics.footSkateMaxCm, 2.5);
     EXPECT_LT(both.physics.footSkateMeanCm, 0.2);
     EXPECT_LT(both.physics.penetrationMaxCm, 2.0);

@@ -236,7 +236,6 @@ struct DominoComposer : KindComposer<DominoSpec, DominoStats> {
         // keep their tracks (live re-plan, issue 23; docs/AUTHORING.md
         // "Affected characters"). Erasing may free a cell of lower priority
         // than a standing bystander's, who then gives way to it.
-        const glm::vec2 lo = own.floor.extentMin(), hi = own.floor.extentMax();
         float fallReach = 0;
         for (std::size_t idx : chainPatches) {
             const Patch& p = patches.patches()[idx];
@@ -251,6 +250,9 @@ struct DominoComposer : KindComposer<DominoSpec, DominoStats> {
         }
         const float clearance = fallReach + 0.35f + 0.3f;  // the standing box and the margin kept from a fall
         ownStats.bystanderClearance = clearance;
+        // The cells cover the bitmap and a band of the clearance round it, so
+        // a painted area reaching the bitmap's edges still has people round it.
+        const glm::vec2 lo = own.floor.extentMin() - glm::vec2(clearance), hi = own.floor.extentMax() + glm::vec2(clearance);
         struct Cell {
             std::uint64_t priority = 0;
             glm::vec2 q{0.0f};
