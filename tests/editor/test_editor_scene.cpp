@@ -71,25 +71,35 @@ QString writeFile(const QTemporaryDir& dir, const char* name, const QByteArray& 
     return path;
 }
 
+// Measures the longest stall of the UI event loop (ms) while it lives: a 5 ms
+// timer notes the gaps between its ticks. mark() restarts the gap after a
+// step the test itself takes on the UI thread (a click).
+struct StallProbe {
+    QElapsedTimer clock;
+    qint64 last = 0, longest = 0;
+    QTimer timer;
+    StallProbe() {
+        clock.start();
+        QObject::connect(&timer, &QTimer::timeout, [this] {
+            const qint64 now = clock.elapsed();
+            longest = std::max(longest, now - last);
+            last = now;
+        });
+        timer.start(5);
+    }
+    void mark() { last = clock.elapsed(); }
+};
+
 // Clicks Generate and waits for the job to end; returns the longest stall of
 // the UI event loop meanwhile (ms).
 qint64 generateAndWait(MainWindow* w) {
-    QElapsedTimer clock;
-    clock.start();
-    qint64 last = 0, longest = 0;
-    QTimer probe;
-    QObject::connect(&probe, &QTimer::timeout, [&] {
-        const qint64 now = clock.elapsed();
-        longest = std::max(longest, now - last);
-        last = now;
-    });
-    probe.start(5);
+    StallProbe probe;
     QTest::mouseClick(child<QPushButton>(w, "sceneGenerate"), Qt::LeftButton);
-    last = clock.elapsed();
+    probe.mark();
     EXPECT_TRUE(w->busy());
     if (!QTest::qWaitFor([&] { return !w->busy(); }, 120000)) ADD_FAILURE() << "generate did not finish";
-    probe.stop();
-    return longest;
+    probe.timer.stop();
+    return probe.longest;
 }
 
 struct SceneWindow : ::testing::Test {
@@ -403,26 +413,17 @@ TEST_F(SceneWindow, PhysicsPostureSolvesInTheBackgroundAndPlaysItsPoses) {
     // Physics, from the Scene panel: solved in the background.
     auto* choice = child<QComboBox>(w.get(), "scenePosture");
     ASSERT_EQ(choice->currentText(), "Kinematic");
-    QElapsedTimer clock;
-    clock.start();
-    qint64 last = 0, longest = 0;
-    QTimer probe;
-    QObject::connect(&probe, &QTimer::timeout, [&] {
-        const qint64 now = clock.elapsed();
-        longest = std::max(longest, now - last);
-        last = now;
-    });
-    probe.start(5);
+    StallProbe probe;
     choice->setCurrentIndex(1);
-    last = clock.elapsed();
+    probe.mark();
     EXPECT_TRUE(w->busy()) << "the solve should run in the background";
     EXPECT_EQ(w->postureMode(), fray::posture::Mode::Physics);
     EXPECT_FALSE(w->postureShown());
     ASSERT_TRUE(QTest::qWaitFor([&] { return !w->busy(); }, 60000)) << "the physics solve did not finish";
-    probe.stop();
+    probe.timer.stop();
     std::printf("editor: physics posture solved in %lld ms; the UI event loop stalled at most %lld ms\n",
-                static_cast<long long>(clock.elapsed()), static_cast<long long>(longest));
-    EXPECT_LT(longest, 100) << "the UI event loop stalled while solving";
+                static_cast<long long>(probe.clock.elapsed()), static_cast<long long>(probe.longest));
+    EXPECT_LT(probe.longest, 100) << "the UI event loop stalled while solving";
     ASSERT_TRUE(w->postureShown()) << w->lastError().toStdString();
     EXPECT_EQ(w->scene()->postureMode(), fray::posture::Mode::Physics);
     EXPECT_TRUE(w->findChild<QAction*>("actionPosturePhysics")->isChecked());

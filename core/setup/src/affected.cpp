@@ -73,9 +73,12 @@ std::vector<int> affectedCharacters(const sim::Scene& previous, const sim::Actio
         // bystander's distance to the painted area: a stroke within it of a
         // bystander may take its spot (or its cell's), one further away cannot.
         const bool domino = !previous.floor.empty();  // only a domino scene keeps its painted floor
-        auto stands = [&](int c) {
-            return std::none_of(previous.hits.begin(), previous.hits.end(), [&](const sim::HitEvent& h) { return h.attacker == c || h.defender == c; });
-        };
+        std::vector<char> inHit(static_cast<std::size_t>(n), 0);  // hits or is hit: not a bystander
+        for (const auto& h : previous.hits) {
+            if (h.attacker >= 0 && h.attacker < n) inHit[static_cast<std::size_t>(h.attacker)] = 1;
+            if (h.defender >= 0 && h.defender < n) inHit[static_cast<std::size_t>(h.defender)] = 1;
+        }
+        auto stands = [&](int c) { return !inHit[static_cast<std::size_t>(c)]; };
         auto toPainted = [&](glm::vec2 p) {  // to 1 cm, up to 100 m
             double a = 0, b = 100;
             if (!previous.floor.paintedWithin(p, b)) return b;
