@@ -8,6 +8,8 @@
 //
 //   build/bin/fray-bench --benchmark_filter=Render
 #include <benchmark/benchmark.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <array>
@@ -115,9 +117,31 @@ public:
         }
     }
 
+    // Forward kinematics of every character from the take, in parallel:
+    // what a viewport does each frame before it draws.
+    void poseFromTake(int tick) {
+        const Motion& m = b_.take.motion;
+        const int n = static_cast<int>(instances_.size());
+        if (rotated_.size() != placed_.size()) rotated_.assign(placed_.size(), std::vector<glm::quat>(placed_[0].size()));
+        tbb::parallel_for(tbb::blocked_range<int>(0, n, 256), [&](const tbb::blocked_range<int>& r) {
+            for (int i = r.begin(); i != r.end(); ++i) {
+                const auto u = static_cast<std::size_t>(i);
+                const int f = (i * 7 + tick) % m.frameCount();
+                worldTransforms(m, f, placed_[u], rotated_[u]);
+                const glm::vec3 root(placed_[u][0].x, 0.0f, placed_[u][0].z);
+                const glm::vec3 at((static_cast<float>(i % side_) - 0.5f * side_) * 1.4f, 0.0f,
+                                   (static_cast<float>(i / side_) - 0.5f * side_) * 1.4f);
+                for (glm::vec3& q : placed_[u]) q += at - root;
+                instances_[u].jointPositions = placed_[u];
+                instances_[u].jointRotations = rotated_[u];
+            }
+        });
+    }
+
     FrameDescription frame;
 
 private:
+    std::vector<std::vector<glm::quat>> rotated_;
     const RenderBench& b_;
     int side_;
     std::vector<std::vector<glm::vec3>> placed_;
@@ -189,6 +213,56 @@ void BM_RenderFast720pFarField(benchmark::State& state) {
 }
 BENCHMARK(BM_RenderFast720pFarField)->Args({2000, 0})->Args({2000, 1})->Args({1000, 0})->Args({1000, 1})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The viewport at crowd scale (issue 27): every frame poses each character
+// from the take by forward kinematics (parallel over characters, TBB) and
+// renders the crowd at 1280x720 in the viewport's Fast quality with far
+// cards, the camera framing all of them; the time is posing plus drawing
+// (counters: pose_ms, prepare_ms the renderer's CPU side, device_ms from
+// submit until the device is done).
+// On lavapipe run the small sizes only; 100,000 is for a GPU.
+void BM_Viewport720p(benchmark::State& state) {
+    RenderBench& b = RenderBench::get();
+    if (!b.device) {
+        state.SkipWithError(b.error.c_str());
+        return;
+    }
+    RendererOptions options;
+    options.quality = Quality::Fast;
+    auto r = Renderer::create(b.device, options);
+    if (!r) {
+        state.SkipWithError(r.error().message.c_str());
+        return;
+    }
+    Renderer& renderer = **r;
+    Crowd crowd(b, static_cast<int>(state.range(0)));
+    crowd.poseFromTake(0);
+    if (const fray::Status s = renderer.render(crowd.frame, nullptr); !s) {
+        state.SkipWithError(s.error().message.c_str());
+        return;
+    }
+    int tick = 1;
+    double poseSeconds = 0.0, prepareMs = 0.0, deviceMs = 0.0;
+    for (auto _ : state) {
+        const auto t0 = std::chrono::steady_clock::now();
+        crowd.poseFromTake(tick++);
+        poseSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        if (const fray::Status s = renderer.render(crowd.frame, nullptr); !s) {
+            state.SkipWithError(s.error().message.c_str());
+            break;
+        }
+        prepareMs += renderer.stats().prepareMs;
+        deviceMs += renderer.stats().deviceMs;
+    }
+    const double frames = static_cast<double>(std::max<std::int64_t>(state.iterations(), 1));
+    state.counters["prepare_ms"] = prepareMs / frames;
+    state.counters["device_ms"] = deviceMs / frames;
+    state.counters["fps"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+    state.counters["pose_ms"] = 1e3 * poseSeconds / frames;
+    state.counters["triangles"] = static_cast<double>(renderer.stats().triangles);
+    state.SetLabel(b.device->description());
+}
+BENCHMARK(BM_Viewport720p)->Arg(2000)->Arg(10000)->Arg(100000)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // Export quality (fray-cli render, Auto on GPUs): 4x MSAA, 2048 shadow map, 8-sided capsules.
 void BM_RenderHigh720p(benchmark::State& state) { renderCrowd(state, Quality::High, false); }

@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include <glm/geometric.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "fray/render/font.h"
 
@@ -41,15 +43,30 @@ void OverlayBuilder::triangle(OverlayGroup g, glm::vec3 a, glm::vec3 b, glm::vec
     v.push_back({c, {0, 0}, col, 0});
 }
 
-void OverlayBuilder::quad(OverlayGroup g, glm::vec3 c, glm::vec3 r, glm::vec3 u, glm::vec4 color, OverlayMode mode) {
+void OverlayBuilder::writeQuad(OverlayVertex* at, glm::vec3 c, glm::vec3 r, glm::vec3 u, glm::vec4 color, OverlayMode mode) {
     const std::uint32_t col = packColor(color);
     const auto m = static_cast<std::uint32_t>(mode);
     const OverlayVertex v00{c - r - u, {-1, -1}, col, m};
     const OverlayVertex v10{c + r - u, {1, -1}, col, m};
     const OverlayVertex v11{c + r + u, {1, 1}, col, m};
     const OverlayVertex v01{c - r + u, {-1, 1}, col, m};
+    at[0] = v00;
+    at[1] = v10;
+    at[2] = v11;
+    at[3] = v00;
+    at[4] = v11;
+    at[5] = v01;
+}
+
+OverlayVertex* OverlayBuilder::appendQuads(OverlayGroup g, std::size_t count) {
     auto& v = out(g);
-    v.insert(v.end(), {v00, v10, v11, v00, v11, v01});
+    const std::size_t first = v.size();
+    v.resize(first + 6 * count);
+    return v.data() + first;
+}
+
+void OverlayBuilder::quad(OverlayGroup g, glm::vec3 c, glm::vec3 r, glm::vec3 u, glm::vec4 color, OverlayMode mode) {
+    writeQuad(appendQuads(g, 1), c, r, u, color, mode);
 }
 
 void OverlayBuilder::ribbon(OverlayGroup g, std::span<const glm::vec3> points, float width, glm::vec4 color, float lift) {
@@ -204,7 +221,7 @@ void stackLabels(std::vector<PendingLabel>& labels) {
 }
 
 void buildOverlays(const FrameDescription& frame, const glm::mat4& viewProj, glm::vec2 viewport, bool blobShadows,
-                   OverlayBuilder& out) {
+                   OverlayBuilder& out, std::span<const Bounds> characterBounds) {
     out.clear();
     const RenderSettings& st = frame.settings;
     const OrbitCamera& cam = frame.camera;
@@ -221,15 +238,32 @@ void buildOverlays(const FrameDescription& frame, const glm::mat4& viewProj, glm
         const float along = glm::length(sun);
         const glm::vec3 dir = along > 1e-4f ? sun / along : glm::vec3(0.0f, 0.0f, 1.0f);
         const glm::vec3 side(-dir.z, 0.0f, dir.x);
-        for (const CharacterInstance& c : frame.characters) {
-            if (c.jointPositions.empty()) continue;
+        const auto chars = frame.characters;
+        std::size_t bodies = 0;
+        for (const CharacterInstance& c : chars) bodies += c.jointPositions.empty() ? 0 : 1;
+        OverlayVertex* const first = out.appendQuads(OverlayGroup::Depth, bodies);
+        auto blob = [&](std::size_t i, std::size_t slot) {
             Bounds b;
-            for (const glm::vec3& p : c.jointPositions) b.add(p);
+            if (characterBounds.size() == chars.size()) {
+                b = characterBounds[i];
+            } else {
+                for (const glm::vec3& p : chars[i].jointPositions) b.add(p);
+            }
             const float r = 0.5f * std::max(b.max.x - b.min.x, b.max.z - b.min.z) + 0.22f;
             const float lift = std::clamp(b.min.y, 0.0f, 1.0f);  // fades as the body leaves the floor
             const glm::vec3 centre(b.center().x, 0.006f, b.center().z);
-            out.quad(OverlayGroup::Depth, centre + dir * (0.25f * r), dir * (1.35f * r), side * r,
-                     glm::vec4(0.0f, 0.0f, 0.0f, 0.5f * (1.0f - lift)), OverlayMode::Blob);
+            OverlayBuilder::writeQuad(first + 6 * slot, centre + dir * (0.25f * r), dir * (1.35f * r), side * r,
+                                      glm::vec4(0.0f, 0.0f, 0.0f, 0.5f * (1.0f - lift)), OverlayMode::Blob);
+        };
+        if (bodies == chars.size() && bodies >= 4096) {
+            // A crowd: every character has a body, so slot i is character i.
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, bodies, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+                for (std::size_t i = r.begin(); i != r.end(); ++i) blob(i, i);
+            });
+        } else {
+            std::size_t slot = 0;
+            for (std::size_t i = 0; i < chars.size(); ++i)
+                if (!chars[i].jointPositions.empty()) blob(i, slot++);
         }
     }
 

@@ -63,6 +63,11 @@ public:
     // Quad centred at c spanned by halfRight and halfUp; uv from (-1,-1) to (1,1).
     void quad(OverlayGroup g, glm::vec3 c, glm::vec3 halfRight, glm::vec3 halfUp, glm::vec4 color, OverlayMode mode);
     void triangle(OverlayGroup g, glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec4 color);
+    // Appends `count` quads' vertices (6 each) for the caller to fill with
+    // writeQuad, from several threads if it likes; returns the first.
+    OverlayVertex* appendQuads(OverlayGroup g, std::size_t count);
+    static void writeQuad(OverlayVertex* at, glm::vec3 c, glm::vec3 halfRight, glm::vec3 halfUp, glm::vec4 color,
+                          OverlayMode mode);
     // Screen group, pixels (x right, y down).
     void rect(float x0, float y0, float x1, float y1, glm::vec4 color);
     void text(float x, float y, std::string_view text, int scale, glm::vec4 color);
@@ -79,7 +84,9 @@ int autoTextScale(int viewportHeight);
 // Builds every overlay of a frame (the selection rings and labels come from
 // the characters). blobShadows: a soft dark disc on the floor under each
 // character, offset away from the sun (the Fast quality's shadows).
+// characterBounds: each character's joint bounds when the caller has them
+// (the renderer computes them for culling), else empty.
 void buildOverlays(const FrameDescription& frame, const glm::mat4& viewProj, glm::vec2 viewport, bool blobShadows,
-                   OverlayBuilder& out);
+                   OverlayBuilder& out, std::span<const Bounds> characterBounds = {});
 
 }  // namespace fray::render

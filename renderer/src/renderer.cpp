@@ -2,11 +2,15 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "fray/render/font.h"
 #include "gpu.h"
@@ -205,12 +209,14 @@ struct Renderer::Impl {
     bool rigsDirty = false;
 
     // Per-frame scratch, reused (no steady-state allocation).
-    std::vector<std::pair<const Skeleton*, std::uint32_t>> bySkeleton;
+    std::vector<std::pair<const Skeleton*, std::uint64_t>> bySkeleton;  // fingerprints seen this frame
+    std::vector<std::uint32_t> groupStart, slotOf, bySlot, jointOffsetOf;  // counting sort of the characters into draw groups
     std::vector<std::uint64_t> characterFingerprint;
     std::vector<int> characterMesh;  // capsule body, or -1
     std::vector<int> characterRig;   // rig, or -1
     std::vector<std::uint8_t> characterLod;
     std::vector<std::uint8_t> characterVisible;
+    std::vector<Bounds> characterBox;  // joint bounds, for culling and the blob shadows
     std::vector<DrawGroup> groups;
     std::array<float, 2> lodPixels{};  // below [k] pixels tall: level k + 1 (Fast: cards below [1])
     float farPixels = 0;               // below: far cards (Fast only; 0: none)
@@ -1016,14 +1022,28 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
                              " rotations for a skeleton of " + std::to_string(jc) + " joints");
         jointTotal += jc;
     }
-    bySkeleton.clear();
-    for (std::size_t i = 0; i < n; ++i) bySkeleton.emplace_back(chars[i].skeleton, static_cast<std::uint32_t>(i));
-    std::sort(bySkeleton.begin(), bySkeleton.end());
+    // Fingerprints per distinct skeleton pointer: crowds share a handful of
+    // skeletons, so the last pointer seen answers almost every look-up and a
+    // sorted table of the others answers the rest (no per-frame sort of n).
     characterFingerprint.resize(n);
-    for (std::size_t i = 0; i < bySkeleton.size();) {
-        const Skeleton* sk = bySkeleton[i].first;
-        const std::uint64_t fp = skeletonFingerprint(*sk);
-        for (; i < bySkeleton.size() && bySkeleton[i].first == sk; ++i) characterFingerprint[bySkeleton[i].second] = fp;
+    {
+        const Skeleton* last = nullptr;
+        std::uint64_t lastFp = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            const Skeleton* sk = chars[i].skeleton;
+            if (sk != last) {
+                auto it = std::lower_bound(bySkeleton.begin(), bySkeleton.end(), sk,
+                                           [](const auto& e, const Skeleton* k) { return e.first < k; });
+                if (it == bySkeleton.end() || it->first != sk)
+                    it = bySkeleton.insert(it, {sk, skeletonFingerprint(*sk)});
+                last = sk;
+                lastFp = it->second;
+            }
+            characterFingerprint[i] = lastFp;
+        }
+        // Forget skeletons no longer drawn so a freed pointer reused by a new
+        // skeleton is fingerprinted afresh next frame.
+        bySkeleton.clear();
     }
     if (rigsDirty)
         if (Status s = uploadRigs(); !s) return s;
@@ -1041,8 +1061,13 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
             continue;
         }
         int mesh = -1;
-        for (std::size_t m = 0; m < meshes.size(); ++m)
-            if (meshes[m].fingerprint == characterFingerprint[i] && meshes[m].jointCount == jc) mesh = static_cast<int>(m);
+        if (i > 0 && characterMesh[i - 1] >= 0 && characterFingerprint[i - 1] == characterFingerprint[i] &&
+            chars[i - 1].skeleton->jointCount() == jc) {
+            mesh = characterMesh[i - 1];
+        } else {
+            for (std::size_t m = 0; m < meshes.size(); ++m)
+                if (meshes[m].fingerprint == characterFingerprint[i] && meshes[m].jointCount == jc) mesh = static_cast<int>(m);
+        }
         if (mesh < 0)
             if (Status s = registerMesh(*chars[i].skeleton, characterFingerprint[i], mesh); !s) return s;
         characterMesh[i] = mesh;
@@ -1063,9 +1088,16 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
         const float focalPx = 0.5f * static_cast<float>(height) / std::tan(0.5f * frame.camera.fovY);
         characterLod.resize(n);
         characterVisible.resize(n);
-        for (std::size_t i = 0; i < n; ++i) {
-            Bounds b;
-            for (const glm::vec3& p : chars[i].jointPositions) b.add(p);
+        characterBox.resize(n);
+        auto classify = [&](std::size_t i) {
+            Bounds& b = characterBox[i];
+            glm::vec3 lo(1e30f), hi(-1e30f);
+            for (const glm::vec3& p : chars[i].jointPositions) {
+                lo = glm::min(lo, p);
+                hi = glm::max(hi, p);
+            }
+            b.min = lo;
+            b.max = hi;
             const glm::vec3 c = b.center();
             // Capsules stay within 0.25 m of the joints; a rig reaches as far as it measured.
             const int rig = characterRig[i];
@@ -1078,6 +1110,13 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
             const float pixels = ahead > frame.camera.nearPlane ? 2.0f * r * focalPx / ahead : 1e9f;
             const int coarsest = fast ? (pixels < farPixels ? kFarCardLod : kCardLod) : 2;
             characterLod[i] = rig >= 0 ? 0 : (pixels < lodPixels[1] ? coarsest : (pixels < lodPixels[0] ? 1 : 0));
+        };
+        if (n < 2048) {
+            for (std::size_t i = 0; i < n; ++i) classify(i);
+        } else {
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+                for (std::size_t i = r.begin(); i != r.end(); ++i) classify(i);
+            });
         }
     }
 
@@ -1095,14 +1134,53 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
     auto* inst = static_cast<GpuInstance*>(instanceBuf.mapped);
     auto* pal = static_cast<GpuJoint*>(paletteBuf.mapped);
     groups.clear();
-    std::uint32_t written = 0, jointOffset = 0;
     stats.triangles = 0;
     stats.culled = 0;
+    // Draw order: per capsule mesh and level of detail, then per rig, the
+    // characters in view first and (with a shadow map) the others after
+    // them, each run in character order. A counting sort gives every
+    // character its slot in O(n); the slots are then written in parallel.
+    const std::size_t pass2 = shadowsThisFrame ? 2 : 1;
+    const std::size_t capsuleKeys = meshes.size() * kLevels * 2;
+    const std::size_t keys = capsuleKeys + rigs.size() * 2;
+    constexpr std::uint32_t kNoSlot = 0xffffffffu;
+    auto keyOf = [&](std::size_t i) -> std::size_t {
+        const std::size_t pass = characterVisible[i] ? 0 : 1;
+        if (pass >= pass2) return keys;  // not drawn at all
+        if (characterRig[i] >= 0) return capsuleKeys + static_cast<std::size_t>(characterRig[i]) * 2 + pass;
+        return (static_cast<std::size_t>(characterMesh[i]) * kLevels + characterLod[i]) * 2 + pass;
+    };
+    groupStart.assign(keys + 2, 0);
+    for (std::size_t i = 0; i < n; ++i) ++groupStart[keyOf(i) + 1];
+    for (std::size_t k = 0; k <= keys; ++k) groupStart[k + 1] += groupStart[k];
+    const std::uint32_t written = groupStart[keys];
+    slotOf.resize(n);
+    {
+        // The counts' prefix sums become each key's next free slot.
+        std::vector<std::uint32_t>& next = jointOffsetOf;
+        next.assign(groupStart.begin(), groupStart.end());
+        for (std::size_t i = 0; i < n; ++i) {
+            const std::size_t k = keyOf(i);
+            slotOf[i] = k < keys ? next[k]++ : kNoSlot;
+        }
+    }
+    // Palette offsets follow the slots: a prefix sum of joint counts in slot order.
+    bySlot.resize(written);
+    for (std::size_t i = 0; i < n; ++i)
+        if (slotOf[i] != kNoSlot) bySlot[slotOf[i]] = static_cast<std::uint32_t>(i);
+    jointOffsetOf.resize(static_cast<std::size_t>(written) + 1);
+    jointOffsetOf[0] = 0;
+    for (std::uint32_t sl = 0; sl < written; ++sl)
+        jointOffsetOf[sl + 1] = jointOffsetOf[sl] + static_cast<std::uint32_t>(chars[bySlot[sl]].jointPositions.size());
     // A capsule body's palette is the world joint transforms; a rig's is the
     // skinning transforms world_j * inverseBind_j (still rigid: a position
     // and a quaternion).
-    auto write = [&](const CharacterInstance& c, const RigEntry* rig) {
-        inst[written] = GpuInstance{jointOffset, c.selected ? 1u : 0u, 0u, 0u, glm::vec4(c.tint, 1.0f)};
+    auto write = [&](std::uint32_t sl) {
+        const std::size_t i = bySlot[sl];
+        const CharacterInstance& c = chars[i];
+        const RigEntry* rig = characterRig[i] >= 0 ? &rigs[static_cast<std::size_t>(characterRig[i])] : nullptr;
+        const std::uint32_t jointOffset = jointOffsetOf[sl];
+        inst[sl] = GpuInstance{jointOffset, c.selected ? 1u : 0u, 0u, 0u, glm::vec4(c.tint, 1.0f)};
         for (std::size_t j = 0; j < c.jointPositions.size(); ++j) {
             glm::quat q = c.jointRotations[j];
             const float len = glm::length(glm::vec4(q.x, q.y, q.z, q.w));
@@ -1115,45 +1193,46 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
             }
             pal[jointOffset + j] = GpuJoint{glm::vec4(p, 1.0f), glm::vec4(q.x, q.y, q.z, q.w)};
         }
-        jointOffset += static_cast<std::uint32_t>(c.jointPositions.size());
-        ++written;
     };
+    if (written < 2048) {
+        for (std::uint32_t sl = 0; sl < written; ++sl) write(sl);
+    } else {
+        tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, written, 512), [&](const tbb::blocked_range<std::uint32_t>& r) {
+            for (std::uint32_t sl = r.begin(); sl != r.end(); ++sl) write(sl);
+        });
+    }
     for (std::size_t m = 0; m < meshes.size(); ++m) {
         for (int lod = 0; lod < kLevels; ++lod) {
-            const std::uint32_t first = written;
-            for (int pass = 0; pass < (shadowsThisFrame ? 2 : 1); ++pass)
-                for (std::size_t i = 0; i < n; ++i)
-                    if (characterMesh[i] == static_cast<int>(m) && characterLod[i] == lod && characterVisible[i] == (pass == 0 ? 1 : 0))
-                        write(chars[i], nullptr);
-            std::uint32_t visible = 0;
-            for (std::size_t i = 0; i < n; ++i)
-                visible += characterMesh[i] == static_cast<int>(m) && characterLod[i] == lod && characterVisible[i];
+            const std::size_t k = (m * kLevels + static_cast<std::size_t>(lod)) * 2;
+            const std::uint32_t first = groupStart[k], end = groupStart[k + 2];
+            const std::uint32_t visible = groupStart[k + 1] - groupStart[k];
             const std::uint32_t indexCount = meshes[m].indexCount[static_cast<std::size_t>(lod)];
-            if (written > first && indexCount > 0) {
-                groups.push_back({static_cast<int>(m), lod, first, written - first, visible, false});
+            if (end > first && indexCount > 0) {
+                groups.push_back({static_cast<int>(m), lod, first, end - first, visible, false});
                 stats.triangles += static_cast<std::uint64_t>(indexCount / 3) * visible;
             }
         }
     }
     // Rigs: full detail only, one group each.
     for (std::size_t r = 0; r < rigs.size(); ++r) {
-        const std::uint32_t first = written;
-        for (int pass = 0; pass < (shadowsThisFrame ? 2 : 1); ++pass)
-            for (std::size_t i = 0; i < n; ++i)
-                if (characterRig[i] == static_cast<int>(r) && characterVisible[i] == (pass == 0 ? 1 : 0)) write(chars[i], &rigs[r]);
-        std::uint32_t visible = 0;
-        for (std::size_t i = 0; i < n; ++i) visible += characterRig[i] == static_cast<int>(r) && characterVisible[i];
-        if (written > first) {
-            groups.push_back({static_cast<int>(r), 0, first, written - first, visible, true});
+        const std::size_t k = capsuleKeys + r * 2;
+        const std::uint32_t first = groupStart[k], end = groupStart[k + 2];
+        const std::uint32_t visible = groupStart[k + 1] - groupStart[k];
+        if (end > first) {
+            groups.push_back({static_cast<int>(r), 0, first, end - first, visible, true});
             stats.triangles += static_cast<std::uint64_t>(rigs[r].indices.size() / 3) * visible;
         }
     }
     const bool rigsThisFrame = std::any_of(groups.begin(), groups.end(), [](const DrawGroup& g) { return g.rig; });
     const bool cardsThisFrame = std::any_of(groups.begin(), groups.end(), [](const DrawGroup& g) { return isCardLod(g.lod); });
-    for (std::size_t i = 0; i < n; ++i) stats.culled += characterVisible[i] ? 0 : 1;
+    {
+        // In view: the first run of every key.
+        std::uint32_t inView = 0;
+        for (std::size_t k = 0; k < keys; k += 2) inView += groupStart[k + 1] - groupStart[k];
+        stats.culled = static_cast<int>(n - inView);
+    }
 
     // The sun and the shadow volume around the characters.
-    const Bounds bounds = characterBounds(chars);
     shadowsThisFrame = shadowsThisFrame && !groups.empty();
     glm::vec3 lightDir = st.lightDirection;
     if (glm::length(lightDir) < 1e-6f) lightDir = glm::vec3(0.0f, -1.0f, 0.0f);
@@ -1162,6 +1241,7 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
     glm::mat4 lightViewProj(1.0f);
     float texelWorld = 0.0f, depthRange = 1.0f;
     if (shadowsThisFrame) {
+        const Bounds bounds = characterBounds(chars);
         const glm::vec3 c = bounds.center();
         const float r = bounds.radius() + std::max(0.35f, rigReach + 0.1f);
         const glm::vec3 up = std::abs(lightDir.y) > 0.99f ? glm::vec3(0.0f, 0.0f, 1.0f) : glm::vec3(0.0f, 1.0f, 0.0f);
@@ -1198,7 +1278,7 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
 
     // Overlays.
     buildOverlays(frame, viewProj, glm::vec2(static_cast<float>(width), static_cast<float>(height)), st.shadows && fast,
-                  overlays);
+                  overlays, characterBox);
     const std::size_t ov = overlays.vertexCount();
     if (Status s = ensureBuffer(overlayBuf, std::max<std::size_t>(ov, 1) * sizeof(OverlayVertex),
                                 VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, 8192 * sizeof(OverlayVertex));
@@ -1208,7 +1288,14 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
     std::uint32_t at = 0;
     for (int g = 0; g < 3; ++g) {
         const auto& verts = overlays.group(static_cast<OverlayGroup>(g));
-        if (!verts.empty()) std::memcpy(ovOut + at, verts.data(), verts.size() * sizeof(OverlayVertex));
+        if (verts.size() > 65536) {
+            // A crowd's blob shadows: tens of megabytes into mapped memory, in parallel.
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, verts.size(), 16384), [&](const tbb::blocked_range<std::size_t>& r) {
+                std::memcpy(ovOut + at + r.begin(), verts.data() + r.begin(), r.size() * sizeof(OverlayVertex));
+            });
+        } else if (!verts.empty()) {
+            std::memcpy(ovOut + at, verts.data(), verts.size() * sizeof(OverlayVertex));
+        }
         overlayFirst[static_cast<std::size_t>(g)] = at;
         overlayCount[static_cast<std::size_t>(g)] = static_cast<std::uint32_t>(verts.size());
         at += static_cast<std::uint32_t>(verts.size());
@@ -1393,7 +1480,10 @@ Status Renderer::render(const FrameDescription& frame, Image* out) {
     Impl& m = *impl_;
     VkResult r = vkWaitForFences(m.device, 1, &m.fence, VK_TRUE, UINT64_MAX);
     if (r != VK_SUCCESS) return vkError("vkWaitForFences", r);
+    const auto t0 = std::chrono::steady_clock::now();
     if (Status s = m.prepare(frame); !s) return s;
+    const auto t1 = std::chrono::steady_clock::now();
+    m.stats.prepareMs = std::chrono::duration<double, std::milli>(t1 - t0).count();
     if ((r = vkResetCommandBuffer(m.cmd, 0)) != VK_SUCCESS) return vkError("vkResetCommandBuffer", r);
     auto bi = vkInit<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
     bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
@@ -1405,8 +1495,10 @@ Status Renderer::render(const FrameDescription& frame, Image* out) {
     auto si = vkInit<VkSubmitInfo>(VK_STRUCTURE_TYPE_SUBMIT_INFO);
     si.commandBufferCount = 1;
     si.pCommandBuffers = &m.cmd;
+    const auto t2 = std::chrono::steady_clock::now();
     if ((r = vkQueueSubmit(m.dev->queue(), 1, &si, m.fence)) != VK_SUCCESS) return vkError("vkQueueSubmit", r);
     if ((r = vkWaitForFences(m.device, 1, &m.fence, VK_TRUE, UINT64_MAX)) != VK_SUCCESS) return vkError("vkWaitForFences", r);
+    m.stats.deviceMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t2).count();
     if (out) m.copyReadback(*out);
     return {};
 }

@@ -223,3 +223,55 @@ TEST(Overlay, CloseLabelsAreStackedNotOverlapped) {
         EXPECT_EQ(it->y, l.y) << l.index;
     }
 }
+
+// A crowd's blob shadows are written in parallel (one slot per character):
+// the same vertices, in the same order, as building each character's shadow
+// on its own, whether the renderer passes its culling bounds or not.
+TEST(Overlay, CrowdBlobShadowsMatchOneByOne) {
+    using namespace fray::render;
+    const fray::Skeleton sk = fray::demo::makeDemoSkeleton();
+    const auto jc = static_cast<std::size_t>(sk.jointCount());
+    std::vector<std::vector<glm::vec3>> joints(6000, std::vector<glm::vec3>(jc));
+    std::vector<glm::quat> rotations(jc, glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
+    std::vector<CharacterInstance> crowd(joints.size());
+    std::vector<Bounds> bounds(joints.size());
+    for (std::size_t i = 0; i < joints.size(); ++i) {
+        for (std::size_t j = 0; j < jc; ++j)
+            joints[i][j] = glm::vec3(static_cast<float>(i % 80) * 1.3f + 0.01f * static_cast<float>(j),
+                                     0.05f * static_cast<float>(j) + 0.001f * static_cast<float>(i % 7),
+                                     static_cast<float>(i / 80) * 1.3f - 0.02f * static_cast<float>(j % 5));
+        crowd[i].skeleton = &sk;
+        crowd[i].jointPositions = joints[i];
+        crowd[i].jointRotations = rotations;
+        for (const glm::vec3& p : joints[i]) bounds[i].add(p);
+    }
+    FrameDescription f;
+    f.characters = crowd;
+    f.settings.labels = false;
+    const glm::mat4 vp = f.camera.viewProjection(16.0f / 9.0f);
+    OverlayBuilder all, withBounds, one;
+    buildOverlays(f, vp, {1280.0f, 720.0f}, true, all);
+    buildOverlays(f, vp, {1280.0f, 720.0f}, true, withBounds, bounds);
+    const auto& a = all.group(OverlayGroup::Depth);
+    const auto& b = withBounds.group(OverlayGroup::Depth);
+    ASSERT_EQ(a.size(), 6 * crowd.size());
+    ASSERT_EQ(b.size(), a.size());
+    for (std::size_t i = 0; i < crowd.size(); i += 37) {
+        FrameDescription single;
+        single.characters = std::span<const CharacterInstance>(&crowd[i], 1);
+        single.settings.labels = false;
+        buildOverlays(single, vp, {1280.0f, 720.0f}, true, one);
+        const auto& s = one.group(OverlayGroup::Depth);
+        ASSERT_EQ(s.size(), 6u);
+        for (std::size_t k = 0; k < 6; ++k) {
+            const OverlayVertex& x = a[6 * i + k];
+            const OverlayVertex& y = b[6 * i + k];
+            EXPECT_EQ(x.position, s[k].position) << "character " << i << " vertex " << k;
+            EXPECT_EQ(x.uv, s[k].uv);
+            EXPECT_EQ(x.color, s[k].color);
+            EXPECT_EQ(x.mode, s[k].mode);
+            EXPECT_EQ(y.position, x.position);
+            EXPECT_EQ(y.color, x.color);
+        }
+    }
+}

@@ -60,6 +60,8 @@ struct RenderStats {
     int bufferGrowths = 0;         // GPU buffer reallocations since creation (geometric growth)
     int meshes = 0;                // distinct body meshes on the GPU (capsule bodies and rigs)
     int rigged = 0;                // characters drawn with a rig instead of capsules (in view or not)
+    double prepareMs = 0.0;        // wall time of the last frame's CPU side (instances, palettes, overlays)
+    double deviceMs = 0.0;         // wall time from the last frame's submit until the device finished it
 };
 
 class Renderer {
