@@ -88,7 +88,7 @@ FileKind fileKind(const fs::path& file) {
 // The policy direction k in words: k * 45 degrees left of carrier A's forward.
 std::string directionName(int k) {
     static const char* kNames[] = {"ahead", "45 deg left", "left", "135 deg left", "behind", "135 deg right", "right", "45 deg right"};
-    return k < 0 || k > 7 ? std::string("holding") : std::to_string(k) + " (" + kNames[k] + " of carrier A)";
+    return k < 0 || k > 7 ? std::string("holding") : std::to_string(k) + " (" + kNames[k] + " of A)";
 }
 
 struct Edges {
@@ -624,7 +624,7 @@ double CarryPlay::time() const { return impl_->now(); }
 
 void CarryPlay::overlay() {
     Impl& m = *impl_;
-    ImGui::Text("Two carriers of one long box (Interaction Graph)");
+    ImGui::Text("Two carriers, one box (Interaction Graph)");
     if (!m.driver) {
         std::lock_guard lock(m.progressMutex);
         ImGui::TextWrapped("Building the carry graph (%s)", m.stage.c_str());
@@ -653,15 +653,15 @@ void CarryPlay::overlay() {
         ImGui::Text("mean %.3f m, max %.3f m", st.pathErrorMean, st.pathErrorMax);
     } else {
         ImGui::Text("steered: heading %.0f deg, %s", std::remainder(d.desiredAngle() * 180.0 / kPi, 360.0), d.moving() ? "moving" : "holding");
-        ImGui::Text("path error: no path (--path circle:R | FILE)");
+        ImGui::Text("path error: none (steered; or --path)");
     }
     const double L = d.boxLength();
     const double off = 100.0 * (now.gripDistance - L) / L;
     const ImVec4 handColour = std::abs(off) <= 5.0 ? ImVec4(0.45f, 0.9f, 0.45f, 1) : ImVec4(1.0f, 0.45f, 0.4f, 1);
     ImGui::SetWindowFontScale(1.4f);
-    ImGui::TextColored(handColour, "hands %.3f m / box %.2f m (%+.1f %%)", now.gripDistance, L, off);
+    ImGui::TextColored(handColour, "hands %.3f m (%+.1f %%)", now.gripDistance, off);
     ImGui::SetWindowFontScale(1.0f);
-    ImGui::Text("worst so far %.2f %% of the box length", 100.0 * st.gripErrorMax);
+    ImGui::Text("apart, box %.2f m; worst so far %.2f %%", L, 100.0 * st.gripErrorMax);
     ImGui::Text("direction policy: %s", directionName(now.direction).c_str());
     ImGui::Text("decisions %lld, off the graph %lld", static_cast<long long>(st.decisions), static_cast<long long>(st.offGraph));
     ImGui::Separator();
@@ -687,16 +687,17 @@ void CarryPlay::overlay() {
     int depth = m.depth;
     if (ImGui::SliderInt("depth", &depth, 1, kMaxDepth) && depth != m.depth) m.requestPolicy(m.weights, depth, "panel", "depth", std::to_string(depth));
     const auto& p = *m.applied;
-    ImGui::Text("playing: depth %d, w_v %g, w_d %g, speed %g", p.depth, p.weights.wV, p.weights.wD, p.weights.speed);
+    ImGui::Text("playing: depth %d, w_v %g, w_d %g,", p.depth, p.weights.wV, p.weights.wD);
+    ImGui::Text("  speed %g m/s, w_theta %g, gamma %g", p.weights.speed, p.weights.wTheta, p.weights.gamma);
     if (!m.policies.empty()) {
         const auto& last = m.policies.back();
-        ImGui::Text("last policy recompute %.1f ms, in play at %.1f s", 1e3 * last.seconds, last.time);
+        ImGui::Text("last recompute %.1f ms, in play at %.1f s", 1e3 * last.seconds, last.time);
     }
     if (m.service && m.service->busy()) ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1), "recomputing in the background ...");
     if (!m.lastNote.empty()) ImGui::TextWrapped("%s", m.lastNote.c_str());
-    ImGui::Text("graph: %zu states, %zu edges%s", d.graph().states.size(), d.graph().edges.size(),
-                m.graphReadSeconds >= 0 ? "" : " (built here)");
-    if (m.graphReadSeconds >= 0) ImGui::Text("read in %.0f ms", 1e3 * m.graphReadSeconds);
+    ImGui::Text("graph: %zu states, %zu edges", d.graph().states.size(), d.graph().edges.size());
+    if (m.graphReadSeconds >= 0) ImGui::Text("  read from its file in %.0f ms", 1e3 * m.graphReadSeconds);
+    else ImGui::Text("  built here in %.1f s", m.graphBuildSeconds);
     if (!m.gamepadName.empty()) ImGui::Text("gamepad: %s", m.gamepadName.c_str());
     if (ImGui::CollapsingHeader("Controls")) {
         ImGui::TextWrapped("W/up go, S/down back (turn round and go), A/left and D/right turn the direction 45 deg, H/space stop; "
