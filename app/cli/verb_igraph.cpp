@@ -42,6 +42,28 @@ fs::path defaultGraphFile(const std::string& project) { return fs::path(project 
 // bytes depend on the data and seed alone.
 fs::path buildReportFile(const fs::path& graph) { return fs::path(graph.string() + ".build.json"); }
 
+// The carry graph of a project (two carriers of a box) lives beside it too.
+fs::path defaultCarryGraphFile(const std::string& project) { return fs::path(project + ".carry.igraph"); }
+bool hasMagic(std::string_view bytes, std::string_view magic) { return bytes.size() >= magic.size() && bytes.substr(0, magic.size()) == magic; }
+
+// A carry graph file may only replace a carry graph file.
+Status checkCarryGraphOutput(const fs::path& out) {
+    std::error_code ec;
+    if (!fs::exists(out, ec)) return {};
+    auto head = readWholeFile(out, "the output file");
+    if (!head) return head.error();
+    if (!hasMagic(*head, igraph::kCarryGraphMagic)) return makeError(out.string() + ": exists and is not a carry graph file: not overwriting it");
+    return {};
+}
+
+// Reads a carry graph file for the project's library, with the time it took.
+Result<igraph::CarryGraph> loadCarry(const fs::path& file, const sim::ActionLibrary& lib, double& seconds) {
+    const auto t0 = Clock::now();
+    auto g = igraph::loadCarryGraph(file, lib);
+    seconds = since(t0);
+    return g;
+}
+
 // A graph file may only replace a graph file.
 Status checkGraphOutput(const fs::path& out) {
     std::error_code ec;
@@ -85,14 +107,42 @@ Result<igraph::RewardWeights> weightsFor(const std::string& preset, const std::v
 
 // ---- build ----------------------------------------------------------------------------
 struct BuildArgs {
-    std::string project, out;
-    std::int64_t maxStates = 80000;
+    std::string project, out, kind = "duel";
+    std::int64_t maxStates = -1;  // the kind's default: 80,000 (duel), 20,000 (carry)
     std::uint64_t seed = 1;
     double fraction = 0.2;
     bool quiet = false;
 };
 
+// igraph build --kind carry: the pair's graph (docs/IGRAPH.md, "Carry graph file").
+void runCarryBuild(const BuildArgs& a) {
+    const fs::path out = a.out.empty() ? defaultCarryGraphFile(a.project) : fs::path(a.out);
+    if (auto st = checkCarryGraphOutput(out); !st) return fail(st.error().message);
+    const auto progress = stderrProgress(a.quiet);
+    auto ss = openSimSession(a.project, progress);
+    if (!ss) return fail(ss.error().message);
+    igraph::CarryOptions o;
+    o.seed = a.seed;
+    if (a.maxStates > 0) o.maxSamples = a.maxStates;
+    o.expandFraction = a.fraction;
+    const auto t0 = Clock::now();
+    auto g = igraph::buildCarryGraph((*ss)->library, o, progress);
+    if (!g) return fail(a.project + ": " + g.error().message);
+    const double seconds = since(t0);
+    if (auto st = igraph::saveCarryGraph(*g, out); !st) return fail(st.error().message);
+    nlohmann::ordered_json report;
+    report["build_seconds"] = seconds;
+    report["peak_mib"] = peakMiB();
+    report["threads"] = std::thread::hardware_concurrency();
+    if (auto st = writeFileAtomically(buildReportFile(out), report.dump(2) + "\n"); !st) return fail(st.error().message);
+    std::printf("%s: carry graph, %zu states, %zu edges, %.1f MiB in memory, %lld samples in %lld rounds; %.1f s, peak %.0f MiB\n",
+                out.string().c_str(), g->states.size(), g->edges.size(), static_cast<double>(g->memoryBytes()) / (1024.0 * 1024.0),
+                static_cast<long long>(g->samples), static_cast<long long>(g->rounds), seconds, peakMiB());
+}
+
 void runBuild(const BuildArgs& a) {
+    if (a.kind == "carry") return runCarryBuild(a);
+    if (a.kind != "duel") return fail("--kind: '" + a.kind + "' is not duel or carry");
     const fs::path out = a.out.empty() ? defaultGraphFile(a.project) : fs::path(a.out);
     if (auto st = checkGraphOutput(out); !st) return fail(st.error().message);
     const auto progress = stderrProgress(a.quiet);
@@ -102,7 +152,7 @@ void runBuild(const BuildArgs& a) {
     if (!rules) return fail(a.project + ": " + rules.error().message);
     igraph::BuildOptions o;
     o.seed = a.seed;
-    o.maxSamples = a.maxStates;
+    if (a.maxStates > 0) o.maxSamples = a.maxStates;
     o.expandFraction = a.fraction;
     const auto t0 = Clock::now();
     auto g = igraph::buildGraph(**rules, o, progress);
@@ -127,9 +177,59 @@ struct StatsArgs {
     bool json = false;
 };
 
+// The build report beside a graph file: seconds and peak MiB (< 0: unknown).
+std::pair<double, double> buildReport(const std::string& graph) {
+    double seconds = -1, peak = -1;
+    if (auto r = readWholeFile(buildReportFile(graph), "the build report")) {
+        const auto j = nlohmann::json::parse(*r, nullptr, false);
+        if (j.is_object() && j.contains("build_seconds") && j["build_seconds"].is_number()) seconds = j["build_seconds"].get<double>();
+        if (j.is_object() && j.contains("peak_mib") && j["peak_mib"].is_number()) peak = j["peak_mib"].get<double>();
+    }
+    return {seconds, peak};
+}
+
+void runCarryStats(const StatsArgs& a, const std::string& bytes) {
+    const auto t0 = Clock::now();
+    auto g = igraph::readCarryGraphUnbound(bytes, a.graph);
+    const double readSeconds = since(t0);
+    if (!g) return fail(g.error().message);
+    const auto [buildSeconds, buildPeak] = buildReport(a.graph);
+    std::size_t withEdges = 0;
+    for (std::size_t i = 0; i < g->states.size(); ++i) withEdges += g->firstEdge[i + 1] > g->firstEdge[i] ? 1 : 0;
+    if (a.json) {
+        nlohmann::ordered_json j;
+        j["kind"] = "carry";
+        j["states"] = g->states.size();
+        j["edges"] = g->edges.size();
+        j["states_with_edges"] = withEdges;
+        j["memory_bytes"] = g->memoryBytes();
+        j["file_bytes"] = bytes.size();
+        j["samples"] = g->samples;
+        j["rounds"] = g->rounds;
+        j["actions"] = g->actions.size();
+        j["box_length"] = g->options.boxLength;
+        j["seed"] = g->options.seed;
+        j["read_seconds"] = readSeconds;
+        j["build_seconds"] = buildSeconds >= 0 ? nlohmann::ordered_json(buildSeconds) : nlohmann::ordered_json(nullptr);
+        j["build_peak_mib"] = buildPeak >= 0 ? nlohmann::ordered_json(buildPeak) : nlohmann::ordered_json(nullptr);
+        std::printf("%s\n", j.dump(2).c_str());
+        return;
+    }
+    std::printf("%s: carry graph (two carriers of a %.2f m box, %zu carry-end actions)\n  states %zu (%zu with edges), edges %zu (%.1f per state)\n"
+                "  memory %.1f MiB, file %.1f MiB (read in %.3f s)\n",
+                a.graph.c_str(), g->options.boxLength, g->actions.size(), g->states.size(), withEdges, g->edges.size(),
+                g->states.empty() ? 0.0 : static_cast<double>(g->edges.size()) / static_cast<double>(g->states.size()),
+                static_cast<double>(g->memoryBytes()) / (1024.0 * 1024.0), static_cast<double>(bytes.size()) / (1024.0 * 1024.0), readSeconds);
+    std::printf("  sampling: %lld samples in %lld rounds (seed %llu)\n", static_cast<long long>(g->samples), static_cast<long long>(g->rounds),
+                static_cast<unsigned long long>(g->options.seed));
+    if (buildSeconds >= 0) std::printf("  build: %.1f s, peak %.0f MiB\n", buildSeconds, buildPeak);
+    else std::printf("  build: time unknown (no %s)\n", buildReportFile(a.graph).string().c_str());
+}
+
 void runStats(const StatsArgs& a) {
     auto bytes = readWholeFile(a.graph, "the interaction graph");
     if (!bytes) return fail(bytes.error().message);
+    if (hasMagic(*bytes, igraph::kCarryGraphMagic)) return runCarryStats(a, *bytes);
     auto g = igraph::readGraphUnbound(*bytes, a.graph);
     if (!g) return fail(g.error().message);
     double buildSeconds = -1, buildPeak = -1;
@@ -179,11 +279,40 @@ struct PolicyArgs {
     bool json = false;
 };
 
-void runPolicy(const PolicyArgs& a) {
-    auto w = weightsFor(a.preset, a.set);
-    if (!w) return fail(w.error().message);
+// A carry graph: the eight direction policies (collaborative reward, --set: w_theta, w_d, w_v, speed, gamma).
+void runCarryPolicy(const PolicyArgs& a, const std::string& bytes, bool presetGiven) {
+    if (presetGiven) return fail("--preset: boxing styles are for a duel's graph; " + a.graph + " is a carry graph (--set w_v=... edits its reward)");
+    igraph::CarryWeights w;
+    for (const auto& e : a.set) {
+        if (auto st = igraph::applyCarryEdit(w, e); !st) return fail("--set: " + st.error().message);
+    }
+    auto g = igraph::readCarryGraphUnbound(bytes, a.graph);
+    if (!g) return fail(g.error().message);
+    auto p = igraph::computeCarryPolicies(*g, w, a.depth);
+    if (!p) return fail(p.error().message);
+    std::size_t decided = 0;
+    for (const auto& q : p->policies)
+        for (auto e : q.best) decided += e >= 0 ? 1 : 0;
+    if (a.json) {
+        nlohmann::ordered_json j;
+        j["kind"] = "carry";
+        j["depth"] = a.depth;
+        j["seconds"] = p->seconds;
+        j["policies"] = p->policies.size();
+        j["states_decided"] = decided;
+        std::printf("%s\n", j.dump(2).c_str());
+        return;
+    }
+    std::printf("%s: 8 carry policies depth %d over %zu states in %.3f s (w_theta %g, w_d %g, w_v %g, speed %g, gamma %g)\n", a.graph.c_str(),
+                a.depth, g->states.size(), p->seconds, w.wTheta, w.wD, w.wV, w.speed, w.gamma);
+}
+
+void runPolicy(const PolicyArgs& a, bool presetGiven) {
     auto bytes = readWholeFile(a.graph, "the interaction graph");
     if (!bytes) return fail(bytes.error().message);
+    if (hasMagic(*bytes, igraph::kCarryGraphMagic)) return runCarryPolicy(a, *bytes, presetGiven);
+    auto w = weightsFor(a.preset, a.set);
+    if (!w) return fail(w.error().message);
     auto g = igraph::readGraphUnbound(*bytes, a.graph);
     if (!g) return fail(g.error().message);
     auto p = igraph::computePolicy(*g, *w, a.depth);
@@ -219,6 +348,7 @@ struct PlayArgs {
     std::string path = "circle:3";           // --kind carry
     std::vector<std::string> carryEdits;     // --carry-set name=value
     int carryStates = 20000;
+    bool carryStatesGiven = false;
     int characters = 2, depth = 3, opponentDepth = 3;
     double seconds = 20;
     std::uint64_t seed = 1;
@@ -234,7 +364,6 @@ Result<igraph::Mind> mindOf(const std::string& s, const char* flag) {
 
 // --kind carry: two carriers of one long box following --path (SPEC 3.4-3.5, collaborative).
 void runCarryPlay(const PlayArgs& a, const fs::path& outFile) {
-    if (!a.graph.empty()) return fail("--graph: the carry graph is built in memory by each run (--carry-states), not read from a file");
     if (!a.input.empty()) return fail("--input: user commands steer a duel or team fight; two carriers follow --path");
     if (!(a.seconds > 0 && a.seconds <= sim::kMaxSceneSeconds)) return fail("--seconds must be in (0, 3600]");
     igraph::CarryWeights w;
@@ -257,8 +386,33 @@ void runCarryPlay(const PlayArgs& a, const fs::path& outFile) {
     igraph::CarryOptions o;
     o.seed = a.seed;
     o.maxSamples = a.carryStates;
-    auto g = igraph::buildCarryGraph(lib, o, progress);
-    if (!g) return fail(a.project + ": " + g.error().message);
+    // The carry graph: --graph G (refused when stale, foreign or damaged), else
+    // PROJECT.carry.igraph when it is there and fits, else built in memory.
+    Result<igraph::CarryGraph> g = makeError("");
+    double loadSeconds = -1;
+    const fs::path file = a.graph.empty() ? defaultCarryGraphFile(a.project) : fs::path(a.graph);
+    std::error_code ec;
+    if (!a.graph.empty()) {
+        g = loadCarry(file, lib, loadSeconds);
+        if (!g) return fail("--graph: " + g.error().message);
+        if (a.carryStatesGiven && g->options.maxSamples != o.maxSamples)
+            return fail("--carry-states " + std::to_string(a.carryStates) + ": " + file.string() + " was built with " +
+                        std::to_string(g->options.maxSamples) + " (build it again with --max-states, or leave --carry-states out)");
+    } else if (fs::exists(file, ec)) {
+        g = loadCarry(file, lib, loadSeconds);
+        if (!g) {
+            std::fprintf(stderr, "fray-cli: %s; building the carry graph in memory\n", g.error().message.c_str());
+        } else if (a.carryStatesGiven && g->options.maxSamples != o.maxSamples) {
+            std::fprintf(stderr, "fray-cli: %s was built with %lld states at most, --carry-states asks %d: building the carry graph in memory\n",
+                         file.string().c_str(), static_cast<long long>(g->options.maxSamples), a.carryStates);
+            g = makeError("");
+        }
+    }
+    if (!g) {
+        loadSeconds = -1;
+        g = igraph::buildCarryGraph(lib, o, progress);
+        if (!g) return fail(a.project + ": " + g.error().message);
+    }
     std::vector<igraph::CarryPolicy> policies;
     double policySeconds = 0;
     for (int k = 0; k < igraph::kCarryDirections; ++k) {
@@ -283,9 +437,12 @@ void runCarryPlay(const PlayArgs& a, const fs::path& outFile) {
     scene.stats.decisions = run->stats.decisions;
     if (auto st = sim::saveScene(scene, lib, outFile); !st) return fail(st.error().message);
     const auto& st = run->stats;
-    std::printf("carry graph: %zu states, %zu edges, %.1f MiB, %lld samples in %lld rounds, built in %.2f s; 8 policies (depth %d) in %.3f s\n",
+    char how[1200];
+    if (loadSeconds >= 0) std::snprintf(how, sizeof how, "read from %s in %.3f s", file.string().c_str(), loadSeconds);
+    else std::snprintf(how, sizeof how, "built in %.2f s", g->seconds);
+    std::printf("carry graph: %zu states, %zu edges, %.1f MiB, %lld samples in %lld rounds, %s; 8 policies (depth %d) in %.3f s\n",
                 g->states.size(), g->edges.size(), static_cast<double>(g->memoryBytes()) / (1024.0 * 1024.0), static_cast<long long>(g->samples),
-                static_cast<long long>(g->rounds), g->seconds, a.depth, policySeconds);
+                static_cast<long long>(g->rounds), how, a.depth, policySeconds);
     std::printf("%s: 2 carriers, %.1f s, %lld decisions (%lld off the graph, %lld holds); path error mean %.3f m, max %.3f m; "
                 "hand-to-hand distance within %.2f %% of the box (%.2f m)\n",
                 a.out.c_str(), a.seconds, static_cast<long long>(st.decisions), static_cast<long long>(st.offGraph),
@@ -558,7 +715,9 @@ void registerIgraph(CLI::App& app) {
         auto* cmd = ig->add_subcommand("build", "Sample, cluster and connect the interaction graph of a project");
         cmd->add_option("project", a->project, "Project file (*.frayproj)")->required();
         cmd->add_option("-o,--out", a->out, "Graph file (default: PROJECT.igraph)");
-        cmd->add_option("--max-states", a->maxStates, "Archive size limit (samples one sigma apart: about the states)")->check(CLI::Range(16, 10000000));
+        cmd->add_option("--max-states", a->maxStates, "Archive size limit (samples one sigma apart: about the states; default 80,000, carry 20,000)")
+            ->check(CLI::Range(16, 10000000));
+        cmd->add_option("--kind", a->kind, "duel (the duel's and team fight's graph, PROJECT.igraph) | carry (two carriers of a box, PROJECT.carry.igraph)");
         cmd->add_option("--seed", a->seed, "Sampling seed");
         cmd->add_option("--expand", a->fraction, "Share of a node's children expanded (0, 1]")->check(CLI::Range(0.001, 1.0));
         cmd->add_flag("-q,--quiet", a->quiet, "No progress on stderr");
@@ -579,17 +738,18 @@ void registerIgraph(CLI::App& app) {
         cmd->add_option("--depth", a->depth, "Min-max depth")->check(CLI::Range(1, 64));
         cmd->add_option("--set", a->set, "Reward edits name=value (w_theta, w_d, d_p, w_a, w_r, gamma)");
         cmd->add_flag("--json", a->json, "JSON output");
-        cmd->callback([a] { runPolicy(*a); });
+        auto* preset = cmd->get_option("--preset");
+        cmd->callback([a, preset] { runPolicy(*a, preset->count() > 0); });
     }
     {
         auto a = std::make_shared<PlayArgs>();
         auto* cmd = ig->add_subcommand("play", "A graph-driven duel or team fight, written as a scene");
         cmd->add_option("project", a->project, "Project file")->required();
-        cmd->add_option("--graph", a->graph, "Graph file (default: PROJECT.igraph)");
+        cmd->add_option("--graph", a->graph, "Graph file (default: PROJECT.igraph; carry: PROJECT.carry.igraph when there, else built in memory)");
         cmd->add_option("--kind", a->kind, "duel | teams | carry");
         cmd->add_option("--path", a->path, "carry: the path, circle:R or a JSON file {version: 1, loop, points: [[x, z], ...]}");
         cmd->add_option("--carry-set", a->carryEdits, "carry: reward edits name=value (w_theta, w_d, w_v, speed, gamma)");
-        cmd->add_option("--carry-states", a->carryStates, "carry: the carry graph's archive size limit")->check(CLI::Range(16, 1000000));
+        auto* cs = cmd->add_option("--carry-states", a->carryStates, "carry: the archive size limit of a carry graph built in memory")->check(CLI::Range(16, 1000000));
         cmd->add_option("--characters", a->characters, "Characters in a team fight (two teams)");
         cmd->add_option("--seconds", a->seconds, "Duration");
         cmd->add_option("--seed", a->seed, "Seed of the start placements");
@@ -603,7 +763,10 @@ void registerIgraph(CLI::App& app) {
         cmd->add_option("-o,--out", a->out, "Scene file to write (*.frayscene)")->required();
         cmd->add_flag("--refine", a->refine, "Graph characters re-simulate their state's edges from the real bodies (MatchOptions::refine)");
         cmd->add_flag("-q,--quiet", a->quiet, "No progress on stderr");
-        cmd->callback([a] { runPlay(*a); });
+        cmd->callback([a, cs] {
+            a->carryStatesGiven = cs->count() > 0;
+            runPlay(*a);
+        });
     }
     {
         auto a = std::make_shared<TableArgs>();

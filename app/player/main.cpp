@@ -21,6 +21,12 @@
 // Graph's policy; --teams N: N characters in two teams, each fighting its
 // closest enemy, the user steering one (duel.h, docs/IGRAPH.md). --input
 // FILE: timed commands (duel_script.h); --log FILE: what happened, as JSON.
+//
+//   fray-play --carry [PROJECT.frayproj] [--path circle:R|FILE] [--graph FILE] [--depth D] [--input FILE] [--log FILE]
+//
+// --carry: two carriers of one long box follow the direction the user steers
+// (keyboard, gamepad) or a path, on the Interaction Graph's collaborative
+// policies (carry_play.h, docs/IGRAPH.md).
 #define GLFW_INCLUDE_VULKAN
 #include <GLFW/glfw3.h>
 #include <imgui.h>
@@ -39,6 +45,7 @@
 
 #include "duel.h"
 #include "duel_script.h"
+#include "carry_play.h"
 #include "fray/render/presenter.h"
 #include "fray/render/renderer.h"
 #include "fray/pipeline/sim_session.h"
@@ -73,6 +80,8 @@ struct Args {
     bool handPins = false;  // --hand-pins (with --posture physics)
     // The Interaction Graph duel and team fight.
     bool duel = false;
+    bool carry = false;  // --carry: two carriers of a box
+    std::string path;    // --carry --path circle:R | FILE
     int teams = 0;
     std::string graph, style = "general", input, log;
     int depth = 3;
@@ -131,6 +140,10 @@ int main(int argc, char** argv) {
                  "With --posture physics: pin a porter's hands to the luggage it holds (off by default, docs/POSTURE.md)");
     cli.add_flag("--duel", args.duel,
                  "Fight the Interaction Graph's boxer: steer yours with the keyboard or a gamepad (the input: the project)");
+    cli.add_flag("--carry", args.carry,
+                 "Two carriers of one long box follow the direction you steer (keyboard, gamepad) or --path, on the Interaction Graph "
+                 "(the input: a project with the carry set's actions)");
+    cli.add_option("--path", args.path, "--carry: follow this path, circle:R or a JSON file {version: 1, loop, points: [[x, z], ...]}");
     cli.add_option("--teams", args.teams, "A team fight of N characters on the Interaction Graph, the user steering one");
     cli.add_option("--graph", args.graph, "--duel/--teams: the graph file (default PROJECT.igraph; built and kept there when missing or stale)");
     cli.add_option("--style", args.style, "--duel/--teams: the opponents' style: general, infighter or outboxer")->capture_default_str();
@@ -139,18 +152,21 @@ int main(int argc, char** argv) {
                    "--duel/--teams: timed commands, one a line: SECONDS COMMAND [CHARACTER] | SECONDS style NAME | SECONDS depth D "
                    "(or the runtime's .json)");
     cli.add_option("--log", args.log, "--duel/--teams: write the actions, commands, hits and policies as JSON to this file at exit");
-    cli.add_option("--graph-states", args.graphStates, "--duel/--teams: size of a graph built here (states at most)")->capture_default_str();
+    auto* graphStatesOption =
+        cli.add_option("--graph-states", args.graphStates, "--duel/--teams: size of a graph built here (states at most; --carry: 20000)")
+            ->capture_default_str();
     cli.add_option("--seed", args.seed, "--duel/--teams: the match's seed (start placements)")->capture_default_str();
     cli.add_option("--frame-time", args.frameTime, "With --frames: seconds of playback per frame")->capture_default_str();
     CLI11_PARSE(cli, argc, argv);
     if (args.frames < 0) return fail("--frames must be >= 0", 2);
     if (!(args.frameTime > 0 && args.frameTime <= 1)) return fail("--frame-time must be in (0, 1] s", 2);
-    const bool duelMode = args.duel || args.teams > 0;
-    if (args.duel && args.teams > 0) return fail("--duel and --teams: choose one", 2);
+    const bool duelMode = args.duel || args.teams > 0 || args.carry;
+    if ((args.duel ? 1 : 0) + (args.teams > 0 ? 1 : 0) + (args.carry ? 1 : 0) > 1) return fail("--duel, --teams and --carry: choose one", 2);
     if (!duelMode && (!args.input.empty() || !args.log.empty() || !args.graph.empty()))
-        return fail("--input, --log and --graph are for --duel or --teams", 2);
+        return fail("--input, --log and --graph are for --duel, --teams or --carry", 2);
+    if (!args.carry && !args.path.empty()) return fail("--path is for --carry", 2);
     if (duelMode && (args.inputs.size() > 1 || (args.inputs.size() == 1 && std::filesystem::path(args.inputs[0]).extension() != ".frayproj")))
-        return fail("--duel/--teams: give one project (*.frayproj), or none for the demo project", 2);
+        return fail(std::string(args.carry ? "--carry" : "--duel/--teams") + ": give one project (*.frayproj), or none for the demo project", 2);
     if (duelMode && !args.posture.empty()) return fail("--posture: only for a scene (.frayscene)", 2);
     const auto postureMode = fray::posture::parseMode(args.posture.empty() ? "kinematic" : args.posture);
     if (!postureMode) return fail("--posture: '" + args.posture + "' is not kinematic or physics", 2);
@@ -175,8 +191,23 @@ int main(int argc, char** argv) {
     // A scene (planned or composed), or takes side by side.
     std::unique_ptr<cli::SceneStage> scene;
     std::unique_ptr<player::Duel> duel;
+    std::unique_ptr<player::CarryPlay> carry;
     std::vector<app::LoadedTake> takeList;
-    if (duelMode) {
+    if (args.carry) {
+        player::CarryPlayOptions copt;
+        copt.project = args.inputs[0];
+        copt.graph = args.graph;
+        copt.path = args.path;
+        copt.depth = args.depth;
+        copt.input = args.input;
+        copt.log = args.log;
+        if (graphStatesOption->count() > 0) copt.graphStates = args.graphStates;
+        copt.seed = args.seed;
+        copt.foreground = args.frames > 0;  // a counted run plays the same every time
+        auto opened = player::CarryPlay::open(copt);
+        if (!opened) return fail(opened.error().message);
+        carry = std::move(*opened);
+    } else if (duelMode) {
         player::DuelOptions dopt;
         dopt.project = args.inputs[0];
         dopt.graph = args.graph;
@@ -306,12 +337,12 @@ int main(int argc, char** argv) {
 
     // Stage, camera, playback.
     render::MotionStage stage;
-    if (!scene && !duel) app::stageTakes(takeList, stage);
+    if (!scene && !duel && !carry) app::stageTakes(takeList, stage);
     stage.pose(0.0);
     render::FrameDescription frame;
     frame.camera.yaw = 0.5f;
     frame.camera.pitch = 0.35f;
-    const int characters = duel ? 0 : scene ? scene->characterCount() : static_cast<int>(stage.actors().size());
+    const int characters = duel || carry ? 0 : scene ? scene->characterCount() : static_cast<int>(stage.actors().size());
     // The overlay panel's right edge in framebuffer pixels: framing centres
     // the characters in the part of the view right of it, so the panel does
     // not hide them in a small window. Until the first frame lays the panel
@@ -319,7 +350,12 @@ int main(int argc, char** argv) {
     float panelRight = 340.0f;
     auto frameSelection = [&](int selected) {
         render::Bounds b;
-        if (duel) {
+        if (carry) {
+            b = carry->bounds();
+            if (b.empty()) b.add(glm::vec3(-1.5f, 0.0f, -1.5f)), b.add(glm::vec3(1.5f, 1.8f, 1.5f));  // until the carriers are there
+            b.add(b.min - glm::vec3(1.0f, 0.0f, 1.0f));  // room to walk into
+            b.add(b.max + glm::vec3(1.0f, 0.0f, 1.0f));
+        } else if (duel) {
             b = duel->bounds();
             if (b.empty()) b.add(glm::vec3(-1.5f, 0.0f, -1.5f)), b.add(glm::vec3(1.5f, 1.8f, 1.5f));  // until the fighters are there
         } else if (scene) {
@@ -374,7 +410,15 @@ int main(int argc, char** argv) {
             t = duration;
             playing = false;
         }
-        if (duel) {
+        if (carry) {
+            const bool wasReady = carry->ready();
+            if (Status s = carry->update(dt, window, !ImGui::GetIO().WantCaptureKeyboard); !s) {
+                error = s.error().message;
+                break;
+            }
+            if (!wasReady && carry->ready()) frameSelection(-1);
+            frame.camera.target += carry->moved();  // the camera follows the carriers
+        } else if (duel) {
             const bool wasReady = duel->ready();
             if (Status s = duel->update(dt, window, !ImGui::GetIO().WantCaptureKeyboard); !s) {
                 error = s.error().message;
@@ -410,7 +454,7 @@ int main(int argc, char** argv) {
         gMouse.x = mx;
         gMouse.y = my;
         if (!io.WantCaptureKeyboard) {
-            if (!duel && ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Space))) playing = !playing;
+            if (!duel && !carry && ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Space))) playing = !playing;
             if (ImGui::IsKeyPressed(GLFW_KEY_F)) frameSelection(selected);
             if (ImGui::IsKeyPressed(GLFW_KEY_TAB)) args.hidePanel = !args.hidePanel;
         }
@@ -431,7 +475,10 @@ int main(int argc, char** argv) {
                 const float scale = ww > 0 ? static_cast<float>(fbw) / static_cast<float>(ww) : 1.0f;
                 panelRight = ImGui::IsWindowCollapsed() ? 0.0f : (ImGui::GetWindowPos().x + ImGui::GetWindowSize().x) * scale;
             }
-            if (duel) {
+            if (carry) {
+                carry->overlay();
+                if (ImGui::Button("Frame the carriers")) frameSelection(-1);
+            } else if (duel) {
                 duel->overlay();
                 if (ImGui::Button("Frame the fight")) frameSelection(-1);
             } else {
@@ -492,7 +539,8 @@ int main(int argc, char** argv) {
         }
         ImGui::Render();
 
-        frame.characters = duel ? duel->shown() : scene ? scene->shown() : stage.instances();
+        frame.characters = carry ? carry->shown() : duel ? duel->shown() : scene ? scene->shown() : stage.instances();
+        if (carry) frame.trajectories = carry->lines();
         if (scene) {
             frame.trajectories = scene->trajectories();
             frame.checkpoints = scene->checkpoints();
@@ -519,6 +567,9 @@ int main(int argc, char** argv) {
 
     int code = 0;
     if (!error.empty()) code = fail(error);
+    if (carry) {
+        if (Status s = carry->writeLog(); !s && code == 0) code = fail(s.error().message);
+    }
     if (duel) {
         if (Status s = duel->writeLog(); !s && code == 0) code = fail(s.error().message);
     }
@@ -543,6 +594,9 @@ int main(int argc, char** argv) {
         code = fail(std::to_string(log->errors()) + " Vulkan validation errors and " + std::to_string(log->warnings()) +
                         " warnings (printed above)",
                     3);
+    if (code == 0 && args.frames > 0 && carry)
+        std::printf("fray-play: carrying at %.3f s; steps and posing %.2f ms a frame (worst %.2f ms)\n", carry->time(), 1e3 * carry->updateMean(),
+                    1e3 * carry->updateWorst());
     if (code == 0 && args.frames > 0 && duel)
         std::printf("fray-play: match at %.3f s; match steps and posing %.2f ms a frame (worst %.2f ms)\n", duel->time(),
                     1e3 * duel->updateMean(), 1e3 * duel->updateWorst());

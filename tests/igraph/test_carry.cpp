@@ -11,10 +11,12 @@
 #include <memory>
 #include <numbers>
 #include <string>
+#include <thread>
 
 #include "fray/igraph/carry.h"
 #include "fray/igraph/igraph.h"
 #include "fray/sim/geometry.h"
+#include "fray/sim/patches.h"
 #include "fray/sim/scene.h"
 #include "sim/demo_world.h"
 
@@ -192,6 +194,243 @@ TEST(IgraphCarry, ProjectsWithoutCarryOrAttackActionsAreRefused) {
     auto g = igraph::buildCarryGraph(carryWorld().library, o);
     ASSERT_FALSE(g);
     EXPECT_NE(g.error().message.find("no carry-end actions"), std::string::npos) << g.error().message;
+}
+
+// ---- the carry graph file ------------------------------------------------------------
+
+// The bytes with a CRC-32 recomputed over everything before it (a file
+// damaged in a way the checksum does not catch, or of another rule).
+std::string resealed(std::string bytes) {
+    bytes.resize(bytes.size() - 4);
+    const std::uint32_t crc = sim::patchFileChecksum(bytes);
+    bytes.append(reinterpret_cast<const char*>(&crc), 4);
+    return bytes;
+}
+
+::testing::AssertionResult refused(const Result<igraph::CarryGraph>& g, const std::string& expected) {
+    if (g) return ::testing::AssertionFailure() << "accepted; expected '" << expected << "'";
+    if (g.error().message.find(expected) == std::string::npos)
+        return ::testing::AssertionFailure() << "'" << g.error().message << "' does not say '" << expected << "'";
+    if (g.error().message.find("g.carry") == std::string::npos)
+        return ::testing::AssertionFailure() << "'" << g.error().message << "' does not name the file";
+    return ::testing::AssertionSuccess();
+}
+
+TEST(IgraphCarryFile, RoundTripsToTheSameGraphAndBytes) {
+    const auto& lib = carryWorld().library;
+    const auto& c = carry();
+    auto bytes = igraph::carryGraphBytes(c.graph);
+    ASSERT_TRUE(bytes) << bytes.error().message;
+    EXPECT_EQ(bytes->substr(0, 8), "FRAYIGCA");
+    auto g = igraph::readCarryGraph(*bytes, "g.carry", lib);
+    ASSERT_TRUE(g) << g.error().message;
+    ASSERT_EQ(g->states.size(), c.graph.states.size());
+    ASSERT_EQ(g->edges.size(), c.graph.edges.size());
+    EXPECT_EQ(g->firstEdge, c.graph.firstEdge);
+    EXPECT_EQ(g->actions, c.graph.actions);
+    EXPECT_EQ(g->hold, c.graph.hold);
+    EXPECT_EQ(g->gripReach, c.graph.gripReach);
+    EXPECT_EQ(g->options.maxSamples, c.graph.options.maxSamples);
+    for (std::size_t i = 0; i < g->states.size(); ++i) {
+        ASSERT_EQ(g->states[i].r, c.graph.states[i].r);
+        ASSERT_EQ(g->states[i].thetaB, c.graph.states[i].thetaB);
+    }
+    for (std::size_t e = 0; e < g->edges.size(); ++e) {
+        ASSERT_EQ(g->edges[e].to, c.graph.edges[e].to);
+        ASSERT_EQ(g->edges[e].actionB, c.graph.edges[e].actionB);
+        ASSERT_EQ(g->edges[e].boxZ, c.graph.edges[e].boxZ);
+        ASSERT_EQ(g->edges[e].gripError, c.graph.edges[e].gripError);
+    }
+    auto again = igraph::carryGraphBytes(*g);
+    ASSERT_TRUE(again);
+    EXPECT_EQ(*again, *bytes) << "what loads saves the same bytes";
+    // The loaded graph plays as the built one: the same policies, the same run.
+    auto p = igraph::computeCarryPolicies(*g, igraph::CarryWeights{}, 3);
+    ASSERT_TRUE(p) << p.error().message;
+    for (int k = 0; k < igraph::kCarryDirections; ++k) EXPECT_EQ(p->policies[static_cast<std::size_t>(k)].best, c.policies[static_cast<std::size_t>(k)].best);
+    auto path = igraph::parseCarryPath("circle:3");
+    igraph::CarryRunOptions o;
+    o.duration = 10;
+    auto r1 = igraph::runCarry(lib, c.graph, c.policies, *path, o);
+    auto r2 = igraph::runCarry(lib, *g, p->policies, *path, o);
+    ASSERT_TRUE(r1 && r2);
+    EXPECT_EQ(r1->stats.pathErrorMean, r2->stats.pathErrorMean);
+    EXPECT_EQ(r1->stats.decisions, r2->stats.decisions);
+}
+
+TEST(IgraphCarryFile, DamagedForeignStaleAndNewerFilesAreRefused) {
+    const auto& lib = carryWorld().library;
+    auto good = igraph::carryGraphBytes(carry().graph);
+    ASSERT_TRUE(good);
+    const std::string& b = *good;
+    // Damaged: a flipped byte, a truncated file, a short file.
+    std::string flipped = b;
+    flipped[flipped.size() / 2] = static_cast<char>(flipped[flipped.size() / 2] ^ 0x5a);
+    EXPECT_TRUE(refused(igraph::readCarryGraph(flipped, "g.carry", lib), "truncated or corrupt"));
+    EXPECT_TRUE(refused(igraph::readCarryGraph(b.substr(0, b.size() - 100), "g.carry", lib), "truncated or corrupt"));
+    EXPECT_TRUE(refused(igraph::readCarryGraph(b.substr(0, 14), "g.carry", lib), "truncated"));
+    // Foreign: a duel's graph file, something else.
+    std::string duel = b;
+    duel.replace(0, 8, "FRAYIGPH");
+    EXPECT_TRUE(refused(igraph::readCarryGraph(duel, "g.carry", lib), "an interaction graph for a duel"));
+    EXPECT_TRUE(refused(igraph::readCarryGraph("{\"version\": 1}", "g.carry", lib), "not a Fray carry graph file"));
+    EXPECT_TRUE(refused(igraph::readCarryGraph("", "g.carry", lib), "not a Fray carry graph file"));
+    // The duel's reader names a carry graph as such.
+    auto asDuel = igraph::readGraphUnbound(b, "g.carry");
+    ASSERT_FALSE(asDuel);
+    EXPECT_NE(asDuel.error().message.find("g.carry: a carry graph"), std::string::npos) << asDuel.error().message;
+    // Another file version; another rule; another library (stale).
+    std::string newer = b;
+    newer[8] = 9;
+    auto v = igraph::readCarryGraph(resealed(newer), "g.carry", lib);
+    EXPECT_TRUE(refused(v, "carry graph file version 9"));
+    if (!v) {
+        EXPECT_EQ(v.error().kind, ErrorKind::Unsupported);
+    }
+    std::string rule = b;
+    rule[12] = 7;
+    auto r = igraph::readCarryGraph(resealed(rule), "g.carry", lib);
+    EXPECT_TRUE(refused(r, "made by carry graph rule 7"));
+    if (!r) {
+        EXPECT_EQ(r.error().kind, ErrorKind::Stale);
+    }
+    igraph::CarryGraph other = carry().graph;
+    other.libraryKey ^= 1;
+    auto st = igraph::readCarryGraph(*igraph::carryGraphBytes(other), "g.carry", lib);
+    EXPECT_TRUE(refused(st, "made from other actions than the project has now"));
+    if (!st) {
+        EXPECT_EQ(st.error().kind, ErrorKind::Stale);
+    }
+    EXPECT_TRUE(igraph::readCarryGraphUnbound(*igraph::carryGraphBytes(other), "g.carry")) << "stats read any library's graph";
+    // Damage the checksum does not catch: an edge to a state that does not exist, trailing data.
+    other = carry().graph;
+    other.edges[5].to = static_cast<std::int32_t>(other.states.size() + 3);
+    EXPECT_TRUE(refused(igraph::readCarryGraph(*igraph::carryGraphBytes(other), "g.carry", lib), "corrupt at byte"));
+    other = carry().graph;
+    other.edges[7].actionA = 1;  // not a carry-end action
+    EXPECT_TRUE(refused(igraph::readCarryGraph(*igraph::carryGraphBytes(other), "g.carry", lib), "corrupt at byte"));
+    other = carry().graph;
+    other.states[3].r = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_TRUE(refused(igraph::readCarryGraph(*igraph::carryGraphBytes(other), "g.carry", lib), "corrupt at byte"));
+    std::string trailing = b.substr(0, b.size() - 4) + "xyz!" + b.substr(b.size() - 4);
+    EXPECT_TRUE(refused(igraph::readCarryGraph(resealed(trailing), "g.carry", lib), "unexpected data after"));
+    // Every truncation of the header is refused, never a crash.
+    for (std::size_t n = 0; n < 200; n += 3) EXPECT_FALSE(igraph::readCarryGraphUnbound(resealed(b.substr(0, std::max<std::size_t>(n, 4))), "g.carry"));
+}
+
+// ---- the policies in the background ----------------------------------------------------
+
+TEST(IgraphCarry, ChangedWeightRecomputesInTheBackgroundWhileTheOldPoliciesPlay) {
+    const auto& lib = carryWorld().library;
+    const auto graph = std::make_shared<const igraph::CarryGraph>(carry().graph);
+    auto first = igraph::computeCarryPolicies(*graph, igraph::CarryWeights{}, 3);
+    ASSERT_TRUE(first) << first.error().message;
+    const auto old = std::make_shared<const igraph::CarryPolicySet>(std::move(*first));
+    igraph::CarryPolicyService service(graph, old);
+    EXPECT_EQ(service.current(), old);
+    // A weight that is not a number is refused at once; the old set stays.
+    igraph::CarryWeights bad;
+    bad.wV = std::numeric_limits<double>::quiet_NaN();
+    auto refusedRequest = service.request(bad, 3);
+    ASSERT_FALSE(refusedRequest);
+    EXPECT_NE(refusedRequest.error().message.find("w_v is not a finite number"), std::string::npos);
+    EXPECT_EQ(service.current(), old);
+    // The driver keeps playing the old set while a deep recompute runs.
+    auto driver = igraph::CarryDriver::make(lib, graph, old, igraph::parseCarryPath("circle:3").value());
+    ASSERT_TRUE(driver) << driver.error().message;
+    igraph::CarryWeights slow;
+    slow.wV = 20;
+    ASSERT_TRUE(service.request(slow, 64));  // long enough to be cancelled below
+    for (int i = 0; i < 30; ++i) {
+        (*driver)->advance(1.0 / 30);
+        if (service.current() != old) break;
+        EXPECT_EQ((*driver)->policies(), old);
+    }
+    // A second request cancels the one in flight: what comes into force is the last asked for.
+    igraph::CarryWeights w;
+    w.wV = 12;
+    ASSERT_TRUE(service.request(w, 3));
+    ASSERT_TRUE(service.wait());
+    EXPECT_FALSE(service.busy());
+    const auto now = service.current();
+    ASSERT_NE(now, old);
+    EXPECT_EQ(now->weights.wV, 12);
+    EXPECT_EQ(now->depth, 3);
+    EXPECT_GT(now->seconds, 0);
+    // The same policies as computed in the foreground, and they differ from the old ones.
+    auto direct = igraph::computeCarryPolicies(*graph, w, 3);
+    ASSERT_TRUE(direct);
+    std::size_t changed = 0;
+    for (int k = 0; k < igraph::kCarryDirections; ++k) {
+        const auto kk = static_cast<std::size_t>(k);
+        EXPECT_EQ(now->policies[kk].best, direct->policies[kk].best);
+        for (std::size_t i = 0; i < graph->states.size(); ++i) changed += now->policies[kk].best[i] != old->policies[kk].best[i] ? 1 : 0;
+    }
+    EXPECT_GT(changed, 0u) << "w_v 8 -> 12 changed no choice";
+    ASSERT_TRUE((*driver)->setPolicies(now));
+    (*driver)->advance(2.0);
+    EXPECT_EQ((*driver)->policies(), now);
+    std::printf("carry policies recomputed in the background: %.3f s (%zu states, 8 directions, depth 3); %zu choices changed\n", now->seconds,
+                graph->states.size(), changed);
+}
+
+// ---- the pair in real time -------------------------------------------------------------
+
+TEST(IgraphCarry, DriverFollowsThePathAsRunCarryAndTurnsWhenSteered) {
+    const auto& lib = carryWorld().library;
+    const auto& c = carry();
+    const auto graph = std::make_shared<const igraph::CarryGraph>(c.graph);
+    auto set = std::make_shared<igraph::CarryPolicySet>();
+    set->policies = c.policies;
+    set->depth = 3;
+    auto path = igraph::parseCarryPath("circle:3");
+    igraph::CarryRunOptions o;
+    o.duration = 30;
+    auto run = igraph::runCarry(lib, c.graph, c.policies, *path, o);
+    ASSERT_TRUE(run);
+    auto d = igraph::CarryDriver::make(lib, graph, set, *path);
+    ASSERT_TRUE(d) << d.error().message;
+    for (int f = 0; f < 30 * 60; ++f) (*d)->advance(1.0 / 60);
+    EXPECT_NEAR((*d)->time(), 30.0, 1e-6);
+    // Frame by frame, the same decisions as the whole run at once.
+    const auto& want = run->scene.characters[0].track;
+    const auto& got = (*d)->scene().characters[0].track;
+    ASSERT_GE(got.size(), want.size());
+    for (std::size_t i = 0; i < want.size(); ++i) {
+        ASSERT_EQ(got[i].action, want[i].action) << i;
+        ASSERT_NEAR(got[i].start, want[i].start, 1e-9) << i;
+        ASSERT_EQ((*d)->scene().characters[1].track[i].action, run->scene.characters[1].track[i].action) << i;
+    }
+    EXPECT_NEAR((*d)->stats().pathErrorMean, run->stats.pathErrorMean, 1e-3);
+    EXPECT_LT((*d)->stats().gripErrorMax, 0.05);
+    EXPECT_EQ((*d)->scene().characters[2].keys.size(), 30u * 30u + 1u);
+
+    // Steered: 6 s towards +Z, then a turn to the left (+X) for 6 s: the box's way turns with it.
+    auto s = igraph::CarryDriver::make(lib, graph, set, std::nullopt, {0, 0}, 0.0);
+    ASSERT_TRUE(s) << s.error().message;
+    auto& drv = **s;
+    drv.advance(2.0);
+    EXPECT_EQ(drv.now().direction, -1) << "not steered yet: holding";
+    const glm::vec2 p0 = drv.now().boxMiddle;
+    drv.steer(0.0, true);
+    drv.advance(6.0);
+    const glm::vec2 p1 = drv.now().boxMiddle;
+    drv.steer(std::numbers::pi / 2, true);
+    drv.advance(1.6);  // the actions playing end first
+    const glm::vec2 p2 = drv.now().boxMiddle;
+    drv.advance(6.0);
+    const glm::vec2 p3 = drv.now().boxMiddle;
+    const glm::vec2 first = p1 - p0, second = p3 - p2;
+    EXPECT_GT(glm::length(first), 1.0f);
+    EXPECT_GT(glm::length(second), 1.0f);
+    EXPECT_NEAR(sim::angleOf(first), 0.0, 0.4) << first.x << ", " << first.y;
+    EXPECT_NEAR(sim::angleOf(second), std::numbers::pi / 2, 0.4) << second.x << ", " << second.y;
+    EXPECT_LT(drv.stats().gripErrorMax, 0.05);
+    drv.steer(0.0, false);
+    drv.advance(2.0);
+    const glm::vec2 p4 = drv.now().boxMiddle;
+    drv.advance(3.0);
+    EXPECT_LT(glm::length(drv.now().boxMiddle - p4), 0.2f) << "stopped: the pair holds";
 }
 
 }  // namespace

@@ -14,6 +14,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "carry_internal.h"
+#include "fray/sim/patches.h"  // libraryFingerprint
 #include "game.h"
 
 namespace fray::igraph {
@@ -158,12 +160,7 @@ struct Pieces {
 };
 
 Result<Pieces> piecesOf(const sim::ActionLibrary& lib, const CarryOptions& o, std::vector<int>& actions, int& hold) {
-    actions.clear();
-    for (int a = 0; a < lib.size(); ++a) {
-        const auto& la = lib.action(a);
-        if (la.name.rfind(o.prefix, 0) != 0 || la.is(sim::kTransition) || la.sampleCount < 2) continue;
-        actions.push_back(a);
-    }
+    actions = detail::carryActions(lib, o.prefix);
     if (actions.empty())
         return makeError("Interaction Graph (carrying): the project has no carry-end actions (names starting with '" + o.prefix +
                          "', e.g. the demo actor's carry set: fray-cli demo-library DIR --set carry)");
@@ -171,14 +168,28 @@ Result<Pieces> piecesOf(const sim::ActionLibrary& lib, const CarryOptions& o, st
     p.tracks = tracksOf(lib, actions, p.names);
     p.byName.resize(p.names.size());
     for (std::size_t i = 0; i < p.tracks.size(); ++i) p.byName[static_cast<std::size_t>(p.tracks[i].nameClass)].push_back(static_cast<int>(i));
-    hold = -1;
-    for (std::size_t i = 0; i < actions.size() && hold < 0; ++i)
-        if (lib.action(actions[i]).is(sim::kIdle)) hold = actions[i];
-    if (hold < 0) hold = actions.front();
+    hold = detail::carryHold(lib, actions);
     return p;
 }
 
 }  // namespace
+
+namespace detail {
+std::vector<int> carryActions(const sim::ActionLibrary& lib, const std::string& prefix) {
+    std::vector<int> actions;
+    for (int a = 0; a < lib.size(); ++a) {
+        const auto& la = lib.action(a);
+        if (la.name.rfind(prefix, 0) != 0 || la.is(sim::kTransition) || la.sampleCount < 2) continue;
+        actions.push_back(a);
+    }
+    return actions;
+}
+int carryHold(const sim::ActionLibrary& lib, const std::vector<int>& actions) {
+    for (int a : actions)
+        if (lib.action(a).is(sim::kIdle)) return a;
+    return actions.empty() ? -1 : actions.front();
+}
+}  // namespace detail
 
 glm::vec3 gripAt(const sim::ActionLibrary& lib, int action, double t) {
     return gripOfBoxes(lib.boxesAt(action, lib.sampleAt(action, t)));
@@ -205,6 +216,7 @@ Result<CarryGraph> buildCarryGraph(const sim::ActionLibrary& lib, const CarryOpt
     if (!(o.boxLength > 0.2 && o.boxLength < 10)) return makeError("carry: the box length must be in (0.2, 10) m");
     CarryGraph g;
     g.options = o;
+    g.libraryKey = sim::libraryFingerprint(lib);
     auto pieces = piecesOf(lib, o, g.actions, g.hold);
     if (!pieces) return pieces.error();
     const auto& tracks = pieces->tracks;
@@ -656,6 +668,167 @@ Result<CarryRun> runCarry(const sim::ActionLibrary& lib, const CarryGraph& g, co
     }
     run.stats.pathErrorMean = pathSum / n;
     return run;
+}
+
+// ---- the pair in real time ------------------------------------------------------------
+
+namespace {
+Status checkPolicySet(const CarryGraph& g, const CarryPolicySet* p) {
+    if (!p || p->policies.size() != static_cast<std::size_t>(kCarryDirections)) return makeError("carry: one policy per direction (8) is needed");
+    for (int k = 0; k < kCarryDirections; ++k) {
+        const auto& q = p->policies[static_cast<std::size_t>(k)];
+        if (q.direction != k || q.best.size() != g.states.size()) return makeError("carry: the policies do not belong to this graph");
+    }
+    return {};
+}
+}  // namespace
+
+CarryDriver::CarryDriver(const sim::ActionLibrary& lib, std::shared_ptr<const CarryGraph> g, std::shared_ptr<const CarryPolicySet> p)
+    : lib_(lib), graph_(std::move(g)), policies_(std::move(p)) {}
+
+Result<std::unique_ptr<CarryDriver>> CarryDriver::make(const sim::ActionLibrary& lib, std::shared_ptr<const CarryGraph> g,
+                                                       std::shared_ptr<const CarryPolicySet> policies, std::optional<CarryPath> path,
+                                                       glm::vec2 start, double heading, double lookahead) {
+    if (!g || g->states.empty()) return makeError("carry: the graph has no states");
+    if (auto st = checkPolicySet(*g, policies.get()); !st) return st.error();
+    if (g->hold < 0 || g->hold >= lib.size()) return makeError("carry: the graph does not belong to this library");
+    for (const auto& e : g->edges)
+        if (e.actionA >= lib.size() || e.actionB >= lib.size()) return makeError("carry: the graph does not belong to this library");
+    if (path && path->points.size() < 2) return makeError("carry: the path needs two points or more");
+    if (!(lookahead > 0 && lookahead < 100) || !std::isfinite(heading) || !std::isfinite(start.x) || !std::isfinite(start.y))
+        return makeError("carry: the start and the lookahead must be finite");
+    std::unique_ptr<CarryDriver> d(new CarryDriver(lib, std::move(g), std::move(policies)));
+    d->lookahead_ = lookahead;
+    d->path_ = std::move(path);
+    const double half = 0.5 * d->graph_->options.boxLength + d->graph_->gripReach;
+    glm::vec2 p0 = start, u(static_cast<float>(std::sin(heading)), static_cast<float>(std::cos(heading)));
+    if (d->path_) {  // as runCarry: the box's middle on the first point, along the first direction
+        p0 = d->path_->points[0];
+        u = d->path_->points[1] - p0;
+        u = glm::length(u) > 1e-6f ? glm::normalize(u) : glm::vec2(0, 1);
+    }
+    d->a_.pos = p0 - u * static_cast<float>(half);
+    d->a_.heading = sim::angleOf(u);
+    d->b_.pos = p0 + u * static_cast<float>(half);
+    d->b_.heading = sim::angleOf(-u);
+    d->desired_ = d->a_.heading;
+    sim::Scene& scene = d->scene_;
+    scene.characters.resize(3);
+    const char* names[] = {"carrier A", "carrier B"};
+    for (int c = 0; c < 2; ++c) {
+        auto& sc = scene.characters[static_cast<std::size_t>(c)];
+        sc.name = names[c];
+        sc.preset = "carry";
+        sc.depth = d->policies_->depth;
+    }
+    scene.characters[2].name = "box";
+    scene.characters[2].body = "box";
+    if (d->path_) {
+        sim::FloorMark mark{"path", d->path_->points};
+        if (d->path_->loop) mark.points.push_back(d->path_->points.front());
+        scene.marks.push_back(std::move(mark));
+    }
+    d->decide();
+    d->sampleBox(0.0);
+    return d;
+}
+
+Status CarryDriver::setPolicies(std::shared_ptr<const CarryPolicySet> policies) {
+    if (auto st = checkPolicySet(*graph_, policies.get()); !st) return st;
+    policies_ = std::move(policies);
+    return {};
+}
+
+void CarryDriver::steer(double worldAngle, bool moving) {
+    if (std::isfinite(worldAngle)) desired_ = sim::wrapAngle(worldAngle);
+    moving_ = moving;
+}
+
+void CarryDriver::decide() {
+    const CarryGraph& g = *graph_;
+    const auto d0 = Clock::now();
+    const InteractionState s = pairState(a_, b_);
+    int state = g.find(s, false);
+    now_.offGraph = state < 0;
+    if (state < 0) {
+        ++stats_.offGraph;
+        state = g.find(s, true);
+    }
+    now_.state = state;
+    const glm::vec2 mid = 0.5f * (floorOf(a_.apply(gripAt(lib_, g.hold, 0))) + floorOf(b_.apply(gripAt(lib_, g.hold, 0))));
+    // The way to go in the world: to the path ahead of the box's middle, or the steered direction.
+    glm::vec2 way(0.0f);
+    bool go = false;
+    if (path_) {
+        bool atEnd = false;
+        const glm::vec2 target = along(*path_, closest(*path_, mid), lookahead_, atEnd);
+        way = target - mid;
+        go = !(atEnd && glm::length(way) < 0.15f);
+    } else {
+        way = glm::vec2(static_cast<float>(std::sin(desired_)), static_cast<float>(std::cos(desired_)));
+        go = moving_;
+    }
+    const glm::vec2 local = sim::rotateFloor(way, -a_.heading);
+    int k = static_cast<int>(std::lround(std::atan2(static_cast<double>(local.x), static_cast<double>(local.y)) / (kPi / 4.0)));
+    k = ((k % kCarryDirections) + kCarryDirections) % kCarryDirections;
+    int actA = g.hold, actB = g.hold;
+    now_.direction = -1;
+    if (state >= 0 && go) {
+        const std::int32_t e = policies_->policies[static_cast<std::size_t>(k)].best[static_cast<std::size_t>(state)];
+        if (e >= 0) actA = g.edges[static_cast<std::size_t>(e)].actionA, actB = g.edges[static_cast<std::size_t>(e)].actionB, now_.direction = k;
+    }
+    if (actA == g.hold && actB == g.hold) ++stats_.holds;
+    ++stats_.decisions;
+    now_.heading = a_.heading;
+    const double da = lib_.action(actA).duration, db = lib_.action(actB).duration;
+    scene_.characters[0].track.push_back({actA, next_, 0.0, next_ + da, a_, false, false});
+    scene_.characters[1].track.push_back({actB, next_, 0.0, next_ + db, b_, false, false});
+    a_ = a_ * lib_.action(actA).end;
+    b_ = b_ * lib_.action(actB).end;
+    next_ += std::max({da, db, 1.0 / sim::kSampleRate});
+    stats_.decideSeconds += since(d0);
+}
+
+void CarryDriver::sampleBox(double tt) {
+    const double L = graph_->options.boxLength;
+    glm::vec3 grip[2];
+    for (int c = 0; c < 2; ++c) {
+        const auto& track = scene_.characters[static_cast<std::size_t>(c)].track;
+        const auto& inst = track[static_cast<std::size_t>(sim::instanceIndexAt(track, tt))];
+        grip[c] = inst.root.apply(gripAt(lib_, inst.action, inst.clipTimeAt(tt)));
+    }
+    const glm::vec2 fa = floorOf(grip[0]), fb = floorOf(grip[1]);
+    sim::RootKey key;
+    key.time = tt;
+    key.at.pos = fa;
+    key.at.heading = sim::angleOf(fb - fa);
+    key.height = 0.5f * (grip[0].y + grip[1].y);
+    scene_.characters[2].keys.push_back(key);
+    now_.boxMiddle = 0.5f * (fa + fb);
+    now_.gripDistance = static_cast<double>(glm::length(grip[0] - grip[1]));
+    ++samples_;
+    if (path_) {
+        now_.pathError = distanceToCarryPath(*path_, now_.boxMiddle);
+        pathSum_ += now_.pathError;
+        stats_.pathErrorMax = std::max(stats_.pathErrorMax, now_.pathError);
+        stats_.pathErrorMean = pathSum_ / static_cast<double>(samples_);
+    }
+    stats_.gripErrorMax = std::max(stats_.gripErrorMax, std::abs(now_.gripDistance - L) / L);
+}
+
+void CarryDriver::advance(double dt) {
+    if (!(dt > 0) || !std::isfinite(dt)) return;
+    const double end = std::min(time_ + dt, sim::kMaxSceneSeconds);
+    // Box keys every 1/30 s up to `end`; a decision whenever the actions playing end.
+    for (;;) {
+        const double nextKey = static_cast<double>(samples_) / sim::kSampleRate;
+        if (nextKey > end + 1e-9) break;
+        while (next_ <= nextKey + 1e-9) decide();
+        sampleBox(nextKey);
+    }
+    while (next_ <= end + 1e-9) decide();
+    time_ = end;
+    scene_.duration = time_;
 }
 
 }  // namespace fray::igraph

@@ -114,6 +114,9 @@ Result<Graph> readBody(std::string_view bytes, const std::string& name, const Ru
 
 Result<Graph> readAny(std::string_view bytes, std::string_view fileName, const Rules* rules) {
     const std::string name(fileName);
+    if (bytes.size() >= 8 && std::memcmp(bytes.data(), "FRAYIGCA", 8) == 0) {  // carry.h's kCarryGraphMagic
+        return makeError(name + ": a carry graph (two carriers of a box: igraph play --kind carry), not a duel's interaction graph");
+    }
     if (bytes.size() < sizeof(kMagic) + 4 || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) {
         return makeError(name + ": not a Fray interaction graph file");
     }

@@ -14,6 +14,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "fray/igraph/background.h"
 #include "fray/igraph/igraph.h"
 
 namespace fray::igraph {
@@ -162,60 +163,30 @@ Result<Policy> computePolicy(const Graph& g, const RewardWeights& w, int depth, 
     return p;
 }
 
+// The thread, the cancel flag and the swap are BackgroundRecompute's
+// (fray/igraph/background.h), shared with the carriers' CarryPolicyService.
 struct PolicyService::Impl {
     std::shared_ptr<const Graph> graph;
-    mutable std::mutex mutex;
-    std::shared_ptr<const Policy> current;
-    std::thread worker;
-    std::atomic<bool> cancel{false}, running{false};
-    Status last;
-    void stop() {
-        cancel = true;
-        if (worker.joinable()) worker.join();
-        cancel = false;
-    }
+    BackgroundRecompute<Policy> work;
+    Impl(std::shared_ptr<const Graph> g, std::shared_ptr<const Policy> initial) : graph(std::move(g)), work(std::move(initial)) {}
 };
 
-PolicyService::PolicyService(std::shared_ptr<const Graph> graph, std::shared_ptr<const Policy> initial) : impl_(std::make_unique<Impl>()) {
-    impl_->graph = std::move(graph);
-    impl_->current = std::move(initial);
-}
+PolicyService::PolicyService(std::shared_ptr<const Graph> graph, std::shared_ptr<const Policy> initial)
+    : impl_(std::make_unique<Impl>(std::move(graph), std::move(initial))) {}
 
-PolicyService::~PolicyService() { impl_->stop(); }
+PolicyService::~PolicyService() { impl_->work.stop(); }
 
-std::shared_ptr<const Policy> PolicyService::current() const {
-    const std::lock_guard<std::mutex> lock(impl_->mutex);
-    return impl_->current;
-}
+std::shared_ptr<const Policy> PolicyService::current() const { return impl_->work.current(); }
 
 Status PolicyService::request(const RewardWeights& w, int depth) {
     if (auto st = validate(w); !st) return st;
     if (depth < 1 || depth > 64) return makeError("policy depth must be between 1 and 64, got " + std::to_string(depth));
-    impl_->stop();
-    impl_->running = true;
-    Impl* impl = impl_.get();
-    impl_->worker = std::thread([impl, w, depth] {
-        auto p = computePolicy(*impl->graph, w, depth, cancelWhen(impl->cancel));
-        {
-            const std::lock_guard<std::mutex> lock(impl->mutex);
-            if (p) {
-                impl->current = std::make_shared<const Policy>(std::move(*p));
-                impl->last = {};
-            } else {
-                impl->last = p.error();
-            }
-        }
-        impl->running = false;
-    });
+    impl_->work.start([graph = impl_->graph, w, depth](const ProgressFn& progress) { return computePolicy(*graph, w, depth, progress); });
     return {};
 }
 
-bool PolicyService::busy() const { return impl_->running.load(); }
+bool PolicyService::busy() const { return impl_->work.busy(); }
 
-Status PolicyService::wait() {
-    if (impl_->worker.joinable()) impl_->worker.join();
-    const std::lock_guard<std::mutex> lock(impl_->mutex);
-    return impl_->last;
-}
+Status PolicyService::wait() { return impl_->work.wait(); }
 
 }  // namespace fray::igraph

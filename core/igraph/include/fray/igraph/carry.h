@@ -16,6 +16,9 @@
 //    the result is an ordinary sim::Scene with the box as a "box" body.
 #include <array>
 #include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -73,7 +76,8 @@ struct CarryGraph {
     double gripReach = 0;                   // grip ahead of the pelvis (m), mean over the actions' first samples
     double gripHeight = 0;
     std::int64_t samples = 0, rounds = 0, simulated = 0;
-    double seconds = 0;                     // build time
+    double seconds = 0;                     // build time (not in the file: beside it, FILE.build.json)
+    std::uint64_t libraryKey = 0;           // sim::libraryFingerprint of the library it was built from
     std::size_t memoryBytes() const;
     // The state an interaction state falls in (within joinRadius; -1: none),
     // or with nearest true the nearest state with edges.
@@ -150,5 +154,124 @@ Result<CarryRun> runCarry(const sim::ActionLibrary& lib, const CarryGraph& g, co
 
 // The grip (midpoint of the hands) of an action at time t into it, in the action's frame.
 glm::vec3 gripAt(const sim::ActionLibrary& lib, int action, double t);
+
+// ---- the carry graph file (docs/IGRAPH.md, "Carry graph file") ---------------------------
+
+// The carry graph file's layout, and the rule its states and edges were made
+// by (the pair's state, the carry distance, the simulation of a joint edge).
+// A file of another rule is stale: build the graph again.
+inline constexpr std::uint32_t kCarryGraphFileVersion = 1;
+inline constexpr std::uint32_t kCarryGraphRule = 1;
+// Its first 8 bytes; the duel's graph file starts "FRAYIGPH".
+inline constexpr std::string_view kCarryGraphMagic = "FRAYIGCA";
+
+// Magic, version, rule, the library's fingerprint, the build options and
+// statistics, the actions, states and edges, a CRC-32 of everything before.
+// The same graph gives the same bytes (the build time is not in them).
+Result<std::string> carryGraphBytes(const CarryGraph& g);
+Status saveCarryGraph(const CarryGraph& g, const std::filesystem::path& file);
+// Refused with the file's name: not a carry graph (a duel's graph is named as
+// such), another version (ErrorKind::Unsupported), another rule or other
+// carry-end actions than the library has now (ErrorKind::Stale: build it
+// again), a checksum that does not match, values out of range, trailing data.
+Result<CarryGraph> readCarryGraph(std::string_view bytes, std::string_view fileName, const sim::ActionLibrary& lib);
+Result<CarryGraph> loadCarryGraph(const std::filesystem::path& file, const sim::ActionLibrary& lib);
+// Without a library (igraph stats): every check but the library's.
+Result<CarryGraph> readCarryGraphUnbound(std::string_view bytes, std::string_view fileName);
+
+// ---- the eight policies, recomputed in the background -------------------------------------
+
+// One policy per direction (8), for one set of weights and depth.
+struct CarryPolicySet {
+    CarryWeights weights;
+    int depth = 0;
+    std::vector<CarryPolicy> policies;  // index = direction
+    double seconds = 0;                 // wall clock of the eight
+};
+// The eight directions' policies (in parallel; the same as eight computeCarryPolicy calls).
+Result<CarryPolicySet> computeCarryPolicies(const CarryGraph& g, const CarryWeights& w, int depth, const ProgressFn& progress = {});
+
+// The collaborative policies recomputed in a background thread when a reward
+// weight or the depth changes, while the previous ones keep playing (the
+// duel's PolicyService machinery: fray/igraph/background.h).
+class CarryPolicyService {
+public:
+    CarryPolicyService(std::shared_ptr<const CarryGraph> graph, std::shared_ptr<const CarryPolicySet> initial);
+    ~CarryPolicyService();  // cancels a computation in flight and waits for it
+    CarryPolicyService(const CarryPolicyService&) = delete;
+    CarryPolicyService& operator=(const CarryPolicyService&) = delete;
+    std::shared_ptr<const CarryPolicySet> current() const;  // never null
+    // Invalid weights or depth are refused at once (the current set stays);
+    // a request while one runs cancels the running one.
+    Status request(const CarryWeights& w, int depth);
+    bool busy() const;
+    Status wait();  // the last error of a finished computation, if any
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+// ---- the pair in real time (fray-play --carry) ------------------------------------------------
+
+// Two carriers driven decision by decision as time advances: along a path
+// (the same choices as runCarry), or in a direction the user steers (world
+// frame), or holding. The scene grows as time passes: the carriers' actions
+// up to the one playing, the box's keys every 1/30 s up to now.
+class CarryDriver {
+public:
+    // path: followed when given (the start as runCarry's); else the pair
+    // starts with the box's middle at `start`, carrier A facing `heading`
+    // (sim::angleOf's convention), holding until steered.
+    static Result<std::unique_ptr<CarryDriver>> make(const sim::ActionLibrary& lib, std::shared_ptr<const CarryGraph> g,
+                                                     std::shared_ptr<const CarryPolicySet> policies, std::optional<CarryPath> path,
+                                                     glm::vec2 start = {0, 0}, double heading = 0, double lookahead = 0.35);
+    // The policies used from the next decision on (the same graph; invalid sets are refused).
+    Status setPolicies(std::shared_ptr<const CarryPolicySet> policies);
+    const std::shared_ptr<const CarryPolicySet>& policies() const { return policies_; }
+    // Steering (without a path): the desired direction of the box on the
+    // floor, world frame (sim::angleOf), and whether to move at all.
+    void steer(double worldAngle, bool moving);
+    double desiredAngle() const { return desired_; }
+    bool moving() const { return moving_; }
+    bool followsPath() const { return path_.has_value(); }
+    const std::optional<CarryPath>& path() const { return path_; }
+    // Advances dt s (> 0): decisions at the exact ends of the actions, box keys every 1/30 s.
+    void advance(double dt);
+    double time() const { return time_; }
+    const sim::Scene& scene() const { return scene_; }
+
+    struct Now {
+        int direction = -1;          // the policy direction (0..7, k*45 degrees left of A's forward) of the last decision; -1: holding
+        int state = -1;              // the graph state it fell in (or the nearest)
+        bool offGraph = false;
+        double gripDistance = 0;     // the grips' distance at the last box key (m)
+        double pathError = -1;       // the box middle's distance from the path then (m; < 0: no path)
+        glm::vec2 boxMiddle{0.0f};   // on the floor, then
+        double heading = 0;          // carrier A's heading at the last decision
+    };
+    const Now& now() const { return now_; }
+    const CarryRunStats& stats() const { return stats_; }  // so far (path errors: with a path)
+    double boxLength() const { return graph_->options.boxLength; }
+    const CarryGraph& graph() const { return *graph_; }
+
+private:
+    CarryDriver(const sim::ActionLibrary& lib, std::shared_ptr<const CarryGraph> g, std::shared_ptr<const CarryPolicySet> p);
+    void decide();
+    void sampleBox(double t);
+    const sim::ActionLibrary& lib_;
+    std::shared_ptr<const CarryGraph> graph_;
+    std::shared_ptr<const CarryPolicySet> policies_;
+    std::optional<CarryPath> path_;
+    sim::Scene scene_;
+    sim::RootXf a_, b_;
+    double time_ = 0, next_ = 0, lookahead_ = 0.35;
+    double desired_ = 0;
+    bool moving_ = false;
+    std::int64_t samples_ = 0;
+    double pathSum_ = 0;
+    Now now_;
+    CarryRunStats stats_;
+};
 
 }  // namespace fray::igraph
