@@ -113,6 +113,7 @@ void MainWindow::buildSceneDocks() {
     row->addWidget(sceneSource_, 1);
     row->addWidget(open);
     layout->addLayout(row);
+    layout->addWidget(makeSetupParameters());
     auto* importSpec = new QPushButton("Import as setup...");
     importSpec->setObjectName("sceneImportSpec");
     importSpec->setToolTip("Store the selected spec file (and its floor bitmap) in the project as a scene setup");
@@ -257,6 +258,7 @@ void MainWindow::fillSceneSources() {
     fillToolCharacters();
     refreshCheckpointInspector();
     refreshSetupOverlay();
+    refreshSetupParameters();
 }
 
 bool MainWindow::selectSetup(const QString& name) {
@@ -300,6 +302,7 @@ void MainWindow::setupEdited(const authoring::ChangeEvent& event) {
     if (qs(event.setup) == currentSetup()) {
         refreshCheckpointInspector();
         refreshSetupOverlay();
+        refreshSetupParameters();
         if (event.kind == authoring::ChangeKind::SetupParameters) fillToolCharacters();
     }
     // Who this edit can affect in the scene playing (when it is this setup's).
@@ -424,6 +427,8 @@ void MainWindow::generate() {
     input->project = doc_->project();
     input->patches = patchLibrary_;
     input->cachedSession = generateSession_;
+    if (!graphCache_) graphCache_ = std::make_shared<pipeline::GraphCache>();
+    input->graphs = graphCache_;
     QString specFile = source;
     if (source.startsWith(kSetupPrefix)) {
         auto st = doc_->sceneSetup(currentSetup().toStdString());
