@@ -544,7 +544,7 @@ QByteArray MainWindow::describeUi() const {
     // The Scene panel's Setup box: the kinds New setup offers and the
     // parameter widgets of the Interaction Graph kinds (window_graph_setup.cpp).
     QJsonObject setupBox;
-    setupBox["panel"] = "scenePanel";
+    setupBox["panel"] = "scenePanel";  // inside the dock's scenePanelScroll
     QJsonArray kinds;
     for (setup::SetupKind k : setup::allSetupKinds()) kinds.append(QString(setup::setupKindName(k)));
     setupBox["kinds"] = kinds;

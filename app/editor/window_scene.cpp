@@ -27,6 +27,7 @@
 #include <QMenuBar>
 #include <QProgressBar>
 #include <QPushButton>
+#include <QScrollArea>
 #include <QSlider>
 #include <QStandardItemModel>
 #include <QStatusBar>
@@ -176,7 +177,13 @@ void MainWindow::buildSceneDocks() {
     layout->addStretch(1);
     sceneDock_ = new QDockWidget("Scene", this);
     sceneDock_->setObjectName("SceneDock");
-    sceneDock_->setWidget(panel);
+    // Scrolled: with a graph setup's parameters the panel is taller than a small screen leaves it.
+    auto* scroll = new QScrollArea;
+    scroll->setObjectName("scenePanelScroll");
+    scroll->setWidgetResizable(true);
+    scroll->setFrameShape(QFrame::NoFrame);
+    scroll->setWidget(panel);
+    sceneDock_->setWidget(scroll);
     addDockWidget(Qt::LeftDockWidgetArea, sceneDock_);
     splitDockWidget(libraryDock_, sceneDock_, Qt::Vertical);
 

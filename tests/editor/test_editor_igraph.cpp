@@ -11,6 +11,7 @@
 #include <QCheckBox>
 #include <QComboBox>
 #include <QDir>
+#include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QImage>
 #include <QLabel>
@@ -39,6 +40,8 @@ using fray::test::clickOnFloor;
 using fray::test::lookDown;
 
 void shots(fray::test::VulkanEditor& editor, const char* name) {
+    // Room for every row of the action track (its dock starts at 130 px).
+    if (auto* gantt = editor.window->findChild<QDockWidget*>("GanttDock")) editor.window->resizeDocks({gantt}, {170}, Qt::Vertical);
     QTest::qWait(300);
     QDir().mkpath(FRAY_EDITOR_SHOTS);
     fray::render::Image view;
