@@ -33,6 +33,8 @@ env QT_QPA_PLATFORM=xcb "$build/bin/fray_editor_floor_tests" \
   >"$tmp/floor.log" 2>&1 || { cat "$tmp/floor.log"; exit 1; }
 env QT_QPA_PLATFORM=xcb "$build/bin/fray_editor_tools_tests" \
   >"$tmp/tools.log" 2>&1 || { cat "$tmp/tools.log"; exit 1; }
+env QT_QPA_PLATFORM=xcb "$build/bin/fray_editor_igraph_tests" \
+  >"$tmp/igraph.log" 2>&1 || { cat "$tmp/igraph.log"; exit 1; }
 shots=$build/tests/editor/editor-shots
 for panel in LibraryDock TimelineDock InspectorDock GraphDock CombosDock HistoryDock; do
   cp "$shots/$panel.png" "$out/editor-${panel%Dock}.png"
@@ -52,5 +54,8 @@ for tool in checkpoints rat football commands; do
   cp "$shots/floor-$tool.png" "$out/editor-floor-$tool.png"
 done
 cp "$shots/timeline-segmented.png" "$out/editor-Timeline-segmented.png"
+for shot in igraph-carry-drawn igraph-carry igraph-duel; do
+  cp "$shots/$shot-window.png" "$out/editor-$shot.png"
+done
 rm -rf "$tmp"
 echo "wrote $out/editor-*.png"

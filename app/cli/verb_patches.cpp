@@ -243,7 +243,7 @@ void runCompose(const ComposeArgs& a) {
         if (!setups) return fail(setups.error().message);
         const setup::SceneSetup* found = setup::findSetup(*setups, a.setup);
         if (!found) return fail(a.project + ": no setup named '" + a.setup + "' (fray-cli setup " + a.project + " list)");
-        if (setup::isTreeExpansion(found->kind)) {
+        if (setup::isSimulateKind(found->kind)) {
             return fail(label + " is a " + setup::setupKindName(found->kind) + " setup: run it with simulate, not compose");
         }
         if (auto note = setup::pinsNotHonoured(*found); !note.empty()) std::fprintf(stderr, "fray-cli: note: %s\n", note.c_str());

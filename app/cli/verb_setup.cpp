@@ -12,6 +12,7 @@
 #include "fray/core/atomic_file.h"
 #include "fray/prep/json_reader.h"
 #include "fray/setup/convert.h"
+#include "fray/setup/graph_setup.h"
 #include "fray/setup/scene_setup.h"
 #include "cli_session.h"
 #include "compose_inputs.h"
@@ -56,6 +57,11 @@ Status checkAgainstProject(const SetupArgs& a, const setup::SceneSetup& s) {
     auto ss = openSimSession(a.project, stderrProgress(a.quiet));
     if (!ss) return ss.error();
     auto& session = **ss;
+    if (setup::isGraphKind(s.kind)) {
+        // Parameters checked by the import; the graph is built (or read) when it runs.
+        if (auto p = setup::graphParams(s); !p) return makeError(a.spec + ": " + p.error().message);
+        return {};
+    }
     if (setup::isTreeExpansion(s.kind)) {
         auto presets = sim::projectPresets(session.session.project, a.project);
         if (!presets) return presets.error();
@@ -201,7 +207,7 @@ void runSetup(const SetupArgs& a) {
         auto spec = setup::setupSpecJson(*s);
         if (!spec) return fail(spec.error().message);
         std::printf("# %s: %s setup, run with fray-cli %s %s --setup '%s'%s%s\n", s->name.c_str(), setup::setupKindName(s->kind),
-                    setup::isTreeExpansion(s->kind) ? "simulate" : "compose", a.project.c_str(), s->name.c_str(),
+                    setup::isSimulateKind(s->kind) ? "simulate" : "compose", a.project.c_str(), s->name.c_str(),
                     summary(*s).empty() ? "" : "; ", summary(*s).c_str());
         for (const auto& p : s->pins) std::printf("# pin: %s plays %s at %.2f s\n", p.character.c_str(), p.action.c_str(), p.time);
         std::printf("%s\n", spec->c_str());

@@ -10,6 +10,7 @@
 #include "fray/posture/posture.h"
 #include "fray/pipeline/setup_run.h"
 #include "fray/setup/convert.h"
+#include "fray/setup/graph_setup.h"
 #include "fray/sim/action_library.h"
 #include "fray/sim/metrics.h"
 #include "fray/sim/planner.h"
@@ -52,11 +53,33 @@ void runSimulate(const SimulateArgs& a) {
         if (!setups) return fail(setups.error().message);
         const setup::SceneSetup* found = setup::findSetup(*setups, a.setup);
         if (!found) return fail(a.project + ": no setup named '" + a.setup + "' (fray-cli setup " + a.project + " list)");
-        if (!setup::isTreeExpansion(found->kind)) {
+        if (!setup::isSimulateKind(found->kind)) {
             return fail(label + " is a " + setup::setupKindName(found->kind) + " setup: run it with compose, not simulate");
         }
-        scene = pipeline::runSetup(s, *found, nullptr, progress);
+        pipeline::SetupRunStats runStats;
+        scene = pipeline::runSetup(s, *found, nullptr, progress, &runStats);
         if (!scene) return fail(scene.error().message);
+        if (setup::isGraphKind(found->kind)) {
+            // An Interaction Graph setup: the scene `igraph play` writes for the same parameters (docs/IGRAPH.md).
+            const auto& g = runStats.graph;
+            if (!g.note.empty()) std::fprintf(stderr, "fray-cli: note: %s\n", g.note.c_str());
+            scene->project = sceneProjectReference(outFile, a.project);
+            if (auto st = sim::saveScene(*scene, s.library, outFile); !st) return fail(st.error().message);
+            std::printf("%s: %s setup '%s', %zu characters, %.1f s, %lld decisions (%lld off the graph), %zu hits", a.out.c_str(),
+                        setup::setupKindName(found->kind), found->name.c_str(), scene->characters.size(), scene->duration,
+                        static_cast<long long>(g.decisions), static_cast<long long>(g.offGraph), scene->hits.size());
+            if (found->kind == setup::SetupKind::GraphCarry) {
+                std::printf("; path error mean %.3f m, max %.3f m; hand-to-hand distance within %.2f %% of the box\n", g.pathErrorMean,
+                            g.pathErrorMax, 100.0 * g.gripErrorMax);
+            } else {
+                std::printf(", landed %d (red) vs %d (blue)\n", g.landedRed, g.landedBlue);
+            }
+            std::printf("graph: %s, %lld states, %lld edges", g.graphSource.c_str(), static_cast<long long>(g.states),
+                        static_cast<long long>(g.edges));
+            if (g.buildSeconds > 0) std::printf(", built in %.2f s", g.buildSeconds);
+            std::printf("\n");
+            return;
+        }
     } else {
         auto spec = sim::parseSceneSpec(*specText, a.spec, s.library, *presets);
         if (!spec) return fail(spec.error().message);
@@ -177,7 +200,7 @@ void registerSim(CLI::App& app) {
         auto* cmd = app.add_subcommand("simulate", "Temporal tree expansion: plan an interaction scene from a JSON spec");
         cmd->add_option("project", args->project, "Project file (*.frayproj)")->required();
         auto* spec = cmd->add_option("--spec", args->spec, "Scene spec (JSON: characters, presets, depths, paths, duration, seed)");
-        auto* setupOpt = cmd->add_option("--setup", args->setup, "A duel or chase setup stored in the project (fray-cli setup P list)");
+        auto* setupOpt = cmd->add_option("--setup", args->setup, "A duel, chase or Interaction Graph (graph-duel, graph-teams, graph-carry) setup stored in the project (fray-cli setup P list)");
         spec->excludes(setupOpt);
         cmd->add_option("-o,--out", args->out, "Scene file to write (*.frayscene)")->required();
         cmd->add_flag("-q,--quiet", args->quiet, "No progress on stderr");

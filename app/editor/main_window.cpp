@@ -10,6 +10,7 @@
 #include <QHBoxLayout>
 #include <QHeaderView>
 #include <QImage>
+#include <QFormLayout>
 #include <QJsonArray>
 #include <QJsonDocument>
 #include <QJsonObject>
@@ -540,6 +541,25 @@ QByteArray MainWindow::describeUi() const {
                                     {"opens", "right click on an action bar"},
                                     {"items", QJsonArray{"ganttReplaceMenu", "ganttPin", "ganttUnpin"}}});
     root["contextMenus"] = contextMenus;
+    // The Scene panel's Setup box: the kinds New setup offers and the
+    // parameter widgets of the Interaction Graph kinds (window_graph_setup.cpp).
+    QJsonObject setupBox;
+    setupBox["panel"] = "scenePanel";  // inside the dock's scenePanelScroll
+    QJsonArray kinds;
+    for (setup::SetupKind k : setup::allSetupKinds()) kinds.append(QString(setup::setupKindName(k)));
+    setupBox["kinds"] = kinds;
+    setupBox["chooser"] = "sceneNewKind";
+    setupBox["button"] = "sceneNewSetup";
+    QJsonArray params;
+    for (QWidget* w : paramWidgets_) {
+        QJsonObject o;
+        o["name"] = w->objectName();
+        o["label"] = paramsForm_ && paramsForm_->labelForField(w) ? static_cast<QLabel*>(paramsForm_->labelForField(w))->text() : QString();
+        o["tip"] = w->toolTip();
+        params.append(o);
+    }
+    setupBox["graphParameters"] = params;
+    root["setupBox"] = setupBox;
     return QJsonDocument(root).toJson(QJsonDocument::Indented);
 }
 

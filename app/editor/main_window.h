@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "fray/render/motion_stage.h"
+#include "fray/pipeline/graph_setup.h"
 #include "fray/setup/hand_made.h"
 #include "fray/setup/scene_setup.h"
 #include "fray/sim/patches.h"
@@ -41,6 +42,7 @@ class QSettings;
 class QCheckBox;
 class QComboBox;
 class QDoubleSpinBox;
+class QFormLayout;
 class QGroupBox;
 class QLabel;
 class QLineEdit;
@@ -133,6 +135,11 @@ public:
     QString currentSetup() const;
     // Imports the selected spec file as a new setup of the project (one undo step) and selects it.
     bool importSpecAsSetup(const QString& name);
+    // A new setup of `kind` with its demo parameters (one undo step), selected
+    // (window_graph_setup.cpp); the Scene panel's kind chooser and New setup.
+    bool newSetup(const QString& name, setup::SetupKind kind);
+    // "graph-duel", "graph-duel 2", ...: the first name of a kind not in use.
+    QString newSetupName(setup::SetupKind kind) const;
     // The patch library generated in the PatternList panel (null: none yet).
     const sim::PatchLibrary* patchLibrary() const { return patchLibrary_.get(); }
     // The current setup's rejected patches.
@@ -420,6 +427,18 @@ private:
     // The checkpoint inspector (Scene panel) and the checkpoint it edits.
     QWidget* makeCheckpointInspector();
     void refreshCheckpointInspector();
+    // The Scene panel's Setup box: kind chooser, New setup, the Interaction
+    // Graph kinds' parameters (window_graph_setup.cpp).
+    QWidget* makeSetupParameters();
+    void refreshSetupParameters();
+    void setGraphParameter(const std::string& key, const std::string& json);
+    QComboBox* newKind_ = nullptr;
+    QFormLayout* paramsForm_ = nullptr;
+    std::vector<QWidget*> paramWidgets_;
+    QLabel* paramsInfo_ = nullptr;
+    bool fillingParams_ = false;
+    // Interaction graphs built in memory by earlier generates (graph setups), reused.
+    std::shared_ptr<pipeline::GraphCache> graphCache_;
     QGroupBox* cpBox_ = nullptr;
     QLabel* cpLabel_ = nullptr;
     QDoubleSpinBox* cpTime_ = nullptr;

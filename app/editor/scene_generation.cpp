@@ -7,6 +7,7 @@
 #include "fray/prep/pipeline.h"
 #include "fray/render/image.h"
 #include "fray/pipeline/setup_run.h"
+#include "fray/setup/graph_setup.h"
 #include "fray/setup/convert.h"
 #include "fray/sim/compose.h"
 #include "fray/sim/compose/domino.h"
@@ -191,7 +192,7 @@ Result<GeneratedScene> generateScene(const GenerateInput& in, const ProgressFn& 
     pipeline::SimSession& s = *shared;
     GeneratedScene out;
     const auto t0 = std::chrono::steady_clock::now();
-    const bool compose = in.setup ? !setup::isTreeExpansion(in.setup->kind) : isComposeSpec(specText);
+    const bool compose = in.setup ? !setup::isSimulateKind(in.setup->kind) : isComposeSpec(specText);
     if (in.setup) {
         // The one path of `fray-cli simulate/compose --setup` (its rejected patches left out).
         std::shared_ptr<const sim::PatchLibrary> patches;
@@ -202,9 +203,21 @@ Result<GeneratedScene> generateScene(const GenerateInput& in, const ProgressFn& 
         }
         out.patches = patches;
         pipeline::SetupRunStats st;
-        auto scene = pipeline::runSetup(s, *in.setup, patches.get(), stage(progress, 0.6, 0.95), &st);
+        const bool graph = setup::isGraphKind(in.setup->kind);
+        // A graph setup's graph may be built here (seconds to minutes): most of the bar.
+        auto scene = pipeline::runSetup(s, *in.setup, patches.get(), stage(progress, graph ? 0.3 : 0.6, 0.95), &st, in.graphs.get());
         if (!scene) return scene.error();
-        out.summary = compose ? QString("%1 '%2': %3 characters, %4 s, %5 hits; %6 patches")
+        const auto& g = st.graph;
+        out.summary = graph ? QString("%1 '%2': %3 characters, %4 s, %5 decisions (%6 off the graph), %7 hits; graph: %8")
+                                  .arg(setup::setupKindName(in.setup->kind))
+                                  .arg(QString::fromStdString(in.setup->name))
+                                  .arg(scene->characters.size())
+                                  .arg(scene->duration, 0, 'f', 1)
+                                  .arg(g.decisions)
+                                  .arg(g.offGraph)
+                                  .arg(scene->hits.size())
+                                  .arg(QString::fromStdString(g.graphSource))
+                    : compose ? QString("%1 '%2': %3 characters, %4 s, %5 hits; %6 patches")
                                     .arg(setup::setupKindName(in.setup->kind))
                                     .arg(QString::fromStdString(in.setup->name))
                                     .arg(scene->characters.size())
@@ -221,6 +234,15 @@ Result<GeneratedScene> generateScene(const GenerateInput& in, const ProgressFn& 
         if (!in.setup->pins.empty() && setup::isTreeExpansion(in.setup->kind)) {
             out.summary += QString(", %1 pinned").arg(in.setup->pins.size());
         }
+        if (in.setup->kind == setup::SetupKind::GraphCarry) {
+            out.summary += QString("; path error mean %1 m, max %2 m; hands within %3 % of the box")
+                               .arg(g.pathErrorMean, 0, 'f', 3)
+                               .arg(g.pathErrorMax, 0, 'f', 2)
+                               .arg(100.0 * g.gripErrorMax, 0, 'f', 2);
+        } else if (graph) {
+            out.summary += QString("; landed %1 (red) vs %2 (blue)").arg(g.landedRed).arg(g.landedBlue);
+        }
+        if (!g.note.empty()) out.summary += "; note: " + QString::fromStdString(g.note);
         // Compose kinds cannot honour pins: said, never silent.
         if (const std::string note = setup::pinsNotHonoured(*in.setup); !note.empty()) out.summary += "; " + QString::fromStdString(note);
         out.loaded.scene = std::move(*scene);

@@ -17,6 +17,7 @@
 
 #include "fray/core/progress.h"
 #include "fray/core/result.h"
+#include "fray/pipeline/graph_setup.h"
 #include "fray/pipeline/sim_session.h"
 #include "fray/prep/project.h"
 #include "fray/setup/scene_setup.h"
@@ -57,6 +58,8 @@ struct GenerateInput {
     // sections differ); else replaced by a fresh one. Only one job uses it at
     // a time.
     std::shared_ptr<pipeline::SimSession> cachedSession;
+    // Interaction graphs built in memory by earlier generates (graph setups; may be null).
+    std::shared_ptr<pipeline::GraphCache> graphs;
 };
 
 struct GeneratedScene {

@@ -40,6 +40,11 @@ QStringList MainWindow::actionsFittingBar(int row, int bar, QString* why) const 
     if (bar < 0 || bar >= static_cast<int>(track.size())) return no("No such action");
     auto st = doc_->sceneSetup(previewSetup_.toStdString());
     if (!st) return no(qs(st.error().message));
+    if (setup::isSimulateKind(st->kind) && !setup::isTreeExpansion(st->kind)) {
+        return no(QString("A %1 scene is played by the Interaction Graph's policies, decision by look-up: only duel and chase setups "
+                          "(tree expansion) plan around pinned actions")
+                      .arg(setup::setupKindName(st->kind)));
+    }
     if (!setup::isTreeExpansion(st->kind)) {
         return no(QString("A %1 scene is composed from Interaction Patches: only duel and chase setups (tree expansion) "
                           "plan around pinned actions")

@@ -27,6 +27,7 @@
 #include <QMenuBar>
 #include <QProgressBar>
 #include <QPushButton>
+#include <QScrollArea>
 #include <QSlider>
 #include <QStandardItemModel>
 #include <QStatusBar>
@@ -113,6 +114,7 @@ void MainWindow::buildSceneDocks() {
     row->addWidget(sceneSource_, 1);
     row->addWidget(open);
     layout->addLayout(row);
+    layout->addWidget(makeSetupParameters());
     auto* importSpec = new QPushButton("Import as setup...");
     importSpec->setObjectName("sceneImportSpec");
     importSpec->setToolTip("Store the selected spec file (and its floor bitmap) in the project as a scene setup");
@@ -175,7 +177,13 @@ void MainWindow::buildSceneDocks() {
     layout->addStretch(1);
     sceneDock_ = new QDockWidget("Scene", this);
     sceneDock_->setObjectName("SceneDock");
-    sceneDock_->setWidget(panel);
+    // Scrolled: with a graph setup's parameters the panel is taller than a small screen leaves it.
+    auto* scroll = new QScrollArea;
+    scroll->setObjectName("scenePanelScroll");
+    scroll->setWidgetResizable(true);
+    scroll->setFrameShape(QFrame::NoFrame);
+    scroll->setWidget(panel);
+    sceneDock_->setWidget(scroll);
     addDockWidget(Qt::LeftDockWidgetArea, sceneDock_);
     splitDockWidget(libraryDock_, sceneDock_, Qt::Vertical);
 
@@ -257,6 +265,7 @@ void MainWindow::fillSceneSources() {
     fillToolCharacters();
     refreshCheckpointInspector();
     refreshSetupOverlay();
+    refreshSetupParameters();
 }
 
 bool MainWindow::selectSetup(const QString& name) {
@@ -300,6 +309,7 @@ void MainWindow::setupEdited(const authoring::ChangeEvent& event) {
     if (qs(event.setup) == currentSetup()) {
         refreshCheckpointInspector();
         refreshSetupOverlay();
+        refreshSetupParameters();
         if (event.kind == authoring::ChangeKind::SetupParameters) fillToolCharacters();
     }
     // Who this edit can affect in the scene playing (when it is this setup's).
@@ -424,6 +434,8 @@ void MainWindow::generate() {
     input->project = doc_->project();
     input->patches = patchLibrary_;
     input->cachedSession = generateSession_;
+    if (!graphCache_) graphCache_ = std::make_shared<pipeline::GraphCache>();
+    input->graphs = graphCache_;
     QString specFile = source;
     if (source.startsWith(kSetupPrefix)) {
         auto st = doc_->sceneSetup(currentSetup().toStdString());

@@ -89,6 +89,7 @@ void MainWindow::buildFloorTools() {
         cpCharacter_.clear(), cpIndex_ = -1;
         refreshCheckpointInspector();
         refreshSetupOverlay();
+        refreshSetupParameters();
     });
 }
 

@@ -10,6 +10,7 @@
 #include "fray/authoring/commands.h"
 #include "fray/authoring/project_document.h"
 #include "fray/core/atomic_file.h"
+#include "fray/setup/graph_setup.h"
 #include "fray/setup/convert.h"
 #include "fray/prep/json_reader.h"  // FRAY_TRY
 
@@ -197,7 +198,14 @@ Status ProjectDocument::replaceSetup(const std::string& name, SceneSetup replace
 Status ProjectDocument::setSetupParameter(const std::string& name, const std::string& pointer, const std::string& json, DragId drag) {
     return editSetup(name, QStringLiteral("Set %1").arg(QString::fromStdString(pointer)), "param" + pointer, drag,
                      {ChangeKind::SetupParameters, {}, -1, 0},
-                     [&](SceneSetup& s) { return setup::setParameter(s, pointer, json); });
+                     [&](SceneSetup& s) -> Status {
+                         if (auto st = setup::setParameter(s, pointer, json); !st) return st;
+                         // An Interaction Graph setup's parameters are checked as they are set (the error names the field).
+                         if (setup::isGraphKind(s.kind)) {
+                             if (auto p = setup::graphParams(s, false); !p) return p.error();
+                         }
+                         return {};
+                     });
 }
 
 // ---- placements and paths --------------------------------------------------------
@@ -244,8 +252,12 @@ Status ProjectDocument::addTrajectory(const std::string& name, setup::Trajectory
     ChangeEvent e{ChangeKind::SetupTrajectory, {}, -1, 0};
     e.character = trajectory.character;
     return editSetup(name, QStringLiteral("Add trajectory"), "trajectories", 0, e, [&](SceneSetup& s) -> Status {
-        if (!setup::isTreeExpansion(s.kind)) {
-            return makeError(who(name) + ": trajectories with checkpoints belong to duel and chase setups");
+        if (s.kind == setup::SetupKind::GraphCarry) {
+            if (trajectory.character != setup::kCarryPathCharacter) {
+                return makeError(who(name) + ": a graph-carry setup's trajectory is the box's path (character 'box')");
+            }
+        } else if (!setup::isTreeExpansion(s.kind)) {
+            return makeError(who(name) + ": trajectories with checkpoints belong to duel, chase and graph-carry setups");
         }
         if (setup::characterIndex(s, trajectory.character) < 0) {
             return makeError(who(name) + ": no character named " + inQ(trajectory.character));

@@ -1,20 +1,22 @@
 #include "fray/pipeline/setup_run.h"
 
 #include "fray/setup/convert.h"
+#include "fray/setup/graph_setup.h"
 #include "fray/sim/planner.h"
 #include "fray/sim/spec.h"
 
 namespace fray::pipeline {
 
 bool setupNeedsPatches(const setup::SceneSetup& s) {
-    if (setup::isTreeExpansion(s.kind)) return false;
+    if (setup::isSimulateKind(s.kind)) return false;
     auto text = setup::setupSpecJson(s);
     return !text || sim::composeNeedsPatches(*text);
 }
 
 Result<sim::Scene> runSetup(const SimSession& session, const setup::SceneSetup& s, const sim::PatchLibrary* patches,
-                            const ProgressFn& progress, SetupRunStats* stats) {
+                            const ProgressFn& progress, SetupRunStats* stats, GraphCache* graphs) {
     const std::string who = "setup '" + s.name + "'";
+    if (setup::isGraphKind(s.kind)) return runGraphSetup(session, s, progress, stats ? &stats->graph : nullptr, graphs);
     if (setup::isTreeExpansion(s.kind)) {
         auto presets = sim::projectPresets(session.session.project, session.session.file.string());
         if (!presets) return presets.error();

@@ -4,12 +4,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 
 #include <nlohmann/json.hpp>
 
 #include "fray/core/atomic_file.h"
 #include "fray/prep/json_reader.h"
 #include "fray/sim/compose/domino.h"
+#include "fray/setup/graph_setup.h"
 
 namespace fray::setup {
 namespace {
@@ -65,6 +68,38 @@ Result<json> pathJson(const Trajectory& t) {
 Result<std::string> setupSpecJson(const SceneSetup& setup) {
     json j = json::parse(setup.spec, nullptr, false);
     if (!j.is_object()) return makeError(what(setup) + ": the parameters are not a JSON object");
+    if (isGraphKind(setup.kind)) {
+        // The parameters with "kind" first and, for carry, the box's "path"
+        // (the form `fray-cli setup import` reads back).
+        json out;
+        out["kind"] = setupKindName(setup.kind);
+        for (auto it = j.begin(); it != j.end(); ++it) {
+            if (it.key() != "kind" && it.key() != "path") out[it.key()] = it.value();
+        }
+        if (const Trajectory* t = carryTrajectory(setup)) {
+            if (t->shape == TrajectoryShape::Circle && t->points.size() == 2 && t->points[0] == Point{0, 0} && t->points[1].z == 0 &&
+                t->points[1].x > 0 && !t->clockwise && t->loop) {
+                char buf[64];
+                std::snprintf(buf, sizeof buf, "circle:%.17g", t->points[1].x);
+                // The shortest spelling that reads back the same.
+                for (int prec = 1; prec <= 17; ++prec) {
+                    char b[64];
+                    std::snprintf(b, sizeof b, "circle:%.*g", prec, t->points[1].x);
+                    if (std::strtod(b + 7, nullptr) == t->points[1].x) {
+                        std::snprintf(buf, sizeof buf, "%s", b);
+                        break;
+                    }
+                }
+                out["path"] = buf;
+            } else {
+                FRAY_TRY(line, sampleTrajectory(*t, 0.1));
+                json pts = json::array();
+                for (const auto& p : line) pts.push_back(json::array({mm(p.x), mm(p.z)}));
+                out["path"] = json{{"loop", t->loop}, {"points", pts}};
+            }
+        }
+        return prep::dumpJson(out, 2);
+    }
     if (isTreeExpansion(setup.kind)) {
         j.erase("kind");
         for (const auto& t : setup.trajectories) {
@@ -147,6 +182,54 @@ Result<sim::ComposeSpec> toComposeSpec(const SceneSetup& setup, const sim::Patch
     return spec;
 }
 
+namespace {
+// An Interaction Graph spec: the parameters as they are (checked by
+// graphParams), a carry's "path" ("circle:R" or {"loop", "points"}) made
+// the box's trajectory.
+Result<SceneSetup> importGraphSpec(SceneSetup s, json j, const JsonReader& rd) {
+    j.erase("kind");
+    if (auto p = j.find("path"); p != j.end()) {
+        if (s.kind != SetupKind::GraphCarry) return rd.error("/path", "only a graph-carry setup has a path");
+        Trajectory t;
+        t.character = kCarryPathCharacter;
+        if (p->is_string()) {
+            const std::string text = p->get<std::string>();
+            char* end = nullptr;
+            const double r = text.rfind("circle:", 0) == 0 ? std::strtod(text.c_str() + 7, &end) : 0;
+            if (!end || *end != '\0' || !std::isfinite(r) || r < 0.5 || r > 1000) {
+                return rd.error("/path", "'" + text + "' is not circle:R (R in [0.5, 1000] m) or {\"loop\", \"points\"}");
+            }
+            t.shape = TrajectoryShape::Circle;
+            t.points = {{0, 0}, {r, 0}};
+            t.loop = true;
+        } else if (p->is_object()) {
+            if (auto l = p->find("loop"); l != p->end()) {
+                FRAY_TRY(b, rd.boolean(*l, "/path/loop"));
+                t.loop = b;
+            }
+            FRAY_TRY(pts, rd.field(*p, "/path", "points"));
+            if (!pts->is_array() || pts->size() < 2) return rd.error("/path/points", "must be an array of at least 2 [x, z] points");
+            for (std::size_t i = 0; i < pts->size(); ++i) {
+                const std::string at = "/path/points/" + std::to_string(i);
+                const json& q = (*pts)[i];
+                if (!q.is_array() || q.size() != 2) return rd.error(at, "must be [x, z]");
+                FRAY_TRY(x, rd.numberIn(q[0], at + "/0", -1e5, 1e5));
+                FRAY_TRY(z, rd.numberIn(q[1], at + "/1", -1e5, 1e5));
+                t.points.push_back({x, z});
+            }
+        } else {
+            return rd.error("/path", "must be circle:R or {\"loop\", \"points\"}");
+        }
+        s.trajectories.push_back(std::move(t));
+        j.erase("path");
+    }
+    s.spec = prep::dumpJson(j);
+    FRAY_TRY(checked, graphParams(s));
+    (void)checked;
+    return s;
+}
+}  // namespace
+
 Result<SceneSetup> importSpec(std::string name, std::string_view text, const std::filesystem::path& specFile,
                               const FloorLoader& loadFloor) {
     if (auto st = checkSetupName(name); !st) return st.error();
@@ -160,10 +243,11 @@ Result<SceneSetup> importSpec(std::string name, std::string_view text, const std
         FRAY_TRY(kindName, rd.string(*k, "/kind"));
         const auto kind = setupKindFromName(kindName);
         if (!kind || isTreeExpansion(*kind)) {
-            return rd.error("/kind", "unknown scene kind '" + kindName + "' (one-vs-many, one-vs-one, domino, luggage, football, rat; "
-                                     "a simulate spec has no kind)");
+            return rd.error("/kind", "unknown scene kind '" + kindName + "' (one-vs-many, one-vs-one, domino, luggage, football, rat, "
+                                     "graph-duel, graph-teams, graph-carry; a simulate spec has no kind)");
         }
         s.kind = *kind;
+        if (isGraphKind(*kind)) return importGraphSpec(std::move(s), j, rd);
     } else {
         FRAY_TRY(cs, rd.field(j, "", "characters"));
         if (!cs->is_array() || cs->empty()) return rd.error("/characters", "must be a non-empty array");

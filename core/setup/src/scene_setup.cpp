@@ -16,7 +16,7 @@ namespace {
 using json = nlohmann::ordered_json;
 using prep::JsonReader;
 
-constexpr int kSectionVersion = 1;
+constexpr int kSectionVersion = 2;  // written only when a graph kind is present (else 1)
 
 struct KindName {
     SetupKind kind;
@@ -25,7 +25,9 @@ struct KindName {
 constexpr KindName kKindNames[] = {{SetupKind::Duel, "duel"},         {SetupKind::Chase, "chase"},
                                    {SetupKind::OneVsMany, "one-vs-many"}, {SetupKind::OneVsOne, "one-vs-one"},
                                    {SetupKind::Domino, "domino"},     {SetupKind::Luggage, "luggage"},
-                                   {SetupKind::Football, "football"}, {SetupKind::Rat, "rat"}};
+                                   {SetupKind::Football, "football"}, {SetupKind::Rat, "rat"},
+                                   {SetupKind::GraphDuel, "graph-duel"}, {SetupKind::GraphTeams, "graph-teams"},
+                                   {SetupKind::GraphCarry, "graph-carry"}};
 
 // The setup's parameters as a JSON object (a setup always holds one: the
 // reader and checkSetup see to it).
@@ -370,7 +372,7 @@ Result<std::vector<SceneSetup>> projectSetups(const prep::Project& project, std:
     if (auto v = j.find("version"); v != j.end()) {
         FRAY_TRY(version, rd.integer(*v, base + "/version"));
         if (version < 1 || version > kSectionVersion) {
-            return rd.error(base + "/version", "version " + std::to_string(version) + " is not supported (this build reads 1)");
+            return rd.error(base + "/version", "version " + std::to_string(version) + " is not supported (this build reads 1 and 2)");
         }
     }
     if (auto s = j.find("setups"); s != j.end()) {
@@ -387,7 +389,11 @@ Result<std::vector<SceneSetup>> projectSetups(const prep::Project& project, std:
 
 std::string setupsToJson(const std::vector<SceneSetup>& setups) {
     json j;
-    j["version"] = kSectionVersion;
+    // Version 2 only with a graph kind, so projects without one keep their bytes.
+    const bool graph = std::any_of(setups.begin(), setups.end(), [](const SceneSetup& s) {
+        return s.kind == SetupKind::GraphDuel || s.kind == SetupKind::GraphTeams || s.kind == SetupKind::GraphCarry;
+    });
+    j["version"] = graph ? kSectionVersion : 1;
     json arr = json::array();
     for (const auto& s : setups) arr.push_back(setupToJson(s));
     j["setups"] = arr;
@@ -502,6 +508,28 @@ SceneSetup makeSetup(std::string name, SetupKind kind) {
         j["rat"] = json{{"path", json::array({json::array({-7, 0}), json::array({7, 0})})}, {"speed", 2.5}, {"start", 1.0}};
         j["crowd"] = 60;
         break;
+    // The Interaction Graph kinds: `fray-cli igraph play`'s defaults
+    // (docs/IGRAPH.md), so a new setup plays what `igraph play` plays.
+    case SetupKind::GraphDuel:
+        j = json{{"version", 1}, {"duration", 20}, {"seed", 1}, {"you", "graph"}, {"style", "general"}, {"depth", 3},
+                 {"opponent", "graph"}, {"opponent_style", "general"}, {"opponent_depth", 3}, {"distance", 1.3}, {"jitter", 0.3},
+                 {"graph_states", 80000}};
+        break;
+    case SetupKind::GraphTeams:
+        j = json{{"version", 1}, {"duration", 20}, {"seed", 1}, {"red", 10}, {"blue", 10}, {"style", "general"}, {"depth", 3},
+                 {"opponent_style", "general"}, {"opponent_depth", 3}, {"jitter", 0.2}, {"graph_states", 80000}};
+        break;
+    case SetupKind::GraphCarry: {
+        j = json{{"version", 1}, {"duration", 60}, {"seed", 1}, {"depth", 3}, {"carry_states", 20000}};
+        // The box's path: a circle of 3 m about the origin (igraph play --path circle:3).
+        Trajectory t;
+        t.character = "box";
+        t.shape = TrajectoryShape::Circle;
+        t.points = {{0, 0}, {3, 0}};
+        t.loop = true;
+        s.trajectories.push_back(std::move(t));
+        break;
+    }
     }
     storeSpec(s, j);
     return s;
@@ -511,6 +539,20 @@ SceneSetup makeSetup(std::string name, SetupKind kind) {
 
 std::vector<SetupCharacter> characters(const SceneSetup& setup) {
     std::vector<SetupCharacter> out;
+    if (setup.kind == SetupKind::GraphCarry) {
+        // The box (its middle follows the setup's trajectory): what the trajectory tools draw for.
+        SetupCharacter box;
+        box.name = "box";
+        for (const auto& t : setup.trajectories) {
+            // Where the path starts: a circle's point on the rim, else its first point.
+            if (t.character != box.name || t.points.empty()) continue;
+            const Point& p = t.shape == TrajectoryShape::Circle && t.points.size() > 1 ? t.points[1] : t.points[0];
+            box.start = {p.x, p.z, 0};
+        }
+        out.push_back(box);
+        return out;
+    }
+    if (setup.kind == SetupKind::GraphDuel || setup.kind == SetupKind::GraphTeams) return out;  // seeded placements
     const json j = specObject(setup);
     const auto cs = j.find("characters");
     if (cs == j.end() || !cs->is_array()) return out;
@@ -548,6 +590,10 @@ Status setCharacterStart(SceneSetup& setup, std::string_view character, const Pl
     if (!finite(start.x) || !finite(start.z) || !finite(start.headingDeg) || std::fabs(start.x) > 1e5 || std::fabs(start.z) > 1e5 ||
         std::fabs(start.headingDeg) > 1e6) {
         return setupError(setup, "the start of '" + std::string(character) + "' must be finite and within 100 km");
+    }
+    if (setup.kind == SetupKind::GraphDuel || setup.kind == SetupKind::GraphTeams || setup.kind == SetupKind::GraphCarry) {
+        return setupError(setup, std::string("a ") + setupKindName(setup.kind) +
+                                     " setup places its characters by its seed and parameters (distance, jitter; the carry path)");
     }
     const int index = characterIndex(setup, character);
     if (index < 0) return setupError(setup, "no character named '" + std::string(character) + "'");

@@ -1,10 +1,11 @@
 #pragma once
 // Running a scene setup (issue 23): plan a duel or chase by tree expansion,
-// or compose the other kinds from the patch library less the setup's
-// rejected patches. One path for `fray-cli simulate/compose --setup` and the
+// play an Interaction Graph kind (fray/pipeline/graph_setup.h), or compose
+// the other kinds from the patch library less the setup's rejected patches. One path for `fray-cli simulate/compose --setup` and the
 // editor's Generate, so both make the same scene bytes.
 #include "fray/core/progress.h"
 #include "fray/core/result.h"
+#include "fray/pipeline/graph_setup.h"
 #include "fray/pipeline/sim_session.h"
 #include "fray/setup/scene_setup.h"
 #include "fray/sim/compose.h"
@@ -21,12 +22,13 @@ bool setupNeedsPatches(const setup::SceneSetup& setup);
 struct SetupRunStats {
     sim::PlannerStats planner;  // duel, chase
     sim::ComposeStats compose;  // the other kinds
+    GraphRunStats graph;        // graph-duel, graph-teams, graph-carry
 };
 
 // The scene of a setup. `patches` is the project's patch library when
 // setupNeedsPatches (else it may be null). Errors name the setup and the
 // JSON path of the bad parameter; cancel through `progress`.
 Result<sim::Scene> runSetup(const SimSession& session, const setup::SceneSetup& setup, const sim::PatchLibrary* patches,
-                            const ProgressFn& progress = {}, SetupRunStats* stats = nullptr);
+                            const ProgressFn& progress = {}, SetupRunStats* stats = nullptr, GraphCache* graphs = nullptr);
 
 }  // namespace fray::pipeline

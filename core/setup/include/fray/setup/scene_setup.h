@@ -28,17 +28,25 @@
 namespace fray::setup {
 
 inline constexpr const char* kSetupSection = "scene";
-// Section version 1. The floor's "data" is packed bits since f5a5a8a; a
+// Section version 1; 2 when a setup of an Interaction Graph kind is in it
+// (so a build from before them says the version is not supported instead of
+// naming a kind it does not know); both are read. The floor's "data" is packed bits since f5a5a8a; a
 // project saved by the very first setups commit (one byte a pixel) reads as
 // damaged floor data: import the bitmap again.
 
 // duel and chase are planned by tree expansion (fray-cli simulate); the
-// others are composed from Interaction Patches (fray-cli compose).
-enum class SetupKind { Duel, Chase, OneVsMany, OneVsOne, Domino, Luggage, Football, Rat };
-const char* setupKindName(SetupKind kind);  // duel, chase, one-vs-many, one-vs-one, domino, luggage, football, rat
+// graph kinds are played by the Interaction Graph (fray-cli simulate, as
+// `igraph play`; fray/setup/graph_setup.h); the others are composed from
+// Interaction Patches (fray-cli compose).
+enum class SetupKind { Duel, Chase, OneVsMany, OneVsOne, Domino, Luggage, Football, Rat, GraphDuel, GraphTeams, GraphCarry };
+// duel, chase, one-vs-many, one-vs-one, domino, luggage, football, rat, graph-duel, graph-teams, graph-carry
+const char* setupKindName(SetupKind kind);
 std::optional<SetupKind> setupKindFromName(std::string_view name);
 const std::vector<SetupKind>& allSetupKinds();
 inline bool isTreeExpansion(SetupKind k) { return k == SetupKind::Duel || k == SetupKind::Chase; }
+// Run by `fray-cli simulate --setup` (tree expansion and the Interaction
+// Graph); the others by `fray-cli compose --setup`.
+inline bool isSimulateKind(SetupKind k) { return isTreeExpansion(k) || k == SetupKind::GraphDuel || k == SetupKind::GraphTeams || k == SetupKind::GraphCarry; }
 
 struct Point {
     double x = 0, z = 0;

@@ -1,0 +1,286 @@
+// MainWindow: new setups of any kind and the parameters of the Interaction
+// Graph kinds (graph-duel, graph-teams, graph-carry) in the Scene panel
+// (docs/EDITOR.md "Interaction Graph setups"). Every parameter edit is one
+// undo command (ProjectDocument::setSetupParameter), checked as it is made;
+// Generate runs them through pipeline::runSetup like any setup.
+#include <QCheckBox>
+#include <QComboBox>
+#include <QDoubleSpinBox>
+#include <QFormLayout>
+#include <QGroupBox>
+#include <QHBoxLayout>
+#include <QInputDialog>
+#include <QLabel>
+#include <QLineEdit>
+#include <QPushButton>
+#include <QSignalBlocker>
+#include <QSpinBox>
+#include <QVBoxLayout>
+#include <charconv>
+
+#include "fray/authoring/project_document.h"
+#include "fray/igraph/carry.h"
+#include "fray/setup/graph_setup.h"
+#include "main_window.h"
+
+namespace fray::editor {
+namespace {
+
+using setup::SetupKind;
+
+QString qs(const std::string& s) { return QString::fromStdString(s); }
+
+// A number as JSON text, the shortest spelling that reads back the same.
+std::string jsonNumber(double v) {
+    char buf[64];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v);
+    return std::string(buf, r.ptr);
+}
+
+enum class FieldType { Int, Double, Choice, Bool };
+struct Field {
+    const char* key;    // JSON pointer without the leading '/'
+    const char* label;
+    FieldType type;
+    double lo, hi, step;
+    const char* choices;  // Choice: '|'-separated
+    bool duel, teams, carry;
+    const char* tip;
+};
+
+constexpr Field kFields[] = {
+    {"duration", "Duration (s)", FieldType::Double, 0.1, 3600, 1, "", true, true, true, "How long the scene lasts"},
+    {"seed", "Seed", FieldType::Int, 0, 2147483647, 1, "", true, true, true,
+     "Start placements and the match (duel, teams); the carry graph's sampling and the run (carry)"},
+    {"you", "Red boxer (you)", FieldType::Choice, 0, 0, 0, "graph|static", true, false, false,
+     "graph: driven by the graph's policy; static: a static target (idles and guards, never attacks)"},
+    {"style", "Red style", FieldType::Choice, 0, 0, 0, "general|infighter|outboxer", true, true, false, "Boxing style of red's policy"},
+    {"depth", "Depth", FieldType::Int, 1, 64, 1, "", true, true, true, "Min-max depth of red's policy (carry: of the 8 direction policies)"},
+    {"opponent", "Blue boxer", FieldType::Choice, 0, 0, 0, "graph|static", true, false, false,
+     "graph: a second graph boxer; static: a static target"},
+    {"opponent_style", "Blue style", FieldType::Choice, 0, 0, 0, "general|infighter|outboxer", true, true, false, "Boxing style of blue's policy"},
+    {"opponent_depth", "Blue depth", FieldType::Int, 1, 64, 1, "", true, true, false, "Min-max depth of blue's policy"},
+    {"red", "Red team", FieldType::Int, 1, 5000, 1, "", false, true, false, "Characters on the red side"},
+    {"blue", "Blue team", FieldType::Int, 1, 5000, 1, "", false, true, false, "Characters on the blue side"},
+    {"distance", "Distance (m)", FieldType::Double, 0.5, 10, 0.1, "", true, false, false, "The boxers' start distance"},
+    {"jitter", "Jitter", FieldType::Double, 0, 2, 0.05, "", true, true, false, "Seeded placement jitter: metres, and degrees / 20"},
+    {"refine", "Refined look-ups", FieldType::Bool, 0, 0, 0, "", true, true, false,
+     "Graph boxers re-simulate their state's edges from the real bodies (slower; docs/IGRAPH.md)"},
+    {"graph_states", "Graph states", FieldType::Int, 16, 10000000, 1000, "", true, true, false,
+     "Size of a graph built in memory when the project has no valid graph file beside it (P.frayproj.igraph)"},
+    {"carry_states", "Carry graph states", FieldType::Int, 16, 1000000, 1000, "", false, false, true, "Size of the carry graph (built in memory)"},
+    {"weights/w_theta", "w_theta", FieldType::Double, 0, 1e6, 0.5, "", false, false, true, "Reward weight of the carriers' facing angles"},
+    {"weights/w_d", "w_d", FieldType::Double, 0, 1e6, 10, "", false, false, true, "Reward weight of the grip-distance error"},
+    {"weights/w_v", "w_v", FieldType::Double, 0, 1e6, 1, "", false, false, true, "Reward weight of the box's velocity error"},
+    {"weights/speed", "Speed (m/s)", FieldType::Double, 0, 10, 0.05, "", false, false, true, "The box's desired speed along the path"},
+    {"weights/gamma", "gamma", FieldType::Double, 0, 1, 0.05, "", false, false, true, "Discount of the carry policies"},
+};
+
+bool fieldOf(const Field& f, SetupKind k) {
+    return (k == SetupKind::GraphDuel && f.duel) || (k == SetupKind::GraphTeams && f.teams) || (k == SetupKind::GraphCarry && f.carry);
+}
+
+QString objectNameOf(const Field& f) { return "param_" + QString(f.key).replace('/', '_'); }
+
+// The value a field shows: the parameter read by graphParams (its default when absent).
+double valueOf(const setup::GraphSetupParams& p, const std::string& key) {
+    if (key == "duration") return p.duration;
+    if (key == "seed") return static_cast<double>(p.seed);
+    if (key == "depth") return p.depth;
+    if (key == "opponent_depth") return p.opponentDepth;
+    if (key == "red") return p.red;
+    if (key == "blue") return p.blue;
+    if (key == "distance") return p.distance;
+    if (key == "jitter") return p.jitter;
+    if (key == "refine") return p.refine ? 1 : 0;
+    if (key == "graph_states") return static_cast<double>(p.graphStates);
+    if (key == "carry_states") return static_cast<double>(p.carryStates);
+    if (key.starts_with("weights/")) {
+        const std::string name = key.substr(8);
+        for (const auto& [n, v] : p.carryWeights)
+            if (n == name) return v;
+        const igraph::CarryWeights w;
+        if (name == "w_theta") return w.wTheta;
+        if (name == "w_d") return w.wD;
+        if (name == "w_v") return w.wV;
+        if (name == "speed") return w.speed;
+        return w.gamma;
+    }
+    return 0;
+}
+std::string choiceOf(const setup::GraphSetupParams& p, const std::string& key) {
+    if (key == "you") return p.you;
+    if (key == "opponent") return p.opponent;
+    if (key == "style") return p.style;
+    return p.opponentStyle;
+}
+
+const char* kindTitle(SetupKind k) {
+    switch (k) {
+    case SetupKind::Duel: return "duel (tree expansion)";
+    case SetupKind::Chase: return "chase (tree expansion)";
+    case SetupKind::OneVsMany: return "one-vs-many (patches)";
+    case SetupKind::OneVsOne: return "one-vs-one (patches)";
+    case SetupKind::Domino: return "domino (patches)";
+    case SetupKind::Luggage: return "luggage (patches)";
+    case SetupKind::Football: return "football (patches)";
+    case SetupKind::Rat: return "rat (patches)";
+    case SetupKind::GraphDuel: return "graph-duel (Interaction Graph)";
+    case SetupKind::GraphTeams: return "graph-teams (Interaction Graph)";
+    case SetupKind::GraphCarry: return "graph-carry (Interaction Graph)";
+    }
+    return "";
+}
+
+}  // namespace
+
+QWidget* MainWindow::makeSetupParameters() {
+    auto* box = new QGroupBox("Setup");
+    box->setObjectName("setupBox");
+    auto* v = new QVBoxLayout(box);
+    v->setContentsMargins(4, 4, 4, 4);
+    auto* row = new QHBoxLayout;
+    newKind_ = new QComboBox;
+    newKind_->setObjectName("sceneNewKind");
+    newKind_->setToolTip("The kind of a new setup: tree expansion, Interaction Patches or the Interaction Graph");
+    for (SetupKind k : setup::allSetupKinds()) newKind_->addItem(kindTitle(k), QString(setup::setupKindName(k)));
+    auto* add = new QPushButton("New setup");
+    add->setObjectName("sceneNewSetup");
+    add->setToolTip("Add a setup of the chosen kind with its demo parameters (one undo step) and select it");
+    connect(add, &QPushButton::clicked, this, [this] {
+        const auto kind = setup::setupKindFromName(newKind_->currentData().toString().toStdString());
+        if (!kind) return;
+        QString name = newSetupName(*kind);
+        if (!options_.noDialogs) {
+            bool ok = false;
+            name = QInputDialog::getText(this, "New setup", "Setup name", QLineEdit::Normal, name, &ok).trimmed();
+            if (!ok || name.isEmpty()) return;
+        }
+        newSetup(name, *kind);
+    });
+    row->addWidget(newKind_, 1);
+    row->addWidget(add);
+    v->addLayout(row);
+    paramsForm_ = new QFormLayout;
+    paramsForm_->setContentsMargins(0, 0, 0, 0);
+    for (const Field& f : kFields) {
+        QWidget* w = nullptr;
+        const std::string key = f.key;
+        switch (f.type) {
+        case FieldType::Int: {
+            auto* s = new QSpinBox;
+            s->setRange(static_cast<int>(f.lo), static_cast<int>(f.hi));
+            s->setSingleStep(static_cast<int>(f.step));
+            s->setKeyboardTracking(false);
+            connect(s, &QSpinBox::valueChanged, this, [this, key](int x) { setGraphParameter(key, std::to_string(x)); });
+            w = s;
+            break;
+        }
+        case FieldType::Double: {
+            auto* s = new QDoubleSpinBox;
+            s->setRange(f.lo, f.hi);
+            s->setSingleStep(f.step);
+            s->setDecimals(3);
+            s->setKeyboardTracking(false);
+            connect(s, &QDoubleSpinBox::valueChanged, this, [this, key](double x) { setGraphParameter(key, jsonNumber(x)); });
+            w = s;
+            break;
+        }
+        case FieldType::Choice: {
+            auto* c = new QComboBox;
+            for (const QString& item : QString(f.choices).split('|')) c->addItem(item);
+            connect(c, &QComboBox::currentTextChanged, this, [this, key](const QString& t) { setGraphParameter(key, "\"" + t.toStdString() + "\""); });
+            w = c;
+            break;
+        }
+        case FieldType::Bool: {
+            auto* c = new QCheckBox;
+            connect(c, &QCheckBox::toggled, this, [this, key](bool on) { setGraphParameter(key, on ? "true" : "false"); });
+            w = c;
+            break;
+        }
+        }
+        w->setObjectName(objectNameOf(f));
+        w->setToolTip(f.tip);
+        paramsForm_->addRow(f.label, w);
+        paramWidgets_.push_back(w);
+    }
+    v->addLayout(paramsForm_);
+    paramsInfo_ = new QLabel;
+    paramsInfo_->setObjectName("setupParamsInfo");
+    paramsInfo_->setWordWrap(true);
+    v->addWidget(paramsInfo_);
+    refreshSetupParameters();
+    return box;
+}
+
+QString MainWindow::newSetupName(setup::SetupKind kind) const {
+    const QString base = setup::setupKindName(kind);
+    auto setups = doc_ ? doc_->setups() : Result<std::vector<setup::SceneSetup>>(std::vector<setup::SceneSetup>{});
+    for (int n = 1;; ++n) {
+        const QString name = n == 1 ? base : QString("%1 %2").arg(base).arg(n);
+        if (!setups || !setup::findSetup(*setups, name.toStdString())) return name;
+    }
+}
+
+bool MainWindow::newSetup(const QString& name, setup::SetupKind kind) {
+    if (!doc_) {
+        toolMessage("Open a project to add a setup to it", true);
+        return false;
+    }
+    if (Status st = doc_->addSetup(name.toStdString(), kind); !st) {
+        showError("New setup", qs(st.error().message));
+        return false;
+    }
+    fillSceneSources();
+    const bool ok = selectSetup(name);
+    // A carry setup's path is drawn for the box: the trajectory tools draw for it.
+    if (kind == SetupKind::GraphCarry) selectToolCharacter(setup::kCarryPathCharacter);
+    return ok;
+}
+
+void MainWindow::setGraphParameter(const std::string& key, const std::string& json) {
+    if (fillingParams_ || !doc_ || currentSetup().isEmpty()) return;
+    if (Status st = doc_->setSetupParameter(currentSetup().toStdString(), "/" + key, json); !st) {
+        toolMessage(qs(st.error().message), true);
+        refreshSetupParameters();  // the widget shows the stored value again
+    }
+}
+
+void MainWindow::refreshSetupParameters() {
+    if (!paramsForm_) return;
+    fillingParams_ = true;
+    std::optional<setup::SceneSetup> s;
+    if (doc_ && !currentSetup().isEmpty()) {
+        if (auto r = doc_->sceneSetup(currentSetup().toStdString())) s = std::move(*r);
+    }
+    const bool graph = s && setup::isGraphKind(s->kind);
+    Result<setup::GraphSetupParams> p = graph ? setup::graphParams(*s, false) : Result<setup::GraphSetupParams>(setup::GraphSetupParams{});
+    for (std::size_t i = 0; i < std::size(kFields); ++i) {
+        const Field& f = kFields[i];
+        QWidget* w = paramWidgets_[i];
+        const bool shown = graph && fieldOf(f, s->kind);
+        paramsForm_->setRowVisible(w, shown);
+        if (!shown || !p) continue;
+        const QSignalBlocker quiet(w);
+        switch (f.type) {
+        case FieldType::Int: static_cast<QSpinBox*>(w)->setValue(static_cast<int>(valueOf(*p, f.key))); break;
+        case FieldType::Double: static_cast<QDoubleSpinBox*>(w)->setValue(valueOf(*p, f.key)); break;
+        case FieldType::Choice: static_cast<QComboBox*>(w)->setCurrentText(qs(choiceOf(*p, f.key))); break;
+        case FieldType::Bool: static_cast<QCheckBox*>(w)->setChecked(valueOf(*p, f.key) != 0); break;
+        }
+    }
+    if (!s) paramsInfo_->setText("No setup selected: pick one above, or a kind and New setup.");
+    else if (!graph) paramsInfo_->setText(QString("%1 setup: edit it on the floor (Floor tools) or with fray-cli setup.").arg(setup::setupKindName(s->kind)));
+    else if (!p) paramsInfo_->setText("The parameters cannot be read: " + qs(p.error().message));
+    else if (s->kind == SetupKind::GraphCarry)
+        paramsInfo_->setText(setup::carryTrajectory(*s) ? "Two carriers of a long box follow the box's path (trajectory of 'box': redraw it with "
+                                                          "the Polyline, Arc or Circle tool)."
+                                                        : "Draw the box's path: the Polyline, Arc or Circle tool, character 'box'.");
+    else
+        paramsInfo_->setText("Driven by the Interaction Graph: the graph file beside the project when valid (fray-cli igraph build), "
+                             "else built in memory (Graph states) on the first Generate.");
+    fillingParams_ = false;
+}
+
+}  // namespace fray::editor
