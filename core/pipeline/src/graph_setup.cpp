@@ -74,16 +74,27 @@ Result<std::shared_ptr<const igraph::Graph>> duelGraphFor(const SimSession& sess
     return shared;
 }
 
-// ---- THE ONE PLACE A CARRY GRAPH FILE WOULD BE LOADED ----------------------------
-// Today the carry graph is built in memory (igraph::buildCarryGraph), as
-// `igraph play --kind carry` builds it; a carry graph file beside the project
-// (being added to core/igraph separately) would be read and checked here
-// first, falling back to the build below when it is missing or invalid.
+// The carry graph: PROJECT.carry.igraph when it is there, valid for the
+// project's library and built with the setup's number of states (as
+// `igraph play --kind carry` takes it), else one built in memory.
 Result<std::shared_ptr<const igraph::CarryGraph>> carryGraphFor(const SimSession& session, const setup::GraphSetupParams& p,
                                                                 const ProgressFn& progress, GraphRunStats& stats, GraphCache* cache) {
     igraph::CarryOptions o;  // as `igraph play --kind carry --seed S --carry-states N`
     o.seed = p.seed;
     o.maxSamples = p.carryStates;
+    const fs::path file = carryGraphFileOf(session.session.file);
+    std::error_code ec;
+    if (fs::exists(file, ec)) {
+        auto g = igraph::loadCarryGraph(file, session.library);
+        if (g && g->options.maxSamples == o.maxSamples) {
+            stats.graphSource = file.filename().string();
+            return std::make_shared<const igraph::CarryGraph>(std::move(*g));
+        }
+        stats.note = (g ? file.filename().string() + " was built with " + std::to_string(g->options.maxSamples) +
+                              " states at most, the setup asks " + std::to_string(o.maxSamples)
+                        : g.error().message) +
+                     "; building the carry graph in memory instead (fray-cli igraph build --kind carry rebuilds the file)";
+    }
     const std::uint64_t key = mix(mix(mix(sim::libraryFingerprint(session.library), 0xCA77ull), p.seed), static_cast<std::uint64_t>(p.carryStates));
     if (cache) {
         std::lock_guard lock(cache->mutex);
@@ -166,6 +177,7 @@ Result<sim::Scene> runCarrySetup(const SimSession& session, const setup::SceneSe
 }  // namespace
 
 fs::path graphFileOf(const fs::path& project) { return fs::path(project.string() + ".igraph"); }
+fs::path carryGraphFileOf(const fs::path& project) { return fs::path(project.string() + ".carry.igraph"); }
 
 Result<sim::Scene> runGraphSetup(const SimSession& session, const setup::SceneSetup& s, const ProgressFn& progress, GraphRunStats* statsOut,
                                  GraphCache* cache) {

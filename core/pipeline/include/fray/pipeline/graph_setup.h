@@ -53,6 +53,8 @@ struct GraphRunStats {
 
 // The graph file of a project: P.frayproj -> P.frayproj.igraph.
 std::filesystem::path graphFileOf(const std::filesystem::path& project);
+// PROJECT.carry.igraph: the carry graph `fray-cli igraph build --kind carry` writes.
+std::filesystem::path carryGraphFileOf(const std::filesystem::path& project);
 
 // The scene of a graph setup. `projectFile` locates the graph file (the
 // session's project file when empty). Errors name the setup and the field.
