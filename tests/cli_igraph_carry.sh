@@ -32,10 +32,10 @@ check "no scene or graph from bad input" "[ ! -e '$tmp/x.frayscene' ] && [ ! -e 
 
 # The carry graph file: igraph build --kind carry writes it (the same bytes
 # every time), stats reads it, play loads it and plays as a graph built in memory.
-"$cli" igraph build "$p" --kind carry --max-states 3000 -o "$tmp/c.igraph" -q > "$tmp/build.txt"
+"$cli" igraph build "$p" --kind carry --max-states 1500 -o "$tmp/c.igraph" -q > "$tmp/build.txt"
 check "carry build summary" "grep -q 'c.igraph: carry graph, [0-9]* states, [0-9]* edges' '$tmp/build.txt'"
 check "carry build report" "grep -q build_seconds '$tmp/c.igraph.build.json'"
-"$cli" igraph build "$p" --kind carry --max-states 3000 -o "$tmp/c2.igraph" -q > /dev/null
+"$cli" igraph build "$p" --kind carry --max-states 1500 -o "$tmp/c2.igraph" -q > /dev/null
 check "same bytes every build" "cmp -s '$tmp/c.igraph' '$tmp/c2.igraph'"
 "$cli" igraph stats "$tmp/c.igraph" > "$tmp/stats.txt"
 check "stats: a carry graph" "grep -q 'carry graph (two carriers of a 1.60 m box' '$tmp/stats.txt' && grep -q '  build: [0-9.]* s, peak' '$tmp/stats.txt'"
@@ -50,7 +50,7 @@ PY
 check "carry policies from the file" "grep -q '8 carry policies depth 3 over [0-9]* states in' '$tmp/policy.txt'"
 "$cli" igraph play "$p" --kind carry --graph "$tmp/c.igraph" --seconds 10 -o "$tmp/loaded.frayscene" -q > "$tmp/loaded.txt"
 check "play reads the file" "grep -q 'read from .*c.igraph in' '$tmp/loaded.txt'"
-"$cli" igraph play "$p" --kind carry --carry-states 3000 --seconds 10 -o "$tmp/built.frayscene" -q > "$tmp/built.txt"
+"$cli" igraph play "$p" --kind carry --carry-states 1500 --seconds 10 -o "$tmp/built.frayscene" -q > "$tmp/built.txt"
 check "built in memory without a file" "grep -q 'built in' '$tmp/built.txt'"
 check "loaded and built graphs play alike" \
   "[ \"\$(grep -o 'decisions.*' '$tmp/loaded.txt')\" = \"\$(grep -o 'decisions.*' '$tmp/built.txt')\" ]"
@@ -59,7 +59,7 @@ cp "$tmp/c.igraph" "$p.carry.igraph"
 "$cli" igraph play "$p" --kind carry --seconds 5 -o "$tmp/default.frayscene" -q > "$tmp/default.txt"
 check "play reads the default file" "grep -q 'read from .*demo.frayproj.carry.igraph' '$tmp/default.txt'"
 printf '\x00\x00\x00\x00' | dd of="$p.carry.igraph" bs=1 seek=3000 conv=notrunc 2>/dev/null
-"$cli" igraph play "$p" --kind carry --seconds 5 --carry-states 3000 -o "$tmp/rebuilt.frayscene" -q > "$tmp/rebuilt.txt" 2> "$tmp/rebuilt.err"
+"$cli" igraph play "$p" --kind carry --seconds 5 --carry-states 1500 -o "$tmp/rebuilt.frayscene" -q > "$tmp/rebuilt.txt" 2> "$tmp/rebuilt.err"
 check "damaged default: message" "grep -q 'carry.igraph: the carry graph file is truncated or corrupt.*building the carry graph in memory' '$tmp/rebuilt.err'"
 check "damaged default: built" "grep -q 'built in' '$tmp/rebuilt.txt'"
 # Bad graph files given with --graph: refused, nothing written.
@@ -72,7 +72,7 @@ printf 'FRAYIGPH\x01\x00\x00\x00not really' > "$tmp/duel.igraph"
 expect_fail "a duel's graph" "duel.igraph: an interaction graph for a duel or team fight" \
   "$cli" igraph play "$p" --kind carry --graph "$tmp/duel.igraph" -o "$tmp/x.frayscene" -q
 expect_fail "not a graph" "path.json: not a Fray carry graph file" "$cli" igraph play "$p" --kind carry --graph "$tmp/path.json" -o "$tmp/x.frayscene" -q
-expect_fail "other --carry-states" "was built with 3000" \
+expect_fail "other --carry-states" "was built with 1500" \
   "$cli" igraph play "$p" --kind carry --graph "$tmp/c.igraph" --carry-states 5000 -o "$tmp/x.frayscene" -q
 expect_fail "not overwriting" "path.json: exists and is not a carry graph file: not overwriting it" \
   "$cli" igraph build "$p" --kind carry -o "$tmp/path.json" -q
