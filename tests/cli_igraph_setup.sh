@@ -78,4 +78,11 @@ echo '{"kind": "graph-carry", "duration": 8, "carry_states": 3000, "path": {"loo
 "$cli" setup "$c" import gline --spec line.json -q > /dev/null
 "$cli" simulate "$c" --setup gline -o setup-line.frayscene -q > /dev/null
 check "polyline path" "grep -q '\"body\": \"box\"' setup-line.frayscene"
+# With a carry graph file beside the project (built with the setup's size) the
+# setup reads it, as igraph play does, and both give the same bytes again.
+"$cli" igraph build "$c" --kind carry --max-states 3000 -q > /dev/null
+"$cli" simulate "$c" --setup gcarry -o setup-carry-file.frayscene -q > carry-file.txt
+check "carry graph read from the file" "grep -q 'graph: demo.frayproj.carry.igraph' carry-file.txt"
+"$cli" igraph play "$c" --kind carry --path circle:3 --seconds 10 -o play-carry-file.frayscene -q > /dev/null
+check "graph-carry with the file = igraph play with the file" "cmp -s setup-carry-file.frayscene play-carry-file.frayscene"
 echo "cli_igraph_setup: ok"
