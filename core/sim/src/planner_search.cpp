@@ -6,7 +6,6 @@
 #include <cmath>
 #include <numeric>
 #include <optional>
-#include <unordered_map>
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -390,9 +389,6 @@ struct StateHash {
         return static_cast<std::size_t>(h ^ (h >> 29));
     }
 };
-struct StateEq {
-    bool operator()(const GroupState& x, const GroupState& y) const { return sameState(x, y); }
-};
 
 // What a bounded frontier node (boundedFrontier) found, for when the search
 // meets the same state again in this decision (different actions that end
@@ -412,8 +408,62 @@ struct FrontierMemo {
         std::uint32_t begin = 0, count = 0;
         bool complete = false;  // every candidate is in the steps
     };
-    std::unordered_map<GroupState, Entry, StateHash, StateEq> entries;
+    // An open-addressing table (linear probing, power-of-two size, at most
+    // half full) of slots holding a state's full hash and its place in
+    // states/entries: a miss usually costs one slot, a hit one state compare.
+    struct Slot {
+        std::uint64_t hash = 0;
+        std::uint32_t index = 0;  // 1 + the place in states and entries; 0: empty
+    };
+    std::vector<Slot> slots;
+    std::vector<GroupState> states;
+    std::vector<Entry> entries;
     std::vector<FrontierStep> steps;
+
+    static std::uint64_t hashOf(const GroupState& g) {
+        // StateHash's value with its bits spread to the low ones the table indexes by.
+        std::uint64_t x = static_cast<std::uint64_t>(StateHash{}(g));
+        x = (x ^ (x >> 33)) * 0xff51afd7ed558ccdull;
+        return x ^ (x >> 33);
+    }
+    // The entry of g, or null.
+    const Entry* find(const GroupState& g, std::uint64_t h) const {
+        if (slots.empty()) return nullptr;
+        const std::size_t mask = slots.size() - 1;
+        for (std::size_t i = static_cast<std::size_t>(h) & mask;; i = (i + 1) & mask) {
+            const Slot& s = slots[i];
+            if (s.index == 0) return nullptr;
+            if (s.hash == h && sameState(states[s.index - 1], g)) return &entries[s.index - 1];
+        }
+    }
+    // The entry of g, added (empty) when new.
+    Entry& at(const GroupState& g, std::uint64_t h) {
+        if (2 * (states.size() + 1) > slots.size()) grow();
+        const std::size_t mask = slots.size() - 1;
+        for (std::size_t i = static_cast<std::size_t>(h) & mask;; i = (i + 1) & mask) {
+            Slot& s = slots[i];
+            if (s.index == 0) {
+                states.push_back(g);
+                entries.emplace_back();
+                s = {h, static_cast<std::uint32_t>(states.size())};
+                return entries.back();
+            }
+            if (s.hash == h && sameState(states[s.index - 1], g)) return entries[s.index - 1];
+        }
+    }
+
+private:
+    void grow() {
+        std::vector<Slot> old(std::max<std::size_t>(1024, 2 * slots.size()));
+        old.swap(slots);
+        const std::size_t mask = slots.size() - 1;
+        for (const Slot& s : old) {
+            if (s.index == 0) continue;
+            std::size_t i = static_cast<std::size_t>(s.hash) & mask;
+            while (slots[i].index != 0) i = (i + 1) & mask;
+            slots[i] = s;
+        }
+    }
 };
 
 // Storage one search reuses from node to node (no allocation per node once
@@ -456,14 +506,15 @@ std::optional<Value> boundedFrontier(const Context& ctx, const GroupState& g, in
     auto stepValue = [&](const FrontierStep& st) {
         return Value{acc.comp + (mx ? st.e.comp : -st.e.comp), acc.coop + st.e.coop};
     };
-    if (const auto it = ctx.opt->reuseNodes ? memo.entries.find(g) : memo.entries.end(); it != memo.entries.end()) {
+    const std::uint64_t stateHash = ctx.opt->reuseNodes ? FrontierMemo::hashOf(g) : 0;
+    if (const FrontierMemo::Entry* found = ctx.opt->reuseNodes ? memo.find(g, stateHash) : nullptr) {
         // Replay: the same candidates in the same order with this visit's
         // path sum and window; the same counts as running the node again.
         Value best;
         bool have = false;
         bool done = false;
         std::int64_t leaves = 0, cutoffs = 0;
-        const auto& entry = it->second;
+        const auto& entry = *found;
         std::uint32_t i = 0;
         for (; i < entry.count && !done; ++i) {
             const FrontierStep& st = memo.steps[entry.begin + i];
@@ -551,7 +602,7 @@ std::optional<Value> boundedFrontier(const Context& ctx, const GroupState& g, in
         if (!have) return std::nullopt;
         return best;
     }
-    auto& entry = memo.entries[g];
+    auto& entry = memo.at(g, stateHash);
     entry.begin = recordBegin;
     entry.count = static_cast<std::uint32_t>(memo.steps.size()) - recordBegin;
     entry.complete = keys.empty();
