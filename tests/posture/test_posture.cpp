@@ -260,6 +260,24 @@ TEST(PostureSolver, BadInputStaysFiniteAndIsReported) {
     EXPECT_NE(all.find("no such person"), std::string::npos) << all;
 }
 
+// The solver is a real option (docs/POSTURE.md "Speed"): the direct solver
+// (the default) and ODE's QuickStep both give finite poses, and different ones.
+TEST(PostureSolver, SolverIsAnOption) {
+    sim::Scene two = duel();
+    two.duration = 4.0;
+    posture::Options iterative;
+    iterative.solver = posture::Solver::Iterative;
+    const auto a = posture::simulate(two, demoWorld().library);
+    const auto c = posture::simulate(two, demoWorld().library, iterative);
+    ASSERT_TRUE(a && c);
+    const auto& x = a->world.joints[0];
+    ASSERT_EQ(x.size(), c->world.joints[0].size());
+    for (const auto* r : {&*a, &*c}) {
+        for (const auto& p : r->world.joints[0]) ASSERT_TRUE(std::isfinite(p.x + p.y + p.z));
+    }
+    EXPECT_NE(0, std::memcmp(x.data(), c->world.joints[0].data(), x.size() * sizeof(glm::vec3)));
+}
+
 TEST(PostureSolver, OptionErrorsNameTheField) {
     posture::Options bad;
     bad.frequency = 200;  // unstable at 240 Hz
@@ -271,6 +289,11 @@ TEST(PostureSolver, OptionErrorsNameTheField) {
     const auto r2 = posture::simulate(duel(), demoWorld().library, fps);
     ASSERT_FALSE(r2);
     EXPECT_NE(r2.error().message.find("fps"), std::string::npos);
+    posture::Options solver;
+    solver.solver = static_cast<posture::Solver>(7);
+    const auto r3 = posture::simulate(duel(), demoWorld().library, solver);
+    ASSERT_FALSE(r3);
+    EXPECT_NE(r3.error().message.find("solver"), std::string::npos);
     EXPECT_EQ(posture::parseMode("physics"), posture::Mode::Physics);
     EXPECT_EQ(posture::parseMode("kinematic"), posture::Mode::Kinematic);
     EXPECT_FALSE(posture::parseMode("ragdoll"));

@@ -283,16 +283,19 @@ std::mutex& stepMutex() {
     return m;
 }
 
-// One ODE quick step of `world` by h, its random stream seeded first: per
-// thread where ODE allows it, else under one lock (see StepRandom).
-void seededQuickStep(dWorldID world, dReal h, std::uint32_t seed) {
+// One ODE step of `world` by h, its random stream seeded first: per thread
+// where ODE allows it, else under one lock (see StepRandom). QuickStep
+// draws from it; the direct solver (Options::solver, the default) is seeded
+// the same way, so its results cannot depend on threads either.
+void seededStep(dWorldID world, dReal h, std::uint32_t seed, Solver solver) {
+    const auto stepOnce = [&] { solver == Solver::Direct ? dWorldStep(world, h) : dWorldQuickStep(world, h); };
     if (perThreadRandom) {
         StepRandomScope scope(seed);
-        dWorldQuickStep(world, h);
+        stepOnce();
     } else {
         const std::lock_guard<std::mutex> lock(stepMutex());
         dRandSetSeed(seed);
-        dWorldQuickStep(world, h);
+        stepOnce();
     }
 }
 
@@ -1335,7 +1338,7 @@ struct Simulator::Impl {
                 const unsigned long seed = static_cast<unsigned long>(is.index) * 1000003ul +
                                            static_cast<unsigned long>(f) * 64ul + static_cast<unsigned long>(s);
                 dWorldSetQuickStepNumIterations(is.world, is.contactsThisStep > 0 ? opt.iterations : opt.freeIterations);
-                seededQuickStep(is.world, h, static_cast<std::uint32_t>(seed));
+                seededStep(is.world, h, static_cast<std::uint32_t>(seed), opt.solver);
                 dJointGroupEmpty(is.contacts);
             }
         }
@@ -1381,7 +1384,7 @@ struct Simulator::Impl {
                 break;
             }
             const auto seed = static_cast<std::uint32_t>(static_cast<unsigned long>(is.index) * 1000003ul + static_cast<unsigned long>(f) * 64ul + 63ul - static_cast<unsigned long>(steps));
-            seededQuickStep(is.world, h, seed);
+            seededStep(is.world, h, seed, opt.solver);
             dJointGroupEmpty(is.contacts);
         }
         dWorldSetGravity(is.world, 0, -9.81, 0);
@@ -1458,6 +1461,7 @@ Status checkOptions(const sim::Scene& scene, const Options& o) {
     auto bad = [](const std::string& field, const std::string& why) { return makeError("posture options: " + field + " " + why); };
     if (!(o.fps >= 1 && o.fps <= 1000)) return bad("fps", "must be in [1, 1000]");
     if (o.substeps < 1 || o.substeps > 64) return bad("substeps", "must be in [1, 64]");
+    if (o.solver != Solver::Direct && o.solver != Solver::Iterative) return bad("solver", "must be Direct or Iterative");
     if (o.iterations < 1 || o.iterations > 500) return bad("iterations", "must be in [1, 500]");
     if (o.freeIterations < 1 || o.freeIterations > 500) return bad("freeIterations", "must be in [1, 500]");
     if (!(o.frequency > 0 && o.frequency * kTwoPi / (o.fps * o.substeps) < 1.0)) {

@@ -46,10 +46,19 @@ struct FootPin {
     double from = 0, to = 0;
 };
 
+// How ODE solves each step's constraints (ball joints, pins, contacts).
+enum class Solver {
+    Direct,     // dWorldStep: an exact solve (LDLT factorisation / LCP) per group of linked bodies; a
+                // character of 20 bodies in a tree is small enough that this costs less than
+                // QuickStep's 40 sweeps, and the joints and pins hold exactly (docs/POSTURE.md "Speed")
+    Iterative,  // dWorldQuickStep: projected Gauss-Seidel, `iterations` sweeps (the first versions)
+};
+
 struct Options {
     double fps = 60;             // frames produced per second of scene
     int substeps = 4;            // physics steps per frame (fixed step = 1 / (fps * substeps))
-    int iterations = 40;         // ODE QuickStep iterations in steps with contacts between characters (strong PD
+    Solver solver = Solver::Direct;
+    int iterations = 40;         // Solver::Iterative: QuickStep iterations in steps with contacts between characters (strong PD
                                  // forces push bodies through contacts with fewer)
     int freeIterations = 40;     // and in steps without (25 lets pinned feet slip 1.2 cm in the luggage chain)
     double frequency = 8;        // Hz: PD natural frequency of the particles (Ke = m w^2); the
