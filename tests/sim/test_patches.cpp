@@ -488,6 +488,70 @@ TEST(PatchCompose, OneVsManyMeetsEnemiesInSequenceWithoutCollisions) {
     EXPECT_EQ(sceneToJson(*scene, lib), sceneToJson(*again, lib));
 }
 
+// One-vs-many with many main characters (issue 27): every main character
+// knocks its own enemies down one after another, nobody is hit by another
+// fight, the fights keep clear of each other (no penetration over the whole
+// scene), and the bytes do not depend on the number of threads.
+TEST(PatchCompose, ManyMainCharactersFightTheirOwnEnemies) {
+    const auto& lib = demoWorld().library;
+    ComposeSpec spec = ComposeSpec::of(OneVsManySpec{});
+    auto& own = *spec.part<OneVsManySpec>();
+    own.mains = 6;
+    own.enemies = 4;
+    spec.duration = 60;
+    spec.seed = 3;
+    ComposeStats st;
+    auto scene = compose(lib, fightLibrary(), spec, &st);
+    ASSERT_TRUE(scene) << scene.error().message;
+    ASSERT_EQ(scene->characters.size(), 30u);
+    auto indexOf = [&](const std::string& name) {
+        for (std::size_t c = 0; c < scene->characters.size(); ++c) {
+            if (scene->characters[c].name == name) return static_cast<int>(c);
+        }
+        return -1;
+    };
+    auto fightOf = [&](int c) {
+        const std::string& n = scene->characters[static_cast<std::size_t>(c)].name;
+        return n.substr(0, n.find('/'));
+    };
+    for (const auto& h : scene->hits) EXPECT_EQ(fightOf(h.attacker), fightOf(h.defender)) << "a blow from another fight";
+    int knocked = 0;
+    for (int k = 1; k <= 6; ++k) {
+        const std::string fight = "fight-" + std::to_string(k) + "/";
+        const int mainC = indexOf(fight + "main");
+        ASSERT_GE(mainC, 0) << fight;
+        double last = -1;
+        for (int e = 1; e <= 4; ++e) {
+            const int enemy = indexOf(fight + "enemy-" + std::to_string(e));
+            ASSERT_GE(enemy, 0) << fight << e;
+            const auto it = std::find_if(scene->hits.begin(), scene->hits.end(),
+                                         [&](const HitEvent& h) { return h.attacker == mainC && h.defender == enemy && !h.blocked; });
+            if (it == scene->hits.end()) continue;
+            EXPECT_GT(it->time, last) << fight << "enemy " << e << " out of sequence";
+            last = it->time;
+            ++knocked;
+        }
+    }
+    EXPECT_GE(knocked, 6 * 3);
+    EXPECT_EQ(computeMetrics(*scene, lib).penetrationFrames, 0) << "unintended collisions";
+    EXPECT_LE(st.maxJunctionError, 0.3);
+    // The fights differ (each its own seed), and stand apart.
+    const int main1 = indexOf("fight-1/main"), main2 = indexOf("fight-2/main");
+    ASSERT_GE(main1, 0);
+    ASSERT_GE(main2, 0);
+    EXPECT_GT(glm::length(scene->characters[static_cast<std::size_t>(main1)].track.front().root.pos -
+                          scene->characters[static_cast<std::size_t>(main2)].track.front().root.pos),
+              6.0f);
+    std::string oneThread;
+    tbb::task_arena arena(1);
+    arena.execute([&] {
+        auto again = compose(lib, fightLibrary(), spec);
+        ASSERT_TRUE(again);
+        oneThread = sceneToJson(*again, lib);
+    });
+    EXPECT_EQ(oneThread, sceneToJson(*scene, lib));
+}
+
 TEST(PatchCompose, UserCommandsSteerTheMainCharacter) {
     const auto& lib = demoWorld().library;
     ComposeSpec spec = ComposeSpec::of(OneVsManySpec{});

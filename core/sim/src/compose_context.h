@@ -142,10 +142,43 @@ struct Composer {
         const glm::vec2 d = glm::max(glm::max(r.lo - p, p - r.hi), glm::vec2(0.0f));
         return glm::length(d);
     }
+    // No floor box of any body reaches farther than this from its root (m);
+    // < 0: not measured, nobody is skipped (measureBodyReach sets it).
+    float bodyReach = -1;
+    // Bounds bodyReach over every sample of every action of the library: the
+    // box's centre from the root at that sample and the next (the root at any
+    // clip time between lies on the segment between them), plus 1.5 times the
+    // sum of its half extents (its floor box's corner is nearer than that).
+    static float measureBodyReach(const ActionLibrary& lib) {
+        float reach = 0;
+        for (int a = 0; a < lib.size(); ++a) {
+            const int n = lib.actions()[static_cast<std::size_t>(a)].sampleCount;
+            for (int s = 0; s < n; ++s) {
+                const glm::vec2 r0 = lib.rootAt(a, s / kSampleRate).pos, r1 = lib.rootAt(a, std::min(s + 1, n - 1) / kSampleRate).pos;
+                const Obb* boxes = lib.boxesAt(a, s);
+                for (int seg = 0; seg < kSegmentCount; ++seg) {
+                    const glm::vec2 c(boxes[seg].centre.x, boxes[seg].centre.z);
+                    const float h = 1.5f * (boxes[seg].half[0] + boxes[seg].half[1] + boxes[seg].half[2]);
+                    reach = std::max(reach, std::max(glm::length(c - r0), glm::length(c - r1)) + h);
+                }
+            }
+        }
+        return reach;
+    }
+    // Character c's body at time t is certainly farther than `dist` from p
+    // (its root beyond bodyReach + dist, with a margin): its boxes need not be placed.
+    bool surelyFarther(int c, const glm::vec2& p, double t, float dist) const {
+        if (bodyReach < 0) return false;
+        const auto& inst = playingAt(c, t);
+        const glm::vec2 r = inst.placementAt(lib, inst.clipTimeAt(t)).pos;
+        return glm::length(r - p) > bodyReach + dist + 0.05f;
+    }
+
     // Someone (other than self and partner) is closer than nearDistance to p at time t.
     bool occupied(int self, int partner, const glm::vec2& p, double t) const {
         for (int c = 0; c < static_cast<int>(scene.characters.size()); ++c) {
             if (c == self || c == partner || scene.characters[static_cast<std::size_t>(c)].track.empty()) continue;
+            if (surelyFarther(c, p, t, nearDistance)) continue;
             if (rectDistance(bodyBox(c, t), p) < nearDistance) return true;
         }
         return false;
@@ -156,6 +189,7 @@ struct Composer {
     bool blocked(int self, int partner, const glm::vec2& from, const glm::vec2& p, double t) const {
         for (int c = 0; c < static_cast<int>(scene.characters.size()); ++c) {
             if (c == self || c == partner || scene.characters[static_cast<std::size_t>(c)].track.empty()) continue;
+            if (surelyFarther(c, p, t, nearDistance)) continue;  // dn >= nearDistance: not blocked by c
             const SweptBox box = bodyBox(c, t);
             const float dn = rectDistance(box, p);
             if (dn < nearDistance && dn < rectDistance(box, from) - 1e-3f) return true;
@@ -431,6 +465,50 @@ struct Composer {
     double freeAt0(int c) const { return track0(c).empty() ? 0.0 : freeAt(c); }
     const std::vector<ActionInstance>& track0(int c) const { return scene.characters[static_cast<std::size_t>(c)].track; }
 };
+
+// The floor rectangle a scene's characters and marks cover (their roots
+// every 0.25 s of each clip, 1.5 m round them for bodies and falls).
+inline SweptBox sceneExtent(const ActionLibrary& lib, const Scene& s) {
+    SweptBox box = SweptBox::empty();
+    for (const auto& ch : s.characters) {
+        for (const auto& inst : ch.track) {
+            const double last = inst.looped() ? inst.offset + inst.loop : inst.clipTimeAt(inst.end);
+            for (double tau = inst.offset; tau <= last + 1e-9; tau += 0.25) {
+                const glm::vec2 p = inst.placementAt(lib, tau).pos;
+                box.add({p, p});
+            }
+            const glm::vec2 e = inst.placementAt(lib, last).pos;
+            box.add({e, e});
+        }
+        for (const auto& k : ch.keys) box.add({k.at.pos, k.at.pos});
+    }
+    for (const auto& m : s.marks) {
+        for (const auto& p : m.points) box.add({p, p});
+    }
+    box.lo -= glm::vec2(1.5f), box.hi += glm::vec2(1.5f);
+    return box;
+}
+
+// Appends `part`'s characters (their names prefixed), hits and marks to
+// `into`, moved by `shift`.
+inline void mergeScene(Scene& into, Scene&& part, const std::string& prefix, const glm::vec2& shift) {
+    const int base = static_cast<int>(into.characters.size());
+    const RootXf offset{shift, 0.0};
+    for (SceneCharacter& ch : part.characters) {
+        ch.name = prefix + ch.name;
+        for (auto& inst : ch.track) inst.root = offset * inst.root;
+        for (auto& k : ch.keys) k.at = offset * k.at;
+        into.characters.push_back(std::move(ch));
+    }
+    for (HitEvent h : part.hits) {
+        h.attacker += base, h.defender += base;
+        into.hits.push_back(h);
+    }
+    for (FloorMark& m : part.marks) {
+        for (auto& p : m.points) p += shift;
+        into.marks.push_back(std::move(m));
+    }
+}
 
 // The base of a scene kind's composer: the shared context, the kind's own
 // part of the spec (`own`, held in spec.own) and of the stats (`ownStats`,

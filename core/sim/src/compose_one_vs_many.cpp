@@ -1,4 +1,9 @@
 // One vs many: the main character meets the enemies one after another (SPEC 4.5).
+#include <atomic>
+#include <mutex>
+
+#include <tbb/parallel_for.h>
+
 #include "compose_kinds.h"
 #include "fray/sim/compose/one_vs_many.h"
 
@@ -9,8 +14,115 @@ namespace {
 struct OneVsManyComposer : KindComposer<OneVsManySpec> {
     using KindComposer::KindComposer;
 
+    // Where everyone present is at time t (their placement's position), for
+    // d_p: the same positions densityAround takes, placed once per time
+    // rather than once per candidate patch.
+    std::vector<glm::vec2> positionsAt(double t) const {
+        std::vector<glm::vec2> out;
+        for (int c = 0; c < static_cast<int>(scene.characters.size()); ++c) {
+            if (scene.characters[static_cast<std::size_t>(c)].track.empty()) continue;
+            const auto& inst = playingAt(c, t);
+            out.push_back(inst.placementAt(lib, inst.clipTimeAt(t)).pos);
+        }
+        return out;
+    }
+    static int densityAmong(const std::vector<glm::vec2>& at, const glm::vec2& p) {
+        int n = 0;
+        for (const glm::vec2& q : at) n += glm::length(q - p) < 2.5f ? 1 : 0;
+        return n;
+    }
+    // collides(p, xf, obstacles) with the rotation of xf worked out once and
+    // a first test against the box round every obstacle (a patch box clear of
+    // it is clear of each): the same answer.
+    static bool collidesFast(const Patch& p, const RootXf& xf, const std::vector<SweptBox>& obstacles, const SweptBox& all) {
+        if (obstacles.empty()) return false;
+        const FloorRotation rot(xf.heading);
+        for (int r = 0; r < 2; ++r) {
+            for (const auto& s : p.swept[static_cast<std::size_t>(r)]) {
+                const glm::vec2 c0 = xf.pos + rot((s.lo + s.hi) * 0.5f);
+                const glm::vec2 h = (s.hi - s.lo) * 0.5f;
+                const float e = std::max(h.x, h.y);
+                const SweptBox w{c0 - glm::vec2(e), c0 + glm::vec2(e)};
+                if (!w.overlaps(all, kClearance)) continue;
+                for (const auto& o : obstacles) {
+                    if (w.overlaps(o, kClearance)) return true;
+                }
+            }
+        }
+        return false;
+    }
+
+    // The fights of a many-main scene (issue 27) do not score every candidate
+    // patch at every first step of the main character (2,135 patches x 13
+    // steps on the demo, 17 ms an enemy): they score a sample, and all of
+    // them only when nothing of the sample fits even after the main character
+    // has walked to open space twice (where nothing of the sample fits, the
+    // main character is hemmed in by those already down, and a single fight
+    // finds nothing among all candidates there either, 0 of 62,370 options
+    // for most such enemies on the demo: it walks). The sample: the candidates
+    // of the best class (the usage and the user's command at t0, the terms
+    // that outweigh all others in S(p)), those whose main character starts
+    // where its last action (or one of its first steps) ends in the motion
+    // graph first, then drawn at random with the fight's seed, kSample in all.
+    // userPreference(patch i, role 0, t) with the command due at t found
+    // without comparing strings and each patch's answer to a command kept.
+    std::vector<char> commandMoves;  // per user command: a move (not a preference)
+    std::map<std::string, std::vector<signed char>> userMatches;
+    double userMatch(std::size_t i, double t) {
+        if (commandMoves.size() != spec.commands.size()) {
+            commandMoves.clear();
+            for (const auto& c : spec.commands) commandMoves.push_back(c.annotation == "move" ? 1 : 0);
+        }
+        const UserCommand* cmd = nullptr;
+        for (std::size_t k = 0; k < spec.commands.size(); ++k) {
+            if (spec.commands[k].time <= t && !commandMoves[k]) cmd = &spec.commands[k];
+        }
+        if (!cmd) return 0;
+        auto& m = userMatches[cmd->annotation];
+        if (m.empty()) m.assign(patches.patches().size(), -1);
+        if (m[i] < 0) m[i] = userPreference(patches.patches()[i], 0, t) > 0 ? 1 : 0;
+        return m[i];
+    }
+
+    bool sampleCandidates = false;
+    static constexpr std::size_t kSample = 48;
+    std::vector<std::size_t> sampled(const std::vector<std::size_t>& cands, double t0, int lastMain) {
+        if (cands.size() <= kSample) return cands;
+        std::vector<double> cls(cands.size());
+        double top = -std::numeric_limits<double>::max();
+        for (std::size_t j = 0; j < cands.size(); ++j) {
+            const std::size_t i = cands[j];
+            cls[j] = spec.wUsage * (1.0 - std::min(usage[i], 1.0)) + spec.wUser * userMatch(i, t0);
+            top = std::max(top, cls[j]);
+        }
+        std::vector<char> ends(static_cast<std::size_t>(lib.size()) + 1, 0);
+        auto endNodeOf = [&](int a) { return lib.endNode()[static_cast<std::size_t>(a)]; };
+        std::vector<int> nodes{endNodeOf(lastMain)};
+        for (int mv : locomotion) nodes.push_back(endNodeOf(mv));
+        std::vector<std::size_t> matched, rest;
+        for (std::size_t j = 0; j < cands.size(); ++j) {
+            if (cls[j] < top) continue;
+            const int start = lib.startNode()[static_cast<std::size_t>(patches.patches()[cands[j]].tracks[0].front().action)];
+            (std::find(nodes.begin(), nodes.end(), start) != nodes.end() ? matched : rest).push_back(cands[j]);
+        }
+        std::vector<std::size_t> out;
+        auto draw = [&](std::vector<std::size_t>& from) {
+            while (!from.empty() && out.size() < kSample) {
+                const std::size_t j = std::uniform_int_distribution<std::size_t>(0, from.size() - 1)(rng);
+                out.push_back(from[j]);
+                from[j] = from.back();
+                from.pop_back();
+            }
+        };
+        draw(matched);
+        draw(rest);
+        std::sort(out.begin(), out.end());  // scored in the candidates' order, as all of them would be
+        return out;
+    }
+
     // ---- one vs many: the main character meets the enemies one after another.
     Status run(const ProgressFn& progress) {
+        if (own.mains > 1) return runMany(progress);
         const int mainC = addCharacter("main", 0);
         append(mainC, hold, 0.0, RootXf{}, 0, 1.0);
         int prev = -1;
@@ -57,6 +169,15 @@ struct OneVsManyComposer : KindComposer<OneVsManySpec> {
                     if (allowed[i] && patches.patches()[i].tracks[0].front().start == 0.0) cands.push_back(i);
                 }
             }
+            // A fight of a many-main scene looks at a sample first (see sampled()).
+            const std::vector<std::size_t> allCands = cands;
+            bool sampledFirst = false;
+            if (sampleCandidates) {
+                std::vector<std::size_t> few = sampled(cands, t0, lastMain);
+                sampledFirst = few.size() < cands.size();
+                cands = std::move(few);
+            }
+          retry:
             // The main character may first take one locomotion step (turn,
             // step) so the patch fits beside those already down.
             struct Option {
@@ -68,6 +189,8 @@ struct OneVsManyComposer : KindComposer<OneVsManySpec> {
             std::vector<int> moves0 = {-1};
             moves0.insert(moves0.end(), locomotion.begin(), locomotion.end());
             const auto obstacleBoxes = obstacles(t0, mainC);
+            SweptBox allObstacles = SweptBox::empty();
+            for (const auto& o : obstacleBoxes) allObstacles.add(o);
             for (int mv : moves0) {
                 RootXf from = at;
                 double tm = t0;
@@ -81,11 +204,12 @@ struct OneVsManyComposer : KindComposer<OneVsManySpec> {
                     }
                 }
                 const int lastA = mv >= 0 ? mv : lastMain;
+                const std::vector<glm::vec2> present = positionsAt(tm);
                 for (std::size_t i : cands) {
                     const Patch& p = patches.patches()[i];
                     const RootXf xf = from * p.tracks[0].front().root.inverse();
-                    if (collides(p, xf, obstacleBoxes)) continue;
-                    const double s = score(i, densityAround(xf.apply(p.tracks[1].front().root.pos), tm), userPreference(p, 0, tm)) +
+                    if (collidesFast(p, xf, obstacleBoxes, allObstacles)) continue;
+                    const double s = score(i, densityAmong(present, xf.apply(p.tracks[1].front().root.pos)), userMatch(i, tm)) +
                                      (lib.startNode()[static_cast<std::size_t>(p.tracks[0].front().action)] ==
                                               lib.endNode()[static_cast<std::size_t>(lastA)] ? 1.0 : 0.0) -
                                      (mv >= 0 ? 5.0 : 0.0);
@@ -108,6 +232,13 @@ struct OneVsManyComposer : KindComposer<OneVsManySpec> {
                 }
             }
             if (bestI < 0) scene.characters.pop_back();
+            if (bestI < 0 && sampledFirst && moves >= 1) {
+                // Nothing of the sample fits, and walking to open space has not
+                // helped twice: every candidate, as a single fight looks.
+                cands = allCands;
+                sampledFirst = false;
+                goto retry;
+            }
             if (bestI < 0) {
                 // Crowded: the main character walks into open space and tries again.
                 if (++moves > 8) return makeError("one-vs-many: no patch fits around the main character at " + std::to_string(t0) + " s");
@@ -161,13 +292,92 @@ struct OneVsManyComposer : KindComposer<OneVsManySpec> {
         }
         return {};
     }
+
+    // ---- many main characters (issue 27): own.mains fights, each a main
+    // character and its own `enemies`, composed in parallel (fight k with
+    // seed + k, so the bytes do not depend on the number of threads) and laid
+    // out on the floor in rows, each fight's floor rectangle clear of its
+    // neighbours'. Fights never share anyone, so no pass looks at two of them.
+    struct Fight {
+        Scene scene;
+        ComposeStats stats;
+        std::string error;
+        SweptBox extent = SweptBox::empty();
+    };
+
+    Status runMany(const ProgressFn& progress) {
+        const int n = own.mains;
+        const float reach = measureBodyReach(lib);
+        std::vector<Fight> fights(static_cast<std::size_t>(n));
+        std::atomic<int> done{0};
+        std::atomic<bool> stop{false};
+        std::mutex progressMutex;
+        tbb::parallel_for(0, n, [&](int k) {
+            if (stop.load(std::memory_order_relaxed)) return;
+            Fight& f = fights[static_cast<std::size_t>(k)];
+            OneVsManySpec one = own;
+            one.mains = 1;
+            ComposeSpec s = ComposeSpec::of(one);
+            static_cast<ComposeCommonSpec&>(s) = spec;
+            // A fight whose main character gets hemmed in (no patch fits
+            // after eight walks to open space) is composed again with the
+            // next seed of its own (seed + k + n * mains), three times at most.
+            Status st;
+            for (int attempt = 0; attempt < 4; ++attempt) {
+                s.seed = spec.seed + static_cast<std::uint64_t>(k) + static_cast<std::uint64_t>(attempt) * static_cast<std::uint64_t>(n);
+                f.stats = ComposeStats{};
+                OneVsManyComposer c(lib, patches, s, f.stats);
+                c.sampleCandidates = true;
+                c.bodyReach = reach;
+                st = c.ready();
+                if (st) st = c.run({});
+                if (st) {
+                    f.scene = std::move(c.scene);
+                    break;
+                }
+            }
+            if (!st) {
+                f.error = "fight " + std::to_string(k + 1) + ": " + st.error().message;
+                return;
+            }
+            f.extent = sceneExtent(lib, f.scene);
+            const int finished = ++done;
+            const std::lock_guard<std::mutex> lock(progressMutex);
+            if (!reportProgress(progress, static_cast<double>(finished) / n, "compose")) stop = true;
+        });
+        if (stop.load()) return cancelled();
+        for (const Fight& f : fights) {
+            if (!f.error.empty()) return makeError(f.error);
+        }
+        // Rows of ceil(sqrt(n)) fights, each kMargin m from its neighbours.
+        constexpr float kMargin = 3.0f;
+        const int perRow = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(n))));
+        float rowZ = 0;
+        for (int row = 0; row * perRow < n; ++row) {
+            float x = 0, depth = 0;
+            for (int k = row * perRow; k < std::min(n, (row + 1) * perRow); ++k) {
+                Fight& f = fights[static_cast<std::size_t>(k)];
+                const glm::vec2 size = f.extent.hi - f.extent.lo;
+                mergeScene(scene, std::move(f.scene), "fight-" + std::to_string(k + 1) + "/", glm::vec2(x, rowZ) - f.extent.lo);
+                const ComposeStats& fs = f.stats;
+                stats.patchesUsed += fs.patchesUsed, stats.temporalLinks += fs.temporalLinks, stats.recycled += fs.recycled;
+                stats.locomotionSteps += fs.locomotionSteps;
+                stats.maxJunctionError = std::max(stats.maxJunctionError, fs.maxJunctionError);
+                x += size.x + kMargin;
+                depth = std::max(depth, size.y);
+            }
+            rowZ += depth + kMargin;
+        }
+        return {};
+    }
 };
 
 Status parseOneVsMany(const prep::JsonReader& rd, const Json& j, OneVsManySpec& s) {
+    if (auto st = optionalInt(rd, j, "mains", 1, 100000, s.mains); !st) return st.error();
     return optionalInt(rd, j, "enemies", 1, 1000, s.enemies);
 }
 
-constexpr const char* kFields[] = {"enemies"};
+constexpr const char* kFields[] = {"enemies", "mains"};
 
 }  // namespace
 

@@ -264,6 +264,96 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         return out;
     }
 
+    // A way out of one person that keeps the rat clear of the feet and shins:
+    // its candidate (way, lead) and exactly ratClearance's value for its plan.
+    struct ClearWay {
+        RatPatch patch;
+        double clear = 0;
+    };
+    // The ways out of bystander b (its candidates, in order) that start at
+    // 0.2 s or later and keep the rat kRatClear from the feet and shins,
+    // with their clearance: what the composer's loop over candidates tests
+    // first, for the same values. It depends on the person's own plan and the
+    // rat alone, never on the crowd, so the near people's are worked out in
+    // parallel before anyone is placed. Cheaper than ratClearance per
+    // candidate: the rat's body at each sample of the window is placed once;
+    // the foot boxes of an (instance, sample) once per person (the plans of a
+    // way share their instances' actions and roots, only the lead changes
+    // which sample plays when); and a sample is skipped when the box around
+    // all four cannot come closer than the best so far (a lower bound, so the
+    // minimum, and the value, are the same).
+    std::vector<ClearWay> clearWays(const Bystander& b, double until) const {
+        constexpr double dt = 1.0 / kSampleRate;
+        std::vector<std::array<glm::vec2, 3>> rat;  // the rat's tail, middle and nose at footBoxes' sample times
+        for (double t = b.passTime - 0.6; t <= b.passTime + 0.6; t += dt) {
+            const RootXf r = creatureAt(ratBody, t);
+            const glm::vec2 fwd = headingVector(r.heading);
+            std::array<glm::vec2, 3> pts{};
+            int k = 0;
+            for (float along : {0.0f, 0.5f, 1.0f}) pts[static_cast<std::size_t>(k++)] = r.pos + fwd * (along * kRatLength);
+            rat.push_back(pts);
+        }
+        struct Slot {
+            int action = -1;
+            RootXf root;
+            std::vector<std::array<SweptBox, 5>> boxes;  // per sample: feet, shins, and the box around the four
+            std::vector<char> have;
+        };
+        std::vector<Slot> slots(1 + 4 * ways.size());  // the standing idle, then per way its plan's instances 1-3
+        std::array<SweptBox, 5> scratch{};
+        auto boxesOf = [&](std::size_t slot, const ActionInstance& inst, int sample) -> const std::array<SweptBox, 5>& {
+            auto fill = [&](std::array<SweptBox, 5>& out) {
+                const Obb* boxes = lib.boxesAt(inst.action, sample);
+                int k = 0;
+                out[4] = SweptBox::empty();
+                for (int seg : {kLeftFoot, kRightFoot, kLeftShin, kRightShin}) {
+                    out[static_cast<std::size_t>(k)] = floorBox(boxes[seg].placed(inst.root));
+                    out[4].add(out[static_cast<std::size_t>(k++)]);
+                }
+            };
+            Slot* s = slot < slots.size() ? &slots[slot] : nullptr;
+            if (s && s->action < 0) {
+                s->action = inst.action;
+                s->root = inst.root;
+                s->boxes.resize(static_cast<std::size_t>(act(inst.action).sampleCount));
+                s->have.assign(s->boxes.size(), 0);
+            }
+            const bool same = s && s->action == inst.action && s->root.pos == inst.root.pos && s->root.heading == inst.root.heading;
+            if (!same) {
+                fill(scratch);  // not the slot's instance: placed afresh
+                return scratch;
+            }
+            const auto i = static_cast<std::size_t>(sample);
+            if (!s->have[i]) fill(s->boxes[i]), s->have[i] = 1;
+            return s->boxes[i];
+        };
+        std::vector<ClearWay> out;
+        for (const RatPatch& patch : ratCandidates(b)) {
+            const auto& way = ways[static_cast<std::size_t>(patch.way)];
+            const double ts = b.passTime - patch.lead;
+            if (ts < 0.2) continue;
+            const RootXf root = b.at * lib.rootAt(way.front(), 0).inverse();
+            const auto plan = planMove(b.at, ts, way, 0.0, root, false, until);
+            double best = std::numeric_limits<double>::max();
+            double t = b.passTime - 0.6;
+            for (std::size_t i = 0; i < rat.size(); ++i, t += dt) {
+                const auto k = static_cast<std::size_t>(instanceIndexAt(plan, t));
+                const ActionInstance& inst = plan[k];
+                const std::size_t slot = k == 0 ? 0 : (k <= 3 ? 1 + 4 * static_cast<std::size_t>(patch.way) + k - 1 : SIZE_MAX);
+                const auto& boxes = boxesOf(slot, inst, lib.sampleAt(inst.action, inst.clipTimeAt(t)));
+                double bound = std::numeric_limits<double>::max();
+                for (const glm::vec2& p : rat[i]) bound = std::min(bound, static_cast<double>(rectDistance(boxes[4], p)) - 0.04);
+                if (bound >= best) continue;  // no box of the four comes closer than the best so far
+                for (std::size_t seg = 0; seg < 4; ++seg) {
+                    for (const glm::vec2& p : rat[i]) best = std::min(best, static_cast<double>(rectDistance(boxes[seg], p)) - 0.04);
+                }
+                if (best < kRatClear) break;
+            }
+            if (best >= kRatClear) out.push_back({patch, best});
+        }
+        return out;
+    }
+
     // When a plan moves the body: from its first action that is not an idle
     // to the end of its last one; {+inf, -inf} for someone who only stands.
     std::pair<double, double> movingWindow(const std::vector<ActionInstance>& plan) const {
@@ -520,7 +610,21 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
 
         std::vector<Push> log;  // every push, for the scene's contacts
         int done = 0;
-        for (std::size_t i : order) {
+        // The ways out that keep the rat off each near person's feet, worked
+        // out in parallel a block of people at a time (in the order the rat
+        // reaches them); the crowd then decides among them one person after another.
+        constexpr std::size_t kBlockPeople = 256;
+        std::vector<std::vector<ClearWay>> clearOf(crowd.size());
+        for (std::size_t oi = 0; oi < order.size(); ++oi) {
+            if (oi % kBlockPeople == 0) {
+                const std::size_t o1 = std::min(order.size(), oi + kBlockPeople);
+                tbb::parallel_for(oi, o1, [&](std::size_t o) {
+                    const Bystander& q = crowd[order[o]];
+                    if (q.near) clearOf[order[o]] = clearWays(q, until);
+                });
+            }
+            const std::size_t i = order[oi];
+            const std::vector<ClearWay> ways1 = std::move(clearOf[i]);
             Bystander& b = crowd[i];
             if (!reportProgress(progress, static_cast<double>(done++) / static_cast<double>(crowd.size()), "compose")) {
                 return cancelled();
@@ -535,20 +639,30 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                 double start = 0, clearance = 0;
                 std::vector<Push> pushes;
             } best;
-            for (const RatPatch& patch : ratCandidates(b)) {
+            // Clear of the rat by a safe margin; bumping a neighbour as
+            // the spec likes it (0: avoid it, 1: seek it); the latest
+            // start (people react at the last moment).
+            const double bumpBonus = 0.2 * own.bumps - 0.05;
+            std::vector<std::pair<double, std::size_t>> bases;  // (score without bumps, candidate)
+            for (std::size_t c = 0; c < ways1.size(); ++c) {
+                const double ts = b.passTime - ways1[c].patch.lead;
+                bases.push_back({std::min(ways1[c].clear, 0.25) + 0.01 * (ts - b.passTime) + 1e-4 * unit(rng), c});
+            }
+            // The body tests in the order of the best score each could reach,
+            // until none left can beat the best found: the candidate of the
+            // highest score, the first of equals, as a pass over all in order.
+            std::stable_sort(bases.begin(), bases.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
+            std::size_t bestC = SIZE_MAX;
+            for (const auto& [base, c] : bases) {
+                const double reach = base + std::max(0.0, bumpBonus);
+                if (reach < best.score) break;                         // nor can any after it
+                if (reach == best.score && c > bestC) continue;         // cannot win: skip the body tests
+                const RatPatch& patch = ways1[c].patch;
+                const double clear = ways1[c].clear;
                 const auto& way = ways[static_cast<std::size_t>(patch.way)];
                 const double ts = b.passTime - patch.lead;
-                if (ts < 0.2) continue;
                 const RootXf root = b.at * lib.rootAt(way.front(), 0).inverse();
                 auto plan = planMove(b.at, ts, way, 0.0, root, false, until);
-                const double clear = ratClearance(b, plan);
-                if (clear < kRatClear) continue;
-                // Clear of the rat by a safe margin; bumping a neighbour as
-                // the spec likes it (0: avoid it, 1: seek it); the latest
-                // start (people react at the last moment).
-                const double bumpBonus = 0.2 * own.bumps - 0.05;
-                const double base = std::min(clear, 0.25) + 0.01 * (ts - b.passTime) + 1e-4 * unit(rng);
-                if (base + std::max(0.0, bumpBonus) <= best.score) continue;  // cannot win: skip the body tests
                 const double settled = until;  // everyone stands still afterwards: touching later counts too
                 const auto [other, when] = firstTouch(CrowdView(crowd), i, plan, ts, settled);
                 std::vector<Push> pushes;
@@ -568,7 +682,10 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                     pushes = std::move(*chain);
                 }
                 const double score = base + (pushes.empty() ? 0.0 : bumpBonus);
-                if (score > best.score) best = {score, std::move(plan), ts, clear, std::move(pushes)};
+                if (score > best.score || (score == best.score && c < bestC)) {
+                    best = {score, std::move(plan), ts, clear, std::move(pushes)};
+                    bestC = c;
+                }
             }
             if (!best.plan.empty()) {
                 b.plan = std::move(best.plan);

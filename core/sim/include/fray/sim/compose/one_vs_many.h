@@ -7,6 +7,9 @@ namespace fray::sim {
 struct OneVsManySpec {
     static constexpr const char* kKind = "one-vs-many";
     int enemies = 10;  // how many come in turn
+    // Main characters, each fighting its own `enemies` (issue 27): the fights
+    // are composed side by side, fight k with seed + k, named "fight-K/...".
+    int mains = 1;
 };
 
 }  // namespace fray::sim
