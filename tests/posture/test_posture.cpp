@@ -307,15 +307,16 @@ namespace {
 // pose meet the issue's thresholds, and the porters' bodies stay out of each
 // other (< 2 cm). The chase's swinging foot sank 6.75 cm into a neighbour's
 // pinned shin at 21.57 s until a touching body's whole limb yielded
-// (docs/POSTURE.md); this in-memory chase is left 2.07 cm deep there (the
-// CLI's, planned from the demo files, 1.55 cm), so it is asserted below 2.5 cm.
+// (docs/POSTURE.md); this in-memory chase was left 2.07 cm deep there and
+// was asserted below 2.5 cm; since pins move at most 0.5 cm a frame and
+// contacts see the real gap (third pass), 0.83 cm: the issue's 2 cm.
 TEST(PostureSolver, ChaseAndLuggageKeepFeetAndPose) {
     const auto chase = measure(test::plannedScene(kDemo + "chase.json"));
     record("chase_physics", chase.physics);
     EXPECT_LT(chase.physics.footSkateMaxCm, 1.0);
     EXPECT_LT(chase.physics.footSkateMeanCm, 0.2);
     EXPECT_LT(chase.physics.deviationMeanCm, 3.0);
-    EXPECT_LT(chase.physics.penetrationMaxCm, 2.5);
+    EXPECT_LT(chase.physics.penetrationMaxCm, 2.0);
 
     static const auto patches = test::demoPatches({"carry-walk-hand-receive-turn-carry", "carry-hand-receive-carry"});
     sim::ComposeSpec spec = sim::ComposeSpec::of(sim::LuggageSpec{.porters = 4, .handoffs = 9});
@@ -333,12 +334,11 @@ TEST(PostureSolver, ChaseAndLuggageKeepFeetAndPose) {
 }
 
 // The README's domino crowd and rat crowd (resources/demo/domino.json,
-// rat.json), composed in memory: the issue's thresholds with physics (the
-// domino crowd's skate maximum and hits on the surface not robustly, below).
+// rat.json), composed in memory: the issue's thresholds with physics.
 // The domino crowd starts with bodies inside each other (the solver
 // separates them before the first frame); its falls and the rat crowd's
 // bumps are body blows (docs/POSTURE.md).
-TEST(PostureSolver, DominoCrowdNearlyMeetsTheIssueThresholds) {
+TEST(PostureSolver, DominoCrowdMeetsTheIssueThresholds) {
     static const auto patches = test::demoPatches({"fall-fall"});
     auto spec = sim::parseComposeSpec(test::readText(kDemo + "domino.json"), "domino.json", patches);
     ASSERT_TRUE(spec) << spec.error().message;
@@ -367,17 +367,12 @@ TEST(PostureSolver, DominoCrowdNearlyMeetsTheIssueThresholds) {
     record("kinematic", both.kinematic);
     record("physics", both.physics);
     ASSERT_GT(both.physics.landed, 10);
-    // Every threshold but two, which are near and chaotic (this scene and the
-    // CLI's, planned from the demo files, are the same to the metrics'
-    // precision, and the bystanders' islands shift the solve; docs/POSTURE.md):
-    // the skate maximum (1.48 cm here, 1.49 cm on the CLI's scene; issue < 1 cm)
-    // and the hits on the surface (34 of 36 here and on the CLI's, whose misses
-    // are 2.02 and 2.14 cm away; issue 95 %).
-    EXPECT_LT(both.physics.footSkateMaxCm, 2.5);
-    EXPECT_LT(both.physics.footSkateMeanCm, 0.2);
-    EXPECT_LT(both.physics.penetrationMaxCm, 2.0);
-    EXPECT_GE(both.physics.hitsOnSurfaceShare(), 0.94) << both.physics.hitsOnSurface << " of " << both.physics.landed;
-    EXPECT_LT(both.physics.deviationMeanCm, 3.0);
+    // Every threshold of the issue. Before, two were missed and chaotic (skate
+    // 0.98-1.49 cm, 34-35 of 36 hits on the surface, with the build): a victim's
+    // planted foot pressed by the faller broke its pin, and blows stopped 1-2 cm
+    // short where grown collision boxes met edge to edge (docs/POSTURE.md,
+    // "Domino crowd, third pass"). Now 0.61 cm and 36 of 36 here.
+    expectThresholds(both.physics, "domino");
     EXPECT_GE(both.report.initialOverlaps, 1);  // separated before the first frame
     EXPECT_GT(both.kinematic.penetrationMaxCm, 2.0);
 }

@@ -50,7 +50,11 @@ constexpr double kPinSlideFast = 0.003;      // m per frame: the same while the 
 constexpr double kHitDepth = 0.01;           // m: a blow is aimed this far inside the target's box
 constexpr double kPinMaxHeight = 0.3;        // m: a supported ankle higher than this is not pinned
 constexpr double kPinShove = 0.004;          // m per frame: a pin yields to another character pressing on its leg
+constexpr double kPinLegErp = 0.2;           // contacts on a pinned foot or shin: soft (a spring of
+constexpr double kPinLegCfm = 1e-3;          // ERP / (h CFM), 48 kN/m at 240 steps a second)
+constexpr double kPinStep = 0.005;           // m per frame: the most a pin moves, slide and shove together
 constexpr double kContactMargin = 0.03;      // m: collision boxes are grown by this for finding contacts ahead (speculative)
+constexpr double kGapSlack = 0.005;          // m: a speculative contact lets bodies close the real gap less this
 constexpr double kTouchGap = 0.005;          // m: closer than this a body counts as touching (its control yields)
 constexpr double kArmSlack = 1.05;           // a hand pin farther than this many arm lengths from the collar is let go
 constexpr int kSettleSteps = 60;             // at most this many contact-only steps separate characters that start inside each other
@@ -199,6 +203,7 @@ struct Pull {
     // The body it reaches for: the offset follows that joint's deviation from
     // its captured place (-1: a fixed offset).
     int other = -1, otherJoint = -1;
+    int otherFar = -1;  // with otherJoint, the target segment's two ends: the offset follows its middle
     double weight(double t) const {
         if (t < peak - lead || t > peak + tail) return 0.0;
         return t <= peak ? smooth((t - (peak - lead)) / lead) : smooth(1.0 - (t - peak) / tail);
@@ -212,6 +217,7 @@ struct Blow {
     int tipJoint = 0, targetJoint = 0;
     double mass = 0;   // kg behind the blow (the striking limb)
     double scale = 1;  // blocked blows push less
+    std::int64_t step = 0;  // the physics step it is pushed in: the first after the hit's frame is shown
 };
 
 // What control() pulls a body towards over one frame's substeps, computed
@@ -248,6 +254,7 @@ struct Character {
     std::array<double, 2> legLength{1.0, 1.0};  // m: ankle to hip joint
     std::vector<glm::vec3> pinShift;  // per joint: targets moved onto the pins (pinned feet, their knees half)
     std::vector<std::uint8_t> pinHeld; // per joint: held by a pin (no velocity target)
+    std::vector<std::uint8_t> pinLeg;  // per joint: the foot or shin body of a pinned leg (its contacts are soft)
     std::vector<std::uint8_t> touched; // per joint: its body touches another character this step
     std::vector<std::uint8_t> group;   // per joint: 0 the trunk (pelvis, spine, neck, head), 1-4 a leg or an arm (hip or shoulder down)
     std::array<std::uint8_t, 5> groupTouched{};  // per group: one of its bodies touches another character this step
@@ -425,6 +432,7 @@ struct Simulator::Impl {
             for (int j = 0; j < c.jointCount; ++j) c.rides[static_cast<std::size_t>(j)] = rider(c, j) ? 1 : 0;
             c.pinShift.assign(n, glm::vec3(0.0f));
             c.pinHeld.assign(n, 0);
+            c.pinLeg.assign(n, 0);
             c.touched.assign(n, 0);
             c.group.assign(n, 0);
             for (int j = 0; j < c.jointCount; ++j) {
@@ -496,6 +504,11 @@ struct Simulator::Impl {
                       segmentBody(hit.target, def.roles), 0.0, hit.blocked ? 0.5 : 1.0};
             const auto limb = limbJoints(att, segmentBody(hit.effector, att.roles), 0.5f);
             for (const auto& [j, w] : limb) blow.mass += static_cast<double>(w) * att.mass[static_cast<std::size_t>(j)];
+            // Counted in whole steps: a hit time a rounding error either side
+            // of a frame's time pushes in the same step (it decided before
+            // whether the victim flew off before or after the frame of the
+            // hit was shown: a blow measured on the surface or 2 cm off it).
+            blow.step = static_cast<std::int64_t>(std::llround(hit.time * opt.fps)) * opt.substeps;
             blows.push_back(blow);
             if (!opt.hitTargets) continue;
             kinematic(hit.attacker, hit.time, pa, ra);
@@ -524,7 +537,10 @@ struct Simulator::Impl {
             p.offset = offset;
             p.joints = limb;
             p.other = hit.defender;
+            // The middle of the victim's target segment, where the blow meets
+            // it: a thigh swinging away about its hip moves there, not at the hip.
             p.otherJoint = segmentBody(hit.target, def.roles);
+            p.otherFar = segmentFar(hit.target, def.roles);
             pullsOf[static_cast<std::size_t>(hit.attacker)].push_back(static_cast<int>(pulls.size()));
             pulls.push_back(std::move(p));
         }
@@ -717,7 +733,10 @@ struct Simulator::Impl {
             glm::vec3 offset = pull.offset;
             if (pull.other >= 0 && pull.otherJoint >= 0) {
                 const auto& o = chars[static_cast<std::size_t>(pull.other)];
-                if (o.created && !o.deviation.empty()) offset += o.deviation[static_cast<std::size_t>(pull.otherJoint)];
+                if (o.created && !o.deviation.empty()) {
+                    const glm::vec3 near = o.deviation[static_cast<std::size_t>(pull.otherJoint)];
+                    offset += pull.otherFar >= 0 ? 0.5f * (near + o.deviation[static_cast<std::size_t>(pull.otherFar)]) : near;
+                }
             }
             for (const auto& [j, jw] : pull.joints) {
                 pos[static_cast<std::size_t>(j)] += offset * static_cast<float>(w * static_cast<double>(jw));
@@ -906,6 +925,7 @@ struct Simulator::Impl {
                 const double leg = c.legLength[static_cast<std::size_t>(f)];
                 const glm::dvec3 d = target - at;
                 const double off = glm::length(d);
+                const glm::dvec3 before = at;
                 if (off > kPinTolerance) {
                     const double cap = glm::length(hipTarget - at) > leg ? kPinSlideFast : kPinSlide;
                     at += d * (std::min(off - kPinTolerance, cap) / off);
@@ -926,7 +946,12 @@ struct Simulator::Impl {
                 }
                 push.y = 0;
                 if (const double len = glm::length(push); len > 1e-9 && deepest > 0.002) {
-                    at += push * (std::min(deepest, kPinShove) / len);
+                    // Slide and shove together move a pin at most kPinStep a
+                    // frame: the foot follows its pin with some slip (a
+                    // knocked-down victim's sliding fall pressed by the faller:
+                    // 0.25 cm), and the sum stays under the 1 cm skate.
+                    const double room = std::max(0.0, kPinStep - glm::length(at - before));
+                    at += push * (std::min({deepest, kPinShove, room}) / len);
                     dJointSetBallAnchor2(pin, at.x, at.y, at.z);
                 }
                 // Let go where the pose and the pin are far beyond compatible.
@@ -962,9 +987,14 @@ struct Simulator::Impl {
         // The pinned feet's targets are the pins: the control does not pull against them.
         std::fill(c.pinShift.begin(), c.pinShift.end(), glm::vec3(0.0f));
         std::fill(c.pinHeld.begin(), c.pinHeld.end(), std::uint8_t{0});
+        std::fill(c.pinLeg.begin(), c.pinLeg.end(), std::uint8_t{0});
         for (int f = 0; f < 2; ++f) {
             if (!c.pin[static_cast<std::size_t>(f)]) continue;
             const int foot = feet[f];
+            const int knee = f == 0 ? c.roles.leftKnee : c.roles.rightKnee;
+            for (const auto& [j, w] : limbJoints(c, knee >= 0 ? knee : foot, 1.0f)) {
+                if (j != (f == 0 ? c.roles.leftHip : c.roles.rightHip)) c.pinLeg[static_cast<std::size_t>(j)] = 1;
+            }
             const glm::vec3 shift = glm::vec3(c.pinAt[static_cast<std::size_t>(f)]) - c.p1[static_cast<std::size_t>(foot)];
             for (const auto& [j, w] : limbJoints(c, foot, 0.5f)) {
                 c.pinShift[static_cast<std::size_t>(j)] = shift * w;
@@ -1182,6 +1212,24 @@ struct Simulator::Impl {
         }
     }
 
+    // Signed distance of two collision pieces' real boxes (the geoms less the margin).
+    static double realDistance(dGeomID a, dGeomID b) {
+        auto box = [](dGeomID g) {
+            Obb o;
+            const dReal* c = dGeomGetPosition(g);
+            const dReal* R = dGeomGetRotation(g);
+            dVector3 len;
+            dGeomBoxGetLengths(g, len);
+            o.centre = glm::vec3(glm::dvec3(c[0], c[1], c[2]));
+            for (int k = 0; k < 3; ++k) {
+                o.axes[k] = glm::vec3(glm::dvec3(R[k], R[4 + k], R[8 + k]));
+                o.half[k] = static_cast<float>(std::max(0.0, 0.5 * len[k] - kContactMargin));
+            }
+            return o;
+        };
+        return sim::boxSignedDistance(box(a), box(b));
+    }
+
     void collide(Island& is) {
         is.contactsThisStep = 0;
         is.deepest = 0;
@@ -1206,6 +1254,16 @@ struct Simulator::Impl {
         auto add = [&](dGeomID a, dGeomID b, Character* ca, int ba, Character* cb, int bb) {
             const int k = dCollide(a, b, 4, found, sizeof(dContactGeom));
             const double grown = cb ? 2.0 * kContactMargin : kContactMargin;  // the floor is not grown
+            // Apart, the real boxes' gap bounds the contacts' depth: a box
+            // grown by the margin along its axes reaches farther at its edges
+            // and corners (edge to edge 2 x 3 cm x sqrt 2), so two edges 2 cm
+            // apart counted as touching and stopped there (domino blows 1-2 cm
+            // off the surface, their control yielding before they met). The
+            // gap is counted kGapSlack short: bodies stop just before they
+            // meet rather than exactly at it (forearms sank 2.2 cm into a
+            // torso at the luggage chain's hand-overs without the slack).
+            const double real = k > 0 && cb ? realDistance(a, b) : -1.0;
+            const double apart = real > 0 ? std::max(0.0, real - kGapSlack) : -1.0;
             bool touch = false;
             for (int i = 0; i < k; ++i) {
                 dContact contact{};
@@ -1214,7 +1272,17 @@ struct Simulator::Impl {
                 contact.surface.soft_erp = 0.5;
                 contact.surface.soft_cfm = 1e-7;
                 contact.geom = found[i];
-                const double depth = found[i].depth - grown;  // of the real boxes; negative: a gap
+                // Against a pinned foot or shin the contact is soft: the pin
+                // and a body pressing on the leg cannot both hold (a faller
+                // lying across a knocked-down victim's planted shin), and with
+                // two stiff constraints the solver broke the pin (the foot
+                // slid 1-1.5 cm in a frame). The pressing body sinks in a
+                // little while the pin gives way at kPinShove a frame.
+                if ((ca && ca->pinLeg[static_cast<std::size_t>(ba)]) || (cb && cb->pinLeg[static_cast<std::size_t>(bb)])) {
+                    contact.surface.soft_erp = kPinLegErp;
+                    contact.surface.soft_cfm = kPinLegCfm;
+                }
+                const double depth = apart >= 0 ? std::min(found[i].depth - grown, -apart) : found[i].depth - grown;  // of the real boxes; negative: a gap
                 if (depth < 0) {
                     contact.surface.mu = 0;
                     contact.surface.mode |= dContactMotionN;
@@ -1264,10 +1332,10 @@ struct Simulator::Impl {
         }
     }
 
-    void pushBlows(Island& is, double t0, double t1) {
+    void pushBlows(Island& is, std::int64_t step) {
         for (int b : is.blows) {
             const Blow& blow = blows[static_cast<std::size_t>(b)];
-            if (blow.time < t0 || blow.time >= t1) continue;
+            if (blow.step != step) continue;
             auto& a = chars[static_cast<std::size_t>(blow.attacker)];
             auto& d = chars[static_cast<std::size_t>(blow.defender)];
             if (!a.created || !d.created) continue;
@@ -1330,8 +1398,7 @@ struct Simulator::Impl {
                     if (c.created && c.controlled) control(is, c, alpha);
                     if (c.created) moveHandPins(c, is.time + h);
                 }
-                const double ts = (f - 1) / opt.fps + s * h;
-                pushBlows(is, ts, ts + h);
+                pushBlows(is, static_cast<std::int64_t>(f - 1) * opt.substeps + s);
                 // Each step draws QuickStep's constraint order from its own
                 // seed, so the result does not depend on threads or on what
                 // ran before (see StepRandom).
