@@ -36,6 +36,11 @@ check "team scene" "grep -q 'blue 4' '$tmp/teams.frayscene'"
 "$cli" igraph table "$p" --graph "$tmp/g.igraph" --matches 2 --seconds 4 --depths 1 --tree-depths 2 -q > "$tmp/table.txt"
 check "table columns" "grep -q 'vs tree expansion depth 2' '$tmp/table.txt' && grep -q '^| 1 | ' '$tmp/table.txt'"
 check "tree expansion decided" "grep -Eq 'tree expansion depth 2: [1-9][0-9]* decisions' '$tmp/table.txt'"
+# The same with refined look-ups, two depths and the prediction measurement.
+"$cli" igraph table "$p" --graph "$tmp/g.igraph" --matches 2 --seconds 4 --depths 1 3 --tree-depths 2 --refine --set gamma=0.5 --measure -q > "$tmp/table2.txt"
+check "table: paired differences" "grep -q '^| 3 - 1 | ' '$tmp/table2.txt'"
+check "table: measured look-ups" "grep -Eq '^\\| 3 \\| tree expansion depth 2 \\| [1-9][0-9]* \\| ' '$tmp/table2.txt'"
+expect_fail "table: bad opponent model" "is not own or mine" "$cli" igraph table "$p" --graph "$tmp/g.igraph" --set opponent=both -q
 expect_fail "table: unknown tree preset" "no planner preset named 'nobody'" "$cli" igraph table "$p" --graph "$tmp/g.igraph" --tree-preset nobody -q
 
 # Bad input.

@@ -534,18 +534,33 @@ struct TableArgs {
     std::vector<int> treeDepths = {2, 3};
     std::vector<std::string> edits;
     bool refine = false;
+    bool measure = false;
     bool quiet = false;
 };
 
 std::string cell(const igraph::SeriesResult& r) {
     char buf[64];
-    std::snprintf(buf, sizeof buf, "%.1f (%d..%d)", r.mean, r.min, r.max);
+    std::snprintf(buf, sizeof buf, "%.1f +- %.1f (%d..%d)", r.mean, r.standardError(), r.min, r.max);
     return buf;
 }
 
 std::string detail(const igraph::SeriesResult& r) {
     char buf[64];
     std::snprintf(buf, sizeof buf, "%.1f / %.1f / %.1f %%", r.meanLanded(), r.meanReceived(), 100.0 * r.offGraphShare());
+    return buf;
+}
+
+std::string predictionRow(const igraph::PredictionStats& p) {
+    auto pct = [](std::int64_t x, std::int64_t n) { return n > 0 ? 100.0 * static_cast<double>(x) / static_cast<double>(n) : 0.0; };
+    const double n = p.lookups > 0 ? static_cast<double>(p.lookups) : 1.0;
+    char buf[512];
+    std::snprintf(buf, sizeof buf,
+                  "%lld | %.2f | %.2f | %.2f | %lld | %.1f / %.1f / %.1f %% | %.1f / %.1f / %.1f %% | %.1f %% | %.1f / %.1f %% | %.1f / %.1f %%",
+                  static_cast<long long>(p.lookups), p.within > 0 ? p.distanceSum / static_cast<double>(p.within) : 0.0, p.drSum / n,
+                  p.dThetaSum / n, static_cast<long long>(p.edges), pct(p.givenPredicted, p.edges), pct(p.givenReal, p.edges),
+                  pct(p.givenBoth, p.edges), pct(p.receivedPredicted, p.edges), pct(p.receivedReal, p.edges), pct(p.receivedBoth, p.edges),
+                  pct(p.sameTarget, p.edges), pct(p.chosenGivenPredicted, p.chosen), pct(p.chosenGivenReal, p.chosen),
+                  pct(p.chosenReceivedPredicted, p.chosen), pct(p.chosenReceivedReal, p.chosen));
     return buf;
 }
 
@@ -580,9 +595,11 @@ void runTable(const TableArgs& a) {
     so.seconds = a.seconds;
     so.style = a.preset;
     so.refine = a.refine;
+    so.measure = a.measure;
     const auto t0 = Clock::now();
     std::vector<sim::TreeDecisionStats> treeStats(opponents.size());
-    std::string scores = header, details;
+    std::string scores = header, details, prediction, timing;
+    std::vector<std::vector<int>> cells;  // per (depth, opponent), the seeds' scores
     for (int depth : a.depths) {
         auto p = igraph::computePolicy(*l->graph, *w, depth);
         if (!p) return fail(p.error().message);
@@ -591,8 +608,17 @@ void runTable(const TableArgs& a) {
         for (std::size_t k = 0; k < opponents.size(); ++k) {
             auto r = igraph::playSeries(l->rules, l->graph, policy, opponents[k], so, stderrProgress(a.quiet));
             if (!r) return fail(r.error().message);
+            cells.push_back(r->scores);
             row += " | " + cell(*r);
             more += " | " + detail(*r);
+            if (k == 0) {
+                char buf[160];
+                std::snprintf(buf, sizeof buf, "depth %d vs the static target: %.1f us a decision (%lld decisions; the target's are a scan of its Next set)\n",
+                              depth, r->decisions > 0 ? 1e6 * r->decideSeconds / static_cast<double>(r->decisions) : 0.0,
+                              static_cast<long long>(r->decisions));
+                timing += buf;
+            }
+            if (a.measure) prediction += "| " + std::to_string(depth) + " | " + opponents[k].name + " | " + predictionRow(r->prediction) + " |\n";
             treeStats[k].decisions += r->tree.decisions, treeStats[k].leaves += r->tree.leaves, treeStats[k].shallower += r->tree.shallower,
                 treeStats[k].fallbacks += r->tree.fallbacks;
         }
@@ -603,13 +629,44 @@ void runTable(const TableArgs& a) {
     std::printf("(cells: mean score (min..max) over %d seeded matches of %.0f s; graph style %s%s, tree preset %s; "
                 "score = unblocked blows landed by the graph boxer minus the opponent's)\n",
                 a.matches, a.seconds, a.preset.c_str(), a.refine ? " (refined look-ups)" : "", a.treePreset.c_str());
+    // Each depth against the one before, seed by seed (the same seeds: paired).
+    std::string paired;
+    const std::size_t cols = opponents.size();
+    for (std::size_t d = 1; d < a.depths.size(); ++d) {
+        paired += "| " + std::to_string(a.depths[d]) + " - " + std::to_string(a.depths[d - 1]);
+        for (std::size_t k = 0; k < cols; ++k) {
+            const auto& hi = cells[d * cols + k];
+            const auto& lo = cells[(d - 1) * cols + k];
+            const auto n = static_cast<double>(hi.size());
+            double mean = 0, ss = 0;
+            for (std::size_t m = 0; m < hi.size(); ++m) mean += hi[m] - lo[m];
+            mean /= n;
+            for (std::size_t m = 0; m < hi.size(); ++m) ss += (hi[m] - lo[m] - mean) * (hi[m] - lo[m] - mean);
+            char buf[64];
+            std::snprintf(buf, sizeof buf, " | %+.2f +- %.2f", mean, hi.size() > 1 ? std::sqrt(ss / (n - 1) / n) : 0.0);
+            paired += buf;
+        }
+        paired += " |\n";
+    }
+    if (!paired.empty()) {
+        std::printf("\neach depth minus the one before, seed by seed (mean +- standard error of the paired differences):\n\n%s%s",
+                    header.c_str(), paired.c_str());
+    }
+    if (a.measure) {
+        std::printf("\nthe graph boxer's look-ups (--measure): D to the state found (within the graph) | |dr| m | |dtheta_A|+|dtheta_B| rad | "
+                    "every edge of the state: blow given predicted / simulated / both, received predicted / simulated / both, "
+                    "same target state | the chosen edge: given predicted / simulated, received predicted / simulated\n\n"
+                    "| depth | opponent | look-ups | D | dr | dtheta | edges | given p/s/both | received p/s/both | same target | chosen given p/s | chosen received p/s |\n"
+                    "|---|---|---|---|---|---|---|---|---|---|---|---|\n%s",
+                    prediction.c_str());
+    }
     for (std::size_t k = 1; k < opponents.size(); ++k) {
         const auto& t = treeStats[k];
         std::printf("%s: %lld decisions, %.0f leaves each, %lld at a lower depth (budget), %lld fallbacks\n", opponents[k].name.c_str(),
                     static_cast<long long>(t.decisions), t.decisions > 0 ? static_cast<double>(t.leaves) / static_cast<double>(t.decisions) : 0.0,
                     static_cast<long long>(t.shallower), static_cast<long long>(t.fallbacks));
     }
-    std::printf("table: %.1f s wall clock\n", since(t0));
+    std::printf("%stable: %.1f s wall clock\n", timing.c_str(), since(t0));
 }
 
 // ---- bench ----------------------------------------------------------------------------------
@@ -780,6 +837,7 @@ void registerIgraph(CLI::App& app) {
         cmd->add_option("--tree-depths", a->treeDepths, "Depths of the tree-expansion opponents");
         cmd->add_option("--tree-preset", a->treePreset, "Planner preset of the tree-expansion opponents");
         cmd->add_flag("--refine", a->refine, "The graph boxer re-simulates its state's edges from the real bodies (MatchOptions::refine)");
+        cmd->add_flag("--measure", a->measure, "Measure the graph boxer's predictions against the real bodies (MatchOptions::measure)");
         cmd->add_option("--set", a->edits, "Reward weight edit of the graph boxer, name=value (w_theta, w_d, d_p, w_a, w_r, gamma)");
         cmd->add_flag("-q,--quiet", a->quiet, "No progress on stderr");
         cmd->callback([a] { runTable(*a); });

@@ -244,6 +244,10 @@ Result<Graph> buildGraph(const Rules& rules, const BuildOptions& o, const Progre
     if (!(o.scale.sigmaR > 0 && o.scale.sigmaTheta > 0 && o.scale.frameSigma > 0 && o.joinRadius > 0)) {
         return makeError("igraph build: the distance scales must be positive");
     }
+    if (o.outcomeSamples < 0 || o.outcomeSamples > 4 || !(o.outcomeSpreadR >= 0 && o.outcomeSpreadR < 1) ||
+        !(o.outcomeSpreadTheta >= 0 && o.outcomeSpreadTheta < 1)) {
+        return makeError("igraph build: outcome samples must be 0-4 and their spreads finite, >= 0 and under 1 (m, rad)");
+    }
     const auto& lib = rules.library();
     const CellCoder coder{o.scale.sigmaR * o.cellScale, o.scale.sigmaTheta * o.cellScale, o.scale.frameSigma * o.cellScale};
     Graph g;
@@ -471,6 +475,17 @@ Result<Graph> buildGraph(const Rules& rules, const BuildOptions& o, const Progre
             node.b[0].action = rules.idle().front();
             node.b[0].root = lib.action(node.b[0].action).end.inverse();
             node.b[0].end = 0;
+            // B placed around the mean (outcomeSamples): the blows are averaged over them.
+            std::array<Body, 4> spread{};
+            const int spreadCount = std::clamp(o.outcomeSamples, 0, 4);
+            for (int k = 0; k < spreadCount; ++k) {
+                constexpr int kSigns[4][3] = {{1, 1, -1}, {-1, -1, 1}, {1, -1, 1}, {-1, 1, -1}};
+                const double r = std::max(0.05, s.r + kSigns[k][0] * o.outcomeSpreadR);
+                const double ta = s.thetaA + kSigns[k][1] * o.outcomeSpreadTheta, tb = s.thetaB + kSigns[k][2] * o.outcomeSpreadTheta;
+                const glm::vec2 dk = static_cast<float>(r) * sim::headingVector(ta);
+                spread[static_cast<std::size_t>(k)] =
+                    detail::bodyAt(lib, s.actionB, s.frameB / sim::kSampleRate, sim::RootXf{dk, sim::wrapAngle(sim::angleOf(-dk) - tb)}, 0.0);
+            }
             for (int a : edgeActions[static_cast<std::size_t>(s.nextSet)]) {
                 std::array<Body, 2> b = node.b;
                 detail::launch(lib, b[0], a, 0.0);
@@ -480,6 +495,19 @@ Result<Graph> buildGraph(const Rules& rules, const BuildOptions& o, const Progre
                 const auto un = static_cast<std::size_t>(nc);
                 const int to = g.find(detail::stateOf(rules, b[un], b[1 - un], t1));
                 if (to < 0) continue;
+                if (spreadCount > 0) {
+                    // The expected blows over the mean and the spread placements.
+                    double given = static_cast<double>(oc.given[0]), received = static_cast<double>(oc.received[0]);
+                    for (int k = 0; k < spreadCount; ++k) {
+                        std::array<Body, 2> bk = {node.b[0], spread[static_cast<std::size_t>(k)]};
+                        detail::launch(lib, bk[0], a, 0.0);
+                        detail::Outcome ok;
+                        detail::advanceDuel(rules, bk, 0.0, ok);
+                        given += static_cast<double>(ok.given[0]), received += static_cast<double>(ok.received[0]);
+                    }
+                    oc.given[0] = static_cast<float>(given / (spreadCount + 1));
+                    oc.received[0] = static_cast<float>(received / (spreadCount + 1));
+                }
                 // Actions of one kind that lead to the same state with the
                 // same blows (speeds within 1 m/s) are one edge, the first of
                 // them: min-max cannot tell them apart, and a command still

@@ -27,6 +27,7 @@ void writeOptions(Writer& w, const BuildOptions& o) {
     w.put(o.scale.sigmaR), w.put(o.scale.sigmaTheta), w.put(o.scale.frameSigma), w.put(o.cellScale);
     w.put(static_cast<std::int32_t>(o.kmeansIterations)), w.put(o.joinRadius), w.put(static_cast<std::int32_t>(o.coverageDepth));
     w.put(static_cast<std::int32_t>(o.coverageStarts)), w.put(static_cast<std::int32_t>(o.variantsPerClass));
+    w.put(static_cast<std::int32_t>(o.outcomeSamples)), w.put(o.outcomeSpreadR), w.put(o.outcomeSpreadTheta);
 }
 
 void readOptions(Reader& r, BuildOptions& o) {
@@ -37,6 +38,7 @@ void readOptions(Reader& r, BuildOptions& o) {
     o.cellScale = r.get<double>(), o.kmeansIterations = r.get<std::int32_t>(), o.joinRadius = r.get<double>();
     o.coverageDepth = r.get<std::int32_t>(), o.coverageStarts = r.get<std::int32_t>();
     o.variantsPerClass = r.get<std::int32_t>();
+    o.outcomeSamples = r.get<std::int32_t>(), o.outcomeSpreadR = r.get<double>(), o.outcomeSpreadTheta = r.get<double>();
 }
 
 bool finite(double v) { return std::isfinite(v); }

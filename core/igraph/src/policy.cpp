@@ -63,6 +63,11 @@ Status applyRewardEdit(RewardWeights& w, std::string_view edit) {
     const auto eq = edit.find('=');
     if (eq == std::string_view::npos) return makeError("'" + std::string(edit) + "': expected name=value");
     const std::string_view key = edit.substr(0, eq), text = edit.substr(eq + 1);
+    if (key == "opponent") {
+        if (text != "own" && text != "mine") return makeError("reward opponent: '" + std::string(text) + "' is not own or mine");
+        w.opponentOwn = text == "own";
+        return {};
+    }
     for (const auto& nw : kWeights) {
         if (key != nw.name) continue;
         // strtod for nan and inf, which from_chars also reads: both are refused by validate.
@@ -76,15 +81,20 @@ Status applyRewardEdit(RewardWeights& w, std::string_view edit) {
         w = probe;
         return {};
     }
-    return makeError("no reward weight named '" + std::string(key) + "' (w_theta, w_d, d_p, w_a, w_r, gamma)");
+    return makeError("no reward weight named '" + std::string(key) + "' (w_theta, w_d, d_p, w_a, w_r, gamma, opponent)");
 }
 
 double edgeReward(const Graph& g, const Edge& e, const RewardWeights& w, bool chooserIsMine) {
     // The geometry where the edge leads: the state's chooser is A there.
     const auto& to = g.states[static_cast<std::size_t>(e.to)];
+    const double d = to.r - w.dP;
+    if (!chooserIsMine && w.opponentOwn) {
+        // The opponent's own W of its edge, against the controlled character.
+        const double theta = e.sameChooser() ? to.thetaA : to.thetaB;
+        return -(-w.wTheta * theta * theta - w.wD * d * d + w.wA * e.given() - w.wR * e.received());
+    }
     const bool mineIsA = e.sameChooser() == chooserIsMine;
     const double theta = mineIsA ? to.thetaA : to.thetaB;
-    const double d = to.r - w.dP;
     const double plus = chooserIsMine ? e.given() : e.received();
     const double minus = chooserIsMine ? e.received() : e.given();
     return -w.wTheta * theta * theta - w.wD * d * d + w.wA * plus - w.wR * minus;
@@ -133,7 +143,7 @@ Result<Policy> computePolicy(const Graph& g, const RewardWeights& w, int depth, 
                     // A dead end (no action lands in a state): valued as
                     // staying where it is, so it is neither a refuge nor a trap.
                     nxt[i].vm = cur[i].moveA + w.gamma * cur[i].vm;
-                    nxt[i].vt = cur[i].moveB + w.gamma * cur[i].vt;
+                    nxt[i].vt = (w.opponentOwn ? -cur[i].moveA : cur[i].moveB) + w.gamma * cur[i].vt;
                     continue;
                 }
                 double best = -std::numeric_limits<double>::infinity(), worst = std::numeric_limits<double>::infinity();
@@ -145,8 +155,12 @@ Result<Policy> computePolicy(const Graph& g, const RewardWeights& w, int depth, 
                     const double mine = x->sameChooser() ? t.moveA + w.wA * given - w.wR * received + w.gamma * t.vm
                                                          : t.moveB + w.wA * given - w.wR * received + w.gamma * t.vt;
                     if (mine > best) best = mine, bestEdge = static_cast<std::int32_t>(x - g.edges.data());
-                    const double theirs = x->sameChooser() ? t.moveB + w.wA * received - w.wR * given + w.gamma * t.vt
-                                                           : t.moveA + w.wA * received - w.wR * given + w.gamma * t.vm;
+                    // = edgeReward(g, *x, w, false) + gamma V(next): the opponent's own W against us, or ours.
+                    const double theirs =
+                        w.opponentOwn ? (x->sameChooser() ? -(t.moveA + w.wA * given - w.wR * received) + w.gamma * t.vt
+                                                          : -(t.moveB + w.wA * given - w.wR * received) + w.gamma * t.vm)
+                                      : (x->sameChooser() ? t.moveB + w.wA * received - w.wR * given + w.gamma * t.vt
+                                                          : t.moveA + w.wA * received - w.wR * given + w.gamma * t.vm);
                     worst = std::min(worst, theirs);
                 }
                 nxt[i].vm = best;

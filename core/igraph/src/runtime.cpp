@@ -139,6 +139,7 @@ struct Match::Impl {
     double window = 0;          // s: decisions this step are at most this far from the index's time
     int maxLaunches = 0;
     bool refine = false;        // MatchOptions::refine
+    bool measure = false;       // MatchOptions::measure
     double vmax = -1, jump = 0;  // the library's fastest pelvis (m/s), largest step between actions (m)
 
     const ActionLibrary& lib() const { return rules->library(); }
@@ -240,6 +241,41 @@ struct Match::Impl {
         return bestAction;
     }
 
+    // MatchOptions::measure: the state's stored edges against the same
+    // actions simulated from the real bodies.
+    void measurePrediction(int c, int opp, double at, const InteractionState& s, int state, bool within, const Policy* policy) {
+        auto& m = stats.prediction;
+        if (graph->edgesBegin(state) == graph->edgesEnd(state)) return;
+        ++m.lookups;
+        const auto& st = graph->states[static_cast<std::size_t>(state)];
+        if (within) {
+            ++m.within;
+            m.distanceSum += distance(s, st, graph->options.scale);
+        }
+        m.drSum += std::fabs(s.r - st.r);
+        m.dThetaSum += std::fabs(sim::wrapAngle(s.thetaA - st.thetaA)) + std::fabs(sim::wrapAngle(s.thetaB - st.thetaB));
+        const std::int32_t chosenEdge =
+            policy && static_cast<std::size_t>(state) < policy->best.size() ? policy->best[static_cast<std::size_t>(state)] : -1;
+        for (const Edge* e = graph->edgesBegin(state); e != graph->edgesEnd(state); ++e) {
+            std::array<Body, 2> b = {bodies[static_cast<std::size_t>(c)], bodies[static_cast<std::size_t>(opp)]};
+            detail::launch(lib(), b[0], e->action(), at);
+            detail::Outcome oc;
+            const double t1 = detail::advanceDuel(*rules, b, at, oc);
+            const int nc = detail::chooser(b);
+            const auto un = static_cast<std::size_t>(nc);
+            const int to = graph->find(detail::stateOf(*rules, b[un], b[1 - un], t1), true);
+            const bool gp = e->givenQ > 0, gr = oc.given[0] > 0.05f, rp = e->receivedQ > 0, rr = oc.received[0] > 0.05f;
+            ++m.edges;
+            m.givenPredicted += gp, m.givenReal += gr, m.givenBoth += gp && gr;
+            m.receivedPredicted += rp, m.receivedReal += rr, m.receivedBoth += rp && rr;
+            m.sameTarget += to == e->to && (nc == 0) == e->sameChooser();
+            if (static_cast<std::int32_t>(e - graph->edges.data()) == chosenEdge) {
+                ++m.chosen;
+                m.chosenGivenPredicted += gp, m.chosenGivenReal += gr, m.chosenReceivedPredicted += rp, m.chosenReceivedReal += rr;
+            }
+        }
+    }
+
     // Character c as tree expansion sees it at a decision: its body and its last six actions, newest first.
     sim::DuelSideState sideOf(int c) const {
         const auto uc = static_cast<std::size_t>(c);
@@ -281,7 +317,9 @@ struct Match::Impl {
         if (f.mind == Mind::Graph || cmd != Command::None) {
             ++stats.lookups;
             state = graph->find(s, true);
+            const bool within = state >= 0;
             if (state < 0) ++stats.offGraph, state = graph->find(s, false);
+            if (measure && f.mind == Mind::Graph && state >= 0) measurePrediction(c, opp, at, s, state, within, policy);
         }
         if (cmd != Command::None) {
             int bestAction = -1;
@@ -433,6 +471,7 @@ Match::Match(std::shared_ptr<const Rules> rules, std::shared_ptr<const Graph> gr
     m.graph = std::move(graph);
     m.fighters = std::move(fighters);
     m.refine = options_.refine;
+    m.measure = options_.measure;
     const auto& lib = m.rules->library();
     m.scene.duration = options_.duration;
     m.scene.seed = options_.seed;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <mutex>
 
 #include <tbb/parallel_for.h>
@@ -19,6 +20,14 @@ double SeriesResult::meanReceived() const {
     double s = 0;
     for (int x : received) s += x;
     return received.empty() ? 0.0 : s / static_cast<double>(received.size());
+}
+
+double SeriesResult::standardError() const {
+    const auto n = static_cast<double>(scores.size());
+    if (scores.size() < 2) return 0.0;
+    double ss = 0;
+    for (int x : scores) ss += (x - mean) * (x - mean);
+    return std::sqrt(ss / (n - 1) / n);
 }
 
 Result<SeriesResult> playSeries(std::shared_ptr<const Rules> rules, std::shared_ptr<const Graph> graph, std::shared_ptr<const Policy> policy,
@@ -48,6 +57,7 @@ Result<SeriesResult> playSeries(std::shared_ptr<const Rules> rules, std::shared_
         mo.duration = o.seconds;
         mo.seed = seed;
         mo.refine = o.refine;
+        mo.measure = o.measure;
         Match match(rules, graph, std::move(f), mo);
         if (auto st = match.run(); !st) {
             errors[m] = st.error().message;
@@ -82,6 +92,14 @@ Result<SeriesResult> playSeries(std::shared_ptr<const Rules> rules, std::shared_
         const auto& t = stats[m].tree;
         r.tree.decisions += t.decisions, r.tree.nodes += t.nodes, r.tree.leaves += t.leaves, r.tree.shallower += t.shallower,
             r.tree.fallbacks += t.fallbacks;
+        r.decisions += stats[m].decisions, r.decideSeconds += stats[m].decideSeconds;
+        const auto& q = stats[m].prediction;
+        auto& p = r.prediction;
+        p.lookups += q.lookups, p.distanceSum += q.distanceSum, p.within += q.within, p.drSum += q.drSum, p.dThetaSum += q.dThetaSum;
+        p.edges += q.edges, p.givenPredicted += q.givenPredicted, p.givenReal += q.givenReal, p.givenBoth += q.givenBoth;
+        p.receivedPredicted += q.receivedPredicted, p.receivedReal += q.receivedReal, p.receivedBoth += q.receivedBoth;
+        p.sameTarget += q.sameTarget, p.chosen += q.chosen, p.chosenGivenPredicted += q.chosenGivenPredicted;
+        p.chosenGivenReal += q.chosenGivenReal, p.chosenReceivedPredicted += q.chosenReceivedPredicted, p.chosenReceivedReal += q.chosenReceivedReal;
     }
     r.mean = sum / static_cast<double>(n);
     return r;

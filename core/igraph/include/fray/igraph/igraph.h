@@ -36,7 +36,7 @@ namespace fray::igraph {
 // (the interaction state, the distance, the simulation of an edge). A file of
 // another rule is stale: build the graph again.
 inline constexpr std::uint32_t kGraphFileVersion = 1;
-inline constexpr std::uint32_t kGraphRule = 1;
+inline constexpr std::uint32_t kGraphRule = 2;  // 2: an edge's blows are expected over its state's spread (BuildOptions::outcomeSamples)
 
 // Which actions a graph character may launch and what it reacts with.
 class Rules {
@@ -116,6 +116,14 @@ struct BuildOptions {
     // class; 0: every action of the Next set (SPEC 3.3 to the letter).
     int variantsPerClass = 2;
     double joinRadius = 1.5;       // a simulated result within this D of a state falls in it (half a sigma-wide cluster in each term)
+    // An edge's blows (given, received) are the mean over the state's mean
+    // and this many placements of B around it (r +- outcomeSpreadR, each
+    // angle +- outcomeSpreadTheta, in a fixed pattern): a state stands for
+    // the real geometries near it, and a blow that lands from the mean alone
+    // mostly misses from them (docs/IGRAPH.md). 0: the mean only (rule 1).
+    int outcomeSamples = 4;
+    double outcomeSpreadR = 0.1;       // m
+    double outcomeSpreadTheta = 0.14;  // rad
     // Coverage: states visited by full tree expansion to this depth from
     // coverageStarts of the start states (0: not measured).
     int coverageDepth = 3;
@@ -234,6 +242,13 @@ Result<Graph> readGraphUnbound(std::string_view bytes, std::string_view fileName
 struct RewardWeights {
     double wTheta = 1, wD = 1, dP = 0.8, wA = 2, wR = 2;
     double gamma = 1;
+    // The opponent's edges (min nodes): true, as tree expansion scores its
+    // min edges (SPEC 2.2): the opponent's own reward W (its facing, its
+    // distance, its blows, the same weights) counted against the controlled
+    // character, so the min is an opponent pursuing its own wishes. false:
+    // the controlled character's W of that edge (its own facing and
+    // distance): the min is an opponent that spoils them (rule 1's policies).
+    bool opponentOwn = false;
     friend bool operator==(const RewardWeights&, const RewardWeights&) = default;
 };
 // Every weight a finite number >= 0 (gamma in [0, 1]); the message names the field.
@@ -241,7 +256,8 @@ Status validate(const RewardWeights& w);
 // Boxing styles: "general", "infighter", "outboxer".
 Result<RewardWeights> stylePreset(std::string_view name);
 const std::vector<std::string>& styleNames();
-// Edits one weight by "name=value" (w_theta, w_d, d_p, w_a, w_r, gamma).
+// Edits one weight by "name=value" (w_theta, w_d, d_p, w_a, w_r, gamma;
+// opponent=own|mine for opponentOwn).
 Status applyRewardEdit(RewardWeights& w, std::string_view edit);
 
 struct Policy {

@@ -70,6 +70,28 @@ struct MatchOptions {
     // states are up to sigma_r, sigma_theta from the real geometry, and a
     // blow predicted there can miss here. Costs a simulation per edge.
     bool refine = false;
+    // Graph characters measure how well the graph predicts: every edge of
+    // the state found is also simulated from the real bodies (as refine
+    // does) and its stored outcome compared (MatchStats::prediction). Does
+    // not change any choice; costs a simulation per edge.
+    bool measure = false;
+};
+
+// How the graph's stored outcomes compare with the same actions simulated
+// from the real bodies (MatchOptions::measure), over the graph characters'
+// look-ups.
+struct PredictionStats {
+    std::int64_t lookups = 0;        // look-ups measured (a state with edges found)
+    double distanceSum = 0;          // D from the real state to the state found, summed (within the graph)
+    std::int64_t within = 0;         // look-ups that fell within joinRadius of a state
+    double drSum = 0, dThetaSum = 0; // |r - r_state| (m) and |theta_A - theta_A,state| + |theta_B - ...| (rad), summed
+    // Every edge of the state found: a blow given (landed by the chooser) /
+    // received predicted by the graph, happening in the simulation, both.
+    std::int64_t edges = 0, givenPredicted = 0, givenReal = 0, givenBoth = 0;
+    std::int64_t receivedPredicted = 0, receivedReal = 0, receivedBoth = 0;
+    std::int64_t sameTarget = 0;     // the simulated next decision falls in the edge's target state
+    // The edge the policy chose: the same counts.
+    std::int64_t chosen = 0, chosenGivenPredicted = 0, chosenGivenReal = 0, chosenReceivedPredicted = 0, chosenReceivedReal = 0;
 };
 
 struct MatchStats {
@@ -77,6 +99,7 @@ struct MatchStats {
     double decideSeconds = 0;  // time spent deciding (look-ups and choices)
     double enemySeconds = 0;   // of which in the closest-enemy search
     sim::TreeDecisionStats tree;  // decisions by tree expansion (Mind::Tree)
+    PredictionStats prediction;   // MatchOptions::measure
 };
 
 class Match {

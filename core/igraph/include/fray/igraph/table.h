@@ -27,6 +27,7 @@ struct SeriesOptions {
     std::string style = "general";  // the graph boxer's style, for the scene record
     bool parallel = true;     // matches in parallel (results do not depend on it)
     bool refine = false;      // the graph boxer refines its look-ups (MatchOptions::refine)
+    bool measure = false;     // the graph boxer's predictions are measured (MatchOptions::measure)
 };
 
 struct SeriesResult {
@@ -36,6 +37,10 @@ struct SeriesResult {
     int min = 0, max = 0;
     std::int64_t lookups = 0, offGraph = 0, fallbacks = 0;  // the graph boxer's decisions
     sim::TreeDecisionStats tree;                              // the opponent's, when it plans by tree expansion
+    PredictionStats prediction;                               // SeriesOptions::measure
+    std::int64_t decisions = 0;                               // both characters' decisions
+    double decideSeconds = 0;                                 // their time (MatchStats::decideSeconds)
+    double standardError() const;                             // of the mean score (sample standard deviation / sqrt(n))
     double meanLanded() const;
     double meanReceived() const;
     double offGraphShare() const { return lookups > 0 ? static_cast<double>(offGraph) / static_cast<double>(lookups) : 0.0; }
