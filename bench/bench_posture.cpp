@@ -21,13 +21,16 @@ fray::sim::Scene crowd(int characters) {
     return fray::test::pairCrowd(duel, characters);
 }
 
-// Args: characters, frames simulated per iteration.
+// Args: characters, frames simulated per iteration, solver (0 the default
+// QuickStep, 1 the direct dWorldStep).
 void BM_PosturePhysics(benchmark::State& state) {
     const auto scene = crowd(static_cast<int>(state.range(0)));
     const int frames = static_cast<int>(state.range(1));
+    fray::posture::Options options;
+    if (state.range(2) != 0) options.solver = fray::posture::Solver::Direct;
     double produced = 0, cpu = 0;
     for (auto _ : state) {
-        fray::posture::Simulator sim(scene, demoWorld().library, {});
+        fray::posture::Simulator sim(scene, demoWorld().library, options);
         state.PauseTiming();
         sim.step();  // frame 0 places the bodies: not a simulated frame
         state.ResumeTiming();
@@ -44,6 +47,13 @@ void BM_PosturePhysics(benchmark::State& state) {
     state.counters["fps_per_core"] = cpu > 0 ? produced / cpu : 0.0;
 }
 
-BENCHMARK(BM_PosturePhysics)->Args({2, 120})->Args({200, 60})->Args({1000, 30})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_PosturePhysics)
+    ->Args({2, 120, 0})
+    ->Args({200, 60, 0})
+    ->Args({1000, 30, 0})
+    ->Args({200, 60, 1})
+    ->Args({1000, 30, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace

@@ -260,14 +260,16 @@ TEST(PostureSolver, BadInputStaysFiniteAndIsReported) {
     EXPECT_NE(all.find("no such person"), std::string::npos) << all;
 }
 
-// The solver is a real option (docs/POSTURE.md "Speed"): the direct solver
-// (the default) and ODE's QuickStep both give finite poses, and different ones.
+// The solver is a real option (docs/POSTURE.md "Speed"): ODE's QuickStep (the
+// default) and the direct solver both give finite poses, and different ones.
 TEST(PostureSolver, SolverIsAnOption) {
     sim::Scene two = duel();
     two.duration = 4.0;
-    posture::Options iterative;
+    posture::Options iterative, direct;
     iterative.solver = posture::Solver::Iterative;
-    const auto a = posture::simulate(two, demoWorld().library);
+    direct.solver = posture::Solver::Direct;
+    EXPECT_EQ(posture::Options{}.solver, posture::Solver::Iterative);
+    const auto a = posture::simulate(two, demoWorld().library, direct);
     const auto c = posture::simulate(two, demoWorld().library, iterative);
     ASSERT_TRUE(a && c);
     const auto& x = a->world.joints[0];
