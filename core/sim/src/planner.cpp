@@ -170,7 +170,7 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
             }
             auto legal = legalChoices(lib, c);
             auto folded = foldVariants(lib, legal);
-            ctx.members.push_back({i, &c, std::move(legal), std::move(folded), engine.addPool(c.reactions)});
+            ctx.members.push_back({i, &c, std::move(legal), std::move(folded), engine.addPool(c.reactions), makePathPlan(c)});
             rec.global[static_cast<std::size_t>(g.n)] = i;
             if (c.weights.wPath > 0 || c.weights.wPsi > 0 || c.weights.wReq > 0) ctx.cooperative = true;
             if (c.weights.catches) catches = true;

@@ -63,6 +63,23 @@ struct Recorder {
     bool stop = false;  // stopOnCatch fired
 };
 
+// A character's path as the path term follows it (docs/TREE_EXPANSION.md
+// "Following a path"): the polyline through its checkpoints, measured along
+// its length, and the schedule its timed checkpoints make.
+struct PathPlan {
+    bool active = false;                 // a path, w_path > 0 and no loop: the progress term applies
+    std::vector<glm::vec2> points;       // the checkpoints' positions
+    std::vector<double> along;           // per checkpoint: its distance from the first along the polyline
+    std::vector<double> knotTime, knotAlong;  // the schedule: (0 s, 0 m), then each timed checkpoint
+    // Where along the path the character should be at time t.
+    double goal(double t) const;
+    // The point of the polyline nearest to p among the segments around
+    // checkpoint `next` (the next one to reach): its distance along the path
+    // and p's distance from it.
+    void project(glm::vec2 p, int next, double& s, double& lateral) const;
+};
+PathPlan makePathPlan(const CharacterSpec& spec);
+
 struct Member {
     int global = 0;
     const CharacterSpec* spec = nullptr;
@@ -73,6 +90,7 @@ struct Member {
     // inside the tree (SimOptions::variants).
     std::vector<std::vector<int>> folded;
     int pool = 0;  // its reactive clips (spec->reactions) in the interaction engine
+    PathPlan path;  // set by simulate (makePathPlan)
 };
 
 // Per library action: its Next() within the character's allowed set, reactive clips left out.
