@@ -221,6 +221,7 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
             const auto& cs = specOf(ctx, who);
             Stats st;
             bool fellBack = false;
+            if (!pins.empty() && opt.pinsInTree) pins.inTree(ctx);
             int action = decide(ctx, g, cs.depth, st, fellBack);
             total.add(st);
             if (!pins.empty()) {

@@ -127,6 +127,10 @@ struct Context {
         std::array<float, kCoreSegments.size()> radii;
     };
     std::vector<TestBody> testBodies;
+    // Per member: its next pin not yet honoured (nullptr: none); empty when
+    // the scene has no pins or SimOptions::pinsInTree is off. Set before
+    // each decision (PinGuide::inTree); the Pruner narrows the pin's node.
+    std::vector<const ActionPin*> treePins;
     bool duel = false;                   // two members on opposite sides: each one's opponent is the other
     bool boundedFrontier = false;        // a duel scored by blows: frontier edges can be bounded (boundedFrontier)
 };
@@ -252,6 +256,13 @@ public:
                        const std::function<int(const CandidateFilter&)>& redecide);
     // After the group's last decision: a pin of the group never honoured.
     Status finish(const Context& ctx) const;
+    // Context::treePins for the next decision: each member's first pin not yet honoured.
+    void inTree(Context& ctx) const;
+    // Whether node g is, inside the tree, the pin's decision of `who`: the
+    // pin's window [time - kPinEarly, time + kPinLate] and its current action
+    // began before the window (else a decision in it came first) or is a
+    // reaction to a hit.
+    static bool pinNode(const ActionPin& pin, const GroupState& g, int who);
 
 private:
     struct Entry {
