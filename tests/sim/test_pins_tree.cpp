@@ -52,10 +52,11 @@ bool starts(const Scene& s, int c, const std::vector<int>& actions, double from,
 TEST(SimPins, LookAheadExpectsThePin) {
     constexpr double kPinTime = 4.0;
     std::string text = test::duelSpec(4, 2, 1, 8.0);
-    text.insert(text.size() - 1, R"(, "pins": [{"character": "a", "time": 4, "action": "@kick"}])");
+    text.insert(text.size() - 1, R"(, "pins_in_tree": true, "pins": [{"character": "a", "time": 4, "action": "@kick"}])");
     auto spec = test::parseSpec(text);
     ASSERT_TRUE(spec.ok()) << spec.error().message;
     ASSERT_EQ(spec->pins.size(), 1u);
+    ASSERT_TRUE(spec->options.pinsInTree);
     const auto& w = test::demoWorld();
     auto on = simulate(w.library, w.project.combos, *spec);
     ASSERT_TRUE(on.ok()) << on.error().message;
