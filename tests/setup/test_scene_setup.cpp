@@ -263,6 +263,14 @@ TEST(SceneSetup, TrajectoriesBecomeCheckpointPaths) {
     ASSERT_GE(first, 0);
     EXPECT_GT(second, first);
     EXPECT_EQ(path[static_cast<std::size_t>(first)]["action"], "@punch");
+    // A drawn trajectory is followed: w_path unless the weights give one.
+    EXPECT_EQ(j["characters"][0]["weights"]["w_path"], kDrawnPathWeight);
+    EXPECT_FALSE(j["characters"][1].contains("weights"));
+    s.spec = json::parse(s.spec).dump();
+    json withWeight = json::parse(s.spec);
+    withWeight["characters"][0]["weights"] = json{{"w_path", 7}};
+    s.spec = withWeight.dump();
+    EXPECT_EQ(json::parse(*setupSpecJson(s))["characters"][0]["weights"]["w_path"], 7);
     // A trajectory for someone who is not there is an error naming them.
     s.trajectories[0].character = "green";
     auto bad = setupSpecJson(s);

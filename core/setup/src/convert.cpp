@@ -115,6 +115,11 @@ Result<std::string> setupSpecJson(const SceneSetup& setup) {
             if (!path) return makeError(what(setup) + ": " + path.error().message);
             (*target)["path"] = std::move(*path);
             if (t.loop || target->contains("loop_path")) (*target)["loop_path"] = t.loop;
+            // A drawn trajectory is followed: unless the character's weights
+            // say how much (w_path), with kDrawnPathWeight (the presets
+            // without "-path" weigh no path at all).
+            if (!target->contains("weights")) (*target)["weights"] = json::object();
+            if (auto& w = (*target)["weights"]; w.is_object() && !w.contains("w_path")) w["w_path"] = kDrawnPathWeight;
         }
         // Pins of edited generated interactions (docs/TREE_EXPANSION.md "Pins"); none:
         // no field, so a setup without pins plans the bytes it always did.

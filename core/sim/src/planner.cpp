@@ -170,7 +170,7 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
             }
             auto legal = legalChoices(lib, c);
             auto folded = foldVariants(lib, legal);
-            ctx.members.push_back({i, &c, std::move(legal), std::move(folded), engine.addPool(c.reactions)});
+            ctx.members.push_back({i, &c, std::move(legal), std::move(folded), engine.addPool(c.reactions), makePathPlan(c)});
             rec.global[static_cast<std::size_t>(g.n)] = i;
             if (c.weights.wPath > 0 || c.weights.wPsi > 0 || c.weights.wReq > 0) ctx.cooperative = true;
             if (c.weights.catches) catches = true;
@@ -221,6 +221,7 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
             const auto& cs = specOf(ctx, who);
             Stats st;
             bool fellBack = false;
+            if (!pins.empty() && opt.pinsInTree) pins.inTree(ctx);
             int action = decide(ctx, g, cs.depth, st, fellBack);
             total.add(st);
             if (!pins.empty()) {

@@ -1,8 +1,9 @@
 // Pins in tree expansion (SceneSpec::pins, docs/TREE_EXPANSION.md "Pins"): the choice at
 // a decision of a pinned character, forced to the pinned action at the pin's
 // decision and steered before it so the motion graph reaches that action
-// there. The search itself is untouched: decide() is asked again with a
-// filter on its root candidates, so every other choice is planned as usual.
+// there: decide() is asked again with a filter on its root candidates. Inside
+// the search's look-ahead the pin's node of a pinned character offers only the
+// pinned actions (PinGuide::pinNode, applied by the Pruner).
 #include <algorithm>
 #include <cstdio>
 
@@ -100,6 +101,19 @@ Result<int> PinGuide::choose(const Context& ctx, const GroupState& g, int who, i
     };
     if (fits(decided)) return decided;
     return redecide([&](std::vector<int>& c) { keepIf(c, fits); });
+}
+
+void PinGuide::inTree(Context& ctx) const {
+    ctx.treePins.assign(ctx.members.size(), nullptr);
+    for (const Entry& e : pins_) {
+        auto& slot = ctx.treePins[static_cast<std::size_t>(e.member)];
+        if (!e.fired && !slot) slot = e.pin;
+    }
+}
+
+bool PinGuide::pinNode(const ActionPin& pin, const GroupState& g, int who) {
+    const auto& s = g.c[static_cast<std::size_t>(who)];
+    return g.time >= pin.time - kPinEarly && g.time <= pin.time + kPinLate && (s.start < pin.time - kPinEarly || s.reacting);
 }
 
 Status PinGuide::finish(const Context& ctx) const {

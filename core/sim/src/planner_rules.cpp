@@ -3,10 +3,66 @@
 // scores F_comp and F_coop. The search over them is planner_search.cpp.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "planner_state.h"
 
 namespace fray::sim::planner {
+
+PathPlan makePathPlan(const CharacterSpec& spec) {
+    PathPlan plan;
+    if (spec.path.empty() || !(spec.weights.wPath > 0) || spec.loopPath) return plan;
+    plan.active = true;
+    plan.knotTime.push_back(0.0);
+    plan.knotAlong.push_back(0.0);
+    double along = 0;
+    for (std::size_t k = 0; k < spec.path.size(); ++k) {
+        const auto& cp = spec.path[k];
+        if (k > 0) along += static_cast<double>(glm::length(cp.pos - spec.path[k - 1].pos));
+        plan.points.push_back(cp.pos);
+        plan.along.push_back(along);
+        if (cp.time) {
+            plan.knotTime.push_back(std::max(*cp.time, plan.knotTime.back()));
+            plan.knotAlong.push_back(along);
+        }
+    }
+    return plan;
+}
+
+double PathPlan::goal(double t) const {
+    // Between two timed checkpoints (or the start and the first): as far as
+    // the time elapsed; after the last one the end of the path (checkpoints
+    // without a time: whenever, so the sooner the better).
+    if (t >= knotTime.back()) return along.back();
+    const auto j = static_cast<std::size_t>(std::upper_bound(knotTime.begin(), knotTime.end(), t) - knotTime.begin());
+    const double t0 = knotTime[j - 1], t1 = knotTime[j];
+    const double u = t1 > t0 ? (t - t0) / (t1 - t0) : 1.0;
+    return knotAlong[j - 1] + u * (knotAlong[j] - knotAlong[j - 1]);
+}
+
+void PathPlan::project(glm::vec2 p, int next, double& s, double& lateral) const {
+    const int n = static_cast<int>(points.size());
+    s = 0;
+    lateral = static_cast<double>(glm::length(p - points[0]));
+    if (n < 2) return;
+    // The segments around the next checkpoint only: a closed or crossing
+    // path passes near the same floor twice.
+    const int k = std::clamp(next, 0, n - 1);
+    float best = std::numeric_limits<float>::max();
+    for (int j = std::max(0, k - 2); j <= std::min(n - 2, k + 2); ++j) {
+        const glm::vec2 a = points[static_cast<std::size_t>(j)], b = points[static_cast<std::size_t>(j) + 1];
+        const glm::vec2 ab = b - a;
+        const float len2 = glm::dot(ab, ab);
+        const float u = len2 > 1e-12f ? std::clamp(glm::dot(p - a, ab) / len2, 0.0f, 1.0f) : 0.0f;
+        const glm::vec2 d = p - (a + u * ab);
+        const float dd = glm::dot(d, d);
+        if (dd < best) {
+            best = dd;
+            s = along[static_cast<std::size_t>(j)] + static_cast<double>(u) * (along[static_cast<std::size_t>(j) + 1] - along[static_cast<std::size_t>(j)]);
+            lateral = std::sqrt(static_cast<double>(dd));
+        }
+    }
+}
 
 void updateCheckpoints(const Context& ctx, GroupState& g, double t) {
     for (int i = 0; i < g.n; ++i) {
@@ -14,11 +70,18 @@ void updateCheckpoints(const Context& ctx, GroupState& g, double t) {
         auto& s = g.c[static_cast<std::size_t>(i)];
         if (spec.path.empty()) continue;
         const glm::vec2 p = placement(ctx, s, t).pos;
+        // Following a path (PathPlan): a waypoint (no time, no action) is
+        // also passed once the character is beyond it along the path.
+        const auto& plan = ctx.members[static_cast<std::size_t>(i)].path;
+        double along = -1, lateral = 0;
+        if (plan.active) plan.project(p, s.checkpoint, along, lateral);
         for (int guard = 0; guard < static_cast<int>(spec.path.size()); ++guard) {
             if (!spec.loopPath && s.checkpoint >= static_cast<int>(spec.path.size())) break;
             const auto& cp = spec.path[static_cast<std::size_t>(s.checkpoint) % spec.path.size()];
             const bool timeOk = !cp.time || t >= *cp.time;
-            if (!timeOk || static_cast<double>(glm::length(p - cp.pos)) > ctx.opt->checkpointRadius) break;
+            const bool passed = plan.active && !cp.time && cp.action.empty() &&
+                                along >= plan.along[static_cast<std::size_t>(s.checkpoint)];
+            if (!timeOk || (!passed && static_cast<double>(glm::length(p - cp.pos)) > ctx.opt->checkpointRadius)) break;
             ++s.checkpoint;
             if (spec.loopPath) s.checkpoint %= static_cast<int>(spec.path.size());
         }
@@ -176,7 +239,30 @@ Value edgeScore(const Context& ctx, const GroupState& before, const GroupState& 
         if (out > 0) v.comp -= kArenaWeight * out * out;
     }
     // Cooperative: checkpoints and required actions.
-    if (!spec.path.empty() && (w.wPath > 0 || w.wPsi > 0)) {
+    const auto& plan = ctx.members[static_cast<std::size_t>(who)].path;
+    if (plan.active) {
+        // Following a path (docs/TREE_EXPANSION.md): how far the character is
+        // from where the schedule wants it by then, along the path and off it,
+        // as a change over the edge (where the action ends against where it
+        // starts), so a branch's sum is where it ends, however many actions
+        // it took to get there.
+        const auto offSchedule = [&](const CharState& c, glm::vec2 p, double at) {
+            double along = 0, lateral = 0;
+            plan.project(p, c.checkpoint, along, lateral);
+            const double behind = plan.goal(at) - along;
+            return behind * behind + lateral * lateral;
+        };
+        const auto& was = before.c[static_cast<std::size_t>(who)];
+        v.coop -= w.wPath * (offSchedule(me, pm.pos, t) - offSchedule(was, placement(ctx, was, before.time).pos, before.time));
+        const int k = me.checkpoint;
+        if (w.wPsi > 0 && k < static_cast<int>(spec.path.size())) {
+            const glm::vec2 d = spec.path[static_cast<std::size_t>(k)].pos - pm.pos;
+            if (glm::dot(d, d) > 1e-6f) {
+                const double psi = wrapAngle(pm.heading - angleOf(d));
+                v.coop -= moveScale * w.wPsi * psi * psi;
+            }
+        }
+    } else if (!spec.path.empty() && (w.wPath > 0 || w.wPsi > 0)) {
         const int k = me.checkpoint;
         if (spec.loopPath || k < static_cast<int>(spec.path.size())) {
             const auto& cp = spec.path[static_cast<std::size_t>(k) % spec.path.size()];

@@ -73,6 +73,7 @@ public:
                 return false;
             });
         }
+        if (!root && !ctx.treePins.empty()) keepPinned();
         opp_ = ctx.opt->pruning ? opponentOf(ctx, g, who, g.time) : -1;
         if (opp_ >= 0) {
             const auto& o = g.c[static_cast<std::size_t>(opp_)];
@@ -243,6 +244,18 @@ private:
             frontier.swap(next);
         }
         return best;
+    }
+    // Pins in the look-ahead (Context::treePins): at the pin's node only the
+    // pinned actions the list holds (none: the list as it is).
+    void keepPinned() {
+        const ActionPin* pin = ctx_.treePins[static_cast<std::size_t>(who_)];
+        if (!pin || !PinGuide::pinNode(*pin, g_, who_)) return;
+        std::vector<int> kept;
+        std::copy_if(list_->begin(), list_->end(), std::back_inserter(kept),
+                     [&](int a) { return std::binary_search(pin->actions.begin(), pin->actions.end(), a); });
+        if (kept.empty()) return;
+        base_.swap(kept);
+        list_ = &base_;
     }
     void keepInsideArena(const CharState& s) {
         const RootXf from = s.root * act(ctx_, s.action).end;

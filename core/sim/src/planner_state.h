@@ -63,6 +63,23 @@ struct Recorder {
     bool stop = false;  // stopOnCatch fired
 };
 
+// A character's path as the path term follows it (docs/TREE_EXPANSION.md
+// "Following a path"): the polyline through its checkpoints, measured along
+// its length, and the schedule its timed checkpoints make.
+struct PathPlan {
+    bool active = false;                 // a path, w_path > 0 and no loop: the progress term applies
+    std::vector<glm::vec2> points;       // the checkpoints' positions
+    std::vector<double> along;           // per checkpoint: its distance from the first along the polyline
+    std::vector<double> knotTime, knotAlong;  // the schedule: (0 s, 0 m), then each timed checkpoint
+    // Where along the path the character should be at time t.
+    double goal(double t) const;
+    // The point of the polyline nearest to p among the segments around
+    // checkpoint `next` (the next one to reach): its distance along the path
+    // and p's distance from it.
+    void project(glm::vec2 p, int next, double& s, double& lateral) const;
+};
+PathPlan makePathPlan(const CharacterSpec& spec);
+
 struct Member {
     int global = 0;
     const CharacterSpec* spec = nullptr;
@@ -73,6 +90,7 @@ struct Member {
     // inside the tree (SimOptions::variants).
     std::vector<std::vector<int>> folded;
     int pool = 0;  // its reactive clips (spec->reactions) in the interaction engine
+    PathPlan path;  // set by simulate (makePathPlan)
 };
 
 // Per library action: its Next() within the character's allowed set, reactive clips left out.
@@ -109,6 +127,10 @@ struct Context {
         std::array<float, kCoreSegments.size()> radii;
     };
     std::vector<TestBody> testBodies;
+    // Per member: its next pin not yet honoured (nullptr: none); empty when
+    // the scene has no pins or SimOptions::pinsInTree is off. Set before
+    // each decision (PinGuide::inTree); the Pruner narrows the pin's node.
+    std::vector<const ActionPin*> treePins;
     bool duel = false;                   // two members on opposite sides: each one's opponent is the other
     bool boundedFrontier = false;        // a duel scored by blows: frontier edges can be bounded (boundedFrontier)
 };
@@ -234,6 +256,13 @@ public:
                        const std::function<int(const CandidateFilter&)>& redecide);
     // After the group's last decision: a pin of the group never honoured.
     Status finish(const Context& ctx) const;
+    // Context::treePins for the next decision: each member's first pin not yet honoured.
+    void inTree(Context& ctx) const;
+    // Whether node g is, inside the tree, the pin's decision of `who`: the
+    // pin's window [time - kPinEarly, time + kPinLate] and its current action
+    // began before the window (else a decision in it came first) or is a
+    // reaction to a hit.
+    static bool pinNode(const ActionPin& pin, const GroupState& g, int who);
 
 private:
     struct Entry {

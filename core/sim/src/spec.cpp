@@ -288,7 +288,7 @@ Status parseSimOptions(const JsonReader& rd, const json& j, SimOptions& o) {
         return {};
     };
     for (auto s : {flag("pruning", o.pruning), flag("alpha_beta", o.alphaBeta), flag("parallel", o.parallel),
-                   flag("stop_on_catch", o.stopOnCatch), positive("catch_radius", o.catchRadius),
+                   flag("stop_on_catch", o.stopOnCatch), flag("pins_in_tree", o.pinsInTree), positive("catch_radius", o.catchRadius),
                    positive("fall_impulse", o.fallImpulse), positive("checkpoint_radius", o.checkpointRadius)}) {
         if (!s) return s.error();
     }
@@ -621,7 +621,8 @@ Result<SceneSpec> parseSceneSpec(std::string_view text, std::string_view fileNam
     if (!j.is_object()) return rd.error("", "must be a JSON object");
     static const char* const kTopKeys[] = {"version",   "duration",     "seed",         "pruning",      "alpha_beta",
                                            "parallel",  "catch_radius", "stop_on_catch", "fall_impulse", "start_jitter",
-                                           "checkpoint_radius", "arena", "characters", "description", "leaf_budget", "pins"};
+                                           "checkpoint_radius", "arena", "characters", "description", "leaf_budget", "pins",
+                                           "pins_in_tree"};
     for (auto it = j.begin(); it != j.end(); ++it) {
         if (std::find_if(std::begin(kTopKeys), std::end(kTopKeys), [&](const char* k) { return it.key() == k; }) ==
             std::end(kTopKeys)) {

@@ -58,7 +58,7 @@ Result<std::unique_ptr<TreeDecider>> TreeDecider::make(const ActionLibrary& lib,
         const auto& c = m.specs[static_cast<std::size_t>(i)];
         auto legal = legalChoices(lib, c);
         auto folded = foldVariants(lib, legal);
-        m.ctx.members.push_back({i, &c, std::move(legal), std::move(folded), m.engine->addPool(c.reactions)});
+        m.ctx.members.push_back({i, &c, std::move(legal), std::move(folded), m.engine->addPool(c.reactions), makePathPlan(c)});
     }
     m.ctx.duel = true;
     m.ctx.boundedFrontier = true;

@@ -22,6 +22,9 @@ namespace fray::setup {
 
 // The spec JSON text of a setup: its parameters with the trajectories written
 // in as checkpoint paths (and "loop_path"), "kind" first for compose kinds.
+// A character following a drawn trajectory whose weights have no "w_path"
+// gets kDrawnPathWeight (docs/EDITOR.md "Floor tools").
+inline constexpr double kDrawnPathWeight = 300;
 Result<std::string> setupSpecJson(const SceneSetup& setup);
 
 // The simulate spec of a duel or chase setup. Errors name the setup and the

@@ -81,6 +81,14 @@ struct SimOptions {
     // its first visit found instead of running again. Results do not depend
     // on it (a test compares both); off only to check that.
     bool reuseNodes = true;
+    // Pins (SceneSpec::pins) inside the search's look-ahead (the spec's
+    // "pins_in_tree"): a pinned character's node at its pin's decision has
+    // only the pinned actions, so the opponent's search expects them and the
+    // character's own earlier searches plan towards them
+    // (docs/TREE_EXPANSION.md "Pins"). Off by default: earlier decisions
+    // change with it, so the pinned action can move off the time the user
+    // gave it (the demo duel's pinned kick from 1.52 to 1.89 s).
+    bool pinsInTree = false;
     // Leaves one decision may visit. Deeper levels are searched one at a time
     // (iterative deepening); when one would exceed the budget the last
     // complete depth decides (counted in PlannerStats::shallower).
