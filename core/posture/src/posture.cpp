@@ -292,7 +292,7 @@ std::mutex& stepMutex() {
 
 // One ODE step of `world` by h, its random stream seeded first: per thread
 // where ODE allows it, else under one lock (see StepRandom). QuickStep
-// draws from it; the direct solver (Options::solver, the default) is seeded
+// draws from it; the direct solver (an Options::solver choice) is seeded
 // the same way, so its results cannot depend on threads either.
 void seededStep(dWorldID world, dReal h, std::uint32_t seed, Solver solver) {
     const auto stepOnce = [&] { solver == Solver::Direct ? dWorldStep(world, h) : dWorldQuickStep(world, h); };
