@@ -195,6 +195,35 @@ glm::vec3 gripAt(const sim::ActionLibrary& lib, int action, double t) {
     return gripOfBoxes(lib.boxesAt(action, lib.sampleAt(action, t)));
 }
 
+namespace {
+
+// The box at time tt of a carry scene (characters 0 and 1 the carriers): both
+// grips in the world, the box's root key (on the floor between them, facing
+// from the first to the second) and the middle it is scored by. One rule for
+// runCarry and CarryDriver, so both write the same keys.
+struct BoxSample {
+    glm::vec3 grip[2];
+    sim::RootKey key;
+    glm::vec2 middle{0.0f};
+};
+BoxSample boxAt(const sim::ActionLibrary& lib, const sim::Scene& scene, double tt) {
+    BoxSample out;
+    for (int c = 0; c < 2; ++c) {
+        const auto& track = scene.characters[static_cast<std::size_t>(c)].track;
+        const auto& inst = track[static_cast<std::size_t>(sim::instanceIndexAt(track, tt))];
+        out.grip[c] = inst.root.apply(gripAt(lib, inst.action, inst.clipTimeAt(tt)));
+    }
+    const glm::vec2 fa = floorOf(out.grip[0]), fb = floorOf(out.grip[1]);
+    out.key.time = tt;
+    out.key.at.pos = fa;
+    out.key.at.heading = sim::angleOf(fb - fa);
+    out.key.height = 0.5f * (out.grip[0].y + out.grip[1].y);
+    out.middle = 0.5f * (fa + fb);
+    return out;
+}
+
+}  // namespace
+
 std::size_t CarryGraph::memoryBytes() const {
     return states.capacity() * sizeof(InteractionState) + firstEdge.capacity() * sizeof(std::uint32_t) + edges.capacity() * sizeof(CarryEdge) +
            actions.capacity() * sizeof(int);
@@ -648,20 +677,10 @@ Result<CarryRun> runCarry(const sim::ActionLibrary& lib, const CarryGraph& g, co
     double pathSum = 0;
     for (int i = 0; i < n; ++i) {
         const double tt = i / sim::kSampleRate;
-        glm::vec3 grip[2];
-        for (int c = 0; c < 2; ++c) {
-            const auto& track = scene.characters[static_cast<std::size_t>(c)].track;
-            const auto& inst = track[static_cast<std::size_t>(sim::instanceIndexAt(track, tt))];
-            grip[c] = inst.root.apply(gripAt(lib, inst.action, inst.clipTimeAt(tt)));
-        }
-        const glm::vec2 fa = floorOf(grip[0]), fb = floorOf(grip[1]);
-        sim::RootKey key;
-        key.time = tt;
-        key.at.pos = fa;
-        key.at.heading = sim::angleOf(fb - fa);
-        key.height = 0.5f * (grip[0].y + grip[1].y);
-        box.keys.push_back(key);
-        const double e = distanceToCarryPath(path, 0.5f * (fa + fb));
+        const BoxSample bs = boxAt(lib, scene, tt);
+        const glm::vec3* grip = bs.grip;
+        box.keys.push_back(bs.key);
+        const double e = distanceToCarryPath(path, bs.middle);
         pathSum += e;
         run.stats.pathErrorMax = std::max(run.stats.pathErrorMax, e);
         run.stats.gripErrorMax = std::max(run.stats.gripErrorMax, std::abs(static_cast<double>(glm::length(grip[0] - grip[1])) - L) / L);
@@ -791,21 +810,10 @@ void CarryDriver::decide() {
 
 void CarryDriver::sampleBox(double tt) {
     const double L = graph_->options.boxLength;
-    glm::vec3 grip[2];
-    for (int c = 0; c < 2; ++c) {
-        const auto& track = scene_.characters[static_cast<std::size_t>(c)].track;
-        const auto& inst = track[static_cast<std::size_t>(sim::instanceIndexAt(track, tt))];
-        grip[c] = inst.root.apply(gripAt(lib_, inst.action, inst.clipTimeAt(tt)));
-    }
-    const glm::vec2 fa = floorOf(grip[0]), fb = floorOf(grip[1]);
-    sim::RootKey key;
-    key.time = tt;
-    key.at.pos = fa;
-    key.at.heading = sim::angleOf(fb - fa);
-    key.height = 0.5f * (grip[0].y + grip[1].y);
-    scene_.characters[2].keys.push_back(key);
-    now_.boxMiddle = 0.5f * (fa + fb);
-    now_.gripDistance = static_cast<double>(glm::length(grip[0] - grip[1]));
+    const BoxSample bs = boxAt(lib_, scene_, tt);
+    scene_.characters[2].keys.push_back(bs.key);
+    now_.boxMiddle = bs.middle;
+    now_.gripDistance = static_cast<double>(glm::length(bs.grip[0] - bs.grip[1]));
     ++samples_;
     if (path_) {
         now_.pathError = distanceToCarryPath(*path_, now_.boxMiddle);

@@ -213,6 +213,28 @@ struct Match::Impl {
         return best >= 0 ? best : next.front();
     }
 
+    // One edge's action launched from the real bodies of c (against opp) at
+    // `at` and played until the next decision: the bodies then, the blows,
+    // who decides next and the graph state that decision falls in (-1: off
+    // the graph unless `nearest`).
+    struct EdgeRun {
+        std::array<Body, 2> bodies;
+        detail::Outcome outcome;
+        double end = 0;
+        int chooser = 0;
+        int to = -1;
+    };
+    EdgeRun runEdge(int c, int opp, double at, int action, bool nearest) const {
+        EdgeRun r;
+        r.bodies = {bodies[static_cast<std::size_t>(c)], bodies[static_cast<std::size_t>(opp)]};
+        detail::launch(lib(), r.bodies[0], action, at);
+        r.end = detail::advanceDuel(*rules, r.bodies, at, r.outcome);
+        r.chooser = detail::chooser(r.bodies);
+        const auto un = static_cast<std::size_t>(r.chooser);
+        r.to = graph->find(detail::stateOf(*rules, r.bodies[un], r.bodies[1 - un], r.end), nearest);
+        return r;
+    }
+
     // MatchOptions::refine: the edges of the state found, each simulated from
     // the real bodies to the next decision (as the graph's edges were from the
     // state's mean), scored by the policy's reward with the real blows and
@@ -222,13 +244,11 @@ struct Match::Impl {
         int bestAction = -1;
         double bestValue = -std::numeric_limits<double>::infinity();
         for (const Edge* e = graph->edgesBegin(state); e != graph->edgesEnd(state); ++e) {
-            std::array<Body, 2> b = {bodies[static_cast<std::size_t>(c)], bodies[static_cast<std::size_t>(opp)]};
-            detail::launch(lib(), b[0], e->action(), at);
-            detail::Outcome oc;
-            const double t1 = detail::advanceDuel(*rules, b, at, oc);
-            const int nc = detail::chooser(b);
-            const auto un = static_cast<std::size_t>(nc);
-            const int to = graph->find(detail::stateOf(*rules, b[un], b[1 - un], t1), false);
+            const EdgeRun run = runEdge(c, opp, at, e->action(), false);
+            const auto& b = run.bodies;
+            const auto& oc = run.outcome;
+            const int nc = run.chooser, to = run.to;
+            const double t1 = run.end;
             if (to < 0) continue;
             const InteractionState mine = detail::stateOf(*rules, b[0], b[1], t1);
             const double d = mine.r - w.dP;
@@ -257,13 +277,9 @@ struct Match::Impl {
         const std::int32_t chosenEdge =
             policy && static_cast<std::size_t>(state) < policy->best.size() ? policy->best[static_cast<std::size_t>(state)] : -1;
         for (const Edge* e = graph->edgesBegin(state); e != graph->edgesEnd(state); ++e) {
-            std::array<Body, 2> b = {bodies[static_cast<std::size_t>(c)], bodies[static_cast<std::size_t>(opp)]};
-            detail::launch(lib(), b[0], e->action(), at);
-            detail::Outcome oc;
-            const double t1 = detail::advanceDuel(*rules, b, at, oc);
-            const int nc = detail::chooser(b);
-            const auto un = static_cast<std::size_t>(nc);
-            const int to = graph->find(detail::stateOf(*rules, b[un], b[1 - un], t1), true);
+            const EdgeRun run = runEdge(c, opp, at, e->action(), true);
+            const auto& oc = run.outcome;
+            const int nc = run.chooser, to = run.to;
             const bool gp = e->givenQ > 0, gr = oc.given[0] > 0.05f, rp = e->receivedQ > 0, rr = oc.received[0] > 0.05f;
             ++m.edges;
             m.givenPredicted += gp, m.givenReal += gr, m.givenBoth += gp && gr;
