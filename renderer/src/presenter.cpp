@@ -94,10 +94,12 @@ Status Presenter::init(int width, int height) {
         if ((r = vkCreateRenderPass(device, &rp, nullptr, &uiPass_)) != VK_SUCCESS) return vkError("vkCreateRenderPass", r);
     }
     auto sci = vkInit<VkSemaphoreCreateInfo>(VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO);
-    if ((r = vkCreateSemaphore(device, &sci, nullptr, &acquired_)) != VK_SUCCESS) return vkError("vkCreateSemaphore", r);
     auto fci = vkInit<VkFenceCreateInfo>(VK_STRUCTURE_TYPE_FENCE_CREATE_INFO);
     fci.flags = VK_FENCE_CREATE_SIGNALED_BIT;
-    if ((r = vkCreateFence(device, &fci, nullptr, &fence_)) != VK_SUCCESS) return vkError("vkCreateFence", r);
+    for (std::size_t f = 0; f < kFrames; ++f) {
+        if ((r = vkCreateSemaphore(device, &sci, nullptr, &acquired_[f])) != VK_SUCCESS) return vkError("vkCreateSemaphore", r);
+        if ((r = vkCreateFence(device, &fci, nullptr, &fence_[f])) != VK_SUCCESS) return vkError("vkCreateFence", r);
+    }
     auto pci = vkInit<VkCommandPoolCreateInfo>(VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO);
     pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
     pci.queueFamilyIndex = dev_->queueFamily();
@@ -105,8 +107,8 @@ Status Presenter::init(int width, int height) {
     auto cai = vkInit<VkCommandBufferAllocateInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO);
     cai.commandPool = pool_;
     cai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-    cai.commandBufferCount = 1;
-    if ((r = vkAllocateCommandBuffers(device, &cai, &cmd_)) != VK_SUCCESS) return vkError("vkAllocateCommandBuffers", r);
+    cai.commandBufferCount = static_cast<std::uint32_t>(kFrames);
+    if ((r = vkAllocateCommandBuffers(device, &cai, cmd_.data())) != VK_SUCCESS) return vkError("vkAllocateCommandBuffers", r);
     return createSwapchain();
 }
 
@@ -213,8 +215,10 @@ Presenter::~Presenter() {
     if (capture_) capture_->buffer.destroy(device);
     destroySwapchainResources();
     if (swapchain_) vkDestroySwapchainKHR(device, swapchain_, nullptr);
-    if (acquired_) vkDestroySemaphore(device, acquired_, nullptr);
-    if (fence_) vkDestroyFence(device, fence_, nullptr);
+    for (VkSemaphore s : acquired_)
+        if (s) vkDestroySemaphore(device, s, nullptr);
+    for (VkFence f : fence_)
+        if (f) vkDestroyFence(device, f, nullptr);
     if (pool_) vkDestroyCommandPool(device, pool_, nullptr);
     if (uiPass_) vkDestroyRenderPass(device, uiPass_, nullptr);
 }
@@ -235,7 +239,11 @@ void Presenter::resize(int width, int height) {
 
 Status Presenter::present(Renderer& renderer, const FrameDescription& frame, const UiRecorder* ui) {
     VkDevice device = dev_->device();
-    VkResult r = vkWaitForFences(device, 1, &fence_, VK_TRUE, UINT64_MAX);
+    // This frame's semaphore, fence and command buffer were last used two frames ago.
+    VkFence fence = fence_[frame_];
+    VkCommandBuffer cmd = cmd_[frame_];
+    VkSemaphore acquired = acquired_[frame_];
+    VkResult r = vkWaitForFences(device, 1, &fence, VK_TRUE, UINT64_MAX);
     if (r != VK_SUCCESS) return vkError("vkWaitForFences", r);
     if (recreate_ || !swapchain_) {
         if (Status s = dev_->waitIdle(); !s) return s;
@@ -243,7 +251,7 @@ Status Presenter::present(Renderer& renderer, const FrameDescription& frame, con
         if (recreate_) return {};  // still zero-sized
     }
     std::uint32_t index = 0;
-    r = vkAcquireNextImageKHR(device, swapchain_, UINT64_MAX, acquired_, VK_NULL_HANDLE, &index);
+    r = vkAcquireNextImageKHR(device, swapchain_, UINT64_MAX, acquired, VK_NULL_HANDLE, &index);
     if (r == VK_ERROR_OUT_OF_DATE_KHR) {
         recreate_ = true;
         return {};
@@ -259,13 +267,13 @@ Status Presenter::present(Renderer& renderer, const FrameDescription& frame, con
     // frame must still consume it, so errors are reported after the submit.
     Status prepared = renderer.prepare(frame);
 
-    if ((r = vkResetCommandBuffer(cmd_, 0)) != VK_SUCCESS) return vkError("vkResetCommandBuffer", r);
+    if ((r = vkResetCommandBuffer(cmd, 0)) != VK_SUCCESS) return vkError("vkResetCommandBuffer", r);
     auto bi = vkInit<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
     bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    if ((r = vkBeginCommandBuffer(cmd_, &bi)) != VK_SUCCESS) return vkError("vkBeginCommandBuffer", r);
+    if ((r = vkBeginCommandBuffer(cmd, &bi)) != VK_SUCCESS) return vkError("vkBeginCommandBuffer", r);
     const VkImage target = images_[index];
-    if (prepared) renderer.record(cmd_);
-    gpu::imageBarrier(cmd_, target, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
+    if (prepared) renderer.record(cmd);
+    gpu::imageBarrier(cmd, target, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
                       VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
     if (prepared) {
         VkImageBlit blit{};
@@ -273,14 +281,14 @@ Status Presenter::present(Renderer& renderer, const FrameDescription& frame, con
         blit.srcOffsets[1] = {renderer.width(), renderer.height(), 1};
         blit.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
         blit.dstOffsets[1] = {static_cast<std::int32_t>(extent_.width), static_cast<std::int32_t>(extent_.height), 1};
-        vkCmdBlitImage(cmd_, renderer.outputImage(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target,
+        vkCmdBlitImage(cmd, renderer.outputImage(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target,
                        VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_NEAREST);
     } else {
         const VkClearColorValue black{{0.0f, 0.0f, 0.0f, 1.0f}};
         const VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-        vkCmdClearColorImage(cmd_, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &black, 1, &range);
+        vkCmdClearColorImage(cmd, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &black, 1, &range);
     }
-    gpu::imageBarrier(cmd_, target, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+    gpu::imageBarrier(cmd, target, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
                       VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_ACCESS_TRANSFER_WRITE_BIT,
                       VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
                       VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT);
@@ -288,9 +296,9 @@ Status Presenter::present(Renderer& renderer, const FrameDescription& frame, con
     rbi.renderPass = uiPass_;
     rbi.framebuffer = framebuffers_[index];
     rbi.renderArea = {{0, 0}, extent_};
-    vkCmdBeginRenderPass(cmd_, &rbi, VK_SUBPASS_CONTENTS_INLINE);
-    if (ui && *ui && prepared) (*ui)(cmd_);
-    vkCmdEndRenderPass(cmd_);
+    vkCmdBeginRenderPass(cmd, &rbi, VK_SUBPASS_CONTENTS_INLINE);
+    if (ui && *ui && prepared) (*ui)(cmd);
+    vkCmdEndRenderPass(cmd);
     Image* capture = prepared ? captureTarget_ : nullptr;
     if (capture) {
         const VkDeviceSize bytes = VkDeviceSize(extent_.width) * extent_.height * 4;
@@ -301,14 +309,14 @@ Status Presenter::present(Renderer& renderer, const FrameDescription& frame, con
                 return s;
         }
         // The image is in PRESENT_SRC after the UI pass: copy, then back.
-        gpu::imageBarrier(cmd_, target, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
+        gpu::imageBarrier(cmd, target, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
                           VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT,
                           VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
         VkBufferImageCopy region{};
         region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
         region.imageExtent = {extent_.width, extent_.height, 1};
-        vkCmdCopyImageToBuffer(cmd_, target, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, capture_->buffer.buffer, 1, &region);
-        gpu::imageBarrier(cmd_, target, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+        vkCmdCopyImageToBuffer(cmd, target, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, capture_->buffer.buffer, 1, &region);
+        gpu::imageBarrier(cmd, target, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                           VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, VK_ACCESS_TRANSFER_READ_BIT, 0, VK_PIPELINE_STAGE_TRANSFER_BIT,
                           VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
         VkBufferMemoryBarrier hb = vkInit<VkBufferMemoryBarrier>(VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER);
@@ -317,21 +325,22 @@ Status Presenter::present(Renderer& renderer, const FrameDescription& frame, con
         hb.srcQueueFamilyIndex = hb.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
         hb.buffer = capture_->buffer.buffer;
         hb.size = VK_WHOLE_SIZE;
-        vkCmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 0, nullptr, 1, &hb, 0, nullptr);
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 0, nullptr, 1, &hb, 0, nullptr);
     }
-    if ((r = vkEndCommandBuffer(cmd_)) != VK_SUCCESS) return vkError("vkEndCommandBuffer", r);
+    if ((r = vkEndCommandBuffer(cmd)) != VK_SUCCESS) return vkError("vkEndCommandBuffer", r);
 
     const VkPipelineStageFlags waitStage = VK_PIPELINE_STAGE_TRANSFER_BIT;
     auto si = vkInit<VkSubmitInfo>(VK_STRUCTURE_TYPE_SUBMIT_INFO);
     si.waitSemaphoreCount = 1;
-    si.pWaitSemaphores = &acquired_;
+    si.pWaitSemaphores = &acquired;
     si.pWaitDstStageMask = &waitStage;
     si.commandBufferCount = 1;
-    si.pCommandBuffers = &cmd_;
+    si.pCommandBuffers = &cmd;
     si.signalSemaphoreCount = 1;
     si.pSignalSemaphores = &renderDone_[index];
-    if ((r = vkResetFences(device, 1, &fence_)) != VK_SUCCESS) return vkError("vkResetFences", r);
-    if ((r = vkQueueSubmit(dev_->queue(), 1, &si, fence_)) != VK_SUCCESS) return vkError("vkQueueSubmit", r);
+    if ((r = vkResetFences(device, 1, &fence)) != VK_SUCCESS) return vkError("vkResetFences", r);
+    if ((r = vkQueueSubmit(dev_->queue(), 1, &si, fence)) != VK_SUCCESS) return vkError("vkQueueSubmit", r);
+    if (prepared) renderer.submitted(fence);
 
     auto pi = vkInit<VkPresentInfoKHR>(VK_STRUCTURE_TYPE_PRESENT_INFO_KHR);
     pi.waitSemaphoreCount = 1;
@@ -343,8 +352,9 @@ Status Presenter::present(Renderer& renderer, const FrameDescription& frame, con
     if (r == VK_ERROR_OUT_OF_DATE_KHR || r == VK_SUBOPTIMAL_KHR) recreate_ = true;
     else if (r != VK_SUCCESS) return vkError("vkQueuePresentKHR", r);
     ++presented_;
+    frame_ = (frame_ + 1) % kFrames;
     if (capture) {
-        if ((r = vkWaitForFences(device, 1, &fence_, VK_TRUE, UINT64_MAX)) != VK_SUCCESS) return vkError("vkWaitForFences", r);
+        if ((r = vkWaitForFences(device, 1, &fence, VK_TRUE, UINT64_MAX)) != VK_SUCCESS) return vkError("vkWaitForFences", r);
         capture->resize(static_cast<int>(extent_.width), static_cast<int>(extent_.height));
         const auto* src = static_cast<const std::uint8_t*>(capture_->buffer.mapped);
         const bool bgra = format_ == VK_FORMAT_B8G8R8A8_UNORM || format_ == VK_FORMAT_B8G8R8A8_SRGB;

@@ -125,6 +125,9 @@ struct DrawGroup {
 constexpr std::array<BodyMeshOptions, 2> kCoarseBodies{{{6, 1}, {4, 1}}};
 
 constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
+// Frames whose per-frame buffers exist at once: the CPU fills one while the
+// device draws the other.
+constexpr std::uint32_t kFramesInFlight = 2;
 
 template <std::size_t N>
 VkShaderModule makeShader(VkDevice device, const std::uint32_t (&code)[N]) {
@@ -176,7 +179,6 @@ struct Renderer::Impl {
     VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
     VkPipelineLayout layout = VK_NULL_HANDLE;
     VkDescriptorPool pool = VK_NULL_HANDLE;
-    VkDescriptorSet set = VK_NULL_HANDLE;
     // Body and floor pipelines per variant (shadows, bitmap; the floor's also
     // fog: [.][.][0] for the square where fog is 0), created on first use.
     std::array<VkPipeline, 2> bodyPipes{};
@@ -192,10 +194,27 @@ struct Renderer::Impl {
     VkShaderModule rigV = VK_NULL_HANDLE, rigShadowV = VK_NULL_HANDLE, cardV = VK_NULL_HANDLE;
     bool linearShadowFilter = false;
     bool fast = false;
-    gpu::Buffer uniforms, instanceBuf, paletteBuf, overlayBuf, meshVB, meshIB, cardVB, cardIB, rigVB, rigIB, readbackBuf;
+    gpu::Buffer meshVB, meshIB, cardVB, cardIB, rigVB, rigIB, readbackBuf;
     VkCommandPool cmdPool = VK_NULL_HANDLE;
-    VkCommandBuffer cmd = VK_NULL_HANDLE;
-    VkFence fence = VK_NULL_HANDLE;
+    // Per-frame data, kFramesInFlight copies: render() fills one while the
+    // device may still draw the frame before it from the other, so the CPU
+    // side of frame n + 1 overlaps the device's work on frame n.
+    struct FrameSlot {
+        gpu::Buffer uniforms, instanceBuf, paletteBuf, overlayBuf;
+        VkDescriptorSet set = VK_NULL_HANDLE;
+        VkCommandBuffer cmd = VK_NULL_HANDLE;
+        VkFence fence = VK_NULL_HANDLE;    // render()'s own submission of this slot
+        VkFence pending = VK_NULL_HANDLE;  // signalled once the last submission reading this slot is done
+        VkQueryPool timer = VK_NULL_HANDLE;  // two timestamps round render()'s commands (when the queue has them)
+        bool timed = false;                  // the last submission wrote them
+        bool descriptorsDirty = true;
+    };
+    std::array<FrameSlot, kFramesInFlight> slots{};
+    std::size_t cur = 0;  // the slot prepare() writes and record() binds
+    double timestampMs = 0.0;  // milliseconds per timestamp tick; 0: no timestamps
+    FrameSlot& slot() { return slots[cur]; }
+    Status waitSlot(FrameSlot& f);
+    Status waitAll();  // before a buffer or image every frame reads is replaced
 
     // Body meshes, one per distinct skeleton (by fingerprint); CPU copies are
     // kept so the GPU buffers can be rebuilt when a new skeleton appears.
@@ -227,7 +246,6 @@ struct Renderer::Impl {
     glm::mat4 viewProj{1.0f};
     glm::mat4 screenTransform{1.0f};
     glm::vec3 clearColor{0.6f};
-    bool descriptorsDirty = true;
     bool rendered = false;
 
     // Floor bitmap currently uploaded.
@@ -493,11 +511,11 @@ Status Renderer::Impl::init() {
         plci.pushConstantRangeCount = 1;
         plci.pPushConstantRanges = &push;
         if ((r = vkCreatePipelineLayout(device, &plci, nullptr, &layout)) != VK_SUCCESS) return vkError("vkCreatePipelineLayout", r);
-        const std::array<VkDescriptorPoolSize, 3> sizes{{{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
-                                                         {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2},
-                                                         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 3}}};
+        const std::array<VkDescriptorPoolSize, 3> sizes{{{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, kFramesInFlight},
+                                                         {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2 * kFramesInFlight},
+                                                         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 3 * kFramesInFlight}}};
         auto dpci = vkInit<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
-        dpci.maxSets = 1;
+        dpci.maxSets = kFramesInFlight;
         dpci.poolSizeCount = static_cast<std::uint32_t>(sizes.size());
         dpci.pPoolSizes = sizes.data();
         if ((r = vkCreateDescriptorPool(device, &dpci, nullptr, &pool)) != VK_SUCCESS) return vkError("vkCreateDescriptorPool", r);
@@ -505,17 +523,22 @@ Status Renderer::Impl::init() {
         dsai.descriptorPool = pool;
         dsai.descriptorSetCount = 1;
         dsai.pSetLayouts = &setLayout;
-        if ((r = vkAllocateDescriptorSets(device, &dsai, &set)) != VK_SUCCESS) return vkError("vkAllocateDescriptorSets", r);
+        for (FrameSlot& f : slots)
+            if ((r = vkAllocateDescriptorSets(device, &dsai, &f.set)) != VK_SUCCESS) return vkError("vkAllocateDescriptorSets", r);
     }
 
     // Buffers: sized for a few hundred characters, grown geometrically.
     const VkBufferUsageFlags ssbo = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-    if (Status s = uniforms.create(*dev, sizeof(FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUse::Dynamic); !s)
-        return s;
-    if (Status s = instanceBuf.create(*dev, 256 * sizeof(GpuInstance), ssbo, gpu::MemoryUse::Dynamic); !s) return s;
-    if (Status s = paletteBuf.create(*dev, 256 * 32 * sizeof(GpuJoint), ssbo, gpu::MemoryUse::Dynamic); !s) return s;
-    if (Status s = overlayBuf.create(*dev, 8192 * sizeof(OverlayVertex), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, gpu::MemoryUse::Dynamic); !s)
-        return s;
+    for (FrameSlot& f : slots) {
+        if (Status s = f.uniforms.create(*dev, sizeof(FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUse::Dynamic); !s)
+            return s;
+        if (Status s = f.instanceBuf.create(*dev, 256 * sizeof(GpuInstance), ssbo, gpu::MemoryUse::Dynamic); !s) return s;
+        if (Status s = f.paletteBuf.create(*dev, 256 * 32 * sizeof(GpuJoint), ssbo, gpu::MemoryUse::Dynamic); !s) return s;
+        if (Status s = f.overlayBuf.create(*dev, 8192 * sizeof(OverlayVertex), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
+                                           gpu::MemoryUse::Dynamic);
+            !s)
+            return s;
+    }
 
     if (Status s = createPipelines(); !s) return s;
     if (Status s = createTargets(); !s) return s;
@@ -528,10 +551,28 @@ Status Renderer::Impl::init() {
     cai.commandPool = cmdPool;
     cai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
     cai.commandBufferCount = 1;
-    if ((r = vkAllocateCommandBuffers(device, &cai, &cmd)) != VK_SUCCESS) return vkError("vkAllocateCommandBuffers", r);
     auto fci = vkInit<VkFenceCreateInfo>(VK_STRUCTURE_TYPE_FENCE_CREATE_INFO);
     fci.flags = VK_FENCE_CREATE_SIGNALED_BIT;
-    if ((r = vkCreateFence(device, &fci, nullptr, &fence)) != VK_SUCCESS) return vkError("vkCreateFence", r);
+    // Device time per frame from two timestamps, where the queue keeps them.
+    {
+        std::uint32_t families = 0;
+        vkGetPhysicalDeviceQueueFamilyProperties(dev->physicalDevice(), &families, nullptr);
+        std::vector<VkQueueFamilyProperties> props(families);
+        vkGetPhysicalDeviceQueueFamilyProperties(dev->physicalDevice(), &families, props.data());
+        const std::uint32_t q = dev->queueFamily();
+        const float period = dev->properties().limits.timestampPeriod;
+        if (q < families && props[q].timestampValidBits > 0 && period > 0.0f) timestampMs = 1e-6 * static_cast<double>(period);
+    }
+    for (FrameSlot& f : slots) {
+        if ((r = vkAllocateCommandBuffers(device, &cai, &f.cmd)) != VK_SUCCESS) return vkError("vkAllocateCommandBuffers", r);
+        if ((r = vkCreateFence(device, &fci, nullptr, &f.fence)) != VK_SUCCESS) return vkError("vkCreateFence", r);
+        if (timestampMs > 0.0) {
+            auto qci = vkInit<VkQueryPoolCreateInfo>(VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO);
+            qci.queryType = VK_QUERY_TYPE_TIMESTAMP;
+            qci.queryCount = 2;
+            if ((r = vkCreateQueryPool(device, &qci, nullptr, &f.timer)) != VK_SUCCESS) return vkError("vkCreateQueryPool", r);
+        }
+    }
     return {};
 }
 
@@ -808,11 +849,14 @@ void Renderer::Impl::destroy() {
     shadowMap.destroy(device);
     fontAtlas.destroy(device);
     bitmap.destroy(device);
-    for (gpu::Buffer* b : {&uniforms, &instanceBuf, &paletteBuf, &overlayBuf, &meshVB, &meshIB, &cardVB, &cardIB, &rigVB, &rigIB})
-        b->destroy(device);
+    for (gpu::Buffer* b : {&meshVB, &meshIB, &cardVB, &cardIB, &rigVB, &rigIB}) b->destroy(device);
+    for (FrameSlot& f : slots) {
+        for (gpu::Buffer* b : {&f.uniforms, &f.instanceBuf, &f.paletteBuf, &f.overlayBuf}) b->destroy(device);
+        if (f.fence) vkDestroyFence(device, f.fence, nullptr);
+        if (f.timer) vkDestroyQueryPool(device, f.timer, nullptr);
+    }
     if (mainPass) vkDestroyRenderPass(device, mainPass, nullptr);
     if (shadowPass) vkDestroyRenderPass(device, shadowPass, nullptr);
-    if (fence) vkDestroyFence(device, fence, nullptr);
     if (cmdPool) vkDestroyCommandPool(device, cmdPool, nullptr);
     device = VK_NULL_HANDLE;
 }
@@ -824,7 +868,7 @@ Status Renderer::Impl::ensureBuffer(gpu::Buffer& b, VkDeviceSize needed, VkBuffe
     const VkDeviceSize size = std::max({needed, b.size * 2, minimum});
     b.destroy(device);
     ++stats.bufferGrowths;
-    descriptorsDirty = true;
+    slot().descriptorsDirty = true;
     return b.create(*dev, size, usage, gpu::MemoryUse::Dynamic);
 }
 
@@ -897,7 +941,9 @@ Status Renderer::Impl::registerMesh(const Skeleton& skeleton, std::uint64_t fing
     meshes.push_back(e);
     index = static_cast<int>(meshes.size()) - 1;
     if (meshVertices.empty() || meshIndices.empty()) return {};
-    // Rebuild the static buffers with every mesh (rare: once per new skeleton).
+    // Rebuild the static buffers with every mesh (rare: once per new skeleton),
+    // once no frame in flight draws from the old ones.
+    if (Status s = waitAll(); !s) return s;
     for (gpu::Buffer* b : {&meshVB, &meshIB, &cardVB, &cardIB}) b->destroy(device);
     if (Status s = gpu::createStaticBuffer(*dev, meshVB, meshVertices.data(), meshVertices.size() * sizeof(BodyVertex),
                                            VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
@@ -918,6 +964,7 @@ Status Renderer::Impl::registerMesh(const Skeleton& skeleton, std::uint64_t fing
 // All rigs in one vertex and one index buffer (rebuilt when a rig is set or
 // cleared: rare). Called from prepare(), when no submission uses the old ones.
 Status Renderer::Impl::uploadRigs() {
+    if (Status s = waitAll(); !s) return s;
     rigVB.destroy(device);
     rigIB.destroy(device);
     rigsDirty = false;
@@ -961,9 +1008,10 @@ Status Renderer::Impl::updateBitmap(const FloorBitmap* fb) {
                                      VK_IMAGE_ASPECT_COLOR_BIT);
             !s)
             return s;
-        descriptorsDirty = true;
+        for (FrameSlot& f : slots) f.descriptorsDirty = true;
     }
     const std::array<std::uint8_t, 4> clear{0, 0, 0, 0};
+    if (Status s = waitAll(); !s) return s;  // a frame in flight may still sample the old pixels
     const void* pixels = wantDefault ? static_cast<const void*>(clear.data()) : static_cast<const void*>(fb->rgba);
     if (Status s = gpu::uploadImage(*dev, bitmap, pixels, VkDeviceSize(w) * h * 4); !s) return s;
     bitmapIsDefault = wantDefault;
@@ -975,16 +1023,17 @@ Status Renderer::Impl::updateBitmap(const FloorBitmap* fb) {
 }
 
 void Renderer::Impl::writeDescriptors() {
-    const VkDescriptorBufferInfo ub{uniforms.buffer, 0, VK_WHOLE_SIZE};
-    const VkDescriptorBufferInfo ib{instanceBuf.buffer, 0, VK_WHOLE_SIZE};
-    const VkDescriptorBufferInfo pb{paletteBuf.buffer, 0, VK_WHOLE_SIZE};
+    FrameSlot& f = slot();
+    const VkDescriptorBufferInfo ub{f.uniforms.buffer, 0, VK_WHOLE_SIZE};
+    const VkDescriptorBufferInfo ib{f.instanceBuf.buffer, 0, VK_WHOLE_SIZE};
+    const VkDescriptorBufferInfo pb{f.paletteBuf.buffer, 0, VK_WHOLE_SIZE};
     const VkDescriptorImageInfo shadowInfo{shadowSampler, shadowMap.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
     const VkDescriptorImageInfo bitmapInfo{bitmapSampler, bitmap.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
     const VkDescriptorImageInfo fontInfo{fontSampler, fontAtlas.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
     std::array<VkWriteDescriptorSet, 6> w{};
     for (std::uint32_t i = 0; i < w.size(); ++i) {
         w[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-        w[i].dstSet = set;
+        w[i].dstSet = f.set;
         w[i].dstBinding = i;
         w[i].descriptorCount = 1;
     }
@@ -1001,10 +1050,36 @@ void Renderer::Impl::writeDescriptors() {
     w[5].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
     w[5].pImageInfo = &fontInfo;
     vkUpdateDescriptorSets(device, static_cast<std::uint32_t>(w.size()), w.data(), 0, nullptr);
-    descriptorsDirty = false;
+    f.descriptorsDirty = false;
+}
+
+Status Renderer::Impl::waitSlot(FrameSlot& f) {
+    if (!f.pending) return {};
+    const auto t0 = std::chrono::steady_clock::now();
+    if (VkResult r = vkWaitForFences(device, 1, &f.pending, VK_TRUE, UINT64_MAX); r != VK_SUCCESS)
+        return vkError("vkWaitForFences", r);
+    stats.waitMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    f.pending = VK_NULL_HANDLE;
+    if (f.timed) {
+        f.timed = false;
+        std::array<std::uint64_t, 2> ticks{};
+        if (vkGetQueryPoolResults(device, f.timer, 0, 2, sizeof ticks, ticks.data(), sizeof(std::uint64_t),
+                                  VK_QUERY_RESULT_64_BIT) == VK_SUCCESS &&
+            ticks[1] >= ticks[0])
+            stats.deviceMs = timestampMs * static_cast<double>(ticks[1] - ticks[0]);
+    }
+    return {};
+}
+
+Status Renderer::Impl::waitAll() {
+    for (FrameSlot& f : slots)
+        if (Status s = waitSlot(f); !s) return s;
+    return {};
 }
 
 Status Renderer::Impl::prepare(const FrameDescription& frame) {
+    stats.waitMs = 0.0;
+    if (Status s = waitSlot(slot()); !s) return s;
     const auto chars = frame.characters;
     const std::size_t n = chars.size();
 
@@ -1123,16 +1198,16 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
     // Instances and joint palettes, written straight into the mapped buffers,
     // grouped by mesh and detail (one instanced draw per group), the
     // characters in view first. Without a shadow map the others are left out.
-    if (Status s = ensureBuffer(instanceBuf, std::max<std::size_t>(n, 1) * sizeof(GpuInstance), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+    if (Status s = ensureBuffer(slot().instanceBuf, std::max<std::size_t>(n, 1) * sizeof(GpuInstance), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                 256 * sizeof(GpuInstance));
         !s)
         return s;
-    if (Status s = ensureBuffer(paletteBuf, std::max<std::size_t>(jointTotal, 1) * sizeof(GpuJoint),
+    if (Status s = ensureBuffer(slot().paletteBuf, std::max<std::size_t>(jointTotal, 1) * sizeof(GpuJoint),
                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, 256 * 32 * sizeof(GpuJoint));
         !s)
         return s;
-    auto* inst = static_cast<GpuInstance*>(instanceBuf.mapped);
-    auto* pal = static_cast<GpuJoint*>(paletteBuf.mapped);
+    auto* inst = static_cast<GpuInstance*>(slot().instanceBuf.mapped);
+    auto* pal = static_cast<GpuJoint*>(slot().paletteBuf.mapped);
     groups.clear();
     stats.triangles = 0;
     stats.culled = 0;
@@ -1270,7 +1345,7 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
                                texelWorld / depthRange);
     u.highlightColor = glm::vec4(st.highlightColor, 1.0f);
     u.fogColor = glm::vec4(st.clearColor, 1.0f);
-    std::memcpy(uniforms.mapped, &u, sizeof u);
+    std::memcpy(slot().uniforms.mapped, &u, sizeof u);
 
     if (Status s = updateBitmap(haveBitmap ? fb : nullptr); !s) return s;
     if (Status s = variantPipelines(shadowsThisFrame, haveBitmap && u.floorParams.x > 0.0f, rigsThisFrame, cardsThisFrame); !s)
@@ -1280,11 +1355,11 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
     buildOverlays(frame, viewProj, glm::vec2(static_cast<float>(width), static_cast<float>(height)), st.shadows && fast,
                   overlays, characterBox);
     const std::size_t ov = overlays.vertexCount();
-    if (Status s = ensureBuffer(overlayBuf, std::max<std::size_t>(ov, 1) * sizeof(OverlayVertex),
+    if (Status s = ensureBuffer(slot().overlayBuf, std::max<std::size_t>(ov, 1) * sizeof(OverlayVertex),
                                 VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, 8192 * sizeof(OverlayVertex));
         !s)
         return s;
-    auto* ovOut = static_cast<OverlayVertex*>(overlayBuf.mapped);
+    auto* ovOut = static_cast<OverlayVertex*>(slot().overlayBuf.mapped);
     std::uint32_t at = 0;
     for (int g = 0; g < 3; ++g) {
         const auto& verts = overlays.group(static_cast<OverlayGroup>(g));
@@ -1302,7 +1377,7 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
     }
     clearColor = st.clearColor;
 
-    if (descriptorsDirty) writeDescriptors();
+    if (slot().descriptorsDirty) writeDescriptors();
     stats.characters = static_cast<int>(n);
     stats.overlayVertices = static_cast<int>(ov);
     stats.drawCalls = static_cast<int>(groups.size()) + 2 + (overlayCount[0] ? 1 : 0) + (overlayCount[1] ? 1 : 0) +
@@ -1312,6 +1387,14 @@ Status Renderer::Impl::prepare(const FrameDescription& frame) {
 
 void Renderer::Impl::record(VkCommandBuffer c) {
     const VkDeviceSize zero = 0;
+    // The frame before may still be on the device, drawing into the same
+    // targets and sampling the same shadow map: its writes and reads finish
+    // before this frame's start.
+    auto mb = vkInit<VkMemoryBarrier>(VK_STRUCTURE_TYPE_MEMORY_BARRIER);
+    mb.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
+    mb.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
+    vkCmdPipelineBarrier(c, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 1, &mb, 0, nullptr, 0,
+                         nullptr);
     if (shadowsThisFrame) {
         VkClearValue clear{};
         clear.depthStencil = {1.0f, 0};
@@ -1326,7 +1409,7 @@ void Renderer::Impl::record(VkCommandBuffer c) {
         const VkRect2D sc{{0, 0}, {shadowSize, shadowSize}};
         vkCmdSetViewport(c, 0, 1, &vp);
         vkCmdSetScissor(c, 0, 1, &sc);
-        vkCmdBindDescriptorSets(c, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 1, &set, 0, nullptr);
+        vkCmdBindDescriptorSets(c, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 1, &slot().set, 0, nullptr);
         recordBodies(c, shadowPipe, rigShadowPipe, false);
         vkCmdEndRenderPass(c);
     }
@@ -1346,7 +1429,7 @@ void Renderer::Impl::record(VkCommandBuffer c) {
     const VkRect2D sc{{0, 0}, {static_cast<std::uint32_t>(width), static_cast<std::uint32_t>(height)}};
     vkCmdSetViewport(c, 0, 1, &vp);
     vkCmdSetScissor(c, 0, 1, &sc);
-    vkCmdBindDescriptorSets(c, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 1, &set, 0, nullptr);
+    vkCmdBindDescriptorSets(c, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 1, &slot().set, 0, nullptr);
     // Bodies first so the floor's fragments behind them fail the depth test early.
     recordBodies(c, bodyPipe, rigPipe, true);
     // The floor: the square where fog is 0 without fog, then the ring around it.
@@ -1355,7 +1438,7 @@ void Renderer::Impl::record(VkCommandBuffer c) {
     vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, floorPipe[1]);
     vkCmdDraw(c, 24, 1, 6, 0);
     if (overlayCount[0] + overlayCount[1] + overlayCount[2] > 0) {
-        vkCmdBindVertexBuffers(c, 0, 1, &overlayBuf.buffer, &zero);
+        vkCmdBindVertexBuffers(c, 0, 1, &slot().overlayBuf.buffer, &zero);
         if (overlayCount[0]) {
             vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, overlayDepthPipe);
             vkCmdPushConstants(c, layout, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(glm::mat4), &viewProj);
@@ -1476,30 +1559,43 @@ Status Renderer::prepare(const FrameDescription& frame) { return impl_->prepare(
 
 void Renderer::record(VkCommandBuffer cmd) { impl_->record(cmd); }
 
+void Renderer::submitted(VkFence fence) {
+    Impl& m = *impl_;
+    m.slot().pending = fence;
+    m.cur = (m.cur + 1) % m.slots.size();
+}
+
 Status Renderer::render(const FrameDescription& frame, Image* out) {
     Impl& m = *impl_;
-    VkResult r = vkWaitForFences(m.device, 1, &m.fence, VK_TRUE, UINT64_MAX);
-    if (r != VK_SUCCESS) return vkError("vkWaitForFences", r);
     const auto t0 = std::chrono::steady_clock::now();
-    if (Status s = m.prepare(frame); !s) return s;
+    if (Status s = m.prepare(frame); !s) return s;  // waits until the slot's last frame is done
     const auto t1 = std::chrono::steady_clock::now();
-    m.stats.prepareMs = std::chrono::duration<double, std::milli>(t1 - t0).count();
-    if ((r = vkResetCommandBuffer(m.cmd, 0)) != VK_SUCCESS) return vkError("vkResetCommandBuffer", r);
+    m.stats.prepareMs = std::chrono::duration<double, std::milli>(t1 - t0).count() - m.stats.waitMs;
+    Impl::FrameSlot& f = m.slot();
+    VkResult r = vkResetCommandBuffer(f.cmd, 0);
+    if (r != VK_SUCCESS) return vkError("vkResetCommandBuffer", r);
     auto bi = vkInit<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
     bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    if ((r = vkBeginCommandBuffer(m.cmd, &bi)) != VK_SUCCESS) return vkError("vkBeginCommandBuffer", r);
-    m.record(m.cmd);
-    if (out) m.recordReadback(m.cmd);
-    if ((r = vkEndCommandBuffer(m.cmd)) != VK_SUCCESS) return vkError("vkEndCommandBuffer", r);
-    if ((r = vkResetFences(m.device, 1, &m.fence)) != VK_SUCCESS) return vkError("vkResetFences", r);
+    if ((r = vkBeginCommandBuffer(f.cmd, &bi)) != VK_SUCCESS) return vkError("vkBeginCommandBuffer", r);
+    if (f.timer) {
+        vkCmdResetQueryPool(f.cmd, f.timer, 0, 2);
+        vkCmdWriteTimestamp(f.cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, f.timer, 0);
+    }
+    m.record(f.cmd);
+    if (out) m.recordReadback(f.cmd);
+    if (f.timer) vkCmdWriteTimestamp(f.cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, f.timer, 1);
+    if ((r = vkEndCommandBuffer(f.cmd)) != VK_SUCCESS) return vkError("vkEndCommandBuffer", r);
+    if ((r = vkResetFences(m.device, 1, &f.fence)) != VK_SUCCESS) return vkError("vkResetFences", r);
     auto si = vkInit<VkSubmitInfo>(VK_STRUCTURE_TYPE_SUBMIT_INFO);
     si.commandBufferCount = 1;
-    si.pCommandBuffers = &m.cmd;
-    const auto t2 = std::chrono::steady_clock::now();
-    if ((r = vkQueueSubmit(m.dev->queue(), 1, &si, m.fence)) != VK_SUCCESS) return vkError("vkQueueSubmit", r);
-    if ((r = vkWaitForFences(m.device, 1, &m.fence, VK_TRUE, UINT64_MAX)) != VK_SUCCESS) return vkError("vkWaitForFences", r);
-    m.stats.deviceMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t2).count();
-    if (out) m.copyReadback(*out);
+    si.pCommandBuffers = &f.cmd;
+    if ((r = vkQueueSubmit(m.dev->queue(), 1, &si, f.fence)) != VK_SUCCESS) return vkError("vkQueueSubmit", r);
+    f.timed = f.timer != VK_NULL_HANDLE;
+    submitted(f.fence);
+    if (out) {
+        if (Status s = m.waitSlot(f); !s) return s;
+        m.copyReadback(*out);
+    }
     return {};
 }
 

@@ -4,6 +4,7 @@
 // then an optional UI pass (ImGui in fray-play) draws on top and the image is
 // presented. The renderer follows the swapchain's size.
 #include <functional>
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -67,11 +68,15 @@ private:
     std::vector<VkImageView> views_;
     std::vector<VkFramebuffer> framebuffers_;
     std::vector<VkSemaphore> renderDone_;
-    VkSemaphore acquired_ = VK_NULL_HANDLE;
-    VkFence fence_ = VK_NULL_HANDLE;
+    // Two frames in flight: the CPU records frame n + 1 while the device
+    // draws frame n (each with its own semaphore, fence and commands).
+    static constexpr std::size_t kFrames = 2;
+    std::array<VkSemaphore, kFrames> acquired_{};
+    std::array<VkFence, kFrames> fence_{};
+    std::array<VkCommandBuffer, kFrames> cmd_{};
+    std::size_t frame_ = 0;
     VkRenderPass uiPass_ = VK_NULL_HANDLE;
     VkCommandPool pool_ = VK_NULL_HANDLE;
-    VkCommandBuffer cmd_ = VK_NULL_HANDLE;
     bool recreate_ = false;
     int presented_ = 0;
     bool canCapture_ = false;

@@ -61,7 +61,9 @@ struct RenderStats {
     int meshes = 0;                // distinct body meshes on the GPU (capsule bodies and rigs)
     int rigged = 0;                // characters drawn with a rig instead of capsules (in view or not)
     double prepareMs = 0.0;        // wall time of the last frame's CPU side (instances, palettes, overlays)
-    double deviceMs = 0.0;         // wall time from the last frame's submit until the device finished it
+    double deviceMs = 0.0;         // device time of the last frame render() found finished (GPU timestamps; 0 where
+                                   // the queue has none)
+    double waitMs = 0.0;           // wall time the last prepare() waited for an earlier frame to leave the device
 };
 
 class Renderer {
@@ -80,15 +82,24 @@ public:
     // Changes the output size (waits for the device); no-op when unchanged.
     Status resize(int width, int height);
 
-    // Offscreen: renders one frame and waits for it; with `out`, also reads the
-    // image back (RGBA8, rows top to bottom, reusing out's storage).
+    // Offscreen: renders one frame. Without `out` it returns once the frame is
+    // submitted: the renderer keeps two sets of per-frame buffers, so the
+    // caller's work on the next frame (posing, prepare) overlaps the device's
+    // work on this one, and the next render() waits only if the device is
+    // still on the frame before. With `out` it waits and reads the image back
+    // (RGBA8, rows top to bottom, reusing out's storage).
     Status render(const FrameDescription& frame, Image* out = nullptr);
 
     // On-screen: writes this frame's data into the GPU buffers, then records
-    // the passes into the caller's command buffer. Any earlier submission that
-    // used this renderer must have completed before prepare().
+    // the passes into the caller's command buffer. prepare() waits for the
+    // fence passed to submitted() two frames before (the buffers it writes);
+    // a caller that never calls submitted() must instead let every earlier
+    // submission that used this renderer complete before prepare().
     Status prepare(const FrameDescription& frame);
     void record(VkCommandBuffer cmd);
+    // After submitting record()'s commands: `fence` is signalled when the
+    // device is done with them. The next prepare() writes the other buffers.
+    void submitted(VkFence fence);
     // The colour image record() leaves in TRANSFER_SRC_OPTIMAL (R8G8B8A8_UNORM).
     VkImage outputImage() const;
     VkFormat outputFormat() const;
