@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
-#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -28,6 +27,7 @@
 #include "fray/sim/geometry.h"
 #include "fray/sim/scene.h"
 #include "scene_stage.h"
+#include "script_lines.h"
 
 namespace fray::player {
 namespace {
@@ -38,25 +38,6 @@ constexpr double kPi = std::numbers::pi;
 constexpr int kMaxDepth = 10;
 constexpr double kRepeat = 0.5;  // a turn key held down turns again this often (s)
 using Kind = CarryEvent::Kind;
-
-std::vector<std::string_view> words(std::string_view line) {
-    std::vector<std::string_view> out;
-    std::size_t i = 0;
-    while (i < line.size()) {
-        while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
-        if (i >= line.size()) break;
-        std::size_t j = i;
-        while (j < line.size() && line[j] != ' ' && line[j] != '\t' && line[j] != '\r') ++j;
-        out.push_back(line.substr(i, j - i));
-        i = j;
-    }
-    return out;
-}
-
-bool toDouble(std::string_view s, double& out) {
-    const auto r = std::from_chars(s.data(), s.data() + s.size(), out);
-    return r.ec == std::errc() && r.ptr == s.data() + s.size() && std::isfinite(out);
-}
 
 const char* kindName(Kind k) {
     switch (k) {
@@ -104,22 +85,12 @@ struct Edges {
 
 Result<std::vector<CarryEvent>> parseCarryScript(std::string_view text, std::string_view fileName) {
     std::vector<CarryEvent> out;
-    int lineNo = 0;
-    std::size_t pos = 0;
-    while (pos <= text.size()) {
-        const std::size_t nl = text.find('\n', pos);
-        std::string_view line = text.substr(pos, nl == std::string_view::npos ? std::string_view::npos : nl - pos);
-        pos = nl == std::string_view::npos ? text.size() + 1 : nl + 1;
-        ++lineNo;
-        if (const auto hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
-        const auto w = words(line);
-        if (w.empty()) continue;
-        const std::string where = std::string(fileName) + ":" + std::to_string(lineNo) + ": ";
+    const Status read = forEachScriptLine(text, fileName, "expected SECONDS COMMAND", [&](const ScriptLine& l) -> Status {
+        const auto& w = l.words;
+        const std::string& where = l.where;
         CarryEvent e;
-        e.line = lineNo;
-        if (!toDouble(w[0], e.time) || e.time < 0)
-            return makeError(where + "'" + std::string(w[0]) + "' is not a time in seconds >= 0 (expected SECONDS COMMAND)");
-        if (w.size() < 2) return makeError(where + "a time without a command");
+        e.line = l.number;
+        e.time = l.time;
         const std::string_view c = w[1];
         const std::size_t want = c == "heading" || c == "set" || c == "depth" ? 3 : 2;
         if (c == "forward") e.kind = Kind::Forward;
@@ -134,11 +105,11 @@ Result<std::vector<CarryEvent>> parseCarryScript(std::string_view text, std::str
             return makeError(where + "'" + std::string(c) +
                              "' is not a carry command (forward, back, stop, turn-left, turn-right, heading DEGREES, set NAME=VALUE, depth D)");
         if (w.size() != want) return makeError(where + "'" + std::string(c) + "' takes " + (want == 2 ? "no argument" : "one argument"));
-        if (e.kind == Kind::Heading && !toDouble(w[2], e.degrees))
+        if (e.kind == Kind::Heading && (!scriptNumber(w[2], e.degrees) || !std::isfinite(e.degrees)))
             return makeError(where + "heading '" + std::string(w[2]) + "' is not a number of degrees");
         if (e.kind == Kind::Depth) {
             double d = 0;
-            if (!toDouble(w[2], d) || d != std::floor(d) || d < 1 || d > kMaxDepth)
+            if (!scriptNumber(w[2], d) || d != std::floor(d) || d < 1 || d > kMaxDepth)
                 return makeError(where + "depth '" + std::string(w[2]) + "' is not a whole number from 1 to " + std::to_string(kMaxDepth));
             e.depth = static_cast<int>(d);
         }
@@ -148,7 +119,9 @@ Result<std::vector<CarryEvent>> parseCarryScript(std::string_view text, std::str
             if (auto st = igraph::applyCarryEdit(probe, e.edit); !st) return makeError(where + st.error().message);
         }
         out.push_back(std::move(e));
-    }
+        return {};
+    });
+    if (!read) return read.error();
     std::stable_sort(out.begin(), out.end(), [](const CarryEvent& a, const CarryEvent& b) { return a.time < b.time; });
     return out;
 }
@@ -187,13 +160,11 @@ struct CarryPlay::Impl {
     std::vector<render::CharacterInstance> shown;
     std::vector<glm::vec3> pathPoints, arrowPoints;
     std::vector<render::Polyline> lines;
-    glm::vec3 centre{0.0f}, moved{0.0f};
-    bool haveCentre = false;
+    FollowCentre follow;
     double carry = 0;
     bool paused = false;
     int restarts = 0;
-    double updateSeconds = 0, updateWorst = 0;
-    std::int64_t updates = 0;
+    UpdateClock clock;
 
     // What the user asked for (the policies in play may be older).
     igraph::CarryWeights weights;
@@ -324,7 +295,7 @@ struct CarryPlay::Impl {
         }
         nextEvent = 0;
         carry = 0;
-        haveCentre = false;
+        follow.reset();
         decisions.clear();
         policies.push_back({0.0, applied->seconds, applied->weights, applied->depth});
         if (applied->depth != depth || !sameWeights(applied->weights, weights)) (void)service->request(weights, depth);
@@ -527,11 +498,7 @@ struct CarryPlay::Impl {
         if (!pathPoints.empty()) lines.push_back({pathPoints, glm::vec4(0.97f, 0.97f, 0.97f, 0.9f), 0.08f});
         if (!arrowPoints.empty())
             lines.push_back({arrowPoints, driver->moving() ? glm::vec4(1.0f, 0.62f, 0.1f, 0.95f) : glm::vec4(0.6f, 0.6f, 0.6f, 0.8f), 0.07f});
-        const render::Bounds b = render::characterBounds(shown);
-        const glm::vec3 c = b.empty() ? glm::vec3(0.0f) : glm::vec3(b.center().x, 0.0f, b.center().z);
-        moved = haveCentre ? c - centre : glm::vec3(0.0f);
-        centre = c;
-        haveCentre = true;
+        follow.to(render::characterBounds(shown));
     }
 };
 
@@ -606,19 +573,27 @@ Status CarryPlay::update(double dt, GLFWwindow* window, bool keyboard) {
     const auto t0 = Clock::now();
     if (!m.paused) m.advance(dt);
     m.pose();
-    const double spent = std::chrono::duration<double>(Clock::now() - t0).count();
-    m.updateSeconds += spent;
-    m.updateWorst = std::max(m.updateWorst, spent);
-    ++m.updates;
+    m.clock.add(std::chrono::duration<double>(Clock::now() - t0).count());
     return {};
 }
 
-double CarryPlay::updateMean() const { return impl_->updates > 0 ? impl_->updateSeconds / static_cast<double>(impl_->updates) : 0.0; }
-double CarryPlay::updateWorst() const { return impl_->updateWorst; }
 std::span<const render::CharacterInstance> CarryPlay::shown() const { return impl_->shown; }
 std::span<const render::Polyline> CarryPlay::lines() const { return impl_->lines; }
-render::Bounds CarryPlay::bounds() const { return render::characterBounds(impl_->shown); }
-glm::vec3 CarryPlay::moved() const { return impl_->moved; }
+render::Bounds CarryPlay::framing() const {
+    render::Bounds b = render::characterBounds(impl_->shown);
+    if (b.empty()) b = framingPlaceholder();
+    b.add(b.min - glm::vec3(1.0f, 0.0f, 1.0f));  // room to walk into
+    b.add(b.max + glm::vec3(1.0f, 0.0f, 1.0f));
+    return b;
+}
+glm::vec3 CarryPlay::moved() const { return impl_->follow.moved(); }
+const char* CarryPlay::frameButton() const { return "Frame the carriers"; }
+std::string CarryPlay::summary() const {
+    char line[160];
+    std::snprintf(line, sizeof line, "carrying at %.3f s; steps and posing %.2f ms a frame (worst %.2f ms)", time(),
+                  1e3 * impl_->clock.mean(), 1e3 * impl_->clock.worst());
+    return line;
+}
 bool CarryPlay::ready() const { return impl_->driver != nullptr; }
 double CarryPlay::time() const { return impl_->now(); }
 

@@ -25,6 +25,7 @@
 #include "fray/core/result.h"
 #include "fray/render/camera.h"
 #include "fray/render/frame.h"
+#include "play_mode.h"
 
 struct GLFWwindow;
 
@@ -54,24 +55,24 @@ struct CarryEvent {
 // Parses a carry script; fileName names it in errors ("FILE:LINE: ...").
 Result<std::vector<CarryEvent>> parseCarryScript(std::string_view text, std::string_view fileName);
 
-class CarryPlay {
+class CarryPlay final : public PlayMode {
 public:
     static Result<std::unique_ptr<CarryPlay>> open(const CarryPlayOptions& options);
-    ~CarryPlay();
+    ~CarryPlay() override;
     CarryPlay(const CarryPlay&) = delete;
     CarryPlay& operator=(const CarryPlay&) = delete;
 
-    Status update(double dt, GLFWwindow* window, bool keyboard);
-    void overlay();
-    std::span<const render::CharacterInstance> shown() const;
-    std::span<const render::Polyline> lines() const;
-    render::Bounds bounds() const;
-    glm::vec3 moved() const;
-    bool ready() const;
-    double time() const;
-    double updateMean() const;
-    double updateWorst() const;
-    Status writeLog() const;
+    Status update(double dt, GLFWwindow* window, bool keyboard) override;
+    void overlay() override;
+    const char* frameButton() const override;
+    std::span<const render::CharacterInstance> shown() const override;
+    std::span<const render::Polyline> lines() const override;  // the path and the desired direction
+    render::Bounds framing() const override;                   // with a metre to walk into
+    glm::vec3 moved() const override;
+    bool ready() const override;
+    double time() const override;
+    std::string summary() const override;
+    Status writeLog() const override;
 
 private:
     CarryPlay();

@@ -127,13 +127,11 @@ struct Duel::Impl {
     std::vector<std::vector<glm::quat>> rotations;
     std::vector<std::string> labels;
     std::vector<render::CharacterInstance> shown;
-    glm::vec3 centre{0.0f}, moved{0.0f};
-    bool haveCentre = false;
+    FollowCentre follow;
     double carry = 0;  // s of match time not yet stepped
     bool paused = false;
     int restarts = 0;
-    double updateSeconds = 0, updateWorst = 0;
-    std::int64_t updates = 0;
+    UpdateClock clock;
 
     // The opponents' style and depth as asked for (the policy in play may be older).
     std::string style;
@@ -292,7 +290,7 @@ struct Duel::Impl {
         labels.assign(static_cast<std::size_t>(n), {});
         nextEvent = 0;
         carry = 0;
-        haveCentre = false;
+        follow.reset();
         policies.push_back({0.0, applied->seconds, styleOf(applied->weights), applied->depth});
         // Asked for another while the graph was being built: recompute now.
         if (styleOf(applied->weights) != style || applied->depth != depth) {
@@ -452,11 +450,7 @@ struct Duel::Impl {
             // Not drawn selected: the highlight would shift its colour off its swatch; the label names it.
             shown.push_back({&poser->skeleton(c), positions[k], rotations[k], tints[k], labels[k], false});
         }
-        const render::Bounds b = render::characterBounds(shown);
-        const glm::vec3 now = b.empty() ? glm::vec3(0.0f) : glm::vec3(b.center().x, 0.0f, b.center().z);
-        moved = haveCentre ? now - centre : glm::vec3(0.0f);
-        centre = now;
-        haveCentre = true;
+        follow.to(render::characterBounds(shown));
     }
 
     std::array<int, 2> landedBySide() const {
@@ -530,19 +524,24 @@ Status Duel::update(double dt, GLFWwindow* window, bool keyboard) {
     const auto t0 = Clock::now();
     if (!m.paused) m.advance(dt);
     m.pose();
-    const double spent = std::chrono::duration<double>(Clock::now() - t0).count();
-    m.updateSeconds += spent;
-    m.updateWorst = std::max(m.updateWorst, spent);
-    ++m.updates;
+    m.clock.add(std::chrono::duration<double>(Clock::now() - t0).count());
     return {};
 }
 
-double Duel::updateMean() const { return impl_->updates > 0 ? impl_->updateSeconds / static_cast<double>(impl_->updates) : 0.0; }
-double Duel::updateWorst() const { return impl_->updateWorst; }
 
 std::span<const render::CharacterInstance> Duel::shown() const { return impl_->shown; }
-render::Bounds Duel::bounds() const { return render::characterBounds(impl_->shown); }
-glm::vec3 Duel::moved() const { return impl_->moved; }
+render::Bounds Duel::framing() const {
+    const render::Bounds b = render::characterBounds(impl_->shown);
+    return b.empty() ? framingPlaceholder() : b;
+}
+glm::vec3 Duel::moved() const { return impl_->follow.moved(); }
+const char* Duel::frameButton() const { return "Frame the fight"; }
+std::string Duel::summary() const {
+    char line[160];
+    std::snprintf(line, sizeof line, "match at %.3f s; match steps and posing %.2f ms a frame (worst %.2f ms)", time(),
+                  1e3 * impl_->clock.mean(), 1e3 * impl_->clock.worst());
+    return line;
+}
 bool Duel::ready() const { return impl_->match != nullptr; }
 double Duel::time() const { return impl_->match ? impl_->match->time() : 0.0; }
 

@@ -15,6 +15,7 @@
 #include "fray/core/result.h"
 #include "fray/render/camera.h"
 #include "fray/render/frame.h"
+#include "play_mode.h"
 
 struct GLFWwindow;
 
@@ -34,34 +35,29 @@ struct DuelOptions {
     bool quiet = false;          // no progress on stderr
 };
 
-class Duel {
+class Duel final : public PlayMode {
 public:
     // Opens the project, checks the script and reads the graph (or starts
     // building it). Errors: the project, a project without attacks, a script
     // line, a file at the graph's place that is not a graph.
     static Result<std::unique_ptr<Duel>> open(const DuelOptions& options);
-    ~Duel();
+    ~Duel() override;
     Duel(const Duel&) = delete;
     Duel& operator=(const Duel&) = delete;
 
-    // One frame: keyboard and gamepad (keyboard: ImGui does not want it),
-    // the script's due events, dt s of match time in steps, policy swaps,
-    // posing. Returns an error when building the graph failed.
-    Status update(double dt, GLFWwindow* window, bool keyboard);
-    // The panel's contents (inside the caller's ImGui window).
-    void overlay();
-    // The characters as posed by the last update (empty until the graph is ready).
-    std::span<const render::CharacterInstance> shown() const;
-    render::Bounds bounds() const;
-    // How far the fighters' centre moved in the last update (for a camera that follows).
-    glm::vec3 moved() const;
-    bool ready() const;
-    double time() const;
-    // Wall-clock seconds update() spent with a match (steps, policy swaps, posing): mean and worst per frame.
-    double updateMean() const;
-    double updateWorst() const;
+    Status update(double dt, GLFWwindow* window, bool keyboard) override;
+    void overlay() override;
+    const char* frameButton() const override;
+    std::span<const render::CharacterInstance> shown() const override;
+    render::Bounds framing() const override;
+    glm::vec3 moved() const override;
+    bool ready() const override;
+    double time() const override;
+    // "match at T s; match steps and posing M ms a frame (worst W ms)": wall
+    // clock update() spent with the match (steps, policy swaps, posing).
+    std::string summary() const override;
     // Writes the log (options.log) of actions, commands, hits and policies.
-    Status writeLog() const;
+    Status writeLog() const override;
 
 private:
     Duel();

@@ -190,8 +190,7 @@ int main(int argc, char** argv) {
     }
     // A scene (planned or composed), or takes side by side.
     std::unique_ptr<cli::SceneStage> scene;
-    std::unique_ptr<player::Duel> duel;
-    std::unique_ptr<player::CarryPlay> carry;
+    std::unique_ptr<player::PlayMode> live;  // --duel, --teams or --carry
     std::vector<app::LoadedTake> takeList;
     if (args.carry) {
         player::CarryPlayOptions copt;
@@ -206,7 +205,7 @@ int main(int argc, char** argv) {
         copt.foreground = args.frames > 0;  // a counted run plays the same every time
         auto opened = player::CarryPlay::open(copt);
         if (!opened) return fail(opened.error().message);
-        carry = std::move(*opened);
+        live = std::move(*opened);
     } else if (duelMode) {
         player::DuelOptions dopt;
         dopt.project = args.inputs[0];
@@ -221,7 +220,7 @@ int main(int argc, char** argv) {
         dopt.foreground = args.frames > 0;  // a counted run plays the same fight every time
         auto opened = player::Duel::open(dopt);
         if (!opened) return fail(opened.error().message);
-        duel = std::move(*opened);
+        live = std::move(*opened);
     } else if (args.inputs.size() == 1 && std::filesystem::path(args.inputs[0]).extension() == ".frayscene") {
         auto loaded = pipeline::openScene(args.inputs[0], {}, [](std::string_view note) {
             std::fprintf(stderr, "fray-play: %.*s\n", static_cast<int>(note.size()), note.data());
@@ -337,12 +336,12 @@ int main(int argc, char** argv) {
 
     // Stage, camera, playback.
     render::MotionStage stage;
-    if (!scene && !duel && !carry) app::stageTakes(takeList, stage);
+    if (!scene && !live) app::stageTakes(takeList, stage);
     stage.pose(0.0);
     render::FrameDescription frame;
     frame.camera.yaw = 0.5f;
     frame.camera.pitch = 0.35f;
-    const int characters = duel || carry ? 0 : scene ? scene->characterCount() : static_cast<int>(stage.actors().size());
+    const int characters = live ? 0 : scene ? scene->characterCount() : static_cast<int>(stage.actors().size());
     // The overlay panel's right edge in framebuffer pixels: framing centres
     // the characters in the part of the view right of it, so the panel does
     // not hide them in a small window. Until the first frame lays the panel
@@ -350,14 +349,8 @@ int main(int argc, char** argv) {
     float panelRight = 340.0f;
     auto frameSelection = [&](int selected) {
         render::Bounds b;
-        if (carry) {
-            b = carry->bounds();
-            if (b.empty()) b.add(glm::vec3(-1.5f, 0.0f, -1.5f)), b.add(glm::vec3(1.5f, 1.8f, 1.5f));  // until the carriers are there
-            b.add(b.min - glm::vec3(1.0f, 0.0f, 1.0f));  // room to walk into
-            b.add(b.max + glm::vec3(1.0f, 0.0f, 1.0f));
-        } else if (duel) {
-            b = duel->bounds();
-            if (b.empty()) b.add(glm::vec3(-1.5f, 0.0f, -1.5f)), b.add(glm::vec3(1.5f, 1.8f, 1.5f));  // until the fighters are there
+        if (live) {
+            b = live->framing();
         } else if (scene) {
             // The selected character as it is now, or everyone over the whole scene.
             std::size_t k = 0;
@@ -410,22 +403,14 @@ int main(int argc, char** argv) {
             t = duration;
             playing = false;
         }
-        if (carry) {
-            const bool wasReady = carry->ready();
-            if (Status s = carry->update(dt, window, !ImGui::GetIO().WantCaptureKeyboard); !s) {
+        if (live) {
+            const bool wasReady = live->ready();
+            if (Status s = live->update(dt, window, !ImGui::GetIO().WantCaptureKeyboard); !s) {
                 error = s.error().message;
                 break;
             }
-            if (!wasReady && carry->ready()) frameSelection(-1);
-            frame.camera.target += carry->moved();  // the camera follows the carriers
-        } else if (duel) {
-            const bool wasReady = duel->ready();
-            if (Status s = duel->update(dt, window, !ImGui::GetIO().WantCaptureKeyboard); !s) {
-                error = s.error().message;
-                break;
-            }
-            if (!wasReady && duel->ready()) frameSelection(-1);
-            frame.camera.target += duel->moved();  // the camera follows the fight
+            if (!wasReady && live->ready()) frameSelection(-1);
+            frame.camera.target += live->moved();  // the camera follows the fight or the carriers
         } else if (scene) {
             scene->pose(loop && duration > 0.0 ? std::fmod(t, duration) : std::min(t, duration), cli::SceneStage::Labels::Auto, selected);
         } else {
@@ -454,7 +439,7 @@ int main(int argc, char** argv) {
         gMouse.x = mx;
         gMouse.y = my;
         if (!io.WantCaptureKeyboard) {
-            if (!duel && !carry && ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Space))) playing = !playing;
+            if (!live && ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Space))) playing = !playing;
             if (ImGui::IsKeyPressed(GLFW_KEY_F)) frameSelection(selected);
             if (ImGui::IsKeyPressed(GLFW_KEY_TAB)) args.hidePanel = !args.hidePanel;
         }
@@ -475,12 +460,9 @@ int main(int argc, char** argv) {
                 const float scale = ww > 0 ? static_cast<float>(fbw) / static_cast<float>(ww) : 1.0f;
                 panelRight = ImGui::IsWindowCollapsed() ? 0.0f : (ImGui::GetWindowPos().x + ImGui::GetWindowSize().x) * scale;
             }
-            if (carry) {
-                carry->overlay();
-                if (ImGui::Button("Frame the carriers")) frameSelection(-1);
-            } else if (duel) {
-                duel->overlay();
-                if (ImGui::Button("Frame the fight")) frameSelection(-1);
+            if (live) {
+                live->overlay();
+                if (ImGui::Button(live->frameButton())) frameSelection(-1);
             } else {
                 if (ImGui::Button(playing ? "Pause" : "Play")) playing = !playing;
                 ImGui::SameLine();
@@ -539,8 +521,8 @@ int main(int argc, char** argv) {
         }
         ImGui::Render();
 
-        frame.characters = carry ? carry->shown() : duel ? duel->shown() : scene ? scene->shown() : stage.instances();
-        if (carry) frame.trajectories = carry->lines();
+        frame.characters = live ? live->shown() : scene ? scene->shown() : stage.instances();
+        if (live) frame.trajectories = live->lines();
         if (scene) {
             frame.trajectories = scene->trajectories();
             frame.checkpoints = scene->checkpoints();
@@ -567,11 +549,8 @@ int main(int argc, char** argv) {
 
     int code = 0;
     if (!error.empty()) code = fail(error);
-    if (carry) {
-        if (Status s = carry->writeLog(); !s && code == 0) code = fail(s.error().message);
-    }
-    if (duel) {
-        if (Status s = duel->writeLog(); !s && code == 0) code = fail(s.error().message);
+    if (live) {
+        if (Status s = live->writeLog(); !s && code == 0) code = fail(s.error().message);
     }
     if (code == 0 && !args.screenshot.empty() && !screenshotWritten) {
         // The window's images cannot be read back here (or the window closed
@@ -594,12 +573,7 @@ int main(int argc, char** argv) {
         code = fail(std::to_string(log->errors()) + " Vulkan validation errors and " + std::to_string(log->warnings()) +
                         " warnings (printed above)",
                     3);
-    if (code == 0 && args.frames > 0 && carry)
-        std::printf("fray-play: carrying at %.3f s; steps and posing %.2f ms a frame (worst %.2f ms)\n", carry->time(), 1e3 * carry->updateMean(),
-                    1e3 * carry->updateWorst());
-    if (code == 0 && args.frames > 0 && duel)
-        std::printf("fray-play: match at %.3f s; match steps and posing %.2f ms a frame (worst %.2f ms)\n", duel->time(),
-                    1e3 * duel->updateMean(), 1e3 * duel->updateWorst());
+    if (code == 0 && args.frames > 0 && live) std::printf("fray-play: %s\n", live->summary().c_str());
     if (code == 0 && args.frames > 0) std::printf("fray-play: drew %d frames on %s\n", drawn, deviceName.c_str());
     return code;
 }
