@@ -411,7 +411,10 @@ struct Pending {
     int pos = 0;
     bool bound = false;  // key is an upper bound: the exact one is not computed yet
 };
-inline bool pendingBefore(const Pending& x, const Pending& y) { return x.key > y.key || (x.key == y.key && x.pos < y.pos); }
+// (Both parts always evaluated: no branch to mispredict inside the heap's loops.)
+inline bool pendingBefore(const Pending& x, const Pending& y) {
+    return static_cast<bool>(static_cast<unsigned>(x.key > y.key) | (static_cast<unsigned>(x.key == y.key) & static_cast<unsigned>(x.pos < y.pos)));
+}
 // std heap order: the top is the element no other comes before (a function
 // object, so the heap's comparisons inline).
 struct HeapLess {
@@ -610,15 +613,15 @@ std::optional<Value> boundedFrontier(const Context& ctx, const GroupState& g, in
     // Keys: the edge score itself when nothing can land (computed only when
     // it may come first: its bound until then), else the bound (final).
     std::vector<Pending>& keys = scratch.pending[0];
-    keys.clear();
     const auto& base = pruner.base();
+    keys.resize(base.size());  // (written in place: no growth check per key)
     for (std::size_t i = 0; i < base.size(); ++i) {
         const int a = base[i];
         const auto& x = act(ctx, a);
         const bool attack = x.is(kAttack) && x.effector >= 0;
         const bool exactKey = !attack && !oppCanHit;
         const double bound = edgeBound(ctx, g, who, a);
-        keys.push_back({exactKey ? withSlack(bound) : bound, static_cast<int>(i), exactKey});
+        keys[i] = {exactKey ? withSlack(bound) : bound, static_cast<int>(i), exactKey};
     }
     std::make_heap(keys.begin(), keys.end(), heapLess);
     Value best;
