@@ -9,12 +9,66 @@
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "planner_state.h"
 
 namespace fray::sim::planner {
 
 namespace {
+
+// The opponent's placed core body at one of the penetration test's times,
+// and, once its boxes are placed, their centres and bounding radii laid out
+// lane by lane (x, y, z, r; the unused lanes far away), so one candidate box
+// is tested against all of its spheres at once: the same float operations
+// as the box-by-box test, so the same answers.
+struct OpponentBody {
+    static constexpr std::size_t kLanes = 8;
+    detail::CoreBody body;
+    std::array<float, kLanes> x{}, y{}, z{}, r{};
+    bool laidOut = false;
+    OpponentBody(const ActionLibrary& lib, const detail::BodyPose& pose, float shrink) : body(lib, pose, shrink) {}
+    void layOut() {
+        const auto& boxes = body.boxes();
+        for (std::size_t j = 0; j < kLanes; ++j) {
+            const bool used = j < boxes.size();
+            x[j] = used ? boxes[j].centre.x : 1e18f;
+            y[j] = used ? boxes[j].centre.y : 1e18f;
+            z[j] = used ? boxes[j].centre.z : 1e18f;
+            r[j] = used ? body.radii()[j] : 0.0f;
+        }
+        laidOut = true;
+    }
+    // Bit j set: box j's bounding sphere meets the sphere (centre, radius),
+    // that is !(|box j's centre - centre|^2 > (radius + r_j)^2) as the
+    // scalar test computes it.
+    unsigned spheresMeet(const glm::vec3& centre, float radius) const {
+#if defined(__SSE2__)
+        unsigned mask = 0;
+        const __m128 cx = _mm_set1_ps(centre.x), cy = _mm_set1_ps(centre.y), cz = _mm_set1_ps(centre.z);
+        const __m128 rad = _mm_set1_ps(radius);
+        for (std::size_t h = 0; h < kLanes; h += 4) {
+            const __m128 dx = _mm_sub_ps(_mm_loadu_ps(&x[h]), cx);
+            const __m128 dy = _mm_sub_ps(_mm_loadu_ps(&y[h]), cy);
+            const __m128 dz = _mm_sub_ps(_mm_loadu_ps(&z[h]), cz);
+            const __m128 d2 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz));
+            const __m128 rr = _mm_add_ps(rad, _mm_loadu_ps(&r[h]));
+            mask |= static_cast<unsigned>(_mm_movemask_ps(_mm_cmpngt_ps(d2, _mm_mul_ps(rr, rr)))) << h;
+        }
+        return mask;
+#else
+        unsigned mask = 0;
+        for (std::size_t j = 0; j < kLanes; ++j) {
+            const glm::vec3 c = glm::vec3(x[j], y[j], z[j]) - centre;
+            const float rr = radius + r[j];
+            if (!(glm::dot(c, c) > rr * rr)) mask |= 1u << j;
+        }
+        return mask;
+#endif
+    }
+};
 
 
 
@@ -28,7 +82,7 @@ bool bodiesPenetrate(const Context& ctx, const RootXf& place, int action, double
 class Pruner {
 public:
     // bodies: where to keep the opponent's placed bodies (reused storage), else the pruner's own.
-    Pruner(const Context& ctx, const GroupState& g, int who, bool root, std::vector<detail::CoreBody>* bodies = nullptr)
+    Pruner(const Context& ctx, const GroupState& g, int who, bool root, std::vector<OpponentBody>* bodies = nullptr)
         : ctx_(ctx), g_(g), who_(who), opponentBodies_(bodies ? *bodies : ownBodies_) {
         opponentBodies_.clear();
         const auto& spec = specOf(ctx, who);
@@ -108,26 +162,25 @@ public:
             if (k >= pelvisCount) {  // (the table covers every time the loop reaches)
                 const detail::CoreBody me(*ctx_.lib, {a, tau, start_}, startRotation_, ctx_.lib->rootAt(a, tau).pos,
                                           kPenetrationShrink);
-                if (detail::coreBodiesOverlap(me, opponentBodies_[k], kPenetrationReach)) return false;
+                if (detail::coreBodiesOverlap(me, opponentBodies_[k].body, kPenetrationReach)) return false;
                 continue;
             }
             // detail::coreBodiesOverlap with the boxes from the table, each
             // box's axes placed only when its bounding sphere meets one of
             // the opponent's (the same centres, radii and tests).
-            const detail::CoreBody& them = opponentBodies_[k];
-            const glm::vec2 d = start_.pos + startRotation_(ctx_.testPelvis[pelvisBegin + k]) - them.pelvis();
+            OpponentBody& them = opponentBodies_[k];
+            const glm::vec2 d = start_.pos + startRotation_(ctx_.testPelvis[pelvisBegin + k]) - them.body.pelvis();
             if (glm::dot(d, d) > kPenetrationReach * kPenetrationReach) continue;
             const auto& body = ctx_.testBodies[pelvisBegin + k];
-            const auto& theirs = them.boxes();
+            if (!them.laidOut) them.layOut();
+            const auto& theirs = them.body.boxes();
             for (std::size_t i = 0; i < body.boxes.size(); ++i) {
-                const glm::vec3 centre = body.boxes[i].placedCentre(start_, startRotation_);
-                std::optional<Obb> placed;
-                for (std::size_t j = 0; j < theirs.size(); ++j) {
-                    const glm::vec3 c = theirs[j].centre - centre;
-                    const float r = body.radii[i] + them.radii()[j];
-                    if (glm::dot(c, c) > r * r) continue;
-                    if (!placed) placed = body.boxes[i].placed(start_, startRotation_);
-                    if (overlapsBeyondSpheres(*placed, theirs[j])) return false;
+                unsigned meet = them.spheresMeet(body.boxes[i].placedCentre(start_, startRotation_), body.radii[i]);
+                if (meet == 0) continue;
+                // Any overlapping pair answers, whichever is found first.
+                const Obb placed = body.boxes[i].placed(start_, startRotation_);
+                for (; meet != 0; meet &= meet - 1) {
+                    if (overlapsBeyondSpheres(placed, theirs[static_cast<std::size_t>(std::countr_zero(meet))])) return false;
                 }
             }
         }
@@ -284,8 +337,8 @@ private:
     int opp_ = -1;
     RootXf start_;
     FloorRotation startRotation_{0.0};
-    mutable std::vector<detail::CoreBody> ownBodies_;
-    std::vector<detail::CoreBody>& opponentBodies_;
+    mutable std::vector<OpponentBody> ownBodies_;
+    std::vector<OpponentBody>& opponentBodies_;
     mutable std::optional<glm::vec2> oppEnd_;  // the opponent where its action ends (facing)
     double r_ = 0;
     bool oppAttacking_ = false;
@@ -358,7 +411,10 @@ struct Pending {
     int pos = 0;
     bool bound = false;  // key is an upper bound: the exact one is not computed yet
 };
-inline bool pendingBefore(const Pending& x, const Pending& y) { return x.key > y.key || (x.key == y.key && x.pos < y.pos); }
+// (Both parts always evaluated: no branch to mispredict inside the heap's loops.)
+inline bool pendingBefore(const Pending& x, const Pending& y) {
+    return static_cast<bool>(static_cast<unsigned>(x.key > y.key) | (static_cast<unsigned>(x.key == y.key) & static_cast<unsigned>(x.pos < y.pos)));
+}
 // std heap order: the top is the element no other comes before (a function
 // object, so the heap's comparisons inline).
 struct HeapLess {
@@ -485,7 +541,7 @@ private:
 struct SearchScratch {
     std::vector<std::vector<Child>> children;
     std::vector<std::vector<Pending>> pending;
-    std::vector<std::vector<detail::CoreBody>> bodies;
+    std::vector<std::vector<OpponentBody>> bodies;
     Child child;
     FrontierMemo frontier;
     void reserveDepth(int depth) {
@@ -557,15 +613,15 @@ std::optional<Value> boundedFrontier(const Context& ctx, const GroupState& g, in
     // Keys: the edge score itself when nothing can land (computed only when
     // it may come first: its bound until then), else the bound (final).
     std::vector<Pending>& keys = scratch.pending[0];
-    keys.clear();
     const auto& base = pruner.base();
+    keys.resize(base.size());  // (written in place: no growth check per key)
     for (std::size_t i = 0; i < base.size(); ++i) {
         const int a = base[i];
         const auto& x = act(ctx, a);
         const bool attack = x.is(kAttack) && x.effector >= 0;
         const bool exactKey = !attack && !oppCanHit;
         const double bound = edgeBound(ctx, g, who, a);
-        keys.push_back({exactKey ? withSlack(bound) : bound, static_cast<int>(i), exactKey});
+        keys[i] = {exactKey ? withSlack(bound) : bound, static_cast<int>(i), exactKey};
     }
     std::make_heap(keys.begin(), keys.end(), heapLess);
     Value best;
