@@ -724,3 +724,66 @@ TEST(SceneSetups, LateEditReplansTheDuelOnlyFromThereAndKeepsThePrefix) {
     full->project = now.project;
     EXPECT_EQ(fray::sim::sceneToJson(*full, lib), fray::sim::sceneToJson(now, lib));
 }
+
+// Live re-plan of the demo duel after a late and an early edit (issue 23
+// item 6; numbers in docs/BENCHMARKS.md): red's bar replaced through its
+// Gantt menu (a pin, one undo command), then undone; time from the edit to
+// the new scene playing, the 250 ms debounce included. Run by hand:
+//   fray_editor_scene_tests --gtest_also_run_disabled_tests --gtest_filter='*LiveReplanDuelEdits*'
+TEST(SceneSetups, DISABLED_LiveReplanDuelEdits) {
+    QTemporaryDir dir;
+    const fs::path from = fs::path(FRAY_DEMO_PROJECT).parent_path();
+    for (const auto& entry : fs::directory_iterator(from)) {
+        const auto ext = entry.path().extension();
+        if (ext == ".bvh" || ext == ".frayproj" || ext == ".csv" || ext == ".cache")
+            fs::copy_file(entry.path(), fs::path(dir.path().toStdString()) / entry.path().filename());
+    }
+    auto w = fray::test::openEditorWindow(dir.filePath("demo.frayproj"));
+    ASSERT_NE(w, nullptr);
+    ASSERT_TRUE(QTest::qWaitFor([&] { return w->analysis() != nullptr; }, 120000));
+    QString demoDuel;
+    for (const QString& s : w->sceneSources())
+        if (s.endsWith("resources/demo/duel.json")) demoDuel = s;
+    ASSERT_TRUE(w->selectSceneSource(demoDuel));
+    ASSERT_TRUE(w->importSpecAsSetup("duel")) << w->lastError().toStdString();
+    generateAndWait(w.get());
+    ASSERT_NE(w->scene(), nullptr) << w->lastError().toStdString();
+    auto* gantt = child<fray::editor::GanttView>(w.get(), "gantt");
+    const auto waitNew = [&](const fray::cli::SceneStage* before) {
+        return QTest::qWaitFor([&] { return w->scene() != before && !w->replanPending() && !w->busy(); }, 300000);
+    };
+    for (int round = 0; round < 2; ++round) {
+        for (double after : {14.0, 1.0}) {
+            // Red's first bar of its own choosing from `from` on, and the first other action that fits there.
+            QAction* replace = nullptr;
+            std::unique_ptr<QMenu> menu;
+            double T = 0;
+            const auto& bars = gantt->data().rows.at(0).bars;
+            for (std::size_t b = 1; b < bars.size() && !replace; ++b) {
+                if (bars[b].forced || bars[b].start < after) continue;
+                menu.reset(w->ganttBarMenu(0, static_cast<int>(b)));
+                for (QAction* a : menu->findChildren<QAction*>())
+                    if (a->objectName().startsWith("replace:") && a->isEnabled() && a->objectName() != "replace:" + bars[b].label) {
+                        replace = a, T = bars[b].start;
+                        break;
+                    }
+            }
+            ASSERT_NE(replace, nullptr);
+            const QString name = replace->objectName();
+            QElapsedTimer clock;
+            const auto* before = w->scene();
+            clock.start();
+            replace->trigger();
+            ASSERT_TRUE(waitNew(before)) << w->lastError().toStdString();
+            const qint64 edit = clock.elapsed();
+            before = w->scene();
+            clock.start();
+            w->document()->undoStack()->undo();
+            ASSERT_TRUE(waitNew(before)) << w->lastError().toStdString();
+            std::printf("live re-plan duel, %s bar at %.2f s %s: %lld ms from the edit to the new scene playing, undo %lld ms\n",
+                        after > 5 ? "late" : "early", T, name.toUtf8().constData(), static_cast<long long>(edit),
+                        static_cast<long long>(clock.elapsed()));
+            std::fflush(stdout);
+        }
+    }
+}
