@@ -552,8 +552,8 @@ void MainWindow::generate() {
             std::printf("fray: %s %s in %.2f s", wasReplan ? "re-planned" : "generated",
                         QFileInfo(specFile).fileName().toUtf8().constData(), lastGenerateSeconds_);
             if (lastReplan_)
-                std::printf(" (planner: %lld decisions kept, %lld planned%s)", static_cast<long long>(lastReplan_->decisionsKept),
-                            static_cast<long long>(lastReplan_->decisionsPlanned),
+                std::printf(" (planner: %lld decisions kept, %lld planned, from %.2f s%s)", static_cast<long long>(lastReplan_->decisionsKept),
+                            static_cast<long long>(lastReplan_->decisionsPlanned), lastReplan_->resumedAt,
                             lastReplan_->incremental ? "" : (", " + lastReplan_->reason).c_str());
             std::printf("\n");
             std::fflush(stdout);
