@@ -149,3 +149,60 @@ TEST(SimReplan, LateCheckpointMoveResumesAndMatchesAFullReplan) {
 
 }  // namespace
 }  // namespace fray::sim
+
+namespace fray::sim {
+namespace {
+
+// Two duels in separate groups (characters interact within their group
+// only): a pin on the second group's boxer keeps the first group's whole run
+// and resumes the second late.
+TEST(SimReplan, AGroupTheEditDoesNotReachKeepsItsWholeRun) {
+    const std::string actions = R"(["@punch", "@kick", "@block", "@avoid", "@step", "@idle", "@transition", "@turn"])";
+    const auto boxer = [&](const char* name, int side, int group, double x, double heading) {
+        return std::string(R"({"name": ")") + name + R"(", "side": )" + std::to_string(side) + R"(, "group": )" + std::to_string(group) +
+               R"(, "depth": 2, "preset": "general-boxer", "motions": ["shadowbox_energetic"], "actions": )" + actions +
+               R"(, "start": {"x": )" + std::to_string(x) + R"(, "z": 0, "heading_deg": )" + std::to_string(heading) + "}}";
+    };
+    const std::string base = R"({"version": 1, "duration": 8, "seed": 1, "characters": [)" + boxer("a", 0, 0, 0, 90) + ", " +
+                             boxer("b", 1, 0, 1.2, -90) + ", " + boxer("c", 0, 1, 6, 90) + ", " + boxer("d", 1, 1, 7.2, -90) + "]}";
+    const auto& w = test::demoWorld();
+    auto plain = simulate(w.library, w.project.combos, parsed(base));
+    ASSERT_TRUE(plain.ok()) << plain.error().message;
+    std::string pinned;
+    for (const auto& inst : plain->characters[2].track) {
+        if (inst.forced || inst.start < 5.0 || !pinned.empty()) continue;
+        for (const char* key : {"@kick", "@punch", "@block"}) {
+            char buf[128];
+            std::snprintf(buf, sizeof buf, R"([{"character": "c", "time": %.3f, "action": "%s"}])", inst.start, key);
+            if (simulate(w.library, w.project.combos, parsed(withPins(base, buf))).ok()) {
+                pinned = buf;
+                break;
+            }
+        }
+    }
+    ASSERT_FALSE(pinned.empty()) << "no late decision of 'c' takes a pin";
+    const auto info = editAndCompare(parsed(base), parsed(withPins(base, pinned)), "pin in the second group");
+    EXPECT_TRUE(info.incremental);
+    std::int64_t firstGroup = 0;  // decisions of a and b: every track instance they chose
+    for (int c : {0, 1}) {
+        const auto& track = plain->characters[static_cast<std::size_t>(c)].track;
+        for (std::size_t i = 1; i < track.size(); ++i) firstGroup += track[i].forced ? 0 : 1;
+    }
+    EXPECT_GT(info.decisionsKept, firstGroup) << "the first group's decisions and some of the second's are kept";
+}
+
+// The demo chase (three characters in one game tree, the scene ends at the
+// first catch): a shorter scene.
+TEST(SimReplan, ChaseDurationChangeMatchesAFullReplan) {
+    const std::string text = R"({"version": 1, "duration": 12, "seed": 1, "stop_on_catch": true, "arena": {"x": 1, "z": 0, "radius": 6}, "characters": [
+      {"name": "runaway", "side": 1, "preset": "runaway", "depth": 2, "motions": ["running_around"], "start": {"x": 2, "z": 0, "heading_deg": 90}},
+      {"name": "chaser1", "side": 0, "preset": "chaser", "depth": 2, "motions": ["running_around"], "start": {"x": 0, "z": -0.6, "heading_deg": 90}},
+      {"name": "chaser2", "side": 0, "preset": "chaser", "depth": 2, "motions": ["running_around"], "start": {"x": 0, "z": 0.6, "heading_deg": 90}}]})";
+    std::string shorter = text;
+    shorter.replace(shorter.find("\"duration\": 12"), 14, "\"duration\": 7");
+    const auto info = editAndCompare(parsed(text), parsed(shorter), "chase 12 -> 7 s");
+    EXPECT_TRUE(info.incremental);
+}
+
+}  // namespace
+}  // namespace fray::sim

@@ -123,7 +123,7 @@ namespace {
 // (docs/TREE_EXPANSION.md "Re-planning after an edit").
 struct EditBound {
     std::string full;  // why nothing can be kept ("" when something can)
-    double pinTime = std::numeric_limits<double>::infinity();  // the earliest changed pin's time less kPinEarly
+    std::vector<double> pinTime;   // per character: its earliest changed pin's time less kPinEarly (inf: none)
     std::vector<double> pathTime;  // per character: where its schedule starts to differ (inf: unchanged)
     std::vector<int> pathIndex;    // per character: its first changed checkpoint (INT_MAX: unchanged)
 };
@@ -148,6 +148,7 @@ EditBound compareSpecs(const PlanRecord& last, const ActionLibrary& lib, const s
     const std::size_t n = now.characters.size();
     b.pathTime.assign(n, std::numeric_limits<double>::infinity());
     b.pathIndex.assign(n, std::numeric_limits<int>::max());
+    b.pinTime.assign(n, std::numeric_limits<double>::infinity());
     for (std::size_t i = 0; i < n; ++i) {
         CharacterSpec x = was.characters[i], y = now.characters[i];
         const std::vector<Checkpoint> px = std::move(x.path), py = std::move(y.path);
@@ -172,15 +173,21 @@ EditBound compareSpecs(const PlanRecord& last, const ActionLibrary& lib, const s
         b.pathIndex[i] = static_cast<int>(k);
         b.pathTime[i] = t;
     }
-    // Pins: those in one list and not the other.
-    const auto missing = [](const std::vector<ActionPin>& from, const std::vector<ActionPin>& in, double& earliest) {
+    // Pins: those in one list and not the other (read by their character's group only).
+    const auto missing = [](const std::vector<ActionPin>& from, const std::vector<ActionPin>& in, std::vector<double>& earliest) {
         std::vector<bool> used(in.size(), false);
         for (const ActionPin& p : from) {
             bool found = false;
             for (std::size_t j = 0; j < in.size() && !found; ++j) {
                 if (!used[j] && in[j] == p) used[j] = found = true;
             }
-            if (!found) earliest = std::min(earliest, p.time - kPinEarly);
+            if (found) continue;
+            if (p.character >= 0 && static_cast<std::size_t>(p.character) < earliest.size()) {
+                auto& e = earliest[static_cast<std::size_t>(p.character)];
+                e = std::min(e, p.time - kPinEarly);
+            } else {
+                for (double& e : earliest) e = std::min(e, p.time - kPinEarly);
+            }
         }
     };
     missing(was.pins, now.pins, b.pinTime);
@@ -191,9 +198,9 @@ EditBound compareSpecs(const PlanRecord& last, const ActionLibrary& lib, const s
 // Whether a step that read up to `reach` and these checkpoints (by member)
 // may have read something the edit changed.
 bool stepReads(const EditBound& b, const Context& ctx, double reach, const std::array<int, kMaxGroupSize>& checkpoint) {
-    if (reach >= b.pinTime) return true;
     for (std::size_t m = 0; m < ctx.members.size(); ++m) {
         const auto c = static_cast<std::size_t>(ctx.members[m].global);
+        if (reach >= b.pinTime[c]) return true;
         if (b.pathIndex[c] == std::numeric_limits<int>::max()) continue;
         if (reach >= b.pathTime[c]) return true;
         if (static_cast<std::int64_t>(checkpoint[m]) + 3 >= b.pathIndex[c]) return true;
