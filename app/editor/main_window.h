@@ -30,6 +30,7 @@
 #include "fray/setup/hand_made.h"
 #include "fray/setup/scene_setup.h"
 #include "fray/sim/patches.h"
+#include "fray/sim/planner.h"
 #include "floor_tools.h"
 #include "project_analysis.h"
 #include "scene_stage.h"
@@ -168,6 +169,10 @@ public:
     // byte for byte; -1 when not measured (an edit that affects everyone).
     int replanOthers() const { return replanOthers_; }
     int replanKept() const { return replanKept_; }
+    // How the last generate of a duel or chase went with the planner's cache
+    // (sim::PlanCache): decisions kept from the scene before and planned
+    // again, where it resumed; empty for other kinds.
+    const std::optional<sim::ReplanInfo>& lastReplan() const { return lastReplan_; }
     double playTime() const { return time_; }
     // Pauses the scene playing at t (s) and poses it there, as the viewport draws it
     // (scene()->jointPositions then reads that pose); the Gantt panel's seek.
@@ -413,6 +418,8 @@ private:
     std::shared_ptr<const pipeline::SimSession> patchSession_;   // the action library it was made from
     int previewedPatch_ = -1;
     std::shared_ptr<pipeline::SimSession> generateSession_;  // the last generate's session (read by the next job only)
+    std::shared_ptr<sim::PlanCache> planCache_;  // the last tree-expansion run (used by one job at a time)
+    std::optional<sim::ReplanInfo> lastReplan_;
     QToolBar* toolBar_ = nullptr;
     QToolBar* toolOptions_ = nullptr;
     QComboBox* toolCharacter_ = nullptr;

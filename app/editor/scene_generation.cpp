@@ -188,6 +188,7 @@ Result<GeneratedScene> generateScene(const GenerateInput& in, const ProgressFn& 
         auto session = prepareSimSession(in.project, in.projectFile, stage(progress, 0.0, 0.3));
         if (!session) return session.error();
         shared = std::move(*session);
+        if (in.plans) in.plans->clear();  // planned on another library
     }
     pipeline::SimSession& s = *shared;
     GeneratedScene out;
@@ -205,8 +206,10 @@ Result<GeneratedScene> generateScene(const GenerateInput& in, const ProgressFn& 
         pipeline::SetupRunStats st;
         const bool graph = setup::isGraphKind(in.setup->kind);
         // A graph setup's graph may be built here (seconds to minutes): most of the bar.
-        auto scene = pipeline::runSetup(s, *in.setup, patches.get(), stage(progress, graph ? 0.3 : 0.6, 0.95), &st, in.graphs.get());
+        auto scene = pipeline::runSetup(s, *in.setup, patches.get(), stage(progress, graph ? 0.3 : 0.6, 0.95), &st, in.graphs.get(),
+                                        in.plans.get());
         if (!scene) return scene.error();
+        if (in.plans && setup::isTreeExpansion(in.setup->kind)) out.replan = st.replan;
         const auto& g = st.graph;
         out.summary = graph ? QString("%1 '%2': %3 characters, %4 s, %5 decisions (%6 off the graph), %7 hits; graph: %8")
                                   .arg(setup::setupKindName(in.setup->kind))
@@ -291,8 +294,11 @@ Result<GeneratedScene> generateScene(const GenerateInput& in, const ProgressFn& 
         if (!presets) return presets.error();
         auto spec = sim::parseSceneSpec(specText, specName, s.library, *presets);
         if (!spec) return spec.error();
-        auto scene = sim::simulate(s.library, s.session.project.combos, *spec, stage(progress, 0.3, 0.95));
+        sim::ReplanInfo replan;
+        auto scene = in.plans ? sim::simulate(s.library, s.session.project.combos, *spec, *in.plans, stage(progress, 0.3, 0.95), &replan)
+                              : sim::simulate(s.library, s.session.project.combos, *spec, stage(progress, 0.3, 0.95));
         if (!scene) return makeError(specName + ": " + scene.error().message);
+        if (in.plans) out.replan = replan;
         out.summary = QString("tree expansion: %1 characters, %2 s, %3 decisions, %4 hits")
                           .arg(scene->characters.size())
                           .arg(scene->duration, 0, 'f', 1)

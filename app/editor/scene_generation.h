@@ -23,6 +23,7 @@
 #include "fray/setup/scene_setup.h"
 #include "fray/sim/metrics.h"
 #include "fray/sim/patches.h"
+#include "fray/sim/planner.h"
 #include "fray/sim/scene.h"
 #include "gantt_view.h"
 #include "scene_stage.h"
@@ -60,6 +61,10 @@ struct GenerateInput {
     std::shared_ptr<pipeline::SimSession> cachedSession;
     // Interaction graphs built in memory by earlier generates (graph setups; may be null).
     std::shared_ptr<pipeline::GraphCache> graphs;
+    // The last tree-expansion run (duel, chase; may be null): a live re-plan
+    // resumes it where the edit cannot reach (sim::PlanCache). Cleared when
+    // the session is replaced; only one job uses it at a time.
+    std::shared_ptr<sim::PlanCache> plans;
 };
 
 struct GeneratedScene {
@@ -69,6 +74,7 @@ struct GeneratedScene {
     std::shared_ptr<const sim::PatchLibrary> patches;  // the library composed from (may be generated here)
     QString summary;                                  // one line for the status bar
     double seconds = 0;                               // planning or composing, wall clock
+    std::optional<sim::ReplanInfo> replan;            // tree expansion with GenerateInput::plans: how much was kept
 };
 
 // A generated scene as the window shows it, prepared in the worker thread:
@@ -80,6 +86,7 @@ struct PreparedPreview {
     sim::SceneMetrics metrics;
     QString summary;
     std::shared_ptr<pipeline::SimSession> session;  // kept for the next generate
+    std::optional<sim::ReplanInfo> replan;
 };
 
 // Marks the bars the setup's pins chose (GanttBar::pin): for each pin, the

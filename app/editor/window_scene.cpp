@@ -436,6 +436,8 @@ void MainWindow::generate() {
     input->cachedSession = generateSession_;
     if (!graphCache_) graphCache_ = std::make_shared<pipeline::GraphCache>();
     input->graphs = graphCache_;
+    if (!planCache_) planCache_ = std::make_shared<sim::PlanCache>();
+    input->plans = planCache_;
     QString specFile = source;
     if (source.startsWith(kSetupPrefix)) {
         auto st = doc_->sceneSetup(currentSetup().toStdString());
@@ -472,6 +474,13 @@ void MainWindow::generate() {
                 GeneratedScene& g = (*result)->value();
                 shown->session = g.session;
                 shown->summary = g.summary + QString(" (%1 s)").arg(g.seconds, 0, 'f', 2);
+                shown->replan = g.replan;
+                if (g.replan && g.replan->incremental) {
+                    shown->summary += QString("; re-planned from %1 s on (%2 of %3 decisions kept)")
+                                          .arg(g.replan->resumedAt, 0, 'f', 2)
+                                          .arg(g.replan->decisionsKept)
+                                          .arg(g.replan->decisionsKept + g.replan->decisionsPlanned);
+                }
                 shown->metrics = g.metrics;
                 shown->stage = std::make_unique<cli::SceneStage>(std::move(g.loaded));
                 const cli::SceneStage& stage = *shown->stage;
@@ -499,6 +508,7 @@ void MainWindow::generate() {
                 return;
             }
             generateSession_ = shown->session;
+            lastReplan_ = shown->replan;
             // Who kept their tracks, of those the edits since the last scene could not affect.
             QString kept;
             replanOthers_ = replanKept_ = -1;
@@ -539,8 +549,13 @@ void MainWindow::generate() {
                 std::printf("fray: re-plan%s\n", kept.toUtf8().constData());
             }
             lastGenerateSeconds_ = static_cast<double>(clock->elapsed()) / 1000.0;
-            std::printf("fray: %s %s in %.2f s\n", wasReplan ? "re-planned" : "generated",
+            std::printf("fray: %s %s in %.2f s", wasReplan ? "re-planned" : "generated",
                         QFileInfo(specFile).fileName().toUtf8().constData(), lastGenerateSeconds_);
+            if (lastReplan_)
+                std::printf(" (planner: %lld decisions kept, %lld planned, from %.2f s%s)", static_cast<long long>(lastReplan_->decisionsKept),
+                            static_cast<long long>(lastReplan_->decisionsPlanned), lastReplan_->resumedAt,
+                            lastReplan_->incremental ? "" : (", " + lastReplan_->reason).c_str());
+            std::printf("\n");
             std::fflush(stdout);
         });
 }

@@ -14,7 +14,7 @@ bool setupNeedsPatches(const setup::SceneSetup& s) {
 }
 
 Result<sim::Scene> runSetup(const SimSession& session, const setup::SceneSetup& s, const sim::PatchLibrary* patches,
-                            const ProgressFn& progress, SetupRunStats* stats, GraphCache* graphs) {
+                            const ProgressFn& progress, SetupRunStats* stats, GraphCache* graphs, sim::PlanCache* plans) {
     const std::string who = "setup '" + s.name + "'";
     if (setup::isGraphKind(s.kind)) return runGraphSetup(session, s, progress, stats ? &stats->graph : nullptr, graphs);
     if (setup::isTreeExpansion(s.kind)) {
@@ -22,8 +22,11 @@ Result<sim::Scene> runSetup(const SimSession& session, const setup::SceneSetup& 
         if (!presets) return presets.error();
         auto spec = setup::toSceneSpec(s, session.library, *presets);
         if (!spec) return spec.error();
-        auto scene = sim::simulate(session.library, session.session.project.combos, *spec, progress);
+        sim::ReplanInfo replan;
+        auto scene = plans ? sim::simulate(session.library, session.session.project.combos, *spec, *plans, progress, &replan)
+                           : sim::simulate(session.library, session.session.project.combos, *spec, progress);
         if (!scene) return makeError(who + ": " + scene.error().message);
+        if (stats) stats->replan = replan;
         if (stats) stats->planner = scene->stats;
         return scene;
     }

@@ -117,8 +117,104 @@ Context baseContext(const ActionLibrary& lib, const SimOptions& opt, const std::
 
 using namespace planner;
 
-Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos, const SceneSpec& spec,
-                       const ProgressFn& progress) {
+namespace {
+
+// What an edit changed, as the steps of the last run must not have read it
+// (docs/TREE_EXPANSION.md "Re-planning after an edit").
+struct EditBound {
+    std::string full;  // why nothing can be kept ("" when something can)
+    std::vector<double> pinTime;   // per character: its earliest changed pin's time less kPinEarly (inf: none)
+    std::vector<double> pathTime;  // per character: where its schedule starts to differ (inf: unchanged)
+    std::vector<int> pathIndex;    // per character: its first changed checkpoint (INT_MAX: unchanged)
+};
+
+EditBound compareSpecs(const PlanRecord& last, const ActionLibrary& lib, const std::vector<float>& combo, const SceneSpec& now) {
+    EditBound b;
+    const SceneSpec& was = last.spec;
+    if (last.lib != &lib || last.libActions != lib.size() || last.combo != combo) {
+        b.full = "the action library or combination table changed";
+        return b;
+    }
+    SimOptions a = was.options, c = now.options;
+    a.duration = c.duration = 0;  // read by the scene loop only
+    if (!(a == c)) {
+        b.full = "a scene option (seed, stage, pruning, budget...) changed";
+        return b;
+    }
+    if (was.characters.size() != now.characters.size()) {
+        b.full = "characters were added or removed";
+        return b;
+    }
+    const std::size_t n = now.characters.size();
+    b.pathTime.assign(n, std::numeric_limits<double>::infinity());
+    b.pathIndex.assign(n, std::numeric_limits<int>::max());
+    b.pinTime.assign(n, std::numeric_limits<double>::infinity());
+    for (std::size_t i = 0; i < n; ++i) {
+        CharacterSpec x = was.characters[i], y = now.characters[i];
+        const std::vector<Checkpoint> px = std::move(x.path), py = std::move(y.path);
+        x.path.clear(), y.path.clear();
+        if (!(x == y)) {
+            b.full = "character '" + y.name + "' changed (weights, preset, depth, actions, start...)";
+            return b;
+        }
+        if (px == py) continue;
+        if (y.loopPath) {
+            b.full = "the looped path of '" + y.name + "' changed";
+            return b;
+        }
+        // The first checkpoint that differs (or is added or removed); the
+        // schedule differs from the last timed checkpoint before it.
+        std::size_t k = 0;
+        while (k < px.size() && k < py.size() && px[k] == py[k]) ++k;
+        double t = 0;
+        for (std::size_t j = 0; j < k; ++j) {
+            if (px[j].time) t = std::max(t, *px[j].time);
+        }
+        b.pathIndex[i] = static_cast<int>(k);
+        b.pathTime[i] = t;
+    }
+    // Pins: those in one list and not the other (read by their character's group only).
+    const auto missing = [](const std::vector<ActionPin>& from, const std::vector<ActionPin>& in, std::vector<double>& earliest) {
+        std::vector<bool> used(in.size(), false);
+        for (const ActionPin& p : from) {
+            bool found = false;
+            for (std::size_t j = 0; j < in.size() && !found; ++j) {
+                if (!used[j] && in[j] == p) used[j] = found = true;
+            }
+            if (found) continue;
+            if (p.character >= 0 && static_cast<std::size_t>(p.character) < earliest.size()) {
+                auto& e = earliest[static_cast<std::size_t>(p.character)];
+                e = std::min(e, p.time - kPinEarly);
+            } else {
+                for (double& e : earliest) e = std::min(e, p.time - kPinEarly);
+            }
+        }
+    };
+    missing(was.pins, now.pins, b.pinTime);
+    missing(now.pins, was.pins, b.pinTime);
+    return b;
+}
+
+// Whether a step that read up to `reach` and these checkpoints (by member)
+// may have read something the edit changed.
+bool stepReads(const EditBound& b, const Context& ctx, double reach, const std::array<int, kMaxGroupSize>& checkpoint) {
+    for (std::size_t m = 0; m < ctx.members.size(); ++m) {
+        const auto c = static_cast<std::size_t>(ctx.members[m].global);
+        if (reach >= b.pinTime[c]) return true;
+        if (b.pathIndex[c] == std::numeric_limits<int>::max()) continue;
+        if (reach >= b.pathTime[c]) return true;
+        if (static_cast<std::int64_t>(checkpoint[m]) + 3 >= b.pathIndex[c]) return true;
+    }
+    return false;
+}
+
+void keepMarks(const ReadMarks& r, double& reach, std::array<int, kMaxGroupSize>& checkpoint) {
+    reach = r.reach.load(std::memory_order_relaxed);
+    for (std::size_t i = 0; i < checkpoint.size(); ++i) checkpoint[i] = r.checkpoint[i].load(std::memory_order_relaxed);
+}
+
+Result<Scene> run(const ActionLibrary& lib, const prep::ComboTable& combos, const SceneSpec& spec, const ProgressFn& progress,
+                  PlanCache* cache, ReplanInfo* info) {
     const auto& opt = spec.options;
     if (!(opt.duration > 0)) return makeError("scene duration must be positive");
     if (spec.characters.empty()) return makeError("the scene has no characters");
@@ -148,6 +244,22 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
     detail::InteractionEngine engine(lib);
     const Context base = baseContext(lib, opt, combo, engine);
 
+    // Incremental re-planning: what the edit changed since the cached run.
+    std::shared_ptr<PlanRecord> record;
+    const PlanRecord* last = cache && cache->last ? cache->last.get() : nullptr;
+    EditBound bound;
+    if (cache) {
+        record = std::make_shared<PlanRecord>();
+        record->lib = &lib;
+        record->libActions = lib.size();
+        record->combo = combo;
+        record->spec = spec;
+        if (last) bound = compareSpecs(*last, lib, combo, spec);
+        else bound.full = "no earlier run";
+        if (info) *info = ReplanInfo{};
+    }
+    ReadMarks marks;
+
     // Groups, in order of first appearance.
     std::vector<int> groupIds;
     for (const auto& c : spec.characters) {
@@ -155,6 +267,7 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
     }
     std::mt19937_64 rng(opt.seed);
     Stats total;
+    double resumedAt = std::numeric_limits<double>::infinity();
     for (std::size_t gi = 0; gi < groupIds.size(); ++gi) {
         Context ctx = base;
         bool catches = false;
@@ -212,11 +325,87 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
                    (specOf(ctx, 1).opponent < 0 || specOf(ctx, 1).opponent == ctx.members[0].global);
         ctx.boundedFrontier = ctx.duel && !catches;
         PinGuide pins(ctx, spec);
+        // The group's share of the scene so far (kept states count from here).
+        const std::size_t hitsBegin = scene.hits.size(), catchesBegin = scene.catches.size();
+        const std::int64_t decisionsBegin = scene.stats.decisions, fallbacksBegin = scene.stats.fallbacks,
+                           forcedBegin = scene.stats.forced;
+        Stats groupSearch;
+        PlanGroupRecord* gr = nullptr;
+        if (record) {
+            gr = &record->groups.emplace_back();
+            ctx.reads = &marks;
+            marks.reset();
+        }
         {
             Events ev;  // the first node: whoever finishes its start action first
             advance(ctx, g, ev, &rec);
         }
+        if (gr) {
+            for (int i = 0; i < g.n; ++i) {
+                ReadMarks::raise(marks.reach, g.time);
+                ReadMarks::raise(marks.checkpoint[static_cast<std::size_t>(i)], g.c[static_cast<std::size_t>(i)].checkpoint);
+            }
+            keepMarks(marks, gr->initReach, gr->initCheckpoint);
+        }
+        const auto snapshot = [&]() {
+            PlanSnapshot sn;
+            sn.g = g;
+            sn.stop = rec.stop;
+            for (const auto& m : ctx.members) {
+                const auto& sc = scene.characters[static_cast<std::size_t>(m.global)];
+                sn.trackSize.push_back(sc.track.size());
+                sn.trackLast.push_back(sc.track.back());
+                sn.fallbacks.push_back(sc.fallbacks);
+            }
+            sn.hits = scene.hits.size() - hitsBegin;
+            sn.catches = scene.catches.size() - catchesBegin;
+            sn.decisions = scene.stats.decisions - decisionsBegin;
+            sn.fallbackDecisions = scene.stats.fallbacks - fallbacksBegin;
+            sn.forced = scene.stats.forced - forcedBegin;
+            sn.search = groupSearch;
+            sn.pinsFired = pins.firedCounts(g.n);
+            return sn;
+        };
+        // Resume from the last kept state the edit cannot have reached.
+        if (gr && last && bound.full.empty() && gi < last->groups.size() && !stepReads(bound, ctx, last->groups[gi].initReach, last->groups[gi].initCheckpoint)) {
+            const PlanGroupRecord& old = last->groups[gi];
+            std::size_t k = 0;
+            while (k + 1 < old.snaps.size() && old.snaps[k].g.time < opt.duration && !old.snaps[k].stop &&
+                   !stepReads(bound, ctx, old.snaps[k].reach, old.snaps[k].checkpoint)) {
+                ++k;
+            }
+            const PlanSnapshot& sn = old.snaps[k];
+            g = sn.g;
+            rec.stop = sn.stop;
+            for (std::size_t m = 0; m < ctx.members.size(); ++m) {
+                auto& sc = scene.characters[static_cast<std::size_t>(ctx.members[m].global)];
+                sc.track.assign(old.tracks[m].begin(), old.tracks[m].begin() + static_cast<std::ptrdiff_t>(sn.trackSize[m]));
+                sc.track.back() = sn.trackLast[m];
+                sc.fallbacks = sn.fallbacks[m];
+            }
+            scene.hits.resize(hitsBegin);
+            scene.hits.insert(scene.hits.end(), old.hits.begin(), old.hits.begin() + static_cast<std::ptrdiff_t>(sn.hits));
+            scene.catches.resize(catchesBegin);
+            scene.catches.insert(scene.catches.end(), old.catches.begin(), old.catches.begin() + static_cast<std::ptrdiff_t>(sn.catches));
+            scene.stats.decisions = decisionsBegin + sn.decisions;
+            scene.stats.fallbacks = fallbacksBegin + sn.fallbackDecisions;
+            scene.stats.forced = forcedBegin + sn.forced;
+            groupSearch = sn.search;
+            total.add(sn.search);
+            pins.restoreFired(sn.pinsFired);
+            gr->initReach = old.initReach;
+            gr->initCheckpoint = old.initCheckpoint;
+            gr->snaps.assign(old.snaps.begin(), old.snaps.begin() + static_cast<std::ptrdiff_t>(k));
+            if (info) info->decisionsKept += sn.decisions;
+            resumedAt = std::min(resumedAt, g.time);
+        } else {
+            resumedAt = 0;
+        }
         while (g.time < opt.duration && !rec.stop) {
+            if (gr) {
+                gr->snaps.push_back(snapshot());
+                marks.reset();
+            }
             const int who = chooserOf(g);
             const auto& cs = specOf(ctx, who);
             Stats st;
@@ -224,30 +413,44 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
             if (!pins.empty() && opt.pinsInTree) pins.inTree(ctx);
             int action = decide(ctx, g, cs.depth, st, fellBack);
             total.add(st);
+            groupSearch.add(st);
             if (!pins.empty()) {
                 auto pinned = pins.choose(ctx, g, who, action, [&](const CandidateFilter& filter) {
                     Stats again;
                     const int a = decide(ctx, g, cs.depth, again, fellBack, &filter);
                     total.add(again);
+                    groupSearch.add(again);
                     return a;
                 });
                 if (!pinned) return pinned.error();
                 action = *pinned;
             }
             ++scene.stats.decisions;
+            if (info) ++info->decisionsPlanned;
             const int global = ctx.members[static_cast<std::size_t>(who)].global;
             auto& sc = scene.characters[static_cast<std::size_t>(global)];
             if (fellBack) ++scene.stats.fallbacks, ++sc.fallbacks;
             if (action < 0) return makeError("character '" + cs.name + "' has no action to take");
             const double t = g.time;
+            const GroupState before = g;
             launch(ctx, g, who, action, t);
             const auto& s = g.c[static_cast<std::size_t>(who)];
             sc.track.push_back({action, t, 0.0, s.end, s.root, false, fellBack});
             Events ev;
             advance(ctx, g, ev, &rec);
+            if (gr) {
+                noteReads(ctx, before, g, who, action);
+                keepMarks(marks, gr->snaps.back().reach, gr->snaps.back().checkpoint);
+            }
             const double overall = (static_cast<double>(gi) + std::min(g.time / opt.duration, 1.0)) /
                                    static_cast<double>(groupIds.size());
             if (!reportProgress(progress, overall, "simulate")) return cancelled();
+        }
+        if (gr) {
+            gr->snaps.push_back(snapshot());
+            for (const auto& m : ctx.members) gr->tracks.push_back(scene.characters[static_cast<std::size_t>(m.global)].track);
+            gr->hits.assign(scene.hits.begin() + static_cast<std::ptrdiff_t>(hitsBegin), scene.hits.end());
+            gr->catches.assign(scene.catches.begin() + static_cast<std::ptrdiff_t>(catchesBegin), scene.catches.end());
         }
         if (auto st = pins.finish(ctx); !st) return st.error();
         if (rec.stop) {
@@ -268,8 +471,27 @@ Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos,
     scene.stats.cutoffs = total.cutoffs;
     scene.stats.shallower = total.shallower;
     scene.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
+    if (record) {
+        cache->last = std::move(record);
+        if (info) {
+            info->incremental = info->decisionsKept > 0;
+            info->resumedAt = info->incremental ? resumedAt : 0;
+            info->reason = info->incremental ? std::string() : !bound.full.empty() ? bound.full : "the edit reaches the first decision";
+        }
+    }
     reportProgress(progress, 1.0, "simulate");
     return scene;
+}
+
+}  // namespace
+
+Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos, const SceneSpec& spec, const ProgressFn& progress) {
+    return run(lib, combos, spec, progress, nullptr, nullptr);
+}
+
+Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos, const SceneSpec& spec, PlanCache& cache,
+                       const ProgressFn& progress, ReplanInfo* info) {
+    return run(lib, combos, spec, progress, &cache, info);
 }
 
 }  // namespace fray::sim

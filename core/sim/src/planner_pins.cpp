@@ -116,6 +116,23 @@ bool PinGuide::pinNode(const ActionPin& pin, const GroupState& g, int who) {
     return g.time >= pin.time - kPinEarly && g.time <= pin.time + kPinLate && (s.start < pin.time - kPinEarly || s.reacting);
 }
 
+std::vector<int> PinGuide::firedCounts(int members) const {
+    std::vector<int> counts(static_cast<std::size_t>(members), 0);
+    for (const Entry& e : pins_) {
+        if (e.fired) ++counts[static_cast<std::size_t>(e.member)];
+    }
+    return counts;
+}
+
+void PinGuide::restoreFired(const std::vector<int>& counts) {
+    std::vector<int> left = counts;
+    for (Entry& e : pins_) {  // by member, then time: the first ones of each member fired
+        int& n = left[static_cast<std::size_t>(e.member)];
+        e.fired = n > 0;
+        if (n > 0) --n;
+    }
+}
+
 Status PinGuide::finish(const Context& ctx) const {
     for (const Entry& e : pins_) {
         if (!e.fired) return missed(ctx, e, nullptr);

@@ -371,6 +371,7 @@ void makeChild(const Context& ctx, const GroupState& g, int who, int action, con
     Events ev;
     advance(ctx, ch.state, ev, nullptr);
     const Value e = edgeScore(ctx, g, ch.state, who, action, ev, oppAt);
+    noteReads(ctx, g, ch.state, who, action);  // incremental re-planning (PlanCache)
     ch.edge = e;
     ch.acc.comp = acc.comp + (mx ? e.comp : -e.comp);
     ch.acc.coop = acc.coop + e.coop;

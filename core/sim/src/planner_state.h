@@ -7,6 +7,7 @@
 // planner.cpp the legal choices and the scene loop. Internal to fray_sim.
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <bit>
 #include <cstdint>
 #include <functional>
@@ -131,8 +132,36 @@ struct Context {
     // the scene has no pins or SimOptions::pinsInTree is off. Set before
     // each decision (PinGuide::inTree); the Pruner narrows the pin's node.
     std::vector<const ActionPin*> treePins;
+    // What the searches read of the inputs an edit may change (paths, pins),
+    // kept for incremental re-planning (PlanCache); nullptr: not kept.
+    struct ReadMarks* reads = nullptr;
     bool duel = false;                   // two members on opposite sides: each one's opponent is the other
     bool boundedFrontier = false;        // a duel scored by blows: frontier edges can be bounded (boundedFrontier)
+};
+
+// What one step of the scene loop (a decision's searches and the advance to
+// the next node) read of the inputs an edit may change (docs/TREE_EXPANSION.md
+// "Re-planning after an edit"): the latest scene time any path schedule, pin
+// window or checkpoint time was read at, and per member the furthest
+// checkpoint index any state reached (the path's points and lengths are read
+// up to 3 beyond it). Searches of one decision run in parallel: atomics.
+struct ReadMarks {
+    std::atomic<double> reach{-std::numeric_limits<double>::infinity()};
+    std::array<std::atomic<int>, kMaxGroupSize> checkpoint{};
+    void reset() {
+        reach.store(-std::numeric_limits<double>::infinity(), std::memory_order_relaxed);
+        for (auto& c : checkpoint) c.store(0, std::memory_order_relaxed);
+    }
+    static void raise(std::atomic<double>& a, double v) {
+        double cur = a.load(std::memory_order_relaxed);
+        while (v > cur && !a.compare_exchange_weak(cur, v, std::memory_order_relaxed)) {
+        }
+    }
+    static void raise(std::atomic<int>& a, int v) {
+        int cur = a.load(std::memory_order_relaxed);
+        while (v > cur && !a.compare_exchange_weak(cur, v, std::memory_order_relaxed)) {
+        }
+    }
 };
 
 // The suitability matrix (Context::combo) over the actions the characters may play or be forced into.
@@ -231,6 +260,19 @@ inline void launch(const Context& ctx, GroupState& g, int who, int action, doubl
     pushRecent(ctx, s, action);
 }
 
+// Marks what an edge "who launched action from before, reaching after" reads
+// (Context::reads): the launch's nominal end (the pins' rule), the next node
+// and the launcher's end (the path schedule), every member's checkpoint.
+inline void noteReads(const Context& ctx, const GroupState& before, const GroupState& after, int who, int action) {
+    if (!ctx.reads) return;
+    ReadMarks& r = *ctx.reads;
+    const double end = before.time + ctx.lib->actions()[static_cast<std::size_t>(action)].duration;
+    ReadMarks::raise(r.reach, std::max({end, after.time, after.c[static_cast<std::size_t>(who)].end}));
+    for (int i = 0; i < after.n; ++i) {
+        ReadMarks::raise(r.checkpoint[static_cast<std::size_t>(i)], after.c[static_cast<std::size_t>(i)].checkpoint);
+    }
+}
+
 inline detail::Playing playing(const CharState& s) { return {s.action, s.start, s.offset, s.root}; }
 
 void updateCheckpoints(const Context& ctx, GroupState& g, double t);
@@ -263,6 +305,10 @@ public:
     // began before the window (else a decision in it came first) or is a
     // reaction to a hit.
     static bool pinNode(const ActionPin& pin, const GroupState& g, int who);
+    // Per member: how many of its pins fired (they fire in time order). For
+    // resuming from a kept state (PlanCache).
+    std::vector<int> firedCounts(int members) const;
+    void restoreFired(const std::vector<int>& counts);
 
 private:
     struct Entry {
@@ -310,3 +356,41 @@ Value edgeScore(const Context& ctx, const GroupState& before, const GroupState& 
                 const Events& ev, PlacementMemo& oppAt);
 
 }  // namespace fray::sim::planner
+
+namespace fray::sim {
+
+// One run of simulate() as a PlanCache keeps it (planner.cpp).
+struct PlanSnapshot {
+    planner::GroupState g;            // at the top of the scene loop, before a decision
+    bool stop = false;
+    std::vector<std::size_t> trackSize;     // per member: its track's length
+    std::vector<ActionInstance> trackLast;  // per member: its last instance as it was then
+    std::vector<std::int64_t> fallbacks;    // per member: SceneCharacter::fallbacks
+    std::size_t hits = 0, catches = 0;      // recorded by the group so far
+    std::int64_t decisions = 0, fallbackDecisions = 0, forced = 0;  // the group's PlannerStats so far
+    planner::Stats search;                  // the group's search statistics so far
+    std::vector<int> pinsFired;             // per member
+    // What the step from here read (planner::ReadMarks); the last snapshot's
+    // step never ran: it reads everything.
+    double reach = std::numeric_limits<double>::infinity();
+    std::array<int, kMaxGroupSize> checkpoint{};
+};
+
+struct PlanGroupRecord {
+    double initReach = 0;                          // what the start and the first advance read
+    std::array<int, kMaxGroupSize> initCheckpoint{};
+    std::vector<PlanSnapshot> snaps;               // one per decision, then the state after the loop
+    std::vector<std::vector<ActionInstance>> tracks;  // per member, as the loop left them
+    std::vector<HitEvent> hits;                    // as recorded (before the scene's sort)
+    std::vector<CatchEvent> catches;
+};
+
+struct PlanRecord {
+    const ActionLibrary* lib = nullptr;
+    int libActions = 0;
+    std::vector<float> combo;  // planner::comboMatrix of the run
+    SceneSpec spec;
+    std::vector<PlanGroupRecord> groups;
+};
+
+}  // namespace fray::sim

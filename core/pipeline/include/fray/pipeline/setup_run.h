@@ -10,6 +10,7 @@
 #include "fray/setup/scene_setup.h"
 #include "fray/sim/compose.h"
 #include "fray/sim/patches.h"
+#include "fray/sim/planner.h"
 #include "fray/sim/scene.h"
 
 namespace fray::pipeline {
@@ -23,12 +24,16 @@ struct SetupRunStats {
     sim::PlannerStats planner;  // duel, chase
     sim::ComposeStats compose;  // the other kinds
     GraphRunStats graph;        // graph-duel, graph-teams, graph-carry
+    sim::ReplanInfo replan;     // duel, chase planned with a PlanCache
 };
 
 // The scene of a setup. `patches` is the project's patch library when
 // setupNeedsPatches (else it may be null). Errors name the setup and the
-// JSON path of the bad parameter; cancel through `progress`.
+// JSON path of the bad parameter; cancel through `progress`. `plans` (duel,
+// chase; may be null): the last run of the planner, resumed where an edit
+// cannot reach (sim::PlanCache; the same bytes as without it), then updated.
 Result<sim::Scene> runSetup(const SimSession& session, const setup::SceneSetup& setup, const sim::PatchLibrary* patches,
-                            const ProgressFn& progress = {}, SetupRunStats* stats = nullptr, GraphCache* graphs = nullptr);
+                            const ProgressFn& progress = {}, SetupRunStats* stats = nullptr, GraphCache* graphs = nullptr,
+                            sim::PlanCache* plans = nullptr);
 
 }  // namespace fray::pipeline

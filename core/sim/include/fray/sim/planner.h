@@ -7,6 +7,7 @@
 // path sum of competitive and cooperative terms; the back-up rules are the
 // SPEC 2.2 ones; alpha-beta applies when the scene has no cooperative terms.
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -64,6 +65,7 @@ struct CharacterSpec {
     std::vector<int> required;     // A+ (ascending)
     std::vector<int> forbidden;    // A- (ascending)
     int opponent = -1;             // -1: the nearest enemy in its group
+    friend bool operator==(const CharacterSpec&, const CharacterSpec&) = default;
 };
 
 struct SimOptions {
@@ -107,6 +109,7 @@ struct SimOptions {
     // running turn can overshoot the edge by about 2.5 m, and reactions
     // (pushed, knocked down) can carry a character out.
     Arena arena;
+    friend bool operator==(const SimOptions&, const SimOptions&) = default;
 };
 
 // A pinned choice (an edited generated interaction, docs/TREE_EXPANSION.md "Pins"):
@@ -124,6 +127,7 @@ struct ActionPin {
     double time = 0;
     std::string key;           // as written: an action name or "@annotation"
     std::vector<int> actions;  // the library actions it names within the character's set, ascending
+    friend bool operator==(const ActionPin&, const ActionPin&) = default;
 };
 inline constexpr double kPinEarly = 1.0 / 30.0;  // s: a decision this much before the pin's time is its decision
 inline constexpr double kPinLate = 1.0;          // s: the latest a pinned action may start after the pin's time
@@ -143,5 +147,35 @@ inline constexpr int kMaxGroupSize = 4;
 // in parallel when options.parallel. Deterministic for a spec and seed.
 Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos, const SceneSpec& spec,
                        const ProgressFn& progress = {});
+
+// Incremental re-planning (docs/TREE_EXPANSION.md "Re-planning after an
+// edit"). A PlanCache keeps what one run of simulate() saw: its spec, the
+// group states at every decision, and per decision the furthest scene time
+// and checkpoint its searches read. Handed the next spec (an edited setup),
+// simulate() resumes each group from its last decision that the edit cannot
+// reach and plans only from there; the scene is the same, byte for byte, as
+// simulate() without a cache makes. An edit it cannot bound (a weight, a
+// preset, the seed, a start placement, a looped path...) plans from the
+// start. Valid for one action library and combination table: clear() it when
+// they change. Copies share the record; simulate() replaces it only when it
+// succeeds (a cancelled or failed run leaves the last one).
+struct PlanRecord;  // internal (planner_state.h)
+struct PlanCache {
+    std::shared_ptr<const PlanRecord> last;
+    void clear() { last.reset(); }
+    bool empty() const { return !last; }
+};
+
+// How a run with a PlanCache went.
+struct ReplanInfo {
+    bool incremental = false;        // resumed from a kept state in some group
+    double resumedAt = 0;            // the earliest scene time a group resumed from (0: from the start)
+    std::int64_t decisionsKept = 0;  // decisions taken over from the last run
+    std::int64_t decisionsPlanned = 0;  // decisions searched in this run
+    std::string reason;              // why it planned from the start, when it did ("" when it resumed)
+};
+
+Result<Scene> simulate(const ActionLibrary& lib, const prep::ComboTable& combos, const SceneSpec& spec, PlanCache& cache,
+                       const ProgressFn& progress = {}, ReplanInfo* info = nullptr);
 
 }  // namespace fray::sim
