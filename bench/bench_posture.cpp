@@ -21,13 +21,15 @@ fray::sim::Scene crowd(int characters) {
     return fray::test::pairCrowd(duel, characters);
 }
 
-// Args: characters, frames simulated per iteration, solver (0 the default
-// QuickStep, 1 the direct dWorldStep).
+// Args: characters, frames simulated per iteration, solver (0 the default,
+// 1 the direct dWorldStep, 2 QuickStep, 3 the hybrid of the two).
 void BM_PosturePhysics(benchmark::State& state) {
     const auto scene = crowd(static_cast<int>(state.range(0)));
     const int frames = static_cast<int>(state.range(1));
     fray::posture::Options options;
-    if (state.range(2) != 0) options.solver = fray::posture::Solver::Direct;
+    if (state.range(2) == 1) options.solver = fray::posture::Solver::Direct;
+    if (state.range(2) == 2) options.solver = fray::posture::Solver::Iterative;
+    if (state.range(2) == 3) options.solver = fray::posture::Solver::Hybrid;
     double produced = 0, cpu = 0;
     for (auto _ : state) {
         fray::posture::Simulator sim(scene, demoWorld().library, options);
@@ -53,6 +55,10 @@ BENCHMARK(BM_PosturePhysics)
     ->Args({1000, 30, 0})
     ->Args({200, 60, 1})
     ->Args({1000, 30, 1})
+    ->Args({200, 60, 2})
+    ->Args({1000, 30, 2})
+    ->Args({200, 60, 3})
+    ->Args({1000, 30, 3})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
