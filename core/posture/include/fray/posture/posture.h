@@ -57,7 +57,8 @@ enum class Solver {
                 // issue 25's thresholds with it)
     Hybrid,     // each step, the characters that have a contact with another character are solved
                 // by QuickStep (as Iterative) and the others, alone with their joints and pins, by
-                // the direct solver (as Direct); docs/POSTURE.md "Speed"
+                // the direct solver (as Direct): the default, every scene meets issue 25's thresholds
+                // and 200 characters get 1.8x QuickStep's frames per CPU-second (docs/POSTURE.md "Speed")
 };
 
 struct Options {
