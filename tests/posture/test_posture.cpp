@@ -260,24 +260,45 @@ TEST(PostureSolver, BadInputStaysFiniteAndIsReported) {
     EXPECT_NE(all.find("no such person"), std::string::npos) << all;
 }
 
-// The solver is a real option (docs/POSTURE.md "Speed"): ODE's QuickStep (the
-// default) and the direct solver both give finite poses, and different ones.
+// The solver is a real option (docs/POSTURE.md "Speed"): the direct solver,
+// ODE's QuickStep and the hybrid of the two (the default) all give finite
+// poses, and different ones; the hybrid solves the duel's fighters directly
+// while they are apart and by QuickStep while they touch.
 TEST(PostureSolver, SolverIsAnOption) {
     sim::Scene two = duel();
     two.duration = 4.0;
-    posture::Options iterative, direct;
-    iterative.solver = posture::Solver::Iterative;
-    direct.solver = posture::Solver::Direct;
-    EXPECT_EQ(posture::Options{}.solver, posture::Solver::Iterative);
-    const auto a = posture::simulate(two, demoWorld().library, direct);
-    const auto c = posture::simulate(two, demoWorld().library, iterative);
-    ASSERT_TRUE(a && c);
-    const auto& x = a->world.joints[0];
-    ASSERT_EQ(x.size(), c->world.joints[0].size());
-    for (const auto* r : {&*a, &*c}) {
+    EXPECT_EQ(posture::Options{}.solver, posture::Solver::Hybrid);
+    std::vector<posture::Frames> runs;
+    for (const auto solver : {posture::Solver::Direct, posture::Solver::Iterative, posture::Solver::Hybrid}) {
+        posture::Options options;
+        options.solver = solver;
+        auto r = posture::simulate(two, demoWorld().library, options);
+        ASSERT_TRUE(r);
         for (const auto& p : r->world.joints[0]) ASSERT_TRUE(std::isfinite(p.x + p.y + p.z));
+        const auto& rep = r->report;
+        if (solver == posture::Solver::Direct) {
+            EXPECT_EQ(rep.iterativeSteps, 0);
+        }
+        if (solver == posture::Solver::Iterative) {
+            EXPECT_EQ(rep.directSteps, 0);
+        }
+        if (solver == posture::Solver::Hybrid) {
+            EXPECT_GT(rep.directSteps, 0);
+            EXPECT_GT(rep.iterativeSteps, 0);
+        }
+        EXPECT_GT(rep.directSteps + rep.iterativeSteps, 0);
+        runs.push_back(std::move(*r));
     }
-    EXPECT_NE(0, std::memcmp(x.data(), c->world.joints[0].data(), x.size() * sizeof(glm::vec3)));
+    // Three solvers, three results: the hybrid is neither of the others (the
+    // fighters touch in this duel, so both solvers take part in its steps).
+    const auto& x = runs[0].world.joints[0];
+    for (std::size_t a = 0; a < runs.size(); ++a) {
+        ASSERT_EQ(x.size(), runs[a].world.joints[0].size());
+        for (std::size_t b = a + 1; b < runs.size(); ++b) {
+            EXPECT_NE(0, std::memcmp(runs[a].world.joints[0].data(), runs[b].world.joints[0].data(), x.size() * sizeof(glm::vec3)))
+                << a << " " << b;
+        }
+    }
 }
 
 TEST(PostureSolver, OptionErrorsNameTheField) {

@@ -259,6 +259,7 @@ struct Character {
     std::vector<std::uint8_t> group;   // per joint: 0 the trunk (pelvis, spine, neck, head), 1-4 a leg or an arm (hip or shoulder down)
     std::array<std::uint8_t, 5> groupTouched{};  // per group: one of its bodies touches another character this step
     bool touching = false;             // any of them does
+    bool linked = false;               // a contact joins one of its bodies to another character's this step (Solver::Hybrid)
     std::vector<glm::dvec3> shove;     // per joint: contact push from other characters over the last frame (sum of normal x depth)
     std::vector<double> shoveDepth;    // per joint: the deepest of those contacts (m)
     std::vector<float> torqueScale;  // per joint: twist control eased off where a pull moves the limb
@@ -1240,6 +1241,7 @@ struct Simulator::Impl {
             std::fill(c.touched.begin(), c.touched.end(), std::uint8_t{0});
             c.groupTouched.fill(0);
             c.touching = false;
+            c.linked = false;
         }
         dContactGeom found[4];
         // Bodies of touching segments yield: their control is softened so the
@@ -1253,6 +1255,7 @@ struct Simulator::Impl {
         // instead of sinking into it before a contact exists.
         auto add = [&](dGeomID a, dGeomID b, Character* ca, int ba, Character* cb, int bb) {
             const int k = dCollide(a, b, 4, found, sizeof(dContactGeom));
+            if (k > 0 && ca && cb) ca->linked = cb->linked = true;
             const double grown = cb ? 2.0 * kContactMargin : kContactMargin;  // the floor is not grown
             // Apart, the real boxes' gap bounds the contacts' depth: a box
             // grown by the margin along its axes reaches farther at its edges
@@ -1347,6 +1350,46 @@ struct Simulator::Impl {
         }
     }
 
+    // One physics step of the island's world by h with opt.solver. Hybrid:
+    // the characters joined to another by a contact this step are solved by
+    // QuickStep, the rest by the direct solver, each set while the other's
+    // bodies are disabled (ODE steps only enabled bodies; no joint links the
+    // two sets: ball joints and pins stay within a character or go to the
+    // world, contacts between characters are all in the first set).
+    void solve(Island& is, std::uint32_t seed) {
+        int linked = 0, alone = 0;
+        for (int m : is.members) {
+            const auto& c = chars[static_cast<std::size_t>(m)];
+            if (c.created) ++(c.linked ? linked : alone);
+        }
+        if (opt.solver != Solver::Hybrid) {
+            (opt.solver == Solver::Direct ? is.report.directSteps : is.report.iterativeSteps) += linked + alone;
+            seededStep(is.world, h, seed, opt.solver);
+            return;
+        }
+        is.report.directSteps += alone;
+        is.report.iterativeSteps += linked;
+        if (linked == 0 || alone == 0) {
+            seededStep(is.world, h, seed, linked > 0 ? Solver::Iterative : Solver::Direct);
+            return;
+        }
+        auto enable = [&](bool linkedOnes, bool on) {
+            for (int m : is.members) {
+                const auto& c = chars[static_cast<std::size_t>(m)];
+                if (!c.created || c.linked != linkedOnes) continue;
+                for (dBodyID b : c.bodies) {
+                    if (b) on ? dBodyEnable(b) : dBodyDisable(b);
+                }
+            }
+        };
+        enable(true, false);
+        seededStep(is.world, h, seed, Solver::Direct);
+        enable(true, true);
+        enable(false, false);
+        seededStep(is.world, h, seed, Solver::Iterative);
+        enable(false, true);
+    }
+
     bool finiteState(const Character& c) const {
         for (dBodyID b : c.bodies) {
             if (!b) continue;
@@ -1405,7 +1448,7 @@ struct Simulator::Impl {
                 const unsigned long seed = static_cast<unsigned long>(is.index) * 1000003ul +
                                            static_cast<unsigned long>(f) * 64ul + static_cast<unsigned long>(s);
                 dWorldSetQuickStepNumIterations(is.world, is.contactsThisStep > 0 ? opt.iterations : opt.freeIterations);
-                seededStep(is.world, h, static_cast<std::uint32_t>(seed), opt.solver);
+                solve(is, static_cast<std::uint32_t>(seed));
                 dJointGroupEmpty(is.contacts);
             }
         }
@@ -1451,7 +1494,7 @@ struct Simulator::Impl {
                 break;
             }
             const auto seed = static_cast<std::uint32_t>(static_cast<unsigned long>(is.index) * 1000003ul + static_cast<unsigned long>(f) * 64ul + 63ul - static_cast<unsigned long>(steps));
-            seededStep(is.world, h, seed, opt.solver);
+            solve(is, seed);
             dJointGroupEmpty(is.contacts);
         }
         dWorldSetGravity(is.world, 0, -9.81, 0);
@@ -1492,6 +1535,8 @@ struct Simulator::Impl {
             r.cappedForces += is.report.cappedForces;
             r.resets += is.report.resets;
             r.initialOverlaps += is.report.initialOverlaps;
+            r.directSteps += is.report.directSteps;
+            r.iterativeSteps += is.report.iterativeSteps;
             for (const auto& n : is.report.notes) r.note(n);
         }
         return r;
@@ -1528,7 +1573,9 @@ Status checkOptions(const sim::Scene& scene, const Options& o) {
     auto bad = [](const std::string& field, const std::string& why) { return makeError("posture options: " + field + " " + why); };
     if (!(o.fps >= 1 && o.fps <= 1000)) return bad("fps", "must be in [1, 1000]");
     if (o.substeps < 1 || o.substeps > 64) return bad("substeps", "must be in [1, 64]");
-    if (o.solver != Solver::Direct && o.solver != Solver::Iterative) return bad("solver", "must be Direct or Iterative");
+    if (o.solver != Solver::Direct && o.solver != Solver::Iterative && o.solver != Solver::Hybrid) {
+        return bad("solver", "must be Direct, Iterative or Hybrid");
+    }
     if (o.iterations < 1 || o.iterations > 500) return bad("iterations", "must be in [1, 500]");
     if (o.freeIterations < 1 || o.freeIterations > 500) return bad("freeIterations", "must be in [1, 500]");
     if (!(o.frequency > 0 && o.frequency * kTwoPi / (o.fps * o.substeps) < 1.0)) {

@@ -53,14 +53,18 @@ enum class Solver {
                 // QuickStep's 40 sweeps (1.8x the frames per CPU-second), and the joints and pins hold
                 // exactly; but with the contact rules of the third pass the chase's bodies go 3.0 cm
                 // into each other and the rat crowd's 2.03 cm (docs/POSTURE.md "Speed")
-    Iterative,  // dWorldQuickStep: projected Gauss-Seidel, `iterations` sweeps (the default: every
-                // scene meets issue 25's thresholds with it)
+    Iterative,  // dWorldQuickStep: projected Gauss-Seidel, `iterations` sweeps (every scene meets
+                // issue 25's thresholds with it)
+    Hybrid,     // each step, the characters that have a contact with another character are solved
+                // by QuickStep (as Iterative) and the others, alone with their joints and pins, by
+                // the direct solver (as Direct): the default, every scene meets issue 25's thresholds
+                // and 200 characters get 1.8x QuickStep's frames per CPU-second (docs/POSTURE.md "Speed")
 };
 
 struct Options {
     double fps = 60;             // frames produced per second of scene
     int substeps = 4;            // physics steps per frame (fixed step = 1 / (fps * substeps))
-    Solver solver = Solver::Iterative;
+    Solver solver = Solver::Hybrid;
     int iterations = 40;         // Solver::Iterative: QuickStep iterations in steps with contacts between characters (strong PD
                                  // forces push bodies through contacts with fewer)
     int freeIterations = 40;     // and in steps without (25 lets pinned feet slip 1.2 cm in the luggage chain)
@@ -96,6 +100,8 @@ struct Report {
     std::int64_t cappedForces = 0;  // particle forces or torques at their cap (steps x particles)
     int resets = 0;             // characters put back on their targets after a non-finite state
     int initialOverlaps = 0;    // pairs of characters starting inside each other
+    std::int64_t directSteps = 0;     // character-steps solved by the direct solver (Solver::Direct, Hybrid)
+    std::int64_t iterativeSteps = 0;  // and by QuickStep (Solver::Iterative, Hybrid: characters touching another)
     std::vector<std::string> notes;  // one line each, the first kMaxNotes
     static constexpr std::size_t kMaxNotes = 50;
     void note(std::string line);
