@@ -70,8 +70,10 @@ void updateCheckpoints(const Context& ctx, GroupState& g, double t) {
         auto& s = g.c[static_cast<std::size_t>(i)];
         if (spec.path.empty()) continue;
         const glm::vec2 p = placement(ctx, s, t).pos;
-        // Following a path (PathPlan): a waypoint (no time, no action) is
-        // also passed once the character is beyond it along the path.
+        // Following a path (PathPlan): a checkpoint without an action is
+        // also passed once the character is beyond it along the path (a
+        // timed one once its time has come too), so one missed by a little
+        // more than the radius does not hold the schedule's projection.
         const auto& plan = ctx.members[static_cast<std::size_t>(i)].path;
         double along = -1, lateral = 0;
         if (plan.active) plan.project(p, s.checkpoint, along, lateral);
@@ -79,7 +81,7 @@ void updateCheckpoints(const Context& ctx, GroupState& g, double t) {
             if (!spec.loopPath && s.checkpoint >= static_cast<int>(spec.path.size())) break;
             const auto& cp = spec.path[static_cast<std::size_t>(s.checkpoint) % spec.path.size()];
             const bool timeOk = !cp.time || t >= *cp.time;
-            const bool passed = plan.active && !cp.time && cp.action.empty() &&
+            const bool passed = plan.active && cp.action.empty() &&
                                 along >= plan.along[static_cast<std::size_t>(s.checkpoint)];
             if (!timeOk || (!passed && static_cast<double>(glm::length(p - cp.pos)) > ctx.opt->checkpointRadius)) break;
             ++s.checkpoint;
@@ -253,7 +255,26 @@ Value edgeScore(const Context& ctx, const GroupState& before, const GroupState& 
             return behind * behind + lateral * lateral;
         };
         const auto& was = before.c[static_cast<std::size_t>(who)];
-        v.coop -= w.wPath * (offSchedule(me, pm.pos, t) - offSchedule(was, placement(ctx, was, before.time).pos, before.time));
+        const glm::vec2 wasAt = placement(ctx, was, before.time).pos;
+        v.coop -= w.wPath * (offSchedule(me, pm.pos, t) - offSchedule(was, wasAt, before.time));
+        // A fighting pair goes round together: beyond fighting distance (its
+        // preferred distance or its reach, whichever is longer) the gap to
+        // the opponent costs like distance from the schedule. Cooperative,
+        // so the opponent's search, which counts this character's path term
+        // too (SPEC 2.2), gains by keeping up instead of standing off while
+        // the movement terms cancel out.
+        const int oppBefore = opponentOf(ctx, before, who, before.time);
+        if (opp >= 0 && oppBefore >= 0) {
+            const double reach = std::max(w.rD, w.attackRange);
+            const auto apart = [&](glm::vec2 a, glm::vec2 b) {
+                const double gap = std::max(0.0, static_cast<double>(glm::length(a - b)) - reach);
+                return gap * gap;
+            };
+            const auto& os = after.c[static_cast<std::size_t>(opp)];
+            const glm::vec2 oppNow = oppAt(ctx, os, std::min(t, os.end)).pos;
+            const glm::vec2 oppWas = placement(ctx, before.c[static_cast<std::size_t>(oppBefore)], before.time).pos;
+            v.coop -= w.wPath * (apart(pm.pos, oppNow) - apart(wasAt, oppWas));
+        }
         const int k = me.checkpoint;
         if (w.wPsi > 0 && k < static_cast<int>(spec.path.size())) {
             const glm::vec2 d = spec.path[static_cast<std::size_t>(k)].pos - pm.pos;
