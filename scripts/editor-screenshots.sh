@@ -50,7 +50,7 @@ cp "$shots/export-dialog.png" "$out/editor-export-dialog.png"
 cp "$shots/handmade-dialog.png" "$out/editor-handmade-dialog.png"
 cp "$shots/floor-brush.png" "$out/editor-floor-brush.png"
 cp "$shots/floor-circle.png" "$out/editor-floor-trajectory.png"
-for tool in checkpoints rat football commands; do
+for tool in checkpoints circle-duel rat football commands; do
   cp "$shots/floor-$tool.png" "$out/editor-floor-$tool.png"
 done
 cp "$shots/timeline-segmented.png" "$out/editor-Timeline-segmented.png"

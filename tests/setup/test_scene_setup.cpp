@@ -253,7 +253,19 @@ TEST(SceneSetup, TrajectoriesBecomeCheckpointPaths) {
     const json j = json::parse(*text);
     const json& path = j["characters"][0]["path"];
     ASSERT_GT(path.size(), 8u);
-    EXPECT_TRUE(j["characters"][0]["loop_path"].get<bool>());
+    // A looped circle with timed checkpoints is followed once round by their
+    // schedule, back to where it starts (a time is passed once) ...
+    EXPECT_FALSE(j["characters"][0].contains("loop_path"));
+    EXPECT_EQ(path.back()["x"], 2.0);
+    EXPECT_EQ(path.back()["z"], 0.0);
+    {
+        // ... and without times it keeps looping.
+        SceneSetup untimed = s;
+        for (auto& c : untimed.trajectories[0].checkpoints) c.time.reset();
+        const json u = json::parse(*setupSpecJson(untimed));
+        EXPECT_TRUE(u["characters"][0]["loop_path"].get<bool>());
+        EXPECT_NE(u["characters"][0]["path"].back(), path.back());
+    }
     // The checkpoints are in the path, in order, with their time and action.
     int first = -1, second = -1;
     for (std::size_t i = 0; i < path.size(); ++i) {

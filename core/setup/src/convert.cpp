@@ -111,10 +111,17 @@ Result<std::string> setupSpecJson(const SceneSetup& setup) {
                 }
             }
             if (!target) return makeError(what(setup) + ": a trajectory follows '" + t.character + "', who is not a character of the setup");
-            auto path = pathJson(t);
+            // Timed checkpoints make a schedule for one lap (a time is passed
+            // once), so a looped trajectory (the Circle tool's) with any is
+            // followed once round by that schedule, back to where it starts;
+            // without times it keeps looping (the thesis' next-checkpoint term).
+            Trajectory followed = t;
+            if (t.loop && std::any_of(t.checkpoints.begin(), t.checkpoints.end(), [](const SetupCheckpoint& c) { return c.time.has_value(); }))
+                followed.loop = false;
+            auto path = pathJson(followed);
             if (!path) return makeError(what(setup) + ": " + path.error().message);
             (*target)["path"] = std::move(*path);
-            if (t.loop || target->contains("loop_path")) (*target)["loop_path"] = t.loop;
+            if (followed.loop || target->contains("loop_path")) (*target)["loop_path"] = followed.loop;
             // A drawn trajectory is followed: unless the character's weights
             // say how much (w_path), with kDrawnPathWeight (the presets
             // without "-path" weigh no path at all).

@@ -92,6 +92,16 @@ SceneMetrics computeMetrics(const Scene& scene, const ActionLibrary& lib, const 
     std::vector<double> distSum(static_cast<std::size_t>(n), 0.0), pathSum(static_cast<std::size_t>(n), 0.0);
     std::vector<int> distCount(static_cast<std::size_t>(n), 0);
     std::vector<Placed> placed(static_cast<std::size_t>(n));
+    // Timed checkpoints per character (index into its path), reached in order.
+    std::vector<std::vector<std::size_t>> timed(static_cast<std::size_t>(n));
+    std::vector<std::size_t> nextTimed(static_cast<std::size_t>(n), 0);
+    for (int c = 0; c < n; ++c) {
+        const auto& path = scene.characters[static_cast<std::size_t>(c)].path;
+        for (std::size_t k = 0; k < path.size(); ++k) {
+            if (path[k].time) timed[static_cast<std::size_t>(c)].push_back(k);
+        }
+        m.characters[static_cast<std::size_t>(c)].checkpointsReached.assign(timed[static_cast<std::size_t>(c)].size(), -1.0);
+    }
     for (int s = 0; s < samples; ++s) {
         const double t = s / options.sampleRate;
         for (int c = 0; c < n; ++c) placed[static_cast<std::size_t>(c)] = placedAt(scene, lib, c, t);
@@ -115,6 +125,15 @@ SceneMetrics computeMetrics(const Scene& scene, const ActionLibrary& lib, const 
                 pathSum[static_cast<std::size_t>(a)] += e;
                 auto& cm = m.characters[static_cast<std::size_t>(a)];
                 cm.pathErrorMax = std::max(cm.pathErrorMax.value_or(0.0), e);
+                const auto& ts = timed[static_cast<std::size_t>(a)];
+                auto& next = nextTimed[static_cast<std::size_t>(a)];
+                if (next < ts.size()) {
+                    const auto& cp = ca.path[ts[next]];
+                    if (t >= *cp.time - 1e-9 &&
+                        static_cast<double>(glm::length(placed[static_cast<std::size_t>(a)].pelvis.pos - cp.pos)) <= CharacterMetrics::kCheckpointReach) {
+                        cm.checkpointsReached[next++] = t;
+                    }
+                }
             }
             for (int b = a + 1; b < n; ++b) {
                 if (!scene.present(b, t)) continue;
@@ -210,6 +229,11 @@ std::string metricsToJson(const SceneMetrics& m) {
                              {"foot_skate_max_cm", c.footSkateMax},
                              {"forced_reactions", c.forcedReactions},
                              {"fallbacks", c.fallbacks}});
+        if (!c.checkpointsReached.empty()) {
+            json reached = json::array();
+            for (double t : c.checkpointsReached) reached.push_back(t >= 0 ? json(t) : json(nullptr));
+            chars.back()["checkpoints_reached"] = std::move(reached);
+        }
     }
     j["characters"] = std::move(chars);
     return j.dump(2) + "\n";

@@ -9,6 +9,14 @@
 
 namespace fray::sim::planner {
 
+// How much more a metre off the path costs than a metre behind the schedule
+// along it (docs/TREE_EXPANSION.md "Following a path"): along the path the
+// schedule moves on while a blow or a knock-down keeps the character in
+// place, so some lateness is unavoidable and is made up afterwards, whereas
+// nothing forces it off the path; at 1 the search cut corners (the chord of a
+// circle) to make up lateness and missed checkpoints by 0.7 m.
+constexpr double kOffPath = 3.0;
+
 PathPlan makePathPlan(const CharacterSpec& spec) {
     PathPlan plan;
     if (spec.path.empty() || !(spec.weights.wPath > 0) || spec.loopPath) return plan;
@@ -23,6 +31,18 @@ PathPlan makePathPlan(const CharacterSpec& spec) {
         plan.along.push_back(along);
         if (cp.time) {
             plan.knotTime.push_back(std::max(*cp.time, plan.knotTime.back()));
+            plan.knotAlong.push_back(along);
+        }
+    }
+    // Beyond the last timed checkpoint the rest of the path at the pace of
+    // the last leg, not all at once: a goal that jumps to the end the moment
+    // the last time comes drew the search across the chord of a circle,
+    // past the last checkpoint, in the actions before it.
+    const std::size_t n = plan.knotTime.size();
+    if (n >= 2 && plan.knotAlong.back() < along) {
+        const double dt = plan.knotTime[n - 1] - plan.knotTime[n - 2], ds = plan.knotAlong[n - 1] - plan.knotAlong[n - 2];
+        if (dt > 0 && ds > 0) {
+            plan.knotTime.push_back(plan.knotTime.back() + (along - plan.knotAlong.back()) * dt / ds);
             plan.knotAlong.push_back(along);
         }
     }
@@ -70,8 +90,10 @@ void updateCheckpoints(const Context& ctx, GroupState& g, double t) {
         auto& s = g.c[static_cast<std::size_t>(i)];
         if (spec.path.empty()) continue;
         const glm::vec2 p = placement(ctx, s, t).pos;
-        // Following a path (PathPlan): a waypoint (no time, no action) is
-        // also passed once the character is beyond it along the path.
+        // Following a path (PathPlan): a checkpoint without an action is
+        // also passed once the character is beyond it along the path (a
+        // timed one once its time has come too), so one missed by a little
+        // more than the radius does not hold the schedule's projection.
         const auto& plan = ctx.members[static_cast<std::size_t>(i)].path;
         double along = -1, lateral = 0;
         if (plan.active) plan.project(p, s.checkpoint, along, lateral);
@@ -79,7 +101,7 @@ void updateCheckpoints(const Context& ctx, GroupState& g, double t) {
             if (!spec.loopPath && s.checkpoint >= static_cast<int>(spec.path.size())) break;
             const auto& cp = spec.path[static_cast<std::size_t>(s.checkpoint) % spec.path.size()];
             const bool timeOk = !cp.time || t >= *cp.time;
-            const bool passed = plan.active && !cp.time && cp.action.empty() &&
+            const bool passed = plan.active && cp.action.empty() &&
                                 along >= plan.along[static_cast<std::size_t>(s.checkpoint)];
             if (!timeOk || (!passed && static_cast<double>(glm::length(p - cp.pos)) > ctx.opt->checkpointRadius)) break;
             ++s.checkpoint;
@@ -250,10 +272,30 @@ Value edgeScore(const Context& ctx, const GroupState& before, const GroupState& 
             double along = 0, lateral = 0;
             plan.project(p, c.checkpoint, along, lateral);
             const double behind = plan.goal(at) - along;
-            return behind * behind + lateral * lateral;
+            const double off = kOffPath * lateral;
+            return behind * behind + off * off;
         };
         const auto& was = before.c[static_cast<std::size_t>(who)];
-        v.coop -= w.wPath * (offSchedule(me, pm.pos, t) - offSchedule(was, placement(ctx, was, before.time).pos, before.time));
+        const glm::vec2 wasAt = placement(ctx, was, before.time).pos;
+        v.coop -= w.wPath * (offSchedule(me, pm.pos, t) - offSchedule(was, wasAt, before.time));
+        // A fighting pair goes round together: beyond fighting distance (its
+        // preferred distance or its reach, whichever is longer) the gap to
+        // the opponent costs like distance from the schedule. Cooperative,
+        // so the opponent's search, which counts this character's path term
+        // too (SPEC 2.2), gains by keeping up instead of standing off while
+        // the movement terms cancel out.
+        const int oppBefore = opponentOf(ctx, before, who, before.time);
+        if (opp >= 0 && oppBefore >= 0) {
+            const double reach = std::max(w.rD, w.attackRange);
+            const auto apart = [&](glm::vec2 a, glm::vec2 b) {
+                const double gap = std::max(0.0, static_cast<double>(glm::length(a - b)) - reach);
+                return gap * gap;
+            };
+            const auto& os = after.c[static_cast<std::size_t>(opp)];
+            const glm::vec2 oppNow = oppAt(ctx, os, std::min(t, os.end)).pos;
+            const glm::vec2 oppWas = placement(ctx, before.c[static_cast<std::size_t>(oppBefore)], before.time).pos;
+            v.coop -= w.wPath * (apart(pm.pos, oppNow) - apart(wasAt, oppWas));
+        }
         const int k = me.checkpoint;
         if (w.wPsi > 0 && k < static_cast<int>(spec.path.size())) {
             const glm::vec2 d = spec.path[static_cast<std::size_t>(k)].pos - pm.pos;

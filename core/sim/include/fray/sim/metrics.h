@@ -24,6 +24,11 @@ struct CharacterMetrics {
     std::optional<double> timeToCatch;          // first catch it took part in (s)
     std::optional<double> meanOpponentDistance; // m, pelvis to pelvis
     std::optional<double> pathErrorMean, pathErrorMax;  // m, pelvis to its path polyline
+    // Per timed checkpoint of its path, in order: when the pelvis first came
+    // within kCheckpointReach of it at or after its time, after the previous
+    // one was reached (-1: never). Empty without timed checkpoints.
+    std::vector<double> checkpointsReached;
+    static constexpr double kCheckpointReach = 0.6;  // m, the planner's checkpoint radius
     int penetrationFrames = 0;                  // samples with its body inside another's, outside intended hits
     double footSkateMean = 0, footSkateMax = 0; // cm per 60 Hz frame, feet in contact
     int forcedReactions = 0;
