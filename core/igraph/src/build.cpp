@@ -461,11 +461,11 @@ Result<Graph> buildGraph(const Rules& rules, const BuildOptions& o, const Progre
     constexpr std::size_t kChunk = 4096;
     std::vector<std::vector<Edge>> out(kChunk);
     // Rule 3: an action whose result falls in no state still makes an edge,
-    // to the state the run time would take there (the nearest with edges,
-    // Graph::find(s, false)), resolved once every state's in-graph edges are
-    // known. Dropping them lost the blows: an edge that lands or suffers a
-    // blow leaves a reaction behind, which falls off the graph 3-5 times as
-    // often as one without (docs/IGRAPH.md).
+    // to the state the run time takes off the graph (the nearest with edges,
+    // Graph::find(s, false), over the edges that fall within the graph),
+    // resolved once every state's in-graph edges are known. Dropping them
+    // lost the blows: an edge that lands a blow leaves a reaction behind and
+    // fell in no state about three times as often as the rest (docs/IGRAPH.md).
     struct OffGraph {
         InteractionState s;
         int action = 0;
