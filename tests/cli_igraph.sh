@@ -41,6 +41,10 @@ check "tree expansion decided" "grep -Eq 'tree expansion depth 2: [1-9][0-9]* de
 check "table: paired differences" "grep -q '^| 3 - 1 | ' '$tmp/table2.txt'"
 check "table: measured look-ups" "grep -Eq '^\\| 3 \\| tree expansion depth 2 \\| [1-9][0-9]* \\| ' '$tmp/table2.txt'"
 expect_fail "table: bad opponent model" "is not own or mine" "$cli" igraph table "$p" --graph "$tmp/g.igraph" --set opponent=both -q
+check "table: refined, gamma 0.5 by default" "grep -q 'refined look-ups, gamma 0.5;' '$tmp/table.txt' && grep -q '(seeds 1-2)' '$tmp/table.txt'"
+"$cli" igraph table "$p" --graph "$tmp/g.igraph" --matches 1 --first-seed 5 --seconds 2 --depths 1 --tree-depths 2 --plain -q > "$tmp/table3.txt"
+check "table: --plain keeps the style's gamma, --first-seed" "grep -q 'plain look-ups, gamma 1;' '$tmp/table3.txt' && grep -q '(seeds 5-5)' '$tmp/table3.txt'"
+expect_fail "table: --plain with --refine" "exclude each other" "$cli" igraph table "$p" --graph "$tmp/g.igraph" --plain --refine -q
 expect_fail "table: unknown tree preset" "no planner preset named 'nobody'" "$cli" igraph table "$p" --graph "$tmp/g.igraph" --tree-preset nobody -q
 
 # Bad input.

@@ -529,14 +529,21 @@ void runPlay(const PlayArgs& a) {
 struct TableArgs {
     std::string project, graph, preset = "general", treePreset = "general-boxer";
     int matches = 20;
+    int firstSeed = 1;
     double seconds = 30;
     std::vector<int> depths = {1, 3, 5};
     std::vector<int> treeDepths = {2, 3};
     std::vector<std::string> edits;
-    bool refine = false;
+    bool refine = false;  // kept for the old command lines: refined look-ups are the default
+    bool plain = false;   // the graph boxer by look-up alone (the style's gamma unless --set gamma=)
     bool measure = false;
     bool quiet = false;
 };
+
+// The table's graph boxer by default (docs/IGRAPH.md, table 5.1): refined
+// look-ups with gamma 0.5, the settings under which deeper policies score
+// higher in every column. --plain keeps the style's own gamma (1).
+constexpr double kTableGamma = 0.5;
 
 std::string cell(const igraph::SeriesResult& r) {
     char buf[64];
@@ -569,8 +576,12 @@ void runTable(const TableArgs& a) {
     for (int d : a.treeDepths) {
         if (d < 1 || d > 8) return fail("--tree-depths: " + std::to_string(d) + " is not a depth from 1 to 8");
     }
+    if (a.plain && a.refine) return fail("--plain and --refine exclude each other (refined look-ups are the default)");
+    const bool refine = !a.plain;
     auto w = weightsFor(a.preset, a.edits);
     if (!w) return fail(w.error().message);
+    const bool gammaSet = std::any_of(a.edits.begin(), a.edits.end(), [](const std::string& e) { return e.rfind("gamma=", 0) == 0; });
+    if (refine && !gammaSet) w->gamma = kTableGamma;
     auto l = openGraph(a.project, a.graph, a.quiet);
     if (!l) return fail(l.error().message);
     const auto& project = l->session->session.project;
@@ -592,18 +603,37 @@ void runTable(const TableArgs& a) {
     header += "|\n";
     igraph::SeriesOptions so;
     so.matches = a.matches;
+    so.firstSeed = a.firstSeed;
     so.seconds = a.seconds;
     so.style = a.preset;
-    so.refine = a.refine;
+    so.refine = refine;
     so.measure = a.measure;
     const auto t0 = Clock::now();
     std::vector<sim::TreeDecisionStats> treeStats(opponents.size());
     std::string scores = header, details, prediction, timing;
     std::vector<std::vector<int>> cells;  // per (depth, opponent), the seeds' scores
+    std::shared_ptr<const igraph::Policy> previous;
+    int previousDepth = 0;
+    std::string changes;
     for (int depth : a.depths) {
         auto p = igraph::computePolicy(*l->graph, *w, depth);
         if (!p) return fail(p.error().message);
         const auto policy = std::make_shared<const igraph::Policy>(std::move(*p));
+        if (previous) {
+            // How much the deeper policy changes: states whose chosen action differs from the previous depth's.
+            std::int64_t with = 0, changed = 0;
+            for (std::size_t i = 0; i < policy->best.size(); ++i) {
+                const auto b = policy->best[i], c = previous->best[i];
+                if (b < 0 || c < 0) continue;
+                ++with;
+                changed += l->graph->edges[static_cast<std::size_t>(b)].action() != l->graph->edges[static_cast<std::size_t>(c)].action();
+            }
+            char buf[160];
+            std::snprintf(buf, sizeof buf, "depth %d chooses another action than depth %d in %.1f %% of the states with edges\n", depth,
+                          previousDepth, with > 0 ? 100.0 * static_cast<double>(changed) / static_cast<double>(with) : 0.0);
+            changes += buf;
+        }
+        previous = policy, previousDepth = depth;
         std::string row = "| " + std::to_string(depth), more = "| " + std::to_string(depth);
         for (std::size_t k = 0; k < opponents.size(); ++k) {
             auto r = igraph::playSeries(l->rules, l->graph, policy, opponents[k], so, stderrProgress(a.quiet));
@@ -626,9 +656,10 @@ void runTable(const TableArgs& a) {
         details += more + " |\n";
     }
     std::printf("%s\nlanded / received / graph boxer's decisions off the graph, per match:\n\n%s%s\n", scores.c_str(), header.c_str(), details.c_str());
-    std::printf("(cells: mean score (min..max) over %d seeded matches of %.0f s; graph style %s%s, tree preset %s; "
-                "score = unblocked blows landed by the graph boxer minus the opponent's)\n",
-                a.matches, a.seconds, a.preset.c_str(), a.refine ? " (refined look-ups)" : "", a.treePreset.c_str());
+    std::printf("(cells: mean score +- standard error (min..max) over %d seeded matches (seeds %d-%d) of %.0f s; graph style %s, %s, gamma %g; "
+                "tree preset %s; score = unblocked blows landed by the graph boxer minus the opponent's)\n",
+                a.matches, a.firstSeed, a.firstSeed + a.matches - 1, a.seconds, a.preset.c_str(), refine ? "refined look-ups" : "plain look-ups",
+                w->gamma, a.treePreset.c_str());
     // Each depth against the one before, seed by seed (the same seeds: paired).
     std::string paired;
     const std::size_t cols = opponents.size();
@@ -666,7 +697,7 @@ void runTable(const TableArgs& a) {
                     static_cast<long long>(t.decisions), t.decisions > 0 ? static_cast<double>(t.leaves) / static_cast<double>(t.decisions) : 0.0,
                     static_cast<long long>(t.shallower), static_cast<long long>(t.fallbacks));
     }
-    std::printf("%stable: %.1f s wall clock\n", timing.c_str(), since(t0));
+    std::printf("%s%stable: %.1f s wall clock\n", changes.c_str(), timing.c_str(), since(t0));
 }
 
 // ---- bench ----------------------------------------------------------------------------------
@@ -831,12 +862,14 @@ void registerIgraph(CLI::App& app) {
         cmd->add_option("project", a->project, "Project file")->required();
         cmd->add_option("--graph", a->graph, "Graph file (default: PROJECT.igraph)");
         cmd->add_option("--matches", a->matches, "Seeded matches per depth");
+        cmd->add_option("--first-seed", a->firstSeed, "Seed of the first match (seeds --first-seed.. --first-seed + --matches - 1)")->check(CLI::Range(1, 1000000000));
         cmd->add_option("--seconds", a->seconds, "Seconds per match");
         cmd->add_option("--depths", a->depths, "Graph depths");
         cmd->add_option("--preset", a->preset, "Style of the graph boxer");
         cmd->add_option("--tree-depths", a->treeDepths, "Depths of the tree-expansion opponents");
         cmd->add_option("--tree-preset", a->treePreset, "Planner preset of the tree-expansion opponents");
-        cmd->add_flag("--refine", a->refine, "The graph boxer re-simulates its state's edges from the real bodies (MatchOptions::refine)");
+        cmd->add_flag("--refine", a->refine, "Refined look-ups (the default): the graph boxer re-simulates its state's edges from the real bodies (MatchOptions::refine)");
+        cmd->add_flag("--plain", a->plain, "The graph boxer by look-up alone, with the style's gamma (default: refined look-ups, gamma 0.5)");
         cmd->add_flag("--measure", a->measure, "Measure the graph boxer's predictions against the real bodies (MatchOptions::measure)");
         cmd->add_option("--set", a->edits, "Reward weight edit of the graph boxer, name=value (w_theta, w_d, d_p, w_a, w_r, gamma)");
         cmd->add_flag("-q,--quiet", a->quiet, "No progress on stderr");

@@ -460,6 +460,19 @@ Result<Graph> buildGraph(const Rules& rules, const BuildOptions& o, const Progre
     g.firstEdge.assign(n + 1, 0);
     constexpr std::size_t kChunk = 4096;
     std::vector<std::vector<Edge>> out(kChunk);
+    // Rule 3: an action whose result falls in no state still makes an edge,
+    // to the state the run time takes off the graph (the nearest with edges,
+    // Graph::find(s, false), over the edges that fall within the graph),
+    // resolved once every state's in-graph edges are known. Dropping them
+    // lost the blows: an edge that lands a blow leaves a reaction behind and
+    // fell in no state about three times as often as the rest (docs/IGRAPH.md).
+    struct OffGraph {
+        InteractionState s;
+        int action = 0;
+        bool sameChooser = false;
+        float given = 0, received = 0;
+    };
+    std::vector<std::vector<OffGraph>> offGraph(n);
     for (std::size_t c0 = 0; c0 < n; c0 += kChunk) {
         const std::size_t c1 = std::min(n, c0 + kChunk);
         auto edgesOf = [&](std::size_t i) {
@@ -493,8 +506,8 @@ Result<Graph> buildGraph(const Rules& rules, const BuildOptions& o, const Progre
                 const double t1 = detail::advanceDuel(rules, b, 0.0, oc);
                 const int nc = detail::chooser(b);
                 const auto un = static_cast<std::size_t>(nc);
-                const int to = g.find(detail::stateOf(rules, b[un], b[1 - un], t1));
-                if (to < 0) continue;
+                const InteractionState reached = detail::stateOf(rules, b[un], b[1 - un], t1);
+                const int to = g.find(reached);
                 if (spreadCount > 0) {
                     // The expected blows over the mean and the spread placements.
                     double given = static_cast<double>(oc.given[0]), received = static_cast<double>(oc.received[0]);
@@ -507,6 +520,10 @@ Result<Graph> buildGraph(const Rules& rules, const BuildOptions& o, const Progre
                     }
                     oc.given[0] = static_cast<float>(given / (spreadCount + 1));
                     oc.received[0] = static_cast<float>(received / (spreadCount + 1));
+                }
+                if (to < 0) {
+                    offGraph[i].push_back({reached, a, nc == 0, oc.given[0], oc.received[0]});
+                    continue;
                 }
                 // Actions of one kind that lead to the same state with the
                 // same blows (speeds within 1 m/s) are one edge, the first of
@@ -536,6 +553,52 @@ Result<Graph> buildGraph(const Rules& rules, const BuildOptions& o, const Progre
     g.firstEdge[n] = static_cast<std::uint32_t>(g.edges.size());
     out = {};
     g.index();
+    {
+        // The off-graph results: each to the nearest state with edges, then
+        // merged after the state's in-graph edges (the same merging of one
+        // kind, one target, the same blows).
+        std::vector<std::vector<Edge>> extra(n);
+        auto resolve = [&](std::size_t i) {
+            for (const auto& x : offGraph[i]) {
+                const int to = g.find(x.s, false);
+                if (to < 0) continue;
+                const int kind = kindOf(lib.action(x.action));
+                const auto same = [&](const Edge& e) {
+                    return e.to == to && e.sameChooser() == x.sameChooser && kindOf(lib.action(e.action())) == kind &&
+                           std::lround(e.given()) == std::lround(static_cast<double>(x.given)) &&
+                           std::lround(e.received()) == std::lround(static_cast<double>(x.received));
+                };
+                if (std::any_of(g.edgesBegin(static_cast<int>(i)), g.edgesEnd(static_cast<int>(i)), same) ||
+                    std::any_of(extra[i].begin(), extra[i].end(), same))
+                    continue;
+                extra[i].push_back(Edge::make(x.action, to, x.sameChooser, static_cast<double>(x.given), static_cast<double>(x.received)));
+            }
+            offGraph[i] = {};
+        };
+        if (o.parallel) {
+            tbb::parallel_for(std::size_t{0}, n, resolve);
+        } else {
+            for (std::size_t i = 0; i < n; ++i) resolve(i);
+        }
+        offGraph = {};
+        std::size_t added = 0;
+        for (const auto& x : extra) added += x.size();
+        if (added > 0) {
+            std::vector<Edge> merged;
+            merged.reserve(g.edges.size() + added);
+            std::vector<std::uint32_t> first(n + 1, 0);
+            for (std::size_t i = 0; i < n; ++i) {
+                first[i] = static_cast<std::uint32_t>(merged.size());
+                merged.insert(merged.end(), g.edgesBegin(static_cast<int>(i)), g.edgesEnd(static_cast<int>(i)));
+                merged.insert(merged.end(), extra[i].begin(), extra[i].end());
+            }
+            first[n] = static_cast<std::uint32_t>(merged.size());
+            extra = {};
+            g.edges = std::move(merged);
+            g.firstEdge = std::move(first);
+            g.index();
+        }
+    }
 
     // ---- coverage ---------------------------------------------------------------
     if (o.coverageDepth > 0 && o.coverageStarts > 0) {

@@ -33,6 +33,7 @@ double SeriesResult::standardError() const {
 Result<SeriesResult> playSeries(std::shared_ptr<const Rules> rules, std::shared_ptr<const Graph> graph, std::shared_ptr<const Policy> policy,
                                 const FighterSpec& opponent, const SeriesOptions& o, const ProgressFn& progress) {
     if (o.matches < 1) return makeError("a series needs at least one match");
+    if (o.firstSeed < 1) return makeError("the first seed must be >= 1");
     if (!(o.seconds > 0 && o.seconds <= 600)) return makeError("match length must be in (0, 600] s");
     if (!policy) return makeError("the graph boxer has no policy");
     if (opponent.mind == Mind::Tree && !opponent.tree) return makeError("the tree-expansion opponent has no planner");
@@ -46,7 +47,7 @@ Result<SeriesResult> playSeries(std::shared_ptr<const Rules> rules, std::shared_
     std::mutex reportMutex;
     auto play = [&](std::size_t m) {
         if (stop.load(std::memory_order_relaxed)) return;
-        const auto seed = static_cast<std::uint64_t>(m + 1);
+        const auto seed = static_cast<std::uint64_t>(o.firstSeed) + static_cast<std::uint64_t>(m);
         const auto starts = duelStarts(o.distance, seed, o.jitter);
         std::vector<FighterSpec> f(2);
         f[0] = {"graph", 0, Mind::Graph, policy, o.style, starts[0], nullptr};

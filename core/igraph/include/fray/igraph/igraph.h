@@ -36,7 +36,9 @@ namespace fray::igraph {
 // (the interaction state, the distance, the simulation of an edge). A file of
 // another rule is stale: build the graph again.
 inline constexpr std::uint32_t kGraphFileVersion = 1;
-inline constexpr std::uint32_t kGraphRule = 2;  // 2: an edge's blows are expected over its state's spread (BuildOptions::outcomeSamples)
+// 2: an edge's blows are expected over its state's spread (BuildOptions::outcomeSamples);
+// 3: an action whose result falls in no state is an edge to the nearest state with edges.
+inline constexpr std::uint32_t kGraphRule = 3;
 
 // Which actions a graph character may launch and what it reacts with.
 class Rules {

@@ -20,7 +20,8 @@
 namespace fray::igraph {
 
 struct SeriesOptions {
-    int matches = 20;         // seeds 1..matches
+    int matches = 20;         // seeds firstSeed..firstSeed + matches - 1
+    int firstSeed = 1;        // the first match's seed
     double seconds = 30;      // per match
     double distance = 1.3;    // m between the two at the start (duelStarts)
     double jitter = 0.3;      // duelStarts' jitter
