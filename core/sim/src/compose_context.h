@@ -203,13 +203,22 @@ struct Composer {
         return false;
     }
 
+    // Discs round the core boxes (shrunk by penetrates' 0.82), when the caller
+    // made them for the library (CoreDiscs): penetrates' first test.
+    const detail::CoreDiscs* coreDiscs = nullptr;
+    static constexpr float kPenetrationShrink = 0.82f;
+
     // Would a planned list of actions for character `self` put its body inside
     // anyone else's (the metrics' test, at every 30 Hz sample)?
     bool penetrates(const std::vector<ActionInstance>& walk, int self) const {
-        constexpr float kShrink = 0.82f;
+        constexpr float kShrink = kPenetrationShrink;
+        constexpr float kPelvisReach = 1.2f;  // coreBodiesOverlap's default
         for (const auto& w : walk) {
+            const FloorRotation meRotation(w.root.heading);
             auto touches = [&](double t) {
-                const detail::BodyPose me{w.action, w.offset + (t - w.start), w.root};
+                // The walker's body placed once per sample (its boxes only if someone is near).
+                const detail::CoreBody me(lib, detail::BodyPose{w.action, w.offset + (t - w.start), w.root}, meRotation, kShrink);
+                const detail::CoreDiscs::Disc meDisc = coreDiscs ? coreDiscs->placed(me) : detail::CoreDiscs::Disc{};
                 for (int c = 0; c < static_cast<int>(scene.characters.size()); ++c) {
                     if (c == self) continue;
                     detail::BodyPose other;
@@ -228,7 +237,14 @@ struct Composer {
                     } else {
                         continue;
                     }
-                    if (detail::coreBodiesOverlap(lib, me, other, kShrink)) return true;
+                    const detail::CoreBody them(lib, other, kShrink);
+                    if (coreDiscs) {
+                        // The pelvis test, then the discs round the core boxes: the same answer, fewer boxes placed.
+                        const glm::vec2 d = me.pelvis() - them.pelvis();
+                        if (glm::dot(d, d) > kPelvisReach * kPelvisReach) continue;
+                        if (detail::CoreDiscs::apart(meDisc, coreDiscs->placed(them))) continue;
+                    }
+                    if (detail::coreBodiesOverlap(me, them, kPelvisReach)) return true;
                 }
                 return false;
             };

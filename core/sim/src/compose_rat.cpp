@@ -372,7 +372,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     // the others' moving windows are sampled.
     std::pair<int, double> firstTouch(const CrowdView& crowd, std::size_t self, const std::vector<ActionInstance>& plan,
                                       double from, double until, std::size_t ignore = SIZE_MAX) const {
-        constexpr float kShrink = 0.82f;  // as the composer's penetration test
+        constexpr float kShrink = kTouchShrink;
         constexpr double dt = 1.0 / kSampleRate;
         // Those within 3 m, ascending (the grid's query is a superset; the
         // same test as a pass over everyone then keeps the same ones).
@@ -383,13 +383,22 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         }
         constexpr float kReach = 1.2f;  // coreBodiesOverlap's pelvis reach
         auto bodyOf = [&](std::size_t o, double t) { return detail::CoreBody(lib, bodyIn(crowd.plan(o), crowd[o].at, t), kShrink); };
+        // The pelvis test, then the discs round the core boxes (the same answer as the boxes alone).
+        auto overlap = [&](const detail::CoreBody& a, const detail::CoreDiscs::Disc& aDisc, const detail::CoreBody& b) {
+            const glm::vec2 d = a.pelvis() - b.pelvis();
+            if (glm::dot(d, d) > kReach * kReach) return false;
+            if (detail::CoreDiscs::apart(aDisc, discs->placed(b))) return false;
+            return detail::coreBodiesOverlap(a, b, kReach);
+        };
         auto touches = [&](std::size_t o, double t) {
-            return detail::coreBodiesOverlap(detail::CoreBody(lib, bodyIn(plan, crowd[self].at, t), kShrink), bodyOf(o, t), kReach);
+            const detail::CoreBody me(lib, bodyIn(plan, crowd[self].at, t), kShrink);
+            return overlap(me, discs->placed(me), bodyOf(o, t));
         };
         const double settle = std::min(until, std::max(from, movingWindow(plan).second) + dt);
         for (double t = from; t <= settle + 1e-9; t += dt) {
             // Its own body once per moment (its boxes placed only when someone is near).
             const detail::CoreBody me(lib, bodyIn(plan, crowd[self].at, t), kShrink);
+            const detail::CoreDiscs::Disc meDisc = discs->placed(me);
             for (std::size_t o : close) {
                 // Someone standing keeps its pelvis within holdWander of its
                 // spot: beyond the pelvis reach from there, it cannot touch.
@@ -398,7 +407,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                     const float far = kReach + holdWander + 0.01f + 1e-5f * (std::fabs(spot.x) + std::fabs(spot.y));
                     if (glm::length(me.pelvis() - spot) > far) continue;
                 }
-                if (detail::coreBodiesOverlap(me, bodyOf(o, t), kReach)) return {static_cast<int>(o), t};
+                if (overlap(me, meDisc, bodyOf(o, t))) return {static_cast<int>(o), t};
             }
         }
         std::pair<int, double> first{-1, std::numeric_limits<double>::infinity()};
@@ -511,6 +520,8 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     static constexpr double kRatClear = 0.08;
     static constexpr double kContactWindow = 0.2;  // s a bump may keep two bodies touching (MetricsOptions::hitWindow)  // m between the rat and an avoider's feet and shins
     std::optional<detail::InteractionEngine> rules;  // forced reactions of the pushed
+    static constexpr float kTouchShrink = 0.82f;     // firstTouch's, as the composer's penetration test
+    std::optional<detail::CoreDiscs> discs;          // firstTouch's first test
     int pushedPool = 0;
     SceneCharacter ratBody;  // the rat's keys
 
@@ -531,6 +542,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         }
         pushedPool = rules.emplace(lib).addPool(pushed);
         measureHoldWander();
+        discs.emplace(lib, kTouchShrink);
         if (!findWays()) return makeError(kNoWays);
         makeRatPatches();
 
