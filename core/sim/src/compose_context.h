@@ -58,6 +58,14 @@ struct Composer {
             reps.emplace(std::make_pair(lib.variantClass()[static_cast<std::size_t>(i)], lib.startNode()[static_cast<std::size_t>(i)]), i);
         }
         for (const auto& [key, i] : reps) locomotion.push_back(i);
+        for (int i = 0; i < lib.size(); ++i) {
+            if (!lib.actions()[static_cast<std::size_t>(i)].is(kIdle)) continue;
+            const int node = lib.startNode()[static_cast<std::size_t>(i)];
+            if (node < 0) continue;
+            if (static_cast<std::size_t>(node) >= idleFrom.size()) idleFrom.resize(static_cast<std::size_t>(node) + 1, -1);
+            int& longest = idleFrom[static_cast<std::size_t>(node)];
+            if (longest < 0 || lib.actions()[static_cast<std::size_t>(i)].duration > lib.actions()[static_cast<std::size_t>(longest)].duration) longest = i;
+        }
         usage.assign(patches.patches().size(), 0.0);
         allowed.assign(patches.patches().size(), 1);
         if (!spec.patterns.empty()) {
@@ -116,14 +124,22 @@ struct Composer {
 
     // The idle that continues an action in the motion graph (the longest such),
     // else the general guard: a porter waits standing, a boxer in guard.
+    // (The longest idle starting at each node, worked out once: idleFrom.)
     int idleAfter(int action) const {
-        int best = -1;
-        for (int i = 0; i < lib.size(); ++i) {
-            if (!act(i).is(kIdle) || lib.startNode()[static_cast<std::size_t>(i)] != lib.endNode()[static_cast<std::size_t>(action)]) continue;
-            if (best < 0 || act(i).duration > act(best).duration) best = i;
+        const int end = lib.endNode()[static_cast<std::size_t>(action)];
+        if (end < 0) {  // not a node of the graph: compared as the others are
+            int best = -1;
+            for (int i = 0; i < lib.size(); ++i) {
+                if (!act(i).is(kIdle) || lib.startNode()[static_cast<std::size_t>(i)] != end) continue;
+                if (best < 0 || act(i).duration > act(best).duration) best = i;
+            }
+            return best >= 0 ? best : hold;
         }
+        const auto node = static_cast<std::size_t>(end);
+        const int best = node < idleFrom.size() ? idleFrom[node] : -1;
         return best >= 0 ? best : hold;
     }
+    std::vector<int> idleFrom;  // per motion-graph node: the longest idle starting there (the first of equals), else -1
 
     // The instance character c plays at time t (its track must not be empty).
     const ActionInstance& playingAt(int c, double t) const {

@@ -58,6 +58,25 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     FloorGrid spotGrid{3.0f};
     // The farthest the standing clip (hold, looped) takes the pelvis from where it stands (m).
     float holdWander = 0;
+    // Per action: a disc round its pelvis path in the clip's frame (rootAt
+    // interpolates between samples: the samples bound it; a millimetre more
+    // covers the rounding).
+    std::vector<detail::CoreDiscs::Disc> pelvisPaths;
+    void measurePelvisPaths() {
+        pelvisPaths.assign(static_cast<std::size_t>(lib.size()), {});
+        for (int a = 0; a < lib.size(); ++a) {
+            const int n = act(a).sampleCount;
+            glm::vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+            for (int k = 0; k < n; ++k) {
+                const glm::vec2 p = lib.rootAt(a, k / kSampleRate).pos;
+                lo = glm::min(lo, p), hi = glm::max(hi, p);
+            }
+            auto& d = pelvisPaths[static_cast<std::size_t>(a)];
+            d.centre = n > 0 ? 0.5f * (lo + hi) : glm::vec2(0.0f);
+            for (int k = 0; k < n; ++k) d.radius = std::max(d.radius, glm::length(lib.rootAt(a, k / kSampleRate).pos - d.centre));
+            d.radius += 1e-3f;
+        }
+    }
     void measureHoldWander() {
         const auto& h = act(hold);
         const glm::vec2 p0 = lib.rootAt(hold, 0).pos;
@@ -390,23 +409,59 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             if (detail::CoreDiscs::apart(aDisc, discs->placed(b))) return false;
             return detail::coreBodiesOverlap(a, b, kReach);
         };
+        // Someone's pelvis at t is certainly beyond the pelvis reach of p:
+        // standing, it keeps within holdWander of its spot; following a plan,
+        // within the disc round its instance's pelvis path (pelvisPaths).
+        auto surelyApart = [&](std::size_t o, double t, const glm::vec2& p) {
+            const auto& theirs = crowd.plan(o);
+            glm::vec2 centre = crowd[o].spot;
+            float wander = holdWander;
+            if (!theirs.empty()) {
+                const ActionInstance& inst = theirs[static_cast<std::size_t>(instanceIndexAt(theirs, t))];
+                const detail::CoreDiscs::Disc& path = pelvisPaths[static_cast<std::size_t>(inst.action)];
+                centre = inst.root.pos + FloorRotation(inst.root.heading)(path.centre);
+                wander = path.radius;
+            }
+            const float far = kReach + wander + 0.01f + 1e-5f * (std::fabs(centre.x) + std::fabs(centre.y));
+            return glm::length(p - centre) > far;
+        };
         auto touches = [&](std::size_t o, double t) {
             const detail::CoreBody me(lib, bodyIn(plan, crowd[self].at, t), kShrink);
+            if (surelyApart(o, t, me.pelvis())) return false;
             return overlap(me, discs->placed(me), bodyOf(o, t));
         };
+        // Drop those who never come within the pelvis reach of its pelvis
+        // from `from` on: the discs round the pelvis paths of its instances
+        // from then and round all of theirs (or their spot and holdWander)
+        // are apart (so neither loop below would find them touching).
+        using Disc = detail::CoreDiscs::Disc;
+        auto pathDisc = [&](const std::vector<ActionInstance>& p, std::size_t k0, const glm::vec2& spot) {
+            if (p.empty()) return Disc{spot, holdWander};
+            std::vector<Disc> parts;
+            SweptBox around = SweptBox::empty();
+            for (std::size_t k = k0; k < p.size(); ++k) {
+                const Disc& path = pelvisPaths[static_cast<std::size_t>(p[k].action)];
+                const Disc d{p[k].root.pos + FloorRotation(p[k].root.heading)(path.centre), path.radius};
+                parts.push_back(d);
+                around.add({d.centre, d.centre});
+            }
+            Disc out{0.5f * (around.lo + around.hi), 0.0f};
+            for (const Disc& d : parts) out.radius = std::max(out.radius, glm::length(d.centre - out.centre) + d.radius);
+            return out;
+        };
+        const Disc mine = pathDisc(plan, plan.empty() ? 0 : static_cast<std::size_t>(instanceIndexAt(plan, from)), crowd[self].spot);
+        std::erase_if(close, [&](std::size_t o) {
+            const Disc theirs = pathDisc(crowd.plan(o), 0, crowd[o].spot);
+            const float scale = std::fabs(mine.centre.x) + std::fabs(mine.centre.y) + std::fabs(theirs.centre.x) + std::fabs(theirs.centre.y);
+            return glm::length(mine.centre - theirs.centre) > kReach + mine.radius + theirs.radius + 0.02f + 1e-5f * scale;
+        });
         const double settle = std::min(until, std::max(from, movingWindow(plan).second) + dt);
         for (double t = from; t <= settle + 1e-9; t += dt) {
             // Its own body once per moment (its boxes placed only when someone is near).
             const detail::CoreBody me(lib, bodyIn(plan, crowd[self].at, t), kShrink);
             const detail::CoreDiscs::Disc meDisc = discs->placed(me);
             for (std::size_t o : close) {
-                // Someone standing keeps its pelvis within holdWander of its
-                // spot: beyond the pelvis reach from there, it cannot touch.
-                if (crowd.plan(o).empty()) {
-                    const glm::vec2 spot = crowd[o].spot;
-                    const float far = kReach + holdWander + 0.01f + 1e-5f * (std::fabs(spot.x) + std::fabs(spot.y));
-                    if (glm::length(me.pelvis() - spot) > far) continue;
-                }
+                if (surelyApart(o, t, me.pelvis())) continue;
                 if (overlap(me, meDisc, bodyOf(o, t))) return {static_cast<int>(o), t};
             }
         }
@@ -543,6 +598,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         pushedPool = rules.emplace(lib).addPool(pushed);
         measureHoldWander();
         discs.emplace(lib, kTouchShrink);
+        measurePelvisPaths();
         if (!findWays()) return makeError(kNoWays);
         makeRatPatches();
 
