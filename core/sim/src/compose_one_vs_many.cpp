@@ -23,6 +23,8 @@ struct PatchSearchData {
         glm::vec2 newcomerStart{0.0f};
         int mainStartNode = 0;
         std::uint32_t runBegin = 0, runEnd = 0;
+        glm::vec2 centre{0.0f};  // a disc round all its squares (in the patch's frame)
+        float radius = 0;
     };
     struct Square {
         glm::vec2 centre{0.0f};
@@ -74,6 +76,12 @@ struct PatchSearchData {
                 runs.push_back(run);
             }
             e.runEnd = static_cast<std::uint32_t>(runs.size());
+            SweptBox whole = SweptBox::empty();
+            for (std::uint32_t r = e.runBegin; r < e.runEnd; ++r) whole.add({runs[r].centre, runs[r].centre});
+            if (e.runBegin < e.runEnd) e.centre = (whole.lo + whole.hi) * 0.5f;
+            for (std::uint32_t r = e.runBegin; r < e.runEnd; ++r) {
+                e.radius = std::max(e.radius, glm::length(runs[r].centre - e.centre) + runs[r].radius + 1e-3f);
+            }
         }
         commandMatch.resize(commands.size());
         for (std::size_t k = 0; k < commands.size(); ++k) {
@@ -124,15 +132,20 @@ struct OneVsManyComposer : KindComposer<OneVsManySpec> {
         if (obstacles.empty()) return false;
         const FloorRotation rot(xf.heading);
         const auto& e = search->entries[i];
+        // The whole patch first, then its runs, then their squares.
+        auto clear = [&](const glm::vec2& centre, float radius) {
+            const float reach = radius + 1e-5f * (std::fabs(centre.x) + std::fabs(centre.y));  // and the rounding far out
+            const SweptBox around{centre - glm::vec2(reach), centre + glm::vec2(reach)};
+            if (!around.overlaps(all, kClearance)) return true;
+            for (const auto& o : obstacles) {
+                if (around.overlaps(o, kClearance)) return false;
+            }
+            return true;
+        };
+        if (clear(xf.pos + rot(e.centre), e.radius)) return false;
         for (std::uint32_t r = e.runBegin; r < e.runEnd; ++r) {
             const auto& run = search->runs[r];
-            const glm::vec2 rc = xf.pos + rot(run.centre);
-            const float reach = run.radius + 1e-5f * (std::fabs(rc.x) + std::fabs(rc.y));  // and the rounding far out
-            const SweptBox around{rc - glm::vec2(reach), rc + glm::vec2(reach)};
-            if (!around.overlaps(all, kClearance)) continue;
-            bool near = false;
-            for (const auto& o : obstacles) near = near || around.overlaps(o, kClearance);
-            if (!near) continue;
+            if (clear(xf.pos + rot(run.centre), run.radius)) continue;
             for (std::uint32_t k = run.begin; k < run.end; ++k) {
                 const auto& sq = search->squares[k];
                 const glm::vec2 c0 = xf.pos + rot(sq.centre);

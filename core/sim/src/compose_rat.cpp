@@ -437,16 +437,20 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         using Disc = detail::CoreDiscs::Disc;
         auto pathDisc = [&](const std::vector<ActionInstance>& p, std::size_t k0, const glm::vec2& spot) {
             if (p.empty()) return Disc{spot, holdWander};
-            std::vector<Disc> parts;
+            auto placed = [&](std::size_t k) {
+                const Disc& path = pelvisPaths[static_cast<std::size_t>(p[k].action)];
+                return Disc{p[k].root.pos + FloorRotation(p[k].root.heading)(path.centre), path.radius};
+            };
             SweptBox around = SweptBox::empty();
             for (std::size_t k = k0; k < p.size(); ++k) {
-                const Disc& path = pelvisPaths[static_cast<std::size_t>(p[k].action)];
-                const Disc d{p[k].root.pos + FloorRotation(p[k].root.heading)(path.centre), path.radius};
-                parts.push_back(d);
+                const Disc d = placed(k);
                 around.add({d.centre, d.centre});
             }
             Disc out{0.5f * (around.lo + around.hi), 0.0f};
-            for (const Disc& d : parts) out.radius = std::max(out.radius, glm::length(d.centre - out.centre) + d.radius);
+            for (std::size_t k = k0; k < p.size(); ++k) {
+                const Disc d = placed(k);
+                out.radius = std::max(out.radius, glm::length(d.centre - out.centre) + d.radius);
+            }
             return out;
         };
         const Disc mine = pathDisc(plan, plan.empty() ? 0 : static_cast<std::size_t>(instanceIndexAt(plan, from)), crowd[self].spot);
@@ -455,6 +459,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             const float scale = std::fabs(mine.centre.x) + std::fabs(mine.centre.y) + std::fabs(theirs.centre.x) + std::fabs(theirs.centre.y);
             return glm::length(mine.centre - theirs.centre) > kReach + mine.radius + theirs.radius + 0.02f + 1e-5f * scale;
         });
+        if (close.empty()) return {-1, 0.0};
         const double settle = std::min(until, std::max(from, movingWindow(plan).second) + dt);
         for (double t = from; t <= settle + 1e-9; t += dt) {
             // Its own body once per moment (its boxes placed only when someone is near).
