@@ -56,6 +56,18 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     };
     // The crowd's spots (they never move), for the neighbours of a body test.
     FloorGrid spotGrid{3.0f};
+    // Per person: the others standing within 3 m, ascending (found once with spotGrid).
+    std::vector<std::vector<std::size_t>> within3m;
+    void findNeighbours(const std::vector<Bystander>& crowd) {
+        within3m.assign(crowd.size(), {});
+        for (std::size_t self = 0; self < crowd.size(); ++self) {  // (the grid's query is not thread-safe)
+            // The grid's query is a superset; the exact test keeps the same ones as a pass over everyone.
+            for (int o : spotGrid.near(crowd[self].spot, 3.05f)) {
+                const auto k = static_cast<std::size_t>(o);
+                if (k != self && glm::length(crowd[k].spot - crowd[self].spot) < 3.0f) within3m[self].push_back(k);
+            }
+        }
+    }
     // The farthest the standing clip (hold, looped) takes the pelvis from where it stands (m).
     float holdWander = 0;
     // Per action: a disc round its pelvis path in the clip's frame (rootAt
@@ -396,9 +408,8 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         // Those within 3 m, ascending (the grid's query is a superset; the
         // same test as a pass over everyone then keeps the same ones).
         std::vector<std::size_t> close;
-        for (int o : spotGrid.near(crowd[self].spot, 3.05f)) {
-            const auto k = static_cast<std::size_t>(o);
-            if (k != self && k != ignore && glm::length(crowd[k].spot - crowd[self].spot) < 3.0f) close.push_back(k);
+        for (const std::size_t k : within3m[self]) {
+            if (k != ignore) close.push_back(k);
         }
         constexpr float kReach = 1.2f;  // coreBodiesOverlap's pelvis reach
         auto bodyOf = [&](std::size_t o, double t) { return detail::CoreBody(lib, bodyIn(crowd.plan(o), crowd[o].at, t), kShrink); };
@@ -637,6 +648,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         }
         if (crowd.empty()) return makeError("rat: nobody could stand near the trajectory (widen band or lower spacing)");
         for (std::size_t k = 0; k < crowd.size(); ++k) spotGrid.insert(static_cast<int>(k), crowd[k].spot);
+        findNeighbours(crowd);
         // The rat's closest approach to each person, sampled every 0.02 s:
         // the samples once for everyone, in blocks with a bounding circle, so
         // a person looks only at the blocks that can beat its best so far
