@@ -11,6 +11,7 @@
 #include <tbb/task_arena.h>
 
 #include "compose_grid.h"
+#include "interaction.h"
 #include "fray/sim/compose.h"
 #include "fray/sim/compose/domino.h"
 #include "fray/sim/compose/football.h"
@@ -58,6 +59,46 @@ TEST(FloorGrid, NearFindsEveryOverlapInOrder) {
         EXPECT_LT(near.size(), 200u);  // the neighbourhood, not everyone
     }
     EXPECT_GT(found, 100);
+}
+
+// The floor discs round the core boxes (the composers' first body test):
+// two bodies whose discs are apart never overlap by coreBodiesOverlap, near
+// the origin and far out (the rounding of placing them), and the discs do
+// tell apart most pairs within the pelvis reach (the test is worth making).
+TEST(CoreDiscs, ApartBodiesNeverOverlap) {
+    const auto& lib = demoWorld().library;
+    constexpr float kShrink = 0.82f;
+    const detail::CoreDiscs discs(lib, kShrink);
+    std::mt19937 rng(11);
+    std::uniform_int_distribution<int> action(0, lib.size() - 1);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    int near = 0, apart = 0, overlapping = 0;
+    for (const float far : {0.0f, 3000.0f}) {
+        for (int i = 0; i < 20000; ++i) {
+            auto pose = [&](glm::vec2 at) {
+                const int a = action(rng);
+                const double tau = unit(rng) * lib.actions()[static_cast<std::size_t>(a)].duration;
+                const double heading = (unit(rng) * 2 - 1) * std::numbers::pi;
+                const RootXf clip = lib.rootAt(a, tau);
+                // Its pelvis near `at`: the clip's first frame placed so.
+                RootXf root{at, heading};
+                root.pos -= FloorRotation(heading)(clip.pos);
+                return detail::BodyPose{a, tau, root};
+            };
+            const glm::vec2 base(far, -far);
+            const float d = static_cast<float>(unit(rng)) * 1.2f;
+            const double dir = unit(rng) * 2 * std::numbers::pi;
+            const detail::CoreBody a(lib, pose(base), kShrink), b(lib, pose(base + d * headingVector(dir)), kShrink);
+            const bool overlap = detail::coreBodiesOverlap(a, b, 1.2f);
+            const bool discsApart = detail::CoreDiscs::apart(discs.placed(a), discs.placed(b));
+            ++near;
+            apart += discsApart ? 1 : 0;
+            overlapping += overlap ? 1 : 0;
+            EXPECT_FALSE(discsApart && overlap) << "pair " << i << " at " << far << " m";
+        }
+    }
+    EXPECT_GT(overlapping, 1000);  // both answers occur
+    EXPECT_GT(apart, near / 4);    // the discs spare the boxes of many pairs
 }
 
 const PatchLibrary& fallLibrary() {

@@ -58,6 +58,14 @@ struct Composer {
             reps.emplace(std::make_pair(lib.variantClass()[static_cast<std::size_t>(i)], lib.startNode()[static_cast<std::size_t>(i)]), i);
         }
         for (const auto& [key, i] : reps) locomotion.push_back(i);
+        for (int i = 0; i < lib.size(); ++i) {
+            if (!lib.actions()[static_cast<std::size_t>(i)].is(kIdle)) continue;
+            const int node = lib.startNode()[static_cast<std::size_t>(i)];
+            if (node < 0) continue;
+            if (static_cast<std::size_t>(node) >= idleFrom.size()) idleFrom.resize(static_cast<std::size_t>(node) + 1, -1);
+            int& longest = idleFrom[static_cast<std::size_t>(node)];
+            if (longest < 0 || lib.actions()[static_cast<std::size_t>(i)].duration > lib.actions()[static_cast<std::size_t>(longest)].duration) longest = i;
+        }
         usage.assign(patches.patches().size(), 0.0);
         allowed.assign(patches.patches().size(), 1);
         if (!spec.patterns.empty()) {
@@ -116,14 +124,22 @@ struct Composer {
 
     // The idle that continues an action in the motion graph (the longest such),
     // else the general guard: a porter waits standing, a boxer in guard.
+    // (The longest idle starting at each node, worked out once: idleFrom.)
     int idleAfter(int action) const {
-        int best = -1;
-        for (int i = 0; i < lib.size(); ++i) {
-            if (!act(i).is(kIdle) || lib.startNode()[static_cast<std::size_t>(i)] != lib.endNode()[static_cast<std::size_t>(action)]) continue;
-            if (best < 0 || act(i).duration > act(best).duration) best = i;
+        const int end = lib.endNode()[static_cast<std::size_t>(action)];
+        if (end < 0) {  // not a node of the graph: compared as the others are
+            int best = -1;
+            for (int i = 0; i < lib.size(); ++i) {
+                if (!act(i).is(kIdle) || lib.startNode()[static_cast<std::size_t>(i)] != end) continue;
+                if (best < 0 || act(i).duration > act(best).duration) best = i;
+            }
+            return best >= 0 ? best : hold;
         }
+        const auto node = static_cast<std::size_t>(end);
+        const int best = node < idleFrom.size() ? idleFrom[node] : -1;
         return best >= 0 ? best : hold;
     }
+    std::vector<int> idleFrom;  // per motion-graph node: the longest idle starting there (the first of equals), else -1
 
     // The instance character c plays at time t (its track must not be empty).
     const ActionInstance& playingAt(int c, double t) const {
@@ -203,13 +219,22 @@ struct Composer {
         return false;
     }
 
+    // Discs round the core boxes (shrunk by penetrates' 0.82), when the caller
+    // made them for the library (CoreDiscs): penetrates' first test.
+    const detail::CoreDiscs* coreDiscs = nullptr;
+    static constexpr float kPenetrationShrink = 0.82f;
+
     // Would a planned list of actions for character `self` put its body inside
     // anyone else's (the metrics' test, at every 30 Hz sample)?
     bool penetrates(const std::vector<ActionInstance>& walk, int self) const {
-        constexpr float kShrink = 0.82f;
+        constexpr float kShrink = kPenetrationShrink;
+        constexpr float kPelvisReach = 1.2f;  // coreBodiesOverlap's default
         for (const auto& w : walk) {
+            const FloorRotation meRotation(w.root.heading);
             auto touches = [&](double t) {
-                const detail::BodyPose me{w.action, w.offset + (t - w.start), w.root};
+                // The walker's body placed once per sample (its boxes only if someone is near).
+                const detail::CoreBody me(lib, detail::BodyPose{w.action, w.offset + (t - w.start), w.root}, meRotation, kShrink);
+                const detail::CoreDiscs::Disc meDisc = coreDiscs ? coreDiscs->placed(me) : detail::CoreDiscs::Disc{};
                 for (int c = 0; c < static_cast<int>(scene.characters.size()); ++c) {
                     if (c == self) continue;
                     detail::BodyPose other;
@@ -228,7 +253,14 @@ struct Composer {
                     } else {
                         continue;
                     }
-                    if (detail::coreBodiesOverlap(lib, me, other, kShrink)) return true;
+                    const detail::CoreBody them(lib, other, kShrink);
+                    if (coreDiscs) {
+                        // The pelvis test, then the discs round the core boxes: the same answer, fewer boxes placed.
+                        const glm::vec2 d = me.pelvis() - them.pelvis();
+                        if (glm::dot(d, d) > kPelvisReach * kPelvisReach) continue;
+                        if (detail::CoreDiscs::apart(meDisc, coreDiscs->placed(them))) continue;
+                    }
+                    if (detail::coreBodiesOverlap(me, them, kPelvisReach)) return true;
                 }
                 return false;
             };

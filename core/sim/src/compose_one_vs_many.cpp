@@ -11,8 +11,101 @@ namespace fray::sim::detail {
 
 namespace {
 
+// What the candidate search reads of every patch, worked out once per patch
+// library rather than once per candidate (the many-main fights share it):
+// the main character's first placement inverted, the newcomer's start, the
+// start node of the main character's first action, the centre and half size
+// of each swept box's square (both roles, in order), and the patch's answer to
+// each user command (userPreference for role 0).
+struct PatchSearchData {
+    struct Entry {
+        RootXf mainStartInverse;
+        glm::vec2 newcomerStart{0.0f};
+        int mainStartNode = 0;
+        std::uint32_t runBegin = 0, runEnd = 0;
+        glm::vec2 centre{0.0f};  // a disc round all its squares (in the patch's frame)
+        float radius = 0;
+    };
+    struct Square {
+        glm::vec2 centre{0.0f};
+        float half = 0;
+    };
+    // Runs of up to kRun consecutive squares of one patch and a disc round
+    // them (in the patch's frame): a run whose disc's square is clear of an
+    // obstacle has each of its squares clear of it.
+    struct Run {
+        glm::vec2 centre{0.0f};
+        float radius = 0;
+        std::uint32_t begin = 0, end = 0;
+    };
+    static constexpr std::uint32_t kRun = 8;
+    std::vector<Entry> entries;
+    std::vector<Square> squares;
+    std::vector<Run> runs;
+    std::vector<std::vector<signed char>> commandMatch;  // per user command (none for a move)
+
+    PatchSearchData(const ActionLibrary& lib, const PatchLibrary& patches, const std::vector<UserCommand>& commands) {
+        const auto& all = patches.patches();
+        entries.resize(all.size());
+        for (std::size_t i = 0; i < all.size(); ++i) {
+            const Patch& p = all[i];
+            Entry& e = entries[i];
+            e.mainStartInverse = p.tracks[0].front().root.inverse();
+            e.newcomerStart = p.tracks[1].front().root.pos;
+            e.mainStartNode = lib.startNode()[static_cast<std::size_t>(p.tracks[0].front().action)];
+            const auto first = static_cast<std::uint32_t>(squares.size());
+            for (int r = 0; r < 2; ++r) {
+                for (const auto& sw : p.swept[static_cast<std::size_t>(r)]) {
+                    const glm::vec2 h = (sw.hi - sw.lo) * 0.5f;
+                    squares.push_back({(sw.lo + sw.hi) * 0.5f, std::max(h.x, h.y)});
+                }
+            }
+            const auto last = static_cast<std::uint32_t>(squares.size());
+            e.runBegin = static_cast<std::uint32_t>(runs.size());
+            for (std::uint32_t b = first; b < last; b += kRun) {
+                Run run;
+                run.begin = b, run.end = std::min(last, b + kRun);
+                SweptBox around = SweptBox::empty();
+                for (std::uint32_t k = run.begin; k < run.end; ++k) around.add({squares[k].centre, squares[k].centre});
+                run.centre = (around.lo + around.hi) * 0.5f;
+                // Each square lies within half * sqrt(2) of its centre; a
+                // millimetre more covers the rounding of placing either.
+                for (std::uint32_t k = run.begin; k < run.end; ++k) {
+                    run.radius = std::max(run.radius, glm::length(squares[k].centre - run.centre) + squares[k].half * 1.4143f + 1e-3f);
+                }
+                runs.push_back(run);
+            }
+            e.runEnd = static_cast<std::uint32_t>(runs.size());
+            SweptBox whole = SweptBox::empty();
+            for (std::uint32_t r = e.runBegin; r < e.runEnd; ++r) whole.add({runs[r].centre, runs[r].centre});
+            if (e.runBegin < e.runEnd) e.centre = (whole.lo + whole.hi) * 0.5f;
+            for (std::uint32_t r = e.runBegin; r < e.runEnd; ++r) {
+                e.radius = std::max(e.radius, glm::length(runs[r].centre - e.centre) + runs[r].radius + 1e-3f);
+            }
+        }
+        commandMatch.resize(commands.size());
+        for (std::size_t k = 0; k < commands.size(); ++k) {
+            if (commands[k].annotation == "move") continue;
+            auto& m = commandMatch[k];
+            m.assign(all.size(), 0);
+            for (std::size_t i = 0; i < all.size(); ++i) {
+                for (const auto& inst : all[i].tracks[0]) {
+                    if (matchesAnnotation(lib.actions()[static_cast<std::size_t>(inst.action)], commands[k].annotation)) {
+                        m[i] = 1;
+                        break;
+                    }
+                }
+            }
+        }
+    }
+};
+
 struct OneVsManyComposer : KindComposer<OneVsManySpec> {
     using KindComposer::KindComposer;
+
+    // Shared by the fights of a many-main scene (runMany), else made by run().
+    const PatchSearchData* search = nullptr;
+    std::optional<PatchSearchData> ownSearch;
 
     // Where everyone present is at time t (their placement's position), for
     // d_p: the same positions densityAround takes, placed once per time
@@ -31,18 +124,32 @@ struct OneVsManyComposer : KindComposer<OneVsManySpec> {
         for (const glm::vec2& q : at) n += glm::length(q - p) < 2.5f ? 1 : 0;
         return n;
     }
-    // collides(p, xf, obstacles) with the rotation of xf worked out once and
-    // a first test against the box round every obstacle (a patch box clear of
-    // it is clear of each): the same answer.
-    static bool collidesFast(const Patch& p, const RootXf& xf, const std::vector<SweptBox>& obstacles, const SweptBox& all) {
+    // collides(p, xf, obstacles) with the rotation of xf worked out once, the
+    // patch's swept squares from PatchSearchData and a first test against the
+    // box round every obstacle (a patch box clear of it is clear of each):
+    // the same answer.
+    bool collidesFast(std::size_t i, const RootXf& xf, const std::vector<SweptBox>& obstacles, const SweptBox& all) const {
         if (obstacles.empty()) return false;
         const FloorRotation rot(xf.heading);
-        for (int r = 0; r < 2; ++r) {
-            for (const auto& s : p.swept[static_cast<std::size_t>(r)]) {
-                const glm::vec2 c0 = xf.pos + rot((s.lo + s.hi) * 0.5f);
-                const glm::vec2 h = (s.hi - s.lo) * 0.5f;
-                const float e = std::max(h.x, h.y);
-                const SweptBox w{c0 - glm::vec2(e), c0 + glm::vec2(e)};
+        const auto& e = search->entries[i];
+        // The whole patch first, then its runs, then their squares.
+        auto clear = [&](const glm::vec2& centre, float radius) {
+            const float reach = radius + 1e-5f * (std::fabs(centre.x) + std::fabs(centre.y));  // and the rounding far out
+            const SweptBox around{centre - glm::vec2(reach), centre + glm::vec2(reach)};
+            if (!around.overlaps(all, kClearance)) return true;
+            for (const auto& o : obstacles) {
+                if (around.overlaps(o, kClearance)) return false;
+            }
+            return true;
+        };
+        if (clear(xf.pos + rot(e.centre), e.radius)) return false;
+        for (std::uint32_t r = e.runBegin; r < e.runEnd; ++r) {
+            const auto& run = search->runs[r];
+            if (clear(xf.pos + rot(run.centre), run.radius)) continue;
+            for (std::uint32_t k = run.begin; k < run.end; ++k) {
+                const auto& sq = search->squares[k];
+                const glm::vec2 c0 = xf.pos + rot(sq.centre);
+                const SweptBox w{c0 - glm::vec2(sq.half), c0 + glm::vec2(sq.half)};
                 if (!w.overlaps(all, kClearance)) continue;
                 for (const auto& o : obstacles) {
                     if (w.overlaps(o, kClearance)) return true;
@@ -50,6 +157,17 @@ struct OneVsManyComposer : KindComposer<OneVsManySpec> {
             }
         }
         return false;
+    }
+
+    // userPreference(patch i, role 0, t) is commandAt(t)[i] (0 where it
+    // gives null): the user command due at t (the last non-move one)
+    // looked up in PatchSearchData.
+    const signed char* commandAt(double t) const {
+        const signed char* m = nullptr;
+        for (std::size_t k = 0; k < spec.commands.size(); ++k) {
+            if (spec.commands[k].time <= t && !search->commandMatch[k].empty()) m = search->commandMatch[k].data();
+        }
+        return m;
     }
 
     // The fights of a many-main scene (issue 27) do not score every candidate
@@ -64,45 +182,26 @@ struct OneVsManyComposer : KindComposer<OneVsManySpec> {
     // that outweigh all others in S(p)), those whose main character starts
     // where its last action (or one of its first steps) ends in the motion
     // graph first, then drawn at random with the fight's seed, kSample in all.
-    // userPreference(patch i, role 0, t) with the command due at t found
-    // without comparing strings and each patch's answer to a command kept.
-    std::vector<char> commandMoves;  // per user command: a move (not a preference)
-    std::map<std::string, std::vector<signed char>> userMatches;
-    double userMatch(std::size_t i, double t) {
-        if (commandMoves.size() != spec.commands.size()) {
-            commandMoves.clear();
-            for (const auto& c : spec.commands) commandMoves.push_back(c.annotation == "move" ? 1 : 0);
-        }
-        const UserCommand* cmd = nullptr;
-        for (std::size_t k = 0; k < spec.commands.size(); ++k) {
-            if (spec.commands[k].time <= t && !commandMoves[k]) cmd = &spec.commands[k];
-        }
-        if (!cmd) return 0;
-        auto& m = userMatches[cmd->annotation];
-        if (m.empty()) m.assign(patches.patches().size(), -1);
-        if (m[i] < 0) m[i] = userPreference(patches.patches()[i], 0, t) > 0 ? 1 : 0;
-        return m[i];
-    }
-
     bool sampleCandidates = false;
+    static constexpr std::size_t kTried = 40;  // options whose newcomer's entry is planned, best first
     static constexpr std::size_t kSample = 48;
     std::vector<std::size_t> sampled(const std::vector<std::size_t>& cands, double t0, int lastMain) {
         if (cands.size() <= kSample) return cands;
         std::vector<double> cls(cands.size());
         double top = -std::numeric_limits<double>::max();
+        const signed char* command = commandAt(t0);
         for (std::size_t j = 0; j < cands.size(); ++j) {
             const std::size_t i = cands[j];
-            cls[j] = spec.wUsage * (1.0 - std::min(usage[i], 1.0)) + spec.wUser * userMatch(i, t0);
+            cls[j] = spec.wUsage * (1.0 - std::min(usage[i], 1.0)) + spec.wUser * (command ? command[i] : 0);
             top = std::max(top, cls[j]);
         }
-        std::vector<char> ends(static_cast<std::size_t>(lib.size()) + 1, 0);
         auto endNodeOf = [&](int a) { return lib.endNode()[static_cast<std::size_t>(a)]; };
         std::vector<int> nodes{endNodeOf(lastMain)};
         for (int mv : locomotion) nodes.push_back(endNodeOf(mv));
         std::vector<std::size_t> matched, rest;
         for (std::size_t j = 0; j < cands.size(); ++j) {
             if (cls[j] < top) continue;
-            const int start = lib.startNode()[static_cast<std::size_t>(patches.patches()[cands[j]].tracks[0].front().action)];
+            const int start = search->entries[cands[j]].mainStartNode;
             (std::find(nodes.begin(), nodes.end(), start) != nodes.end() ? matched : rest).push_back(cands[j]);
         }
         std::vector<std::size_t> out;
@@ -123,6 +222,7 @@ struct OneVsManyComposer : KindComposer<OneVsManySpec> {
     // ---- one vs many: the main character meets the enemies one after another.
     Status run(const ProgressFn& progress) {
         if (own.mains > 1) return runMany(progress);
+        if (!search) search = &ownSearch.emplace(lib, patches, spec.commands);
         const int mainC = addCharacter("main", 0);
         append(mainC, hold, 0.0, RootXf{}, 0, 1.0);
         int prev = -1;
@@ -184,6 +284,7 @@ struct OneVsManyComposer : KindComposer<OneVsManySpec> {
                 double score;
                 std::size_t patch;
                 int move;
+                std::size_t seq;  // the order found: ties keep it
             };
             std::vector<Option> options;
             std::vector<int> moves0 = {-1};
@@ -205,23 +306,28 @@ struct OneVsManyComposer : KindComposer<OneVsManySpec> {
                 }
                 const int lastA = mv >= 0 ? mv : lastMain;
                 const std::vector<glm::vec2> present = positionsAt(tm);
+                const signed char* command = commandAt(tm);
+                const int lastEnd = lib.endNode()[static_cast<std::size_t>(lastA)];
                 for (std::size_t i : cands) {
-                    const Patch& p = patches.patches()[i];
-                    const RootXf xf = from * p.tracks[0].front().root.inverse();
-                    if (collidesFast(p, xf, obstacleBoxes, allObstacles)) continue;
-                    const double s = score(i, densityAmong(present, xf.apply(p.tracks[1].front().root.pos)), userMatch(i, tm)) +
-                                     (lib.startNode()[static_cast<std::size_t>(p.tracks[0].front().action)] ==
-                                              lib.endNode()[static_cast<std::size_t>(lastA)] ? 1.0 : 0.0) -
-                                     (mv >= 0 ? 5.0 : 0.0);
-                    options.push_back({s, i, mv});
+                    const auto& e = search->entries[i];
+                    const RootXf xf = from * e.mainStartInverse;
+                    if (collidesFast(i, xf, obstacleBoxes, allObstacles)) continue;
+                    const double s = score(i, densityAmong(present, xf.apply(e.newcomerStart)), command ? command[i] : 0) +
+                                     (e.mainStartNode == lastEnd ? 1.0 : 0.0) - (mv >= 0 ? 5.0 : 0.0);
+                    options.push_back({s, i, mv, options.size()});
                 }
             }
-            std::stable_sort(options.begin(), options.end(), [](const Option& x, const Option& y) { return x.score > y.score; });
+            // Best first, ties in the order found (a stable sort's order);
+            // only the first kTried are ever looked at.
+            const auto tried = options.begin() + static_cast<std::ptrdiff_t>(std::min(options.size(), kTried));
+            std::partial_sort(options.begin(), tried, options.end(), [](const Option& x, const Option& y) {
+                return x.score != y.score ? x.score > y.score : x.seq < y.seq;
+            });
             // The best option whose newcomer can walk in.
             int bestI = -1, bestMove = -1;
             std::vector<ActionInstance> entry;
             const int enemy = addCharacter("enemy-" + std::to_string(k + 1), 1);
-            for (std::size_t o = 0; o < options.size() && o < 40 && bestI < 0; ++o) {
+            for (std::size_t o = 0; o < options.size() && o < kTried && bestI < 0; ++o) {
                 const Patch& p = patches.patches()[options[o].patch];
                 const int mv = options[o].move;
                 const RootXf from = mv >= 0 ? at * act(mv).end : at;
@@ -308,6 +414,8 @@ struct OneVsManyComposer : KindComposer<OneVsManySpec> {
     Status runMany(const ProgressFn& progress) {
         const int n = own.mains;
         const float reach = measureBodyReach(lib);
+        const PatchSearchData shared(lib, patches, spec.commands);
+        const CoreDiscs discs(lib, kPenetrationShrink);
         std::vector<Fight> fights(static_cast<std::size_t>(n));
         std::atomic<int> done{0};
         std::atomic<bool> stop{false};
@@ -329,6 +437,8 @@ struct OneVsManyComposer : KindComposer<OneVsManySpec> {
                 OneVsManyComposer c(lib, patches, s, f.stats);
                 c.sampleCandidates = true;
                 c.bodyReach = reach;
+                c.search = &shared;
+                c.coreDiscs = &discs;
                 st = c.ready();
                 if (st) st = c.run({});
                 if (st) {

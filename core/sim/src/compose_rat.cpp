@@ -56,8 +56,39 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     };
     // The crowd's spots (they never move), for the neighbours of a body test.
     FloorGrid spotGrid{3.0f};
+    // Per person: the others standing within 3 m, ascending (found once with spotGrid).
+    std::vector<std::vector<std::size_t>> within3m;
+    void findNeighbours(const std::vector<Bystander>& crowd) {
+        within3m.assign(crowd.size(), {});
+        for (std::size_t self = 0; self < crowd.size(); ++self) {  // (the grid's query is not thread-safe)
+            // The grid's query is a superset; the exact test keeps the same ones as a pass over everyone.
+            for (int o : spotGrid.near(crowd[self].spot, 3.05f)) {
+                const auto k = static_cast<std::size_t>(o);
+                if (k != self && glm::length(crowd[k].spot - crowd[self].spot) < 3.0f) within3m[self].push_back(k);
+            }
+        }
+    }
     // The farthest the standing clip (hold, looped) takes the pelvis from where it stands (m).
     float holdWander = 0;
+    // Per action: a disc round its pelvis path in the clip's frame (rootAt
+    // interpolates between samples: the samples bound it; a millimetre more
+    // covers the rounding).
+    std::vector<detail::CoreDiscs::Disc> pelvisPaths;
+    void measurePelvisPaths() {
+        pelvisPaths.assign(static_cast<std::size_t>(lib.size()), {});
+        for (int a = 0; a < lib.size(); ++a) {
+            const int n = act(a).sampleCount;
+            glm::vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+            for (int k = 0; k < n; ++k) {
+                const glm::vec2 p = lib.rootAt(a, k / kSampleRate).pos;
+                lo = glm::min(lo, p), hi = glm::max(hi, p);
+            }
+            auto& d = pelvisPaths[static_cast<std::size_t>(a)];
+            d.centre = n > 0 ? 0.5f * (lo + hi) : glm::vec2(0.0f);
+            for (int k = 0; k < n; ++k) d.radius = std::max(d.radius, glm::length(lib.rootAt(a, k / kSampleRate).pos - d.centre));
+            d.radius += 1e-3f;
+        }
+    }
     void measureHoldWander() {
         const auto& h = act(hold);
         const glm::vec2 p0 = lib.rootAt(hold, 0).pos;
@@ -372,33 +403,82 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     // the others' moving windows are sampled.
     std::pair<int, double> firstTouch(const CrowdView& crowd, std::size_t self, const std::vector<ActionInstance>& plan,
                                       double from, double until, std::size_t ignore = SIZE_MAX) const {
-        constexpr float kShrink = 0.82f;  // as the composer's penetration test
+        constexpr float kShrink = kTouchShrink;
         constexpr double dt = 1.0 / kSampleRate;
         // Those within 3 m, ascending (the grid's query is a superset; the
         // same test as a pass over everyone then keeps the same ones).
         std::vector<std::size_t> close;
-        for (int o : spotGrid.near(crowd[self].spot, 3.05f)) {
-            const auto k = static_cast<std::size_t>(o);
-            if (k != self && k != ignore && glm::length(crowd[k].spot - crowd[self].spot) < 3.0f) close.push_back(k);
+        for (const std::size_t k : within3m[self]) {
+            if (k != ignore) close.push_back(k);
         }
         constexpr float kReach = 1.2f;  // coreBodiesOverlap's pelvis reach
         auto bodyOf = [&](std::size_t o, double t) { return detail::CoreBody(lib, bodyIn(crowd.plan(o), crowd[o].at, t), kShrink); };
-        auto touches = [&](std::size_t o, double t) {
-            return detail::coreBodiesOverlap(detail::CoreBody(lib, bodyIn(plan, crowd[self].at, t), kShrink), bodyOf(o, t), kReach);
+        // The pelvis test, then the discs round the core boxes (the same answer as the boxes alone).
+        auto overlap = [&](const detail::CoreBody& a, const detail::CoreDiscs::Disc& aDisc, const detail::CoreBody& b) {
+            const glm::vec2 d = a.pelvis() - b.pelvis();
+            if (glm::dot(d, d) > kReach * kReach) return false;
+            if (detail::CoreDiscs::apart(aDisc, discs->placed(b))) return false;
+            return detail::coreBodiesOverlap(a, b, kReach);
         };
+        // Someone's pelvis at t is certainly beyond the pelvis reach of p:
+        // standing, it keeps within holdWander of its spot; following a plan,
+        // within the disc round its instance's pelvis path (pelvisPaths).
+        auto surelyApart = [&](std::size_t o, double t, const glm::vec2& p) {
+            const auto& theirs = crowd.plan(o);
+            glm::vec2 centre = crowd[o].spot;
+            float wander = holdWander;
+            if (!theirs.empty()) {
+                const ActionInstance& inst = theirs[static_cast<std::size_t>(instanceIndexAt(theirs, t))];
+                const detail::CoreDiscs::Disc& path = pelvisPaths[static_cast<std::size_t>(inst.action)];
+                centre = inst.root.pos + FloorRotation(inst.root.heading)(path.centre);
+                wander = path.radius;
+            }
+            const float far = kReach + wander + 0.01f + 1e-5f * (std::fabs(centre.x) + std::fabs(centre.y));
+            return glm::length(p - centre) > far;
+        };
+        auto touches = [&](std::size_t o, double t) {
+            const detail::CoreBody me(lib, bodyIn(plan, crowd[self].at, t), kShrink);
+            if (surelyApart(o, t, me.pelvis())) return false;
+            return overlap(me, discs->placed(me), bodyOf(o, t));
+        };
+        // Drop those who never come within the pelvis reach of its pelvis
+        // from `from` on: the discs round the pelvis paths of its instances
+        // from then and round all of theirs (or their spot and holdWander)
+        // are apart (so neither loop below would find them touching).
+        using Disc = detail::CoreDiscs::Disc;
+        auto pathDisc = [&](const std::vector<ActionInstance>& p, std::size_t k0, const glm::vec2& spot) {
+            if (p.empty()) return Disc{spot, holdWander};
+            auto placed = [&](std::size_t k) {
+                const Disc& path = pelvisPaths[static_cast<std::size_t>(p[k].action)];
+                return Disc{p[k].root.pos + FloorRotation(p[k].root.heading)(path.centre), path.radius};
+            };
+            SweptBox around = SweptBox::empty();
+            for (std::size_t k = k0; k < p.size(); ++k) {
+                const Disc d = placed(k);
+                around.add({d.centre, d.centre});
+            }
+            Disc out{0.5f * (around.lo + around.hi), 0.0f};
+            for (std::size_t k = k0; k < p.size(); ++k) {
+                const Disc d = placed(k);
+                out.radius = std::max(out.radius, glm::length(d.centre - out.centre) + d.radius);
+            }
+            return out;
+        };
+        const Disc mine = pathDisc(plan, plan.empty() ? 0 : static_cast<std::size_t>(instanceIndexAt(plan, from)), crowd[self].spot);
+        std::erase_if(close, [&](std::size_t o) {
+            const Disc theirs = pathDisc(crowd.plan(o), 0, crowd[o].spot);
+            const float scale = std::fabs(mine.centre.x) + std::fabs(mine.centre.y) + std::fabs(theirs.centre.x) + std::fabs(theirs.centre.y);
+            return glm::length(mine.centre - theirs.centre) > kReach + mine.radius + theirs.radius + 0.02f + 1e-5f * scale;
+        });
+        if (close.empty()) return {-1, 0.0};
         const double settle = std::min(until, std::max(from, movingWindow(plan).second) + dt);
         for (double t = from; t <= settle + 1e-9; t += dt) {
             // Its own body once per moment (its boxes placed only when someone is near).
             const detail::CoreBody me(lib, bodyIn(plan, crowd[self].at, t), kShrink);
+            const detail::CoreDiscs::Disc meDisc = discs->placed(me);
             for (std::size_t o : close) {
-                // Someone standing keeps its pelvis within holdWander of its
-                // spot: beyond the pelvis reach from there, it cannot touch.
-                if (crowd.plan(o).empty()) {
-                    const glm::vec2 spot = crowd[o].spot;
-                    const float far = kReach + holdWander + 0.01f + 1e-5f * (std::fabs(spot.x) + std::fabs(spot.y));
-                    if (glm::length(me.pelvis() - spot) > far) continue;
-                }
-                if (detail::coreBodiesOverlap(me, bodyOf(o, t), kReach)) return {static_cast<int>(o), t};
+                if (surelyApart(o, t, me.pelvis())) continue;
+                if (overlap(me, meDisc, bodyOf(o, t))) return {static_cast<int>(o), t};
             }
         }
         std::pair<int, double> first{-1, std::numeric_limits<double>::infinity()};
@@ -511,6 +591,8 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     static constexpr double kRatClear = 0.08;
     static constexpr double kContactWindow = 0.2;  // s a bump may keep two bodies touching (MetricsOptions::hitWindow)  // m between the rat and an avoider's feet and shins
     std::optional<detail::InteractionEngine> rules;  // forced reactions of the pushed
+    static constexpr float kTouchShrink = 0.82f;     // firstTouch's, as the composer's penetration test
+    std::optional<detail::CoreDiscs> discs;          // firstTouch's first test
     int pushedPool = 0;
     SceneCharacter ratBody;  // the rat's keys
 
@@ -531,6 +613,8 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         }
         pushedPool = rules.emplace(lib).addPool(pushed);
         measureHoldWander();
+        discs.emplace(lib, kTouchShrink);
+        measurePelvisPaths();
         if (!findWays()) return makeError(kNoWays);
         makeRatPatches();
 
@@ -564,6 +648,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         }
         if (crowd.empty()) return makeError("rat: nobody could stand near the trajectory (widen band or lower spacing)");
         for (std::size_t k = 0; k < crowd.size(); ++k) spotGrid.insert(static_cast<int>(k), crowd[k].spot);
+        findNeighbours(crowd);
         // The rat's closest approach to each person, sampled every 0.02 s:
         // the samples once for everyone, in blocks with a bounding circle, so
         // a person looks only at the blocks that can beat its best so far

@@ -80,6 +80,28 @@ const std::array<Obb, kCoreSegments.size()>& CoreBody::boxes() const {
     return *boxes_;
 }
 
+CoreDiscs::CoreDiscs(const ActionLibrary& lib, float shrink) : lib_(&lib), shrink_(shrink) {
+    first_.reserve(static_cast<std::size_t>(lib.size()));
+    for (int a = 0; a < lib.size(); ++a) {
+        first_.push_back(static_cast<int>(discs_.size()));
+        const int n = lib.actions()[static_cast<std::size_t>(a)].sampleCount;
+        for (int s = 0; s < n; ++s) {
+            const Obb* local = lib.boxesAt(a, s);
+            glm::vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+            for (int seg : kCoreSegments) {
+                const glm::vec2 c(local[seg].centre.x, local[seg].centre.z);
+                lo = glm::min(lo, c), hi = glm::max(hi, c);
+            }
+            Disc d{0.5f * (lo + hi), 0.0f};
+            for (int seg : kCoreSegments) {
+                const glm::vec2 c(local[seg].centre.x, local[seg].centre.z);
+                d.radius = std::max(d.radius, glm::length(c - d.centre) + local[seg].shrunk(shrink).radius());
+            }
+            discs_.push_back(d);
+        }
+    }
+}
+
 bool coreBodiesOverlap(const CoreBody& a, const CoreBody& b, float pelvisReach) {
     const glm::vec2 d = a.pelvis() - b.pelvis();
     if (glm::dot(d, d) > pelvisReach * pelvisReach) return false;

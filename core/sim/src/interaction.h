@@ -62,6 +62,8 @@ public:
     CoreBody(const ActionLibrary& lib, const BodyPose& pose, const FloorRotation& rotate, glm::vec2 clipPelvis,
              float shrink);
     glm::vec2 pelvis() const { return pelvis_; }
+    const BodyPose& pose() const { return pose_; }
+    const FloorRotation& rotation() const { return rotate_; }
     const std::array<Obb, kCoreSegments.size()>& boxes() const;
     // Their bounding-sphere radii (valid after boxes()).
     const std::array<float, kCoreSegments.size()>& radii() const { return radii_; }
@@ -77,6 +79,41 @@ private:
     mutable std::array<float, kCoreSegments.size()> radii_;
 };
 bool coreBodiesOverlap(const CoreBody& a, const CoreBody& b, float pelvisReach);
+
+// A floor disc round a body's core boxes, shrunk, at every sample of every
+// clip (in the clip's frame), worked out once for a library: two bodies whose
+// discs are apart fail every bounding-sphere test of coreBodiesOverlap, so
+// the boxes of a pair that is near by the pelvis but apart by the discs need
+// not be placed (a first test with the same answer; crowds stand within the
+// pelvis reach of their neighbours).
+class CoreDiscs {
+public:
+    struct Disc {
+        glm::vec2 centre{0.0f};
+        float radius = 0;
+    };
+    CoreDiscs(const ActionLibrary& lib, float shrink);
+    // The disc of a body placed (its root's rotation given).
+    Disc placed(const BodyPose& pose, const FloorRotation& rotate) const {
+        const Disc& d = discs_[static_cast<std::size_t>(first_[static_cast<std::size_t>(pose.action)] + lib_->sampleAt(pose.action, pose.tau))];
+        return {pose.root.pos + rotate(d.centre), d.radius};
+    }
+    Disc placed(const CoreBody& b) const { return placed(b.pose(), b.rotation()); }
+    // Certainly apart: a margin covers the rounding of placing discs and boxes.
+    static bool apart(const Disc& a, const Disc& b) {
+        const glm::vec2 d = a.centre - b.centre;
+        const float scale = std::fabs(a.centre.x) + std::fabs(a.centre.y) + std::fabs(b.centre.x) + std::fabs(b.centre.y);
+        const float r = a.radius + b.radius + 2e-3f + 1e-5f * scale;
+        return glm::dot(d, d) > r * r;
+    }
+    float shrink() const { return shrink_; }
+
+private:
+    const ActionLibrary* lib_;
+    float shrink_;
+    std::vector<int> first_;  // per action: its first sample's disc
+    std::vector<Disc> discs_;
+};
 inline BodyPose bodyAt(const Playing& p, double t) { return {p.action, p.clipTime(t), p.root}; }
 
 // Earliest hit in [t0, t1] of one attacker on one defender; time < 0 if none.
