@@ -52,6 +52,17 @@ using fray::test::child;
 namespace fs = std::filesystem;
 using fray::editor::MainWindow;
 
+// The demo project (takes, project, labels, cache) copied into `dir`, so a
+// test can edit and save it; open it as dir.filePath("demo.frayproj").
+void copyDemoProject(const QTemporaryDir& dir) {
+    const fs::path from = fs::path(FRAY_DEMO_PROJECT).parent_path();
+    for (const auto& entry : fs::directory_iterator(from)) {
+        const auto ext = entry.path().extension();
+        if (ext == ".bvh" || ext == ".frayproj" || ext == ".csv" || ext == ".cache")
+            fs::copy_file(entry.path(), fs::path(dir.path().toStdString()) / entry.path().filename());
+    }
+}
+
 // A short duel on the demo library: 6 s, red thinks 2 decisions ahead, blue 1.
 constexpr const char* kShortDuel = R"({
   "version": 1, "duration": 6, "seed": 3,
@@ -238,12 +249,7 @@ TEST_F(SceneWindow, GenerateShowsTheSceneItsActionTrackAndMetrics) {
 TEST(SceneSetups, SaveReopenAndGenerateAgainGivesTheSameBytes) {
     // A copy of the demo project with the short duel imported as a setup.
     QTemporaryDir dir;
-    const fs::path from = fs::path(FRAY_DEMO_PROJECT).parent_path();
-    for (const auto& entry : fs::directory_iterator(from)) {
-        const auto ext = entry.path().extension();
-        if (ext == ".bvh" || ext == ".frayproj" || ext == ".csv" || ext == ".cache")
-            fs::copy_file(entry.path(), fs::path(dir.path().toStdString()) / entry.path().filename());
-    }
+    copyDemoProject(dir);
     const QString project = dir.filePath("demo.frayproj");
     const QString spec = writeFile(dir, "short_duel.json", kShortDuel);
     std::string first;
@@ -280,12 +286,7 @@ TEST(SceneSetups, SaveReopenAndGenerateAgainGivesTheSameBytes) {
 //   fray_editor_scene_tests --gtest_also_run_disabled_tests --gtest_filter='*LiveReplan*'
 TEST(SceneSetups, DISABLED_LiveReplanTimes) {
     QTemporaryDir dir;
-    const fs::path from = fs::path(FRAY_DEMO_PROJECT).parent_path();
-    for (const auto& entry : fs::directory_iterator(from)) {
-        const auto ext = entry.path().extension();
-        if (ext == ".bvh" || ext == ".frayproj" || ext == ".csv" || ext == ".cache")
-            fs::copy_file(entry.path(), fs::path(dir.path().toStdString()) / entry.path().filename());
-    }
+    copyDemoProject(dir);
     auto w = fray::test::openEditorWindow(dir.filePath("demo.frayproj"));
     ASSERT_NE(w, nullptr);
     ASSERT_TRUE(QTest::qWaitFor([&] { return w->analysis() != nullptr; }, 120000));
@@ -516,12 +517,7 @@ int main(int argc, char** argv) {
 // simulate --setup`; undo gives back the original scene byte for byte.
 TEST(SceneSetups, ReplacingAPunchWithAKickPinsItAndUndoRestoresTheScene) {
     QTemporaryDir dir;
-    const fs::path from = fs::path(FRAY_DEMO_PROJECT).parent_path();
-    for (const auto& entry : fs::directory_iterator(from)) {
-        const auto ext = entry.path().extension();
-        if (ext == ".bvh" || ext == ".frayproj" || ext == ".csv" || ext == ".cache")
-            fs::copy_file(entry.path(), fs::path(dir.path().toStdString()) / entry.path().filename());
-    }
+    copyDemoProject(dir);
     auto w = fray::test::openEditorWindow(dir.filePath("demo.frayproj"));
     ASSERT_NE(w, nullptr);
     ASSERT_TRUE(QTest::qWaitFor([&] { return w->analysis() != nullptr; }, 120000));
@@ -639,12 +635,7 @@ TEST(SceneSetups, ReplacingAPunchWithAKickPinsItAndUndoRestoresTheScene) {
 // full re-plan of the edited setup makes.
 TEST(SceneSetups, LateEditReplansTheDuelOnlyFromThereAndKeepsThePrefix) {
     QTemporaryDir dir;
-    const fs::path from = fs::path(FRAY_DEMO_PROJECT).parent_path();
-    for (const auto& entry : fs::directory_iterator(from)) {
-        const auto ext = entry.path().extension();
-        if (ext == ".bvh" || ext == ".frayproj" || ext == ".csv" || ext == ".cache")
-            fs::copy_file(entry.path(), fs::path(dir.path().toStdString()) / entry.path().filename());
-    }
+    copyDemoProject(dir);
     auto w = fray::test::openEditorWindow(dir.filePath("demo.frayproj"));
     ASSERT_NE(w, nullptr);
     ASSERT_TRUE(QTest::qWaitFor([&] { return w->analysis() != nullptr; }, 120000));
@@ -732,12 +723,7 @@ TEST(SceneSetups, LateEditReplansTheDuelOnlyFromThereAndKeepsThePrefix) {
 //   fray_editor_scene_tests --gtest_also_run_disabled_tests --gtest_filter='*LiveReplanDuelEdits*'
 TEST(SceneSetups, DISABLED_LiveReplanDuelEdits) {
     QTemporaryDir dir;
-    const fs::path from = fs::path(FRAY_DEMO_PROJECT).parent_path();
-    for (const auto& entry : fs::directory_iterator(from)) {
-        const auto ext = entry.path().extension();
-        if (ext == ".bvh" || ext == ".frayproj" || ext == ".csv" || ext == ".cache")
-            fs::copy_file(entry.path(), fs::path(dir.path().toStdString()) / entry.path().filename());
-    }
+    copyDemoProject(dir);
     auto w = fray::test::openEditorWindow(dir.filePath("demo.frayproj"));
     ASSERT_NE(w, nullptr);
     ASSERT_TRUE(QTest::qWaitFor([&] { return w->analysis() != nullptr; }, 120000));
