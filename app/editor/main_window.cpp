@@ -542,7 +542,7 @@ QByteArray MainWindow::describeUi() const {
                                     {"items", QJsonArray{"ganttReplaceMenu", "ganttPin", "ganttUnpin"}}});
     root["contextMenus"] = contextMenus;
     // The Scene panel's Setup box: the kinds New setup offers and the
-    // parameter widgets of the Interaction Graph kinds (window_graph_setup.cpp).
+    // parameter widgets (window_graph_setup.cpp).
     QJsonObject setupBox;
     setupBox["panel"] = "scenePanel";  // inside the dock's scenePanelScroll
     QJsonArray kinds;
@@ -550,15 +550,18 @@ QByteArray MainWindow::describeUi() const {
     setupBox["kinds"] = kinds;
     setupBox["chooser"] = "sceneNewKind";
     setupBox["button"] = "sceneNewSetup";
-    QJsonArray params;
+    // graphParameters: the Interaction Graph kinds' (param_*); planParameters:
+    // duel's and chase's (plan_*: duration, seed, a depth per character).
+    QJsonArray params, planParams;
     for (QWidget* w : paramWidgets_) {
         QJsonObject o;
         o["name"] = w->objectName();
         o["label"] = paramsForm_ && paramsForm_->labelForField(w) ? static_cast<QLabel*>(paramsForm_->labelForField(w))->text() : QString();
         o["tip"] = w->toolTip();
-        params.append(o);
+        (w->objectName().startsWith("plan_") ? planParams : params).append(o);
     }
     setupBox["graphParameters"] = params;
+    setupBox["planParameters"] = planParams;
     root["setupBox"] = setupBox;
     return QJsonDocument(root).toJson(QJsonDocument::Indented);
 }

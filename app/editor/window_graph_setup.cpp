@@ -17,6 +17,8 @@
 #include <QSpinBox>
 #include <QVBoxLayout>
 #include <charconv>
+#include <optional>
+#include <vector>
 
 #include "fray/authoring/project_document.h"
 #include "fray/igraph/carry.h"
@@ -75,6 +77,30 @@ constexpr Field kFields[] = {
     {"weights/speed", "Speed (m/s)", FieldType::Double, 0, 10, 0.05, "", false, false, true, "The box's desired speed along the path"},
     {"weights/gamma", "gamma", FieldType::Double, 0, 1, 0.05, "", false, false, true, "Discount of the carry policies"},
 };
+
+// Tree-expansion setups (duel, chase): the scene's length and seed and each
+// character's search depth, at their places in the setup's spec. A row shows
+// when the setup has the field (a character's row names it).
+constexpr int kPlanCharacters = 4;
+constexpr Field kPlanFields[] = {
+    {"duration", "Duration (s)", FieldType::Double, 0.1, 3600, 1, "", false, false, false, "How long the scene lasts"},
+    {"seed", "Seed", FieldType::Int, 0, 2147483647, 1, "", false, false, false, "The planner's random choices among equal options"},
+    {"characters/0/depth", "Depth", FieldType::Int, 1, 10, 1, "", false, false, false, "How many decisions ahead this character plans"},
+    {"characters/1/depth", "Depth", FieldType::Int, 1, 10, 1, "", false, false, false, "How many decisions ahead this character plans"},
+    {"characters/2/depth", "Depth", FieldType::Int, 1, 10, 1, "", false, false, false, "How many decisions ahead this character plans"},
+    {"characters/3/depth", "Depth", FieldType::Int, 1, 10, 1, "", false, false, false, "How many decisions ahead this character plans"},
+};
+static_assert(std::size(kPlanFields) == 2 + kPlanCharacters);
+
+// A plan field's value from the setup's spec, when it is a number there.
+std::optional<double> planValue(const setup::SceneSetup& s, const std::string& key) {
+    const auto text = setup::parameter(s, "/" + key);
+    if (!text) return std::nullopt;
+    double v = 0;
+    const auto r = std::from_chars(text->data(), text->data() + text->size(), v);
+    if (r.ec != std::errc() || r.ptr != text->data() + text->size()) return std::nullopt;
+    return v;
+}
 
 bool fieldOf(const Field& f, SetupKind k) {
     return (k == SetupKind::GraphDuel && f.duel) || (k == SetupKind::GraphTeams && f.teams) || (k == SetupKind::GraphCarry && f.carry);
@@ -163,7 +189,11 @@ QWidget* MainWindow::makeSetupParameters() {
     v->addLayout(row);
     paramsForm_ = new QFormLayout;
     paramsForm_->setContentsMargins(0, 0, 0, 0);
-    for (const Field& f : kFields) {
+    auto fields = std::vector<const Field*>();
+    for (const Field& f : kFields) fields.push_back(&f);
+    for (const Field& f : kPlanFields) fields.push_back(&f);
+    for (const Field* field : fields) {
+        const Field& f = *field;
         QWidget* w = nullptr;
         const std::string key = f.key;
         switch (f.type) {
@@ -200,7 +230,9 @@ QWidget* MainWindow::makeSetupParameters() {
             break;
         }
         }
-        w->setObjectName(objectNameOf(f));
+        // The plan fields share keys with the graph fields: "plan_duration" beside "param_duration".
+        const bool planField = field >= std::begin(kPlanFields) && field < std::end(kPlanFields);
+        w->setObjectName(planField ? "plan_" + objectNameOf(f).mid(6) : objectNameOf(f));
         w->setToolTip(f.tip);
         paramsForm_->addRow(f.label, w);
         paramWidgets_.push_back(w);
@@ -270,7 +302,28 @@ void MainWindow::refreshSetupParameters() {
         case FieldType::Bool: static_cast<QCheckBox*>(w)->setChecked(valueOf(*p, f.key) != 0); break;
         }
     }
+    const bool plan = s && setup::isTreeExpansion(s->kind);
+    for (std::size_t i = 0; i < std::size(kPlanFields); ++i) {
+        const Field& f = kPlanFields[i];
+        QWidget* w = paramWidgets_[std::size(kFields) + i];
+        const std::optional<double> v = plan ? planValue(*s, f.key) : std::nullopt;
+        paramsForm_->setRowVisible(w, v.has_value());
+        if (!v) continue;
+        if (i >= 2) {
+            // "Depth: red"
+            const auto name = setup::parameter(*s, "/characters/" + std::to_string(i - 2) + "/name");
+            QString who = name && name->size() >= 2 ? qs(name->substr(1, name->size() - 2)) : QString("character %1").arg(i - 2);
+            if (auto* label = qobject_cast<QLabel*>(paramsForm_->labelForField(w))) label->setText("Depth: " + who);
+        }
+        const QSignalBlocker quiet(w);
+        if (f.type == FieldType::Int) static_cast<QSpinBox*>(w)->setValue(static_cast<int>(*v));
+        else static_cast<QDoubleSpinBox*>(w)->setValue(*v);
+    }
     if (!s) paramsInfo_->setText("No setup selected: pick one above, or a kind and New setup.");
+    else if (plan)
+        paramsInfo_->setText(QString("%1 setup planned by tree expansion: paths, checkpoints and starts on the floor (Floor tools), pins in the "
+                                     "action track, the rest with fray-cli setup.")
+                                 .arg(setup::setupKindName(s->kind)));
     else if (!graph) paramsInfo_->setText(QString("%1 setup: edit it on the floor (Floor tools) or with fray-cli setup.").arg(setup::setupKindName(s->kind)));
     else if (!p) paramsInfo_->setText("The parameters cannot be read: " + qs(p.error().message));
     else if (s->kind == SetupKind::GraphCarry)

@@ -17,6 +17,10 @@
 #include <QElapsedTimer>
 #include <QFile>
 #include <QLabel>
+#include <QDoubleSpinBox>
+#include <QFormLayout>
+#include <QGroupBox>
+#include <QSpinBox>
 #include <QContextMenuEvent>
 #include <QMenu>
 #include <QPainter>
@@ -38,6 +42,7 @@
 #include "editor_fixture.h"
 #include "fray/authoring/project_document.h"
 #include "fray/posture/posture.h"
+#include "fray/setup/scene_setup.h"
 #include "fray/sim/metrics.h"
 #include "fray/sim/scene.h"
 #include "fray/sim/spec.h"
@@ -772,4 +777,62 @@ TEST(SceneSetups, DISABLED_LiveReplanDuelEdits) {
             std::fflush(stdout);
         }
     }
+}
+
+// A tree-expansion setup's duration, seed and depths are edited in the Scene
+// panel's Setup box: each change is one undo command on the setup's spec,
+// the rows name the characters, and undo gives the old value back.
+TEST(SceneSetups, DurationSeedAndDepthsAreEditedInTheSetupBox) {
+    QTemporaryDir dir;
+    copyDemoProject(dir);
+    auto w = fray::test::openEditorWindow(dir.filePath("demo.frayproj"));
+    ASSERT_NE(w, nullptr);
+    ASSERT_TRUE(QTest::qWaitFor([&] { return w->analysis() != nullptr; }, 120000));
+    QString demoDuel;
+    for (const QString& s : w->sceneSources())
+        if (s.endsWith("resources/demo/duel.json")) demoDuel = s;
+    ASSERT_TRUE(w->selectSceneSource(demoDuel));
+    ASSERT_TRUE(w->importSpecAsSetup("duel")) << w->lastError().toStdString();
+    auto* duration = child<QDoubleSpinBox>(w.get(), "plan_duration");
+    auto* seed = child<QSpinBox>(w.get(), "plan_seed");
+    auto* blueDepth = child<QSpinBox>(w.get(), "plan_characters_1_depth");
+    auto* fourth = child<QSpinBox>(w.get(), "plan_characters_3_depth");
+    ASSERT_TRUE(duration && seed && blueDepth && fourth);
+    EXPECT_FALSE(duration->isHidden());
+    EXPECT_TRUE(child<QDoubleSpinBox>(w.get(), "param_duration")->isHidden()) << "the graph kinds' row";
+    EXPECT_DOUBLE_EQ(duration->value(), 20.0);
+    EXPECT_EQ(seed->value(), 1);
+    EXPECT_EQ(blueDepth->value(), 2);
+    EXPECT_TRUE(fourth->isHidden()) << "the duel has two characters";
+    auto* form = child<QGroupBox>(w.get(), "setupBox")->findChild<QFormLayout*>();
+    ASSERT_NE(form, nullptr);
+    auto* label = qobject_cast<QLabel*>(form->labelForField(blueDepth));
+    ASSERT_NE(label, nullptr);
+    EXPECT_EQ(label->text(), "Depth: blue");
+    QDir().mkpath(FRAY_EDITOR_SHOTS);
+    {
+        // The box at its own size (in the dock it scrolls).
+        auto* box = child<QGroupBox>(w.get(), "setupBox");
+        const QSize was = box->size();
+        box->resize(std::max(box->width(), 360), box->sizeHint().height());
+        box->grab().save(QString(FRAY_EDITOR_SHOTS) + "/setup-box-duel.png");
+        box->resize(was);
+    }
+
+    const int before = w->document()->undoStack()->count();
+    duration->setValue(12.0);
+    blueDepth->setValue(3);
+    EXPECT_EQ(w->document()->undoStack()->count(), before + 2) << "one undo command an edit";
+    auto setup = w->document()->sceneSetup("duel");
+    ASSERT_TRUE(static_cast<bool>(setup));
+    EXPECT_EQ(fray::setup::parameter(*setup, "/duration").value_or(""), "12");
+    EXPECT_EQ(fray::setup::parameter(*setup, "/characters/1/depth").value_or(""), "3");
+    w->document()->undoStack()->undo();
+    w->document()->undoStack()->undo();
+    setup = w->document()->sceneSetup("duel");
+    ASSERT_TRUE(static_cast<bool>(setup));
+    EXPECT_EQ(fray::setup::parameter(*setup, "/duration").value_or(""), "20");
+    EXPECT_EQ(fray::setup::parameter(*setup, "/characters/1/depth").value_or(""), "2");
+    EXPECT_DOUBLE_EQ(duration->value(), 20.0) << "the box follows undo";
+    EXPECT_EQ(blueDepth->value(), 2);
 }
