@@ -68,6 +68,28 @@ void copyDemoProject(const QTemporaryDir& dir) {
     }
 }
 
+// The editor on a copy of the demo project (copyDemoProject) once its
+// analysis is in, with the README demo duel (resources/demo/duel.json)
+// imported as the setup "duel" and selected; nullptr, with the failure
+// recorded, when a step fails.
+std::unique_ptr<MainWindow> openWithDemoDuelSetup(const QTemporaryDir& dir) {
+    copyDemoProject(dir);
+    auto w = fray::test::openEditorWindow(dir.filePath("demo.frayproj"));
+    if (!w) return nullptr;
+    if (!QTest::qWaitFor([&] { return w->analysis() != nullptr; }, 120000)) {
+        ADD_FAILURE() << "the demo project's analysis did not finish";
+        return nullptr;
+    }
+    QString demoDuel;
+    for (const QString& s : w->sceneSources())
+        if (s.endsWith("resources/demo/duel.json")) demoDuel = s;
+    if (demoDuel.isEmpty() || !w->selectSceneSource(demoDuel) || !w->importSpecAsSetup("duel")) {
+        ADD_FAILURE() << "importing resources/demo/duel.json as a setup: " << w->lastError().toStdString();
+        return nullptr;
+    }
+    return w;
+}
+
 // A short duel on the demo library: 6 s, red thinks 2 decisions ahead, blue 1.
 constexpr const char* kShortDuel = R"({
   "version": 1, "duration": 6, "seed": 3,
@@ -522,16 +544,8 @@ int main(int argc, char** argv) {
 // simulate --setup`; undo gives back the original scene byte for byte.
 TEST(SceneSetups, ReplacingAPunchWithAKickPinsItAndUndoRestoresTheScene) {
     QTemporaryDir dir;
-    copyDemoProject(dir);
-    auto w = fray::test::openEditorWindow(dir.filePath("demo.frayproj"));
+    auto w = openWithDemoDuelSetup(dir);
     ASSERT_NE(w, nullptr);
-    ASSERT_TRUE(QTest::qWaitFor([&] { return w->analysis() != nullptr; }, 120000));
-    QString demoDuel;
-    for (const QString& s : w->sceneSources())
-        if (s.endsWith("resources/demo/duel.json")) demoDuel = s;
-    ASSERT_FALSE(demoDuel.isEmpty());
-    ASSERT_TRUE(w->selectSceneSource(demoDuel));
-    ASSERT_TRUE(w->importSpecAsSetup("duel")) << w->lastError().toStdString();
     generateAndWait(w.get());
     ASSERT_NE(w->scene(), nullptr) << w->lastError().toStdString();
     const std::string original = fray::sim::sceneToJson(w->scene()->scene(), w->scene()->library());
@@ -728,15 +742,8 @@ TEST(SceneSetups, LateEditReplansTheDuelOnlyFromThereAndKeepsThePrefix) {
 //   fray_editor_scene_tests --gtest_also_run_disabled_tests --gtest_filter='*LiveReplanDuelEdits*'
 TEST(SceneSetups, DISABLED_LiveReplanDuelEdits) {
     QTemporaryDir dir;
-    copyDemoProject(dir);
-    auto w = fray::test::openEditorWindow(dir.filePath("demo.frayproj"));
+    auto w = openWithDemoDuelSetup(dir);
     ASSERT_NE(w, nullptr);
-    ASSERT_TRUE(QTest::qWaitFor([&] { return w->analysis() != nullptr; }, 120000));
-    QString demoDuel;
-    for (const QString& s : w->sceneSources())
-        if (s.endsWith("resources/demo/duel.json")) demoDuel = s;
-    ASSERT_TRUE(w->selectSceneSource(demoDuel));
-    ASSERT_TRUE(w->importSpecAsSetup("duel")) << w->lastError().toStdString();
     generateAndWait(w.get());
     ASSERT_NE(w->scene(), nullptr) << w->lastError().toStdString();
     auto* gantt = child<fray::editor::GanttView>(w.get(), "gantt");
@@ -784,15 +791,8 @@ TEST(SceneSetups, DISABLED_LiveReplanDuelEdits) {
 // the rows name the characters, and undo gives the old value back.
 TEST(SceneSetups, DurationSeedAndDepthsAreEditedInTheSetupBox) {
     QTemporaryDir dir;
-    copyDemoProject(dir);
-    auto w = fray::test::openEditorWindow(dir.filePath("demo.frayproj"));
+    auto w = openWithDemoDuelSetup(dir);
     ASSERT_NE(w, nullptr);
-    ASSERT_TRUE(QTest::qWaitFor([&] { return w->analysis() != nullptr; }, 120000));
-    QString demoDuel;
-    for (const QString& s : w->sceneSources())
-        if (s.endsWith("resources/demo/duel.json")) demoDuel = s;
-    ASSERT_TRUE(w->selectSceneSource(demoDuel));
-    ASSERT_TRUE(w->importSpecAsSetup("duel")) << w->lastError().toStdString();
     auto* duration = child<QDoubleSpinBox>(w.get(), "plan_duration");
     auto* seed = child<QSpinBox>(w.get(), "plan_seed");
     auto* blueDepth = child<QSpinBox>(w.get(), "plan_characters_1_depth");

@@ -82,30 +82,22 @@ assert log['stats']['grip_error_max'] < 0.05, log['stats']
 " || bad "path log: $(head -c 2000 "$out/path.json")"
 
 # Bad input: one line, exit code 1 (2: a usage error), before any window (no DISPLAY needed).
-expect_error() {
-  local code=$1 what=$2 message=$3; shift 3
-  local rc=0
-  env -u DISPLAY timeout 60 "$play" "$@" --frames 1 >"$out/err.log" 2>&1 || rc=$?
-  (( rc == code )) || bad "$what: exit code $rc (expected $code): $(cat "$out/err.log")"
-  grep -qF -- "$message" "$out/err.log" || bad "$what: expected '$message': $(cat "$out/err.log")"
-  (( $(grep -c "" "$out/err.log") == 1 )) || bad "$what: expected one line: $(cat "$out/err.log")"
-}
 printf '1.0 forward\n2.0 jump\n' >"$out/bad.txt"
-expect_error 1 "bad command" "bad.txt:2: 'jump' is not a carry command" --carry "$p" --graph "$out/c.igraph" --input "$out/bad.txt"
+expect_play_error 1 "bad command" "bad.txt:2: 'jump' is not a carry command" --carry "$p" --graph "$out/c.igraph" --input "$out/bad.txt"
 printf '1 set w_v=nan\n' >"$out/bad.txt"
-expect_error 1 "bad weight" "bad.txt:1: reward weight w_v is not a finite number" --carry "$p" --graph "$out/c.igraph" --input "$out/bad.txt"
+expect_play_error 1 "bad weight" "bad.txt:1: reward weight w_v is not a finite number" --carry "$p" --graph "$out/c.igraph" --input "$out/bad.txt"
 printf '1 heading north\n' >"$out/bad.txt"
-expect_error 1 "bad heading" "bad.txt:1: heading 'north' is not a number of degrees" --carry "$p" --graph "$out/c.igraph" --input "$out/bad.txt"
+expect_play_error 1 "bad heading" "bad.txt:1: heading 'north' is not a number of degrees" --carry "$p" --graph "$out/c.igraph" --input "$out/bad.txt"
 printf '# a comment\n\ninf forward\n' >"$out/bad.txt"
-expect_error 1 "infinite time" "bad.txt:3: 'inf' is not a time in seconds >= 0" --carry "$p" --graph "$out/c.igraph" --input "$out/bad.txt"
+expect_play_error 1 "infinite time" "bad.txt:3: 'inf' is not a time in seconds >= 0" --carry "$p" --graph "$out/c.igraph" --input "$out/bad.txt"
 printf '2.5\n' >"$out/bad.txt"
-expect_error 1 "no command" "bad.txt:1: a time without a command" --carry "$p" --graph "$out/c.igraph" --input "$out/bad.txt"
-expect_error 1 "bad path" "--path: path 'circle:x'" --carry "$p" --graph "$out/c.igraph" --path circle:x
-expect_error 1 "not a graph" "script.txt: exists and is not a carry graph file: not overwriting it" --carry "$p" --graph "$out/script.txt"
+expect_play_error 1 "no command" "bad.txt:1: a time without a command" --carry "$p" --graph "$out/c.igraph" --input "$out/bad.txt"
+expect_play_error 1 "bad path" "--path: path 'circle:x'" --carry "$p" --graph "$out/c.igraph" --path circle:x
+expect_play_error 1 "not a graph" "script.txt: exists and is not a carry graph file: not overwriting it" --carry "$p" --graph "$out/script.txt"
 printf 'FRAYIGPH\x01\x00\x00\x00' >"$out/duel.igraph"
-expect_error 1 "a duel's graph" "duel.igraph: a duel's interaction graph, not a carry graph: not overwriting it" --carry "$p" --graph "$out/duel.igraph"
+expect_play_error 1 "a duel's graph" "duel.igraph: a duel's interaction graph, not a carry graph: not overwriting it" --carry "$p" --graph "$out/duel.igraph"
 grep -q "forward" "$out/script.txt" || bad "the file at the graph's place was changed"
-expect_error 2 "path without carry" "--path is for --carry" --duel "$p" --path circle:3
+expect_play_error 2 "path without carry" "--path is for --carry" --duel "$p" --path circle:3
 
 if (( fails > 0 )); then echo "$fails failure(s)"; exit 1; fi
 echo "carry_xvfb: all checks passed"

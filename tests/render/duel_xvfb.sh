@@ -96,34 +96,26 @@ grep -q "damaged.igraph: the graph file is truncated or corrupt.*; building it a
 cmp -s "$out/g.igraph" "$out/damaged.igraph" || bad "the graph built again differs from the first"
 
 # Bad input: one line naming the file and line, exit code 1 (2: a usage error), before any window (no DISPLAY needed).
-expect_error() {
-  local code=$1 what=$2 message=$3; shift 3
-  local rc=0
-  env -u DISPLAY timeout 60 "$play" "$@" --frames 1 >"$out/err.log" 2>&1 || rc=$?
-  (( rc == code )) || bad "$what: exit code $rc (expected $code): $(cat "$out/err.log")"
-  grep -qF -- "$message" "$out/err.log" || bad "$what: expected '$message': $(cat "$out/err.log")"
-  (( $(grep -c "" "$out/err.log") == 1 )) || bad "$what: expected one line: $(cat "$out/err.log")"
-}
 printf '1.0 punch\n\n2.0 jump\n' >"$out/bad.txt"
-expect_error 1 "bad command" "bad.txt:3: 'jump' is not a command" --duel "$p" --graph "$out/g.igraph" --input "$out/bad.txt"
+expect_play_error 1 "bad command" "bad.txt:3: 'jump' is not a command" --duel "$p" --graph "$out/g.igraph" --input "$out/bad.txt"
 printf 'soon punch\n' >"$out/bad.txt"
-expect_error 1 "bad time" "bad.txt:1: 'soon' is not a time" --duel "$p" --graph "$out/g.igraph" --input "$out/bad.txt"
+expect_play_error 1 "bad time" "bad.txt:1: 'soon' is not a time" --duel "$p" --graph "$out/g.igraph" --input "$out/bad.txt"
 printf '1 depth 0\n' >"$out/bad.txt"
-expect_error 1 "bad depth" "bad.txt:1: depth '0' is not a whole number from 1 to 10" --duel "$p" --graph "$out/g.igraph" --input "$out/bad.txt"
+expect_play_error 1 "bad depth" "bad.txt:1: depth '0' is not a whole number from 1 to 10" --duel "$p" --graph "$out/g.igraph" --input "$out/bad.txt"
 printf '1 style brawler\n' >"$out/bad.txt"
-expect_error 1 "bad style" "bad.txt:1: no boxing style named 'brawler'" --duel "$p" --graph "$out/g.igraph" --input "$out/bad.txt"
+expect_play_error 1 "bad style" "bad.txt:1: no boxing style named 'brawler'" --duel "$p" --graph "$out/g.igraph" --input "$out/bad.txt"
 printf '# two characters\n1.0 kick 5\n' >"$out/bad.txt"
-expect_error 1 "no such character" "bad.txt:2: character 5: the match has 2 characters" --duel "$p" --graph "$out/g.igraph" --input "$out/bad.txt"
+expect_play_error 1 "no such character" "bad.txt:2: character 5: the match has 2 characters" --duel "$p" --graph "$out/g.igraph" --input "$out/bad.txt"
 echo '{"version": 1, "commands": [{"time": 1, "command": "punch"}, {"time": 2, "command": "jump"}]}' >"$out/bad.json"
-expect_error 1 "bad JSON command" "bad.json: /commands/1/command: 'jump' is not a command" --duel "$p" --graph "$out/g.igraph" --input "$out/bad.json"
-expect_error 1 "not a graph" "script.txt: exists and is not an interaction graph file: not overwriting it" --duel "$p" --graph "$out/script.txt"
+expect_play_error 1 "bad JSON command" "bad.json: /commands/1/command: 'jump' is not a command" --duel "$p" --graph "$out/g.igraph" --input "$out/bad.json"
+expect_play_error 1 "not a graph" "script.txt: exists and is not an interaction graph file: not overwriting it" --duel "$p" --graph "$out/script.txt"
 grep -q "punch" "$out/script.txt" || bad "the file at the graph's place was changed"
 # A project of walking alone: nothing to box with; no graph is written.
 mkdir -p "$out/walk" && cp "$lib/walking.bvh" "$out/walk/"
 "$cli" project new "$out/walk/w.frayproj" --import "$out/walk/walking.bvh" >"$out/walk.log" 2>&1 || bad "project new: $(cat "$out/walk.log")"
-expect_error 1 "no attacks" "w.frayproj: Interaction Graph: the project has no" --duel "$out/walk/w.frayproj"
+expect_play_error 1 "no attacks" "w.frayproj: Interaction Graph: the project has no" --duel "$out/walk/w.frayproj"
 [[ -e "$out/walk/w.frayproj.igraph" ]] && bad "a graph was written for a project without attacks"
-expect_error 2 "not a project" "--duel/--teams: give one project" --duel "$out/script.txt"
+expect_play_error 2 "not a project" "--duel/--teams: give one project" --duel "$out/script.txt"
 
 if (( fails > 0 )); then echo "$fails failure(s)"; exit 1; fi
 echo "duel_xvfb: all checks passed"

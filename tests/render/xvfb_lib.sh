@@ -52,6 +52,18 @@ compose_fight() {
     >"$out/compose.log" 2>&1 || bad "compose: $(cat "$out/compose.log")"
 }
 
+# expect_play_error CODE WHAT MESSAGE ARGS...: fray-play ($play) given ARGS exits
+# with CODE after one line holding MESSAGE (bad input is refused before any
+# window opens, so no DISPLAY is needed); the output goes to $out/err.log.
+expect_play_error() {
+  local code=$1 what=$2 message=$3; shift 3
+  local rc=0
+  env -u DISPLAY timeout 60 "$play" "$@" --frames 1 >"$out/err.log" 2>&1 || rc=$?
+  (( rc == code )) || bad "$what: exit code $rc (expected $code): $(cat "$out/err.log")"
+  grep -qF -- "$message" "$out/err.log" || bad "$what: expected '$message': $(cat "$out/err.log")"
+  (( $(grep -c "" "$out/err.log") == 1 )) || bad "$what: expected one line: $(cat "$out/err.log")"
+}
+
 # expect_broken_scene OUT APP ARGS...: APP given a truncated scene file exits
 # with 1 and names the file.
 expect_broken_scene() {
