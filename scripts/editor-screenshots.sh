@@ -45,6 +45,7 @@ for panel in SceneDock MetricsDock PatternsDock PatchesDock; do
 done
 cp "$shots/gantt-duel.png" "$out/editor-Gantt.png"
 cp "$shots/setup-box-duel.png" "$out/editor-setup-duel.png"
+cp "$shots/setup-box-weights.png" "$out/editor-setup-weights.png"
 cp "$shots/gantt-menu.png" "$out/editor-Gantt-menu.png"
 cp "$shots/gantt-pinned.png" "$out/editor-Gantt-pinned.png"
 cp "$shots/export-dialog.png" "$out/editor-export-dialog.png"

@@ -551,17 +551,32 @@ QByteArray MainWindow::describeUi() const {
     setupBox["chooser"] = "sceneNewKind";
     setupBox["button"] = "sceneNewSetup";
     // graphParameters: the Interaction Graph kinds' (param_*); planParameters:
-    // duel's and chase's (plan_*: duration, seed, a depth per character).
-    QJsonArray params, planParams;
-    for (QWidget* w : paramWidgets_) {
+    // duel's and chase's (plan_*: duration, seed, a depth per character);
+    // characterParameters: duel's and chase's per character (the character
+    // picked, preset, a weight, takes, actions: window_plan_setup.cpp);
+    // composeParameters: the Interaction Patches kinds' numbers (compose_*).
+    QJsonArray params, planParams, composeParams, characterParams;
+    const auto describe = [&](QWidget* w, QWidget* row) {
         QJsonObject o;
         o["name"] = w->objectName();
-        o["label"] = paramsForm_ && paramsForm_->labelForField(w) ? static_cast<QLabel*>(paramsForm_->labelForField(w))->text() : QString();
+        o["label"] = paramsForm_ && paramsForm_->labelForField(row) ? static_cast<QLabel*>(paramsForm_->labelForField(row))->text() : QString();
         o["tip"] = w->toolTip();
-        (w->objectName().startsWith("plan_") ? planParams : params).append(o);
+        o["widget"] = QString(w->metaObject()->className());
+        return o;
+    };
+    for (QWidget* w : paramWidgets_) {
+        const QString name = w->objectName();
+        (name.startsWith("plan_") ? planParams : name.startsWith("compose_") ? composeParams : params).append(describe(w, w));
+    }
+    for (QWidget* row : planRows_) {
+        if (row->objectName() != "plan_weightRow") characterParams.append(describe(row, row));
+        else
+            for (QWidget* w : {static_cast<QWidget*>(planWeightKey_), static_cast<QWidget*>(planWeight_)}) characterParams.append(describe(w, row));
     }
     setupBox["graphParameters"] = params;
     setupBox["planParameters"] = planParams;
+    setupBox["characterParameters"] = characterParams;
+    setupBox["composeParameters"] = composeParams;
     root["setupBox"] = setupBox;
     return QJsonDocument(root).toJson(QJsonDocument::Indented);
 }

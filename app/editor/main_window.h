@@ -444,6 +444,20 @@ private:
     std::vector<QWidget*> paramWidgets_;
     QLabel* paramsInfo_ = nullptr;
     bool fillingParams_ = false;
+    // A duel's or chase's characters in the Setup box: preset, a weight,
+    // takes and actions of the character picked (window_plan_setup.cpp).
+    void makePlanCharacterRows();
+    void refreshPlanCharacterRows(const setup::SceneSetup* s);
+    void setPlanWeight();
+    void setPlanList(QListWidget* list, const char* field);
+    QComboBox* planCharacter_ = nullptr;
+    QComboBox* planPreset_ = nullptr;
+    QComboBox* planWeightKey_ = nullptr;
+    QLineEdit* planWeight_ = nullptr;
+    QLabel* planWeightFrom_ = nullptr;
+    QListWidget* planMotions_ = nullptr;
+    QListWidget* planActions_ = nullptr;
+    std::vector<QWidget*> planRows_;
     // Interaction graphs built in memory by earlier generates (graph setups), reused.
     std::shared_ptr<pipeline::GraphCache> graphCache_;
     QGroupBox* cpBox_ = nullptr;

@@ -92,6 +92,23 @@ constexpr Field kPlanFields[] = {
 };
 static_assert(std::size(kPlanFields) == 2 + kPlanCharacters);
 
+// Interaction Patches kinds: the scalar parameters of their specs (ranges as
+// fray-cli compose reads them). A row shows when the setup has the field.
+constexpr Field kComposeFields[] = {
+    {"duration", "Duration (s)", FieldType::Double, 0.1, 3600, 1, "", false, false, false, "How long the scene lasts"},
+    {"seed", "Seed", FieldType::Int, 0, 2147483647, 1, "", false, false, false, "The composer's random choices"},
+    {"entry_radius", "Entry radius (m)", FieldType::Double, 0, 1000, 0.5, "", false, false, false, "How far away characters enter"},
+    {"enemies", "Enemies", FieldType::Int, 1, 1000, 1, "", false, false, false, "Enemies around the main character (one-vs-many)"},
+    {"porters", "Porters", FieldType::Int, 2, 100, 1, "", false, false, false, "People passing the luggage along"},
+    {"handoffs", "Handoffs", FieldType::Int, 1, 10000, 1, "", false, false, false, "How many times the luggage changes hands"},
+    {"tacklers", "Tacklers", FieldType::Int, 1, 1000, 1, "", false, false, false, "Defenders tackling the runner (football)"},
+    {"goal", "Goal (m)", FieldType::Double, 0, 1000, 1, "", false, false, false, "How far the runner's goal line is"},
+    {"background", "Background people", FieldType::Int, 0, 10000, 1, "", false, false, false,
+     "People standing outside the painted area (domino)"},
+    {"max_characters", "Max characters", FieldType::Int, 1, 100000, 10, "", false, false, false, "At most this many people (domino)"},
+    {"crowd", "Crowd", FieldType::Int, 1, 20000, 1, "", false, false, false, "People in the crowd the rat runs through"},
+};
+
 // A plan field's value from the setup's spec, when it is a number there.
 std::optional<double> planValue(const setup::SceneSetup& s, const std::string& key) {
     const auto text = setup::parameter(s, "/" + key);
@@ -192,6 +209,7 @@ QWidget* MainWindow::makeSetupParameters() {
     auto fields = std::vector<const Field*>();
     for (const Field& f : kFields) fields.push_back(&f);
     for (const Field& f : kPlanFields) fields.push_back(&f);
+    for (const Field& f : kComposeFields) fields.push_back(&f);
     for (const Field* field : fields) {
         const Field& f = *field;
         QWidget* w = nullptr;
@@ -232,10 +250,13 @@ QWidget* MainWindow::makeSetupParameters() {
         }
         // The plan fields share keys with the graph fields: "plan_duration" beside "param_duration".
         const bool planField = field >= std::begin(kPlanFields) && field < std::end(kPlanFields);
-        w->setObjectName(planField ? "plan_" + objectNameOf(f).mid(6) : objectNameOf(f));
+        const bool composeField = field >= std::begin(kComposeFields) && field < std::end(kComposeFields);
+        w->setObjectName(planField ? "plan_" + objectNameOf(f).mid(6) : composeField ? "compose_" + objectNameOf(f).mid(6) : objectNameOf(f));
         w->setToolTip(f.tip);
         paramsForm_->addRow(f.label, w);
         paramWidgets_.push_back(w);
+        // A duel's or chase's characters after its duration, seed and depths.
+        if (field == &kPlanFields[std::size(kPlanFields) - 1]) makePlanCharacterRows();
     }
     v->addLayout(paramsForm_);
     paramsInfo_ = new QLabel;
@@ -319,12 +340,24 @@ void MainWindow::refreshSetupParameters() {
         if (f.type == FieldType::Int) static_cast<QSpinBox*>(w)->setValue(static_cast<int>(*v));
         else static_cast<QDoubleSpinBox*>(w)->setValue(*v);
     }
+    refreshPlanCharacterRows(plan ? &*s : nullptr);
+    const bool compose = s && !plan && !graph;
+    for (std::size_t i = 0; i < std::size(kComposeFields); ++i) {
+        const Field& f = kComposeFields[i];
+        QWidget* w = paramWidgets_[std::size(kFields) + std::size(kPlanFields) + i];
+        const std::optional<double> v = compose ? planValue(*s, f.key) : std::nullopt;
+        paramsForm_->setRowVisible(w, v.has_value());
+        if (!v) continue;
+        const QSignalBlocker quiet(w);
+        if (f.type == FieldType::Int) static_cast<QSpinBox*>(w)->setValue(static_cast<int>(*v));
+        else static_cast<QDoubleSpinBox*>(w)->setValue(*v);
+    }
     if (!s) paramsInfo_->setText("No setup selected: pick one above, or a kind and New setup.");
     else if (plan)
-        paramsInfo_->setText(QString("%1 setup planned by tree expansion: paths, checkpoints and starts on the floor (Floor tools), pins in the "
-                                     "action track, the rest with fray-cli setup.")
+        paramsInfo_->setText(QString("%1 setup planned by tree expansion: each character's preset, weights, takes and actions above; paths, "
+                                     "checkpoints and starts on the floor (Floor tools), pins in the action track.")
                                  .arg(setup::setupKindName(s->kind)));
-    else if (!graph) paramsInfo_->setText(QString("%1 setup: edit it on the floor (Floor tools) or with fray-cli setup.").arg(setup::setupKindName(s->kind)));
+    else if (!graph) paramsInfo_->setText(QString("%1 setup: its numbers above, the rest on the floor (Floor tools) or with fray-cli setup.").arg(setup::setupKindName(s->kind)));
     else if (!p) paramsInfo_->setText("The parameters cannot be read: " + qs(p.error().message));
     else if (s->kind == SetupKind::GraphCarry)
         paramsInfo_->setText(setup::carryTrajectory(*s) ? "Two carriers of a long box follow the box's path (trajectory of 'box': redraw it with "

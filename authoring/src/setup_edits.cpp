@@ -12,6 +12,7 @@
 #include "fray/core/atomic_file.h"
 #include "fray/setup/graph_setup.h"
 #include "fray/setup/convert.h"
+#include "fray/setup/plan_setup.h"
 #include "fray/prep/json_reader.h"  // FRAY_TRY
 
 namespace fray::authoring {
@@ -114,7 +115,12 @@ Status ProjectDocument::addSetup(SceneSetup s) {
 
 Status ProjectDocument::addSetup(const std::string& name, setup::SetupKind kind) {
     if (auto st = setup::checkSetupName(name); !st) return st;
-    return addSetup(setup::makeSetup(name, kind));
+    SceneSetup s = setup::makeSetup(name, kind);
+    // A new duel fights with the project's fighting takes (plan_setup.h), not every take's actions.
+    if (kind == setup::SetupKind::Duel) {
+        if (auto st = setup::applyActionSet(s, setup::defaultDuelActionSet(project_)); !st) return st;
+    }
+    return addSetup(std::move(s));
 }
 
 Status ProjectDocument::removeSetup(const std::string& name) {
@@ -199,10 +205,20 @@ Status ProjectDocument::setSetupParameter(const std::string& name, const std::st
     return editSetup(name, QStringLiteral("Set %1").arg(QString::fromStdString(pointer)), "param" + pointer, drag,
                      {ChangeKind::SetupParameters, {}, -1, 0},
                      [&](SceneSetup& s) -> Status {
+                         const SceneSetup was = s;
                          if (auto st = setup::setParameter(s, pointer, json); !st) return st;
                          // An Interaction Graph setup's parameters are checked as they are set (the error names the field).
                          if (setup::isGraphKind(s.kind)) {
                              if (auto p = setup::graphParams(s, false); !p) return p.error();
+                         }
+                         // A duel's or chase's spec is read as simulate reads it (presets, weights, actions,
+                         // takes); an edit is refused when it brings a problem the setup did not have before.
+                         if (setup::isTreeExpansion(s.kind)) {
+                             const std::string file = file_.empty() ? project_.name : file_.string();
+                             if (auto after = setup::checkPlanSetup(s, project_, file); !after) {
+                                 const auto before = setup::checkPlanSetup(was, project_, file);
+                                 if (before || before.error().message != after.error().message) return after.error();
+                             }
                          }
                          return {};
                      });

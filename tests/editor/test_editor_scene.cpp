@@ -8,6 +8,7 @@
 
 #include <QApplication>
 #include <QLineEdit>
+#include <QListWidget>
 #include <QDialog>
 #include <QCheckBox>
 #include <QAction>
@@ -835,4 +836,176 @@ TEST(SceneSetups, DurationSeedAndDepthsAreEditedInTheSetupBox) {
     EXPECT_EQ(fray::setup::parameter(*setup, "/characters/1/depth").value_or(""), "2");
     EXPECT_DOUBLE_EQ(duration->value(), 20.0) << "the box follows undo";
     EXPECT_EQ(blueDepth->value(), 2);
+}
+
+// Types `text` over what a line edit or spin box holds and presses Enter, as a user does.
+void typeOver(QWidget* edit, const QString& text) {
+    QTest::mouseClick(edit, Qt::LeftButton);
+    QTest::keyClick(edit, Qt::Key_A, Qt::ControlModifier);
+    QTest::keyClicks(edit, text);
+    QTest::keyClick(edit, Qt::Key_Return);
+}
+
+// Clicks a check list's item and toggles its box with the space bar.
+bool toggleItem(QListWidget* list, const QString& text) {
+    const auto found = list->findItems(text, Qt::MatchExactly);
+    if (found.size() != 1) return false;
+    list->scrollToItem(found[0]);
+    QTest::mouseClick(list->viewport(), Qt::LeftButton, {}, list->visualItemRect(found[0]).center());
+    const Qt::CheckState was = found[0]->checkState();
+    QTest::keyClick(list, Qt::Key_Space);
+    return found[0]->checkState() != was;
+}
+
+// A duel's characters in the Setup box (preset, a weight, the action set):
+// each change typed or clicked is one undo step that re-plans the scene, undo
+// gives the project back bit for bit, and a weight that is not a finite
+// number is refused with a message and changes nothing.
+TEST(SceneSetups, PresetWeightAndActionsAreEditedInTheSetupBox) {
+    QTemporaryDir dir;
+    auto w = openWithDemoDuelSetup(dir);
+    ASSERT_NE(w, nullptr);
+    auto* doc = w->document();
+    // A short duel, so each re-plan takes a moment: 6 s, red 2 decisions ahead.
+    typeOver(child<QDoubleSpinBox>(w.get(), "plan_duration"), "6");
+    typeOver(child<QSpinBox>(w.get(), "plan_characters_0_depth"), "2");
+    ASSERT_EQ(fray::setup::parameter(*doc->sceneSetup("duel"), "/duration").value_or(""), "6");
+    generateAndWait(w.get());
+    ASSERT_NE(w->scene(), nullptr) << w->lastError().toStdString();
+    const auto replanned = [&](const fray::cli::SceneStage* before) {
+        return QTest::qWaitFor([&] { return w->scene() != before && !w->replanPending() && !w->busy(); }, 60000) &&
+               w->lastError().isEmpty();
+    };
+    auto* character = child<QComboBox>(w.get(), "plan_character");
+    auto* preset = child<QComboBox>(w.get(), "plan_preset");
+    auto* key = child<QComboBox>(w.get(), "plan_weightKey");
+    auto* weight = child<QLineEdit>(w.get(), "plan_weight");
+    auto* from = child<QLabel>(w.get(), "plan_weightFrom");
+    auto* takes = child<QListWidget>(w.get(), "plan_motions");
+    auto* actions = child<QListWidget>(w.get(), "plan_actions");
+    ASSERT_TRUE(character && preset && key && weight && from && takes && actions);
+    EXPECT_FALSE(preset->isHidden());
+    ASSERT_EQ(character->count(), 2);
+    EXPECT_EQ(character->currentText(), "red");
+    EXPECT_EQ(preset->currentText(), "general-boxer");
+    EXPECT_GE(preset->findText("runaway-path"), 0) << "the built-in presets";
+    // The demo duel's action set as stored: one take, eight annotations.
+    int takesOn = 0;
+    for (int i = 0; i < takes->count(); ++i) takesOn += takes->item(i)->checkState() == Qt::Checked;
+    EXPECT_EQ(takesOn, 1);
+    EXPECT_EQ(actions->count(), 9) << "the take's annotations (dodge too), reactions aside";
+    ASSERT_EQ(actions->findItems("@dodge", Qt::MatchExactly).size(), 1);
+    EXPECT_EQ(actions->findItems("@dodge", Qt::MatchExactly)[0]->checkState(), Qt::Unchecked);
+    EXPECT_EQ(actions->findItems("@kick", Qt::MatchExactly)[0]->checkState(), Qt::Checked);
+    const std::string original = doc->serialized();
+    const int steps = doc->undoStack()->count();
+
+    // Blue's preset: the next one in the list (infighter), by the keyboard.
+    QTest::keyClick(character, Qt::Key_Down);
+    ASSERT_EQ(character->currentText(), "blue");
+    const auto* before = w->scene();
+    QTest::keyClick(preset, Qt::Key_Down);
+    EXPECT_EQ(doc->undoStack()->count(), steps + 1);
+    EXPECT_EQ(fray::setup::parameter(*doc->sceneSetup("duel"), "/characters/1/preset").value_or(""), "\"infighter\"");
+    EXPECT_TRUE(replanned(before)) << w->lastError().toStdString();
+    EXPECT_EQ(w->scene()->scene().characters[1].preset, "infighter");
+    doc->undoStack()->undo();
+    EXPECT_EQ(doc->serialized(), original);
+    EXPECT_EQ(preset->currentText(), "general-boxer") << "the box follows undo";
+
+    // Blue's w_r (movement weight) typed: one step, shown as set in the setup.
+    key->setCurrentIndex(key->findText("w_r"));
+    EXPECT_EQ(weight->text(), "10") << "the preset's value";
+    EXPECT_EQ(from->text(), "preset");
+    before = w->scene();
+    typeOver(weight, "25");
+    EXPECT_EQ(doc->undoStack()->count(), steps + 1);
+    EXPECT_EQ(fray::setup::parameter(*doc->sceneSetup("duel"), "/characters/1/weights/w_r").value_or(""), "25");
+    EXPECT_EQ(from->text(), "set here");
+    EXPECT_TRUE(replanned(before)) << w->lastError().toStdString();
+    {
+        // The box at its own size (in the dock it scrolls), for docs/EDITOR.md.
+        QDir().mkpath(FRAY_EDITOR_SHOTS);
+        auto* box = child<QGroupBox>(w.get(), "setupBox");
+        const QSize was = box->size();
+        box->resize(std::max(box->width(), 420), box->sizeHint().height());
+        box->grab().save(QString(FRAY_EDITOR_SHOTS) + "/setup-box-weights.png");
+        box->resize(was);
+    }
+    EXPECT_NE(w->scene()->scene().spec.find("\"w_r\": 25"), std::string::npos) << "the new scene was planned with it";
+    doc->undoStack()->undo();
+    EXPECT_EQ(doc->serialized(), original);
+    EXPECT_EQ(weight->text(), "10");
+
+    // Not a finite number, or out of range: refused with a message naming the weight; nothing changes.
+    for (const char* bad : {"nan", "inf", "1e999", "-3", "ten"}) {
+        typeOver(weight, bad);
+        EXPECT_TRUE(w->lastError().contains("w_r")) << bad << ": " << w->lastError().toStdString();
+        EXPECT_EQ(doc->undoStack()->count(), steps) << bad;
+        EXPECT_EQ(doc->serialized(), original) << bad;
+        EXPECT_EQ(weight->text(), "10") << "the stored value again";
+    }
+    EXPECT_TRUE(w->lastError().contains("expected a number")) << w->lastError().toStdString();
+
+    // Blue's action set: kicks off (one click and the space bar), one step; the
+    // new scene has no kick of blue's.
+    before = w->scene();
+    ASSERT_TRUE(toggleItem(actions, "@kick"));
+    EXPECT_EQ(doc->undoStack()->count(), steps + 1);
+    EXPECT_EQ(fray::setup::parameter(*doc->sceneSetup("duel"), "/characters/1/actions").value_or(""),
+              R"(["@punch","@block","@avoid","@step","@idle","@transition","@turn"])");
+    ASSERT_TRUE(replanned(before)) << w->lastError().toStdString();
+    const auto& lib = w->scene()->library();
+    for (const auto& inst : w->scene()->scene().characters[1].track) EXPECT_FALSE(lib.action(inst.action).is(fray::sim::kKick));
+    // The last take unchecked: refused (a character needs one), nothing changes.
+    const std::string kicked = doc->serialized();
+    QString onlyTake;
+    for (int i = 0; i < takes->count(); ++i)
+        if (takes->item(i)->checkState() == Qt::Checked) onlyTake = takes->item(i)->text();
+    toggleItem(takes, onlyTake);
+    EXPECT_TRUE(w->lastError().contains("at least one take")) << w->lastError().toStdString();
+    EXPECT_EQ(doc->serialized(), kicked);
+    doc->undoStack()->undo();
+    EXPECT_EQ(doc->serialized(), original);
+    EXPECT_EQ(actions->findItems("@kick", Qt::MatchExactly)[0]->checkState(), Qt::Checked);
+}
+
+// Live re-plan of the demo duel after a weight typed into the Setup box
+// (docs/BENCHMARKS.md "Live re-plan in the editor"): red's w_r set to 20 and
+// Enter, then undone, two rounds; time from the Enter (or the undo) to the new
+// scene playing, the 250 ms debounce included. Run by hand:
+//   fray_editor_scene_tests --gtest_also_run_disabled_tests --gtest_filter='*LiveReplanWeightEdits*'
+TEST(SceneSetups, DISABLED_LiveReplanWeightEdits) {
+    QTemporaryDir dir;
+    auto w = openWithDemoDuelSetup(dir);
+    ASSERT_NE(w, nullptr);
+    generateAndWait(w.get());
+    ASSERT_NE(w->scene(), nullptr) << w->lastError().toStdString();
+    const auto waitNew = [&](const fray::cli::SceneStage* before) {
+        return QTest::qWaitFor([&] { return w->scene() != before && !w->replanPending() && !w->busy(); }, 300000);
+    };
+    auto* key = child<QComboBox>(w.get(), "plan_weightKey");
+    auto* weight = child<QLineEdit>(w.get(), "plan_weight");
+    ASSERT_TRUE(key && weight);
+    key->setCurrentIndex(key->findText("w_r"));
+    for (int round = 0; round < 2; ++round) {
+        QTest::mouseClick(weight, Qt::LeftButton);
+        QTest::keyClick(weight, Qt::Key_A, Qt::ControlModifier);
+        QTest::keyClicks(weight, "20");
+        const auto* before = w->scene();
+        QElapsedTimer clock;
+        clock.start();
+        QTest::keyClick(weight, Qt::Key_Return);
+        ASSERT_TRUE(waitNew(before)) << w->lastError().toStdString();
+        const qint64 edit = clock.elapsed();
+        const auto info = w->scene()->scene().stats;
+        before = w->scene();
+        clock.start();
+        w->document()->undoStack()->undo();
+        ASSERT_TRUE(waitNew(before)) << w->lastError().toStdString();
+        std::printf("live re-plan duel, red's w_r 10 -> 20: %lld ms from Enter to the new scene playing, undo %lld ms "
+                    "(planning %.2f s)\n",
+                    static_cast<long long>(edit), static_cast<long long>(clock.elapsed()), info.seconds);
+        std::fflush(stdout);
+    }
 }

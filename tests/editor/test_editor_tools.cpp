@@ -13,6 +13,7 @@
 #include <QDir>
 #include <QDoubleSpinBox>
 #include <QLineEdit>
+#include <QListWidget>
 #include <QPushButton>
 #include <QTest>
 #include <QUndoStack>
@@ -57,16 +58,49 @@ TEST_F(EditorTools, CircleWithThreeTimedCheckpointsTakesTheFightRound) {
     ASSERT_TRUE(doc->addSetup("duel", fray::setup::SetupKind::Duel));
     ASSERT_TRUE(w->selectSetup("duel"));
     w->findChild<QCheckBox*>("sceneLive")->setChecked(false);  // generated once, below
-    // The schedule runs to 24 s: the duel's 20 s made longer, and the pair made
-    // boxers as in the demo duel (the default duel allows every take's actions:
-    // walking, carrying, handing over). No widgets for these yet: the document's
-    // parameter command, one undo step each.
-    ASSERT_TRUE(doc->setSetupParameter("duel", "/duration", "32"));
-    for (const char* who : {"/characters/0", "/characters/1"}) {
-        ASSERT_TRUE(doc->setSetupParameter("duel", std::string(who) + "/motions", R"(["shadowbox_energetic"])"));
-        ASSERT_TRUE(doc->setSetupParameter("duel", std::string(who) + "/actions",
-                                           R"(["@punch", "@kick", "@block", "@avoid", "@step", "@idle", "@transition", "@turn"])"));
+    // The schedule runs to 24 s: the duel's 20 s made longer, typed into the
+    // Setup box. A new duel fights with the project's fighting takes (both
+    // shadow-boxing takes, every annotation of theirs but reactions); here the
+    // pair boxes as in the demo duel: the energetic take alone, without dodges.
+    // Clicks and keys on the box's widgets, one undo step each.
+    EXPECT_EQ(fray::setup::parameter(*doc->sceneSetup("duel"), "/characters/0/motions").value_or(""),
+              R"(["shadowbox_energetic","shadowbox_tired"])");
+    EXPECT_EQ(fray::setup::parameter(*doc->sceneSetup("duel"), "/characters/1/actions").value_or(""),
+              R"(["@punch","@kick","@avoid","@dodge","@block","@step","@transition","@turn","@idle"])");
+    int edits = doc->undoStack()->count();
+    auto* duration = w->findChild<QDoubleSpinBox*>("plan_duration");
+    ASSERT_NE(duration, nullptr);
+    QTest::mouseClick(duration, Qt::LeftButton);
+    QTest::keyClick(duration, Qt::Key_A, Qt::ControlModifier);
+    QTest::keyClicks(duration, "32");
+    QTest::keyClick(duration, Qt::Key_Return);
+    EXPECT_EQ(doc->undoStack()->count(), ++edits);
+    auto* who = w->findChild<QComboBox*>("plan_character");
+    auto* takes = w->findChild<QListWidget*>("plan_motions");
+    auto* actions = w->findChild<QListWidget*>("plan_actions");
+    ASSERT_TRUE(who && takes && actions);
+    const auto untick = [&](QListWidget* list, const QString& text) {
+        const auto found = list->findItems(text, Qt::MatchExactly);
+        ASSERT_EQ(found.size(), 1) << text.toStdString();
+        ASSERT_EQ(found[0]->checkState(), Qt::Checked) << text.toStdString();
+        list->scrollToItem(found[0]);
+        QTest::mouseClick(list->viewport(), Qt::LeftButton, {}, list->visualItemRect(found[0]).center());
+        QTest::keyClick(list, Qt::Key_Space);
+        EXPECT_EQ(doc->undoStack()->count(), ++edits) << w->lastError().toStdString();
+    };
+    for (int c = 0; c < 2; ++c) {
+        if (c == 1) QTest::keyClick(who, Qt::Key_Down);
+        ASSERT_EQ(who->currentIndex(), c);
+        untick(takes, "shadowbox_tired");
+        untick(actions, "@dodge");
     }
+    for (const char* c : {"/characters/0", "/characters/1"}) {
+        const auto s = doc->sceneSetup("duel");
+        EXPECT_EQ(fray::setup::parameter(*s, std::string(c) + "/motions").value_or(""), R"(["shadowbox_energetic"])");
+        EXPECT_EQ(fray::setup::parameter(*s, std::string(c) + "/actions").value_or(""),
+                  R"(["@punch","@kick","@avoid","@block","@step","@transition","@turn","@idle"])");
+    }
+    EXPECT_EQ(fray::setup::parameter(*doc->sceneSetup("duel"), "/duration").value_or(""), "32");
     ASSERT_TRUE(w->selectToolCharacter("red"));
     lookDown(editor.viewport, {0.0f, -1.5f}, 10.0f);
     // A circle of 1.5 m around (0, -1.5) through red's start (0, 0), counter-clockwise

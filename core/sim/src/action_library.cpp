@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include "fray/core/kinematics.h"
+#include "fray/sim/action_catalogue.h"
 #include "fray/sim/segment_boxes.h"
 #include "interaction.h"
 
@@ -58,25 +59,7 @@ std::array<Obb, kSegmentCount> segmentBoxes(std::span<const glm::vec3> world, co
 
 namespace {
 
-std::uint32_t flagsOf(const std::vector<std::string>& annotations) {
-    std::uint32_t f = 0;
-    for (const auto& a : annotations) {
-        if (a == "punch") f |= kPunch;
-        else if (a == "kick") f |= kKick;
-        else if (a == "block") f |= kBlock;
-        else if (a == "avoid" || a == "dodge") f |= kAvoid;
-        else if (a == "pushed") f |= kPushed;
-        else if (a == "falling") f |= kFalling;
-        else if (a == "step") f |= kStep;
-        else if (a == "idle") f |= kIdle;
-        else if (a == "walk") f |= kWalk;
-        else if (a == "run") f |= kRun;
-        else if (a == "turn") f |= kTurn;
-        else if (a == "transition") f |= kTransition;
-        else if (a == "tackle") f |= kTackle;
-    }
-    return f;
-}
+std::uint32_t flagsOf(const std::vector<std::string>& annotations) { return actionFlags(annotations); }
 
 }  // namespace
 

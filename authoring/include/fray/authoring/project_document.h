@@ -128,7 +128,7 @@ public:
     Result<std::vector<setup::SceneSetup>> setups() const;
     Result<setup::SceneSetup> sceneSetup(const std::string& name) const;
     Status addSetup(setup::SceneSetup setup);                       // appended; the name must be new
-    Status addSetup(const std::string& name, setup::SetupKind kind);  // setup::makeSetup
+    Status addSetup(const std::string& name, setup::SetupKind kind);  // setup::makeSetup (duel: defaultDuelActionSet)
     Status removeSetup(const std::string& name);
     Status renameSetup(const std::string& from, const std::string& to);
     Status duplicateSetup(const std::string& name, const std::string& copyName);
@@ -138,7 +138,7 @@ public:
     Status importSetupFromSpec(const std::string& name, const std::filesystem::path& specFile);
     // Any parameter by JSON pointer into the --spec form ("/duration",
     // "/characters/1/preset", "/characters/0/weights/r_d"); `json` is the
-    // value as JSON text, "null" removes it. setup::setParameter's rules.
+    // value as JSON text, "null" removes it. setup::setParameter's rules; duel, chase: setup::checkPlanSetup.
     Status setSetupParameter(const std::string& setup, const std::string& pointer, const std::string& json, DragId drag = 0);
     // A whole setup replaced at once (an import, a reset to defaults): one step named `text`.
     Status replaceSetup(const std::string& name, setup::SceneSetup setup, const QString& text);
