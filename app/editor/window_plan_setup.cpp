@@ -13,6 +13,7 @@
 #include <QSignalBlocker>
 #include <algorithm>
 #include <charconv>
+#include <functional>
 #include <set>
 
 #include <nlohmann/json.hpp>
@@ -45,8 +46,7 @@ json specValue(const setup::SceneSetup& s, const std::string& pointer) {
 
 // A weight's value in a StyleWeights, as the line edit shows it.
 std::string weightText(const sim::StyleWeights& w, const std::string& key) {
-    const std::string json = sim::weightsToJson(w);
-    const auto j = nlohmann::json::parse(json, nullptr, false);
+    const auto j = nlohmann::json::parse(sim::weightsToJson(w), nullptr, false);
     if (j.is_discarded() || !j.contains(key)) return "";
     const auto& v = j[key];
     if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
@@ -61,11 +61,40 @@ std::vector<std::string> strings(const json& j) {
     return out;
 }
 
+// Fills a check list with `items` (data and text), checked where `on` says.
+// When it holds those very items already only the boxes change: the list may
+// be refreshed from its own itemChanged (an edit re-reads the setup), which
+// must not delete the item being toggled.
+void fillCheckList(QListWidget* list, const std::vector<std::string>& items, const std::function<bool(const std::string&)>& on) {
+    bool same = list->count() == static_cast<int>(items.size());
+    for (int i = 0; same && i < list->count(); ++i) same = list->item(i)->data(Qt::UserRole).toString() == qs(items[static_cast<std::size_t>(i)]);
+    if (!same) {
+        list->clear();
+        for (const auto& a : items) {
+            auto* item = new QListWidgetItem(qs(a), list);
+            item->setData(Qt::UserRole, qs(a));
+            item->setFlags(Qt::ItemIsEnabled | Qt::ItemIsSelectable | Qt::ItemIsUserCheckable);
+        }
+    }
+    for (int i = 0; i < list->count(); ++i) list->item(i)->setCheckState(on(items[static_cast<std::size_t>(i)]) ? Qt::Checked : Qt::Unchecked);
+}
+
+// Sets a combo box's items (text and data) unless it holds them already (as
+// fillCheckList: a refresh may run from its own signal).
+void fillCombo(QComboBox* combo, const std::vector<std::pair<QString, QString>>& items) {
+    bool same = combo->count() == static_cast<int>(items.size());
+    for (int i = 0; same && i < combo->count(); ++i)
+        same = combo->itemText(i) == items[static_cast<std::size_t>(i)].first && combo->itemData(i).toString() == items[static_cast<std::size_t>(i)].second;
+    if (same) return;
+    combo->clear();
+    for (const auto& [text, data] : items) combo->addItem(text, data);
+}
+
 QListWidget* checkList(const char* name, const char* tip) {
     auto* list = new QListWidget;
     list->setObjectName(name);
     list->setToolTip(tip);
-    list->setMaximumHeight(110);
+    list->setMaximumHeight(150);
     list->setUniformItemSizes(true);
     return list;
 }
@@ -149,9 +178,18 @@ void MainWindow::setPlanWeight() {
 
 void MainWindow::setPlanList(QListWidget* list, const char* field) {
     if (fillingParams_ || !doc_ || currentSetup().isEmpty() || planCharacter_->currentIndex() < 0) return;
-    json checked = json::array();
+    // The stored order is kept: what stays checked, then what was checked now.
+    const std::string pointer = "characters/" + std::to_string(planCharacter_->currentIndex()) + "/" + field;
+    std::vector<std::string> on;
     for (int i = 0; i < list->count(); ++i)
-        if (list->item(i)->checkState() == Qt::Checked) checked.push_back(list->item(i)->data(Qt::UserRole).toString().toStdString());
+        if (list->item(i)->checkState() == Qt::Checked) on.push_back(list->item(i)->data(Qt::UserRole).toString().toStdString());
+    std::vector<std::string> stored;
+    if (auto s = doc_->sceneSetup(currentSetup().toStdString())) stored = strings(specValue(*s, "/" + pointer));
+    json checked = json::array();
+    for (const auto& x : stored)
+        if (std::find(on.begin(), on.end(), x) != on.end()) checked.push_back(x);
+    for (const auto& x : on)
+        if (std::find(stored.begin(), stored.end(), x) == stored.end()) checked.push_back(x);
     if (checked.empty()) {
         toolMessage(QString("Setup '%1': %2 needs at least one %3").arg(currentSetup(), planCharacter_->currentText(),
                                                                         std::string_view(field) == "motions" ? "take" : "action"),
@@ -159,7 +197,7 @@ void MainWindow::setPlanList(QListWidget* list, const char* field) {
         refreshSetupParameters();
         return;
     }
-    setGraphParameter("characters/" + std::to_string(planCharacter_->currentIndex()) + "/" + field, checked.dump());
+    setGraphParameter(pointer, checked.dump());
 }
 
 void MainWindow::refreshPlanCharacterRows(const setup::SceneSetup* s) {
@@ -172,8 +210,9 @@ void MainWindow::refreshPlanCharacterRows(const setup::SceneSetup* s) {
     int c = planCharacter_->currentIndex();
     if (planCharacter_->property("setup").toString() != qs(s->name)) c = 0;
     planCharacter_->setProperty("setup", qs(s->name));
-    planCharacter_->clear();
-    for (const auto& p : people) planCharacter_->addItem(qs(p.name));
+    std::vector<std::pair<QString, QString>> names;
+    for (const auto& p : people) names.emplace_back(qs(p.name), qs(p.name));
+    fillCombo(planCharacter_, names);
     c = std::clamp(c, 0, static_cast<int>(people.size()) - 1);
     planCharacter_->setCurrentIndex(c);
     const std::string at = "/characters/" + std::to_string(c);
@@ -183,16 +222,19 @@ void MainWindow::refreshPlanCharacterRows(const setup::SceneSetup* s) {
     const auto presets = sim::projectPresets(doc_->project(), file);
     const json presetJ = specValue(*s, at + "/preset");
     const std::string preset = presetJ.is_string() ? presetJ.get<std::string>() : "general-boxer";
-    planPreset_->clear();
     sim::StyleWeights base;
+    std::vector<std::pair<QString, QString>> presetItems;
+    bool known = false;
     if (presets) {
         for (const auto& p : *presets) {
-            planPreset_->addItem(qs(p.name), qs(p.name));
-            planPreset_->setItemData(planPreset_->count() - 1, qs(p.description), Qt::ToolTipRole);
-            if (p.name == preset) base = p.weights;
+            presetItems.emplace_back(qs(p.name), qs(p.name));
+            if (p.name == preset) base = p.weights, known = true;
         }
     }
-    if (planPreset_->findData(qs(preset)) < 0) planPreset_->addItem(qs(preset) + " (unknown)", qs(preset));
+    if (!known) presetItems.emplace_back(qs(preset) + " (unknown)", qs(preset));
+    fillCombo(planPreset_, presetItems);
+    if (presets)
+        for (std::size_t i = 0; i < presets->size(); ++i) planPreset_->setItemData(static_cast<int>(i), qs((*presets)[i].description), Qt::ToolTipRole);
     planPreset_->setCurrentIndex(planPreset_->findData(qs(preset)));
 
     // The weight: the setup's value when it sets one, else the preset's.
@@ -211,14 +253,11 @@ void MainWindow::refreshPlanCharacterRows(const setup::SceneSetup* s) {
     // Takes: every take of the project; checked as the setup stores them (none stored: all).
     const prep::Project& project = doc_->project();
     const std::vector<std::string> motions = strings(specValue(*s, at + "/motions"));
-    planMotions_->clear();
-    for (const auto& m : project.motions) {
-        auto* item = new QListWidgetItem(qs(m.id), planMotions_);
-        item->setData(Qt::UserRole, qs(m.id));
-        item->setFlags(Qt::ItemIsEnabled | Qt::ItemIsSelectable | Qt::ItemIsUserCheckable);
-        const bool on = motions.empty() || std::find(motions.begin(), motions.end(), m.id) != motions.end();
-        item->setCheckState(on ? Qt::Checked : Qt::Unchecked);
-    }
+    std::vector<std::string> takeIds;
+    for (const auto& m : project.motions) takeIds.push_back(m.id);
+    fillCheckList(planMotions_, takeIds, [&](const std::string& id) {
+        return motions.empty() || std::find(motions.begin(), motions.end(), id) != motions.end();
+    });
     // Actions: "@word" for each annotation a chosen take's own actions carry
     // (reactions aside), then what the setup stores beyond them (action names).
     std::set<std::string> words;
@@ -234,14 +273,9 @@ void MainWindow::refreshPlanCharacterRows(const setup::SceneSetup* s) {
         if (words.contains(w)) items.push_back("@" + w);
     for (const auto& a : actions)
         if (std::find(items.begin(), items.end(), a) == items.end()) items.push_back(a);
-    planActions_->clear();
-    for (const auto& a : items) {
-        auto* item = new QListWidgetItem(qs(a), planActions_);
-        item->setData(Qt::UserRole, qs(a));
-        item->setFlags(Qt::ItemIsEnabled | Qt::ItemIsSelectable | Qt::ItemIsUserCheckable);
-        const bool on = actionsJ.is_null() || std::find(actions.begin(), actions.end(), a) != actions.end();
-        item->setCheckState(on ? Qt::Checked : Qt::Unchecked);
-    }
+    fillCheckList(planActions_, items, [&](const std::string& a) {
+        return actionsJ.is_null() || std::find(actions.begin(), actions.end(), a) != actions.end();
+    });
 }
 
 }  // namespace fray::editor
