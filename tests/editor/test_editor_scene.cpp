@@ -1018,3 +1018,34 @@ TEST(SceneSetups, DISABLED_LiveReplanWeightEdits) {
         std::fflush(stdout);
     }
 }
+
+// The patch kinds' numbers in the Setup box (a new domino setup: its duration,
+// seed, background people and most characters): typed, one undo step each;
+// the duel's rows are hidden.
+TEST(SceneSetups, PatchKindsNumbersAreEditedInTheSetupBox) {
+    QTemporaryDir dir;
+    copyDemoProject(dir);
+    auto w = fray::test::openEditorWindow(dir.filePath("demo.frayproj"));
+    ASSERT_NE(w, nullptr);
+    ASSERT_TRUE(w->newSetup("domino", fray::setup::SetupKind::Domino));
+    auto* doc = w->document();
+    auto* background = child<QSpinBox>(w.get(), "compose_background");
+    auto* most = child<QSpinBox>(w.get(), "compose_max_characters");
+    ASSERT_TRUE(background && most);
+    EXPECT_FALSE(background->isHidden());
+    EXPECT_TRUE(child<QSpinBox>(w.get(), "compose_crowd")->isHidden()) << "a rat's row";
+    EXPECT_TRUE(child<QComboBox>(w.get(), "plan_preset")->isHidden()) << "a duel's row";
+    EXPECT_EQ(background->value(), 30);
+    const std::string before = doc->serialized();
+    const int steps = doc->undoStack()->index();
+    typeOver(background, "12");
+    typeOver(most, "150");
+    EXPECT_EQ(doc->undoStack()->index(), steps + 2);
+    auto s = doc->sceneSetup("domino");
+    EXPECT_EQ(fray::setup::parameter(*s, "/background").value_or(""), "12");
+    EXPECT_EQ(fray::setup::parameter(*s, "/max_characters").value_or(""), "150");
+    doc->undoStack()->undo();
+    doc->undoStack()->undo();
+    EXPECT_EQ(doc->serialized(), before);
+    EXPECT_EQ(background->value(), 30) << "the box follows undo";
+}

@@ -40,7 +40,7 @@ fi
 grep -q "analysed 6 motions, graph [0-9]* nodes" "$out/analysis.log" || bad "no analysis reported: $(cat "$out/analysis.log")"
 "$check" "$out/editor.png" 640 400 || bad "editor screenshot check"
 "$fray" --describe-ui >"$out/ui.json" 2>"$out/ui.log" || bad "--describe-ui failed: $(cat "$out/ui.log")"
-for name in LibraryDock TimelineDock InspectorDock GraphDock CombosDock actionOpen actionQuit; do
+for name in LibraryDock TimelineDock InspectorDock GraphDock CombosDock actionOpen actionQuit plan_preset plan_weight plan_actions compose_crowd; do
   grep -q "\"$name\"" "$out/ui.json" || bad "--describe-ui does not list $name"
 done
 
