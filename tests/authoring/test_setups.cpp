@@ -163,6 +163,13 @@ TEST(SetupEdits, BadInputChangesNothing) {
     ASSERT_TRUE(doc->addSetup("domino", setup::SetupKind::Domino).ok());
     refused(*doc, "same name", "already exists", [&] { return doc->addSetup("duel", setup::SetupKind::Chase); });
     refused(*doc, "empty name", "must not be empty", [&] { return doc->addSetup("", setup::SetupKind::Chase); });
+    // A duel's parameters are read as simulate reads them: what it could not read is refused, naming the field.
+    refused(*doc, "unknown preset", "/characters/0/preset: unknown preset 'boxer'",
+            [&] { return doc->setSetupParameter("duel", "/characters/0/preset", "\"boxer\""); });
+    refused(*doc, "negative weight", "/characters/1/weights/w_r: must be between 0 and 1e6",
+            [&] { return doc->setSetupParameter("duel", "/characters/1/weights/w_r", "-1"); });
+    refused(*doc, "annotation not in the takes", "no action has annotation 'carry' in the selected motions",
+            [&] { return doc->setSetupParameter("duel", "/characters/1/actions", R"(["@carry"])"); });
     refused(*doc, "no setup", "no setup 'x'", [&] { return doc->removeSetup("x"); });
     refused(*doc, "empty trajectory", "is empty", [&] {
         return doc->addTrajectory("duel", {"red", setup::TrajectoryShape::Polyline, {}, false, false, {}});
