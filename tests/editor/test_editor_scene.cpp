@@ -564,13 +564,7 @@ TEST_F(SceneWindow, PhysicsPostureSolvesInTheBackgroundAndPlaysItsPoses) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-    if (qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) qputenv("QT_QPA_PLATFORM", "offscreen");
-    QApplication app(argc, argv);
-    QApplication::setApplicationName("fray-tests");
-    ::testing::InitGoogleTest(&argc, argv);
-    return RUN_ALL_TESTS();
-}
+int main(int argc, char** argv) { return fray::test::runWindowTests(argc, argv, "offscreen"); }
 
 // Editing a generated interaction (issue 23 item 7): on the demo duel, red's
 // first punch is replaced with a front_kick from the Gantt bar's menu (one
