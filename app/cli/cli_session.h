@@ -1,10 +1,13 @@
 #pragma once
 // fray-cli's view of the pipeline library (core/pipeline): the same
 // sessions, with progress lines and notes printed on stderr.
+#include <filesystem>
+#include <string>
 #include <string_view>
 
 #include "fray/pipeline/prep_session.h"
 #include "fray/pipeline/sim_session.h"
+#include "fray/setup/scene_setup.h"
 
 namespace fray::cli {
 
@@ -38,5 +41,20 @@ inline Result<std::unique_ptr<SimSession>> openSimSession(const std::filesystem:
 inline Result<LoadedScene> openScene(const std::filesystem::path& sceneFile, const ProgressFn& progress) {
     return pipeline::openScene(sceneFile, progress, stderrNote);
 }
+
+// compose/simulate --spec FILE | --setup NAME (`verb` starts the usage
+// error): exactly one of them, an output a scene may replace, then the spec's
+// text (`what` names the file in read errors; "" with --setup) and the label
+// errors about it start with (the spec's file, or "setup 'NAME'").
+struct SceneSource {
+    std::string label, specText;
+};
+Result<SceneSource> readSceneSource(std::string_view verb, const std::string& spec, const std::string& setupName,
+                                    const std::filesystem::path& out, std::string_view what);
+
+// The project's setup NAME, for `verb` (compose or simulate); refused, named,
+// when there is none or when it is the other verb's kind.
+Result<setup::SceneSetup> setupToRun(std::string_view verb, const prep::Project& project, const std::string& projectFile,
+                                     const std::string& name, const std::string& label);
 
 }  // namespace fray::cli

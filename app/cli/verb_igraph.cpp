@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <memory>
 #include <thread>
 
@@ -70,7 +69,7 @@ Status checkGraphOutput(const fs::path& out) {
     if (!fs::exists(out, ec)) return {};
     auto head = readWholeFile(out, "the output file");
     if (!head) return head.error();
-    if (head->size() < 8 || std::memcmp(head->data(), "FRAYIGPH", 8) != 0) {
+    if (head->size() < 8 || std::string_view(head->data(), 8) != igraph::kGraphMagic) {
         return makeError(out.string() + ": exists and is not an interaction graph file: not overwriting it");
     }
     return {};

@@ -218,16 +218,14 @@ void reportKind(const ComposeArgs& a, const sim::ComposeSpec& spec, const sim::C
 }
 
 void runCompose(const ComposeArgs& a) {
-    if (a.spec.empty() == a.setup.empty()) return fail("compose: give either --spec FILE or --setup NAME");
-    const std::string label = a.setup.empty() ? a.spec : "setup '" + a.setup + "'";
     const fs::path outFile(a.out);
-    if (Status st = checkSceneOutput(outFile); !st) return fail(st.error().message);
-    Result<std::string> specText = std::string();
+    auto source = readSceneSource("compose", a.spec, a.setup, outFile, "the compose spec");
+    if (!source) return fail(source.error().message);
+    const std::string& label = source->label;
+    const std::string& specText = source->specText;
+    // Syntax first (line and column), before any project or library work.
     if (!a.spec.empty()) {
-        specText = readWholeFile(a.spec, "the compose spec");
-        if (!specText) return fail(specText.error().message);
-        // Syntax first (line and column), before any project or library work.
-        if (auto j = prep::parseJson(*specText, a.spec); !j) return fail(j.error().message);
+        if (auto j = prep::parseJson(specText, a.spec); !j) return fail(j.error().message);
     }
     auto ss = openSimSession(a.project, stderrProgress(a.quiet));
     if (!ss) return fail(ss.error().message);
@@ -239,13 +237,8 @@ void runCompose(const ComposeArgs& a) {
     if (!a.setup.empty()) {
         // compose --setup NAME: the project's setup, run as the editor runs it
         // (its floor bitmap; the patch library less the patches it rejected).
-        auto setups = setup::projectSetups(s.session.project, a.project);
-        if (!setups) return fail(setups.error().message);
-        const setup::SceneSetup* found = setup::findSetup(*setups, a.setup);
-        if (!found) return fail(a.project + ": no setup named '" + a.setup + "' (fray-cli setup " + a.project + " list)");
-        if (setup::isSimulateKind(found->kind)) {
-            return fail(label + " is a " + setup::setupKindName(found->kind) + " setup: run it with simulate, not compose");
-        }
+        auto found = setupToRun("compose", s.session.project, a.project, a.setup, label);
+        if (!found) return fail(found.error().message);
         if (auto note = setup::pinsNotHonoured(*found); !note.empty()) std::fprintf(stderr, "fray-cli: note: %s\n", note.c_str());
         if (pipeline::setupNeedsPatches(*found)) patches = openPatches(a.project, a.patches, s.library);
         if (!patches) return fail(patches.error().message);
@@ -257,9 +250,9 @@ void runCompose(const ComposeArgs& a) {
         st = stats.compose;
     } else {
         // The rat scene generates its own patches for the rat's speed; the others draw on the patch library.
-        if (sim::composeNeedsPatches(*specText)) patches = openPatches(a.project, a.patches, s.library);
+        if (sim::composeNeedsPatches(specText)) patches = openPatches(a.project, a.patches, s.library);
         if (!patches) return fail(patches.error().message);
-        spec = sim::parseComposeSpec(*specText, a.spec, *patches);
+        spec = sim::parseComposeSpec(specText, a.spec, *patches);
         if (!spec) return fail(spec.error().message);
         if (auto* domino = spec->part<sim::DominoSpec>(); domino && !domino->floorFile.empty()) {
             fs::path bitmap(domino->floorFile);

@@ -291,6 +291,16 @@ Result<SkeletonRigs> loadRigOption(const RenderArgs& a, const std::vector<const 
     return rigs;
 }
 
+// The Vulkan device, its validation messages echoed with --validate.
+Result<std::shared_ptr<render::VulkanDevice>> openDevice(const RenderArgs& a) {
+    render::DeviceOptions dopt;
+    dopt.applicationName = "fray-cli render";
+    dopt.validation = a.validate;
+    auto device = render::VulkanDevice::create(dopt);
+    if (device && a.validate) (*device)->validationLog()->setEcho(true);
+    return device;
+}
+
 std::string frameFile(const std::string& dir, const char* prefix, int number) {
     char name[64];
     std::snprintf(name, sizeof name, "%s_%06d.png", prefix, number);
@@ -339,12 +349,8 @@ void runScene(const RenderArgs& a, const FrameRange& range, std::pair<int, int> 
     const glm::vec3 extent = bounds.max - bounds.min;
     const bool follow = a.camera == "follow" || (a.camera == "auto" && std::max(extent.x, extent.z) > 30.0f);
 
-    render::DeviceOptions dopt;
-    dopt.applicationName = "fray-cli render";
-    dopt.validation = a.validate;
-    auto device = render::VulkanDevice::create(dopt);
+    auto device = openDevice(a);
     if (!device) return fail(device.error().message);
-    if (a.validate) (*device)->validationLog()->setEcho(true);
     render::RendererOptions ropt;
     ropt.width = size.first;
     ropt.height = size.second;
@@ -443,12 +449,8 @@ void run(const RenderArgs& a) {
     if (!rigs) return fail(rigs.error().message);
     if (Status s = ensureDir(a.out); !s) return fail(s.error().message);
 
-    render::DeviceOptions dopt;
-    dopt.applicationName = "fray-cli render";
-    dopt.validation = a.validate;
-    auto device = render::VulkanDevice::create(dopt);
+    auto device = openDevice(a);
     if (!device) return fail(device.error().message);
-    if (a.validate) (*device)->validationLog()->setEcho(true);
 
     const int columns = a.contactSheet
                             ? (a.columns > 0 ? a.columns : static_cast<int>(std::ceil(std::sqrt(static_cast<double>(clips->size())))))

@@ -31,15 +31,10 @@ struct SimulateArgs {
 };
 
 void runSimulate(const SimulateArgs& a) {
-    if (a.spec.empty() == a.setup.empty()) return fail("simulate: give either --spec FILE or --setup NAME");
-    const std::string label = a.setup.empty() ? a.spec : "setup '" + a.setup + "'";
     const fs::path outFile(a.out);
-    if (Status st = checkSceneOutput(outFile); !st) return fail(st.error().message);
-    Result<std::string> specText = std::string();
-    if (!a.spec.empty()) {
-        specText = readWholeFile(a.spec, "the scene spec");
-        if (!specText) return fail(specText.error().message);
-    }
+    auto source = readSceneSource("simulate", a.spec, a.setup, outFile, "the scene spec");
+    if (!source) return fail(source.error().message);
+    const std::string& label = source->label;
     const auto progress = stderrProgress(a.quiet);
     auto ss = openSimSession(a.project, progress);
     if (!ss) return fail(ss.error().message);
@@ -49,13 +44,8 @@ void runSimulate(const SimulateArgs& a) {
     Result<sim::Scene> scene = sim::Scene{};
     if (!a.setup.empty()) {
         // simulate --setup NAME: the project's stored setup (issue 23), run as the editor runs it.
-        auto setups = setup::projectSetups(s.session.project, a.project);
-        if (!setups) return fail(setups.error().message);
-        const setup::SceneSetup* found = setup::findSetup(*setups, a.setup);
-        if (!found) return fail(a.project + ": no setup named '" + a.setup + "' (fray-cli setup " + a.project + " list)");
-        if (!setup::isSimulateKind(found->kind)) {
-            return fail(label + " is a " + setup::setupKindName(found->kind) + " setup: run it with compose, not simulate");
-        }
+        auto found = setupToRun("simulate", s.session.project, a.project, a.setup, label);
+        if (!found) return fail(found.error().message);
         pipeline::SetupRunStats runStats;
         scene = pipeline::runSetup(s, *found, nullptr, progress, &runStats);
         if (!scene) return fail(scene.error().message);
@@ -81,7 +71,7 @@ void runSimulate(const SimulateArgs& a) {
             return;
         }
     } else {
-        auto spec = sim::parseSceneSpec(*specText, a.spec, s.library, *presets);
+        auto spec = sim::parseSceneSpec(source->specText, a.spec, s.library, *presets);
         if (!spec) return fail(spec.error().message);
         scene = sim::simulate(s.library, s.session.project.combos, *spec, progress);
         if (!scene) return fail(label + ": " + scene.error().message);

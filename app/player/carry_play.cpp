@@ -6,27 +6,20 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <mutex>
 #include <numbers>
 #include <optional>
-#include <thread>
-
-#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
 #include "fray/core/atomic_file.h"
-#include "fray/core/kinematics.h"
 #include "fray/igraph/carry.h"
-#include "fray/pipeline/sim_session.h"
 #include "fray/sim/geometry.h"
 #include "fray/sim/scene.h"
-#include "scene_stage.h"
+#include "live_play.h"
 #include "script_lines.h"
 
 namespace fray::player {
@@ -53,33 +46,19 @@ const char* kindName(Kind k) {
     return "?";
 }
 
-// Which file sits at the graph's place.
-enum class FileKind { Missing, Carry, Duel, Other };
-FileKind fileKind(const fs::path& file) {
-    std::error_code ec;
-    if (!fs::exists(file, ec)) return FileKind::Missing;
-    auto head = readWholeFile(file, "the carry graph");
-    if (!head || head->size() < 8) return FileKind::Other;
-    const std::string_view h(head->data(), 8);
-    if (h == igraph::kCarryGraphMagic) return FileKind::Carry;
-    if (h == "FRAYIGPH") return FileKind::Duel;
-    return FileKind::Other;
-}
-
 // The policy direction k in words: k * 45 degrees left of carrier A's forward.
 std::string directionName(int k) {
     static const char* kNames[] = {"ahead", "45 deg left", "left", "135 deg left", "behind", "135 deg right", "right", "45 deg right"};
     return k < 0 || k > 7 ? std::string("holding") : std::to_string(k) + " (" + kNames[k] + " of A)";
 }
 
-struct Edges {
-    std::array<bool, 32> was{};
-    bool pressed(int slot, bool down) {
-        const bool p = down && !was[static_cast<std::size_t>(slot)];
-        was[static_cast<std::size_t>(slot)] = down;
-        return p;
-    }
-};
+// Held down: go, back, turn left, turn right (repeats), stop.
+const std::vector<Hold> kHolds = {{GLFW_KEY_W, GLFW_KEY_UP, Pad::Up, false},
+                                  {GLFW_KEY_S, GLFW_KEY_DOWN, Pad::Down, false},
+                                  {GLFW_KEY_A, GLFW_KEY_LEFT, Pad::Left, true},
+                                  {GLFW_KEY_D, GLFW_KEY_RIGHT, Pad::Right, true},
+                                  {GLFW_KEY_H, GLFW_KEY_SPACE, Pad::A, false}};
+constexpr Kind kHoldKinds[] = {Kind::Forward, Kind::Back, Kind::TurnLeft, Kind::TurnRight, Kind::Stop};
 
 }  // namespace
 
@@ -126,45 +105,26 @@ Result<std::vector<CarryEvent>> parseCarryScript(std::string_view text, std::str
     return out;
 }
 
-struct CarryPlay::Impl {
+struct CarryPlay::Impl final : LiveCore {
+    // ] and [: w_v up and down.
+    Impl() : LiveCore(InputReader(kHolds, {GLFW_KEY_RIGHT_BRACKET, GLFW_KEY_LEFT_BRACKET}, kRepeat)) {}
+
     CarryPlayOptions opt;
-    fs::path graphFile;
-    std::unique_ptr<pipeline::SimSession> session;
     std::optional<igraph::CarryPath> path;
     std::shared_ptr<const igraph::CarryGraph> graph;
     std::shared_ptr<const igraph::CarryPolicySet> applied;  // the policies in play
     std::unique_ptr<igraph::CarryPolicyService> service;
-    std::vector<CarryEvent> script;
-    std::size_t nextEvent = 0;
+    TimedEvents<CarryEvent> script;
     double graphReadSeconds = -1, graphBuildSeconds = -1;
 
-    // Building the graph in the background.
-    std::thread builder;
-    std::atomic<bool> cancel{false}, built{false};
-    std::mutex progressMutex;
-    double fraction = 0;
-    std::string stage = "starting";
-    std::string buildError;
-    std::vector<std::string> notes;
+    // What the worker built.
     std::unique_ptr<igraph::CarryGraph> builtGraph;
     std::shared_ptr<const igraph::CarryPolicySet> builtPolicies;
 
     // The run.
     std::unique_ptr<igraph::CarryDriver> driver;
-    std::unique_ptr<sim::ScenePoser> poser;
-    std::vector<glm::vec3> tints;
-    std::vector<Pose> poses;
-    std::vector<std::vector<glm::vec3>> positions;
-    std::vector<std::vector<glm::quat>> rotations;
-    std::vector<std::string> labels;
-    std::vector<render::CharacterInstance> shown;
     std::vector<glm::vec3> pathPoints, arrowPoints;
     std::vector<render::Polyline> lines;
-    FollowCentre follow;
-    double carry = 0;
-    bool paused = false;
-    int restarts = 0;
-    UpdateClock clock;
 
     // What the user asked for (the policies in play may be older).
     igraph::CarryWeights weights;
@@ -191,110 +151,77 @@ struct CarryPlay::Impl {
     std::vector<Decision> decisions;
     std::string lastNote;
 
-    Edges edges;
-    std::array<double, 5> heldFor{};
-    std::string gamepadName;
-
-    const sim::ActionLibrary& lib() const { return session->library; }
-
     Status acquireGraph() {
         graphFile = opt.graph.empty() ? fs::path(opt.project + ".carry.igraph") : fs::path(opt.graph);
-        const auto kind = fileKind(graphFile);
-        if (kind == FileKind::Duel)
+        const auto kind = graphAtPlace(graphFile);
+        if (kind == GraphAtPlace::Duel)
             return makeError(graphFile.string() + ": a duel's interaction graph, not a carry graph: not overwriting it (name another file with --graph)");
-        if (kind == FileKind::Other)
+        if (kind == GraphAtPlace::Other)
             return makeError(graphFile.string() + ": exists and is not a carry graph file: not overwriting it (name another file with --graph)");
-        if (kind == FileKind::Carry) {
+        if (kind == GraphAtPlace::Carry) {
             const auto t0 = Clock::now();
             auto g = igraph::loadCarryGraph(graphFile, lib());
             if (g) {
                 graphReadSeconds = std::chrono::duration<double>(Clock::now() - t0).count();
                 graph = std::make_shared<const igraph::CarryGraph>(std::move(*g));
-                auto p = igraph::computeCarryPolicies(*graph, weights, depth, cancelWhen(cancel));
+                auto p = igraph::computeCarryPolicies(*graph, weights, depth, cancelWhen(build.cancel));
                 if (!p) return p.error();
                 applied = std::make_shared<const igraph::CarryPolicySet>(std::move(*p));
                 return {};
             }
-            notes.push_back(g.error().message + "; building it again");
+            build.note(g.error().message + "; building it again");
         } else {
-            notes.push_back(graphFile.string() + ": no carry graph yet; building it (" + std::to_string(opt.graphStates) + " states at most)");
+            build.note(graphFile.string() + ": no carry graph yet; building it (" + std::to_string(opt.graphStates) + " states at most)");
         }
-        for (const auto& n : notes)
-            if (!opt.quiet) std::fprintf(stderr, "fray-play: %s\n", n.c_str());
-        if (opt.foreground) {
-            build();
-            if (!buildError.empty()) return makeError(buildError);
-            return takeBuilt();
-        }
-        builder = std::thread([this] { build(); });
-        return {};
+        build.start(opt.foreground, opt.quiet, [this] { return buildGraph(); });
+        return opt.foreground ? takeBuilt() : Status{};
     }
 
-    void build() {
+    // The worker: build, save as the cache, the policies; returns the error ("": none).
+    std::string buildGraph() {
         igraph::CarryOptions co;
         co.seed = opt.seed;
         co.maxSamples = opt.graphStates;
-        const ProgressFn progress = [this](double f, std::string_view s) {
-            {
-                std::lock_guard lock(progressMutex);
-                fraction = f;
-                stage = std::string(s);
-            }
-            return !cancel.load();
-        };
+        const ProgressFn progress = build.progress();
         auto g = igraph::buildCarryGraph(lib(), co, progress);
+        if (!g) return opt.project + ": " + g.error().message;
+        if (Status s = igraph::saveCarryGraph(*g, graphFile); !s)
+            build.note("the carry graph could not be kept: " + s.error().message);
+        else
+            build.note("built " + std::to_string(g->states.size()) + " states, " + std::to_string(g->edges.size()) + " edges; kept in " +
+                       graphFile.string());
+        build.stage("policies");
         std::string error;
-        if (!g) {
-            error = opt.project + ": " + g.error().message;
-        } else {
-            {
-                std::lock_guard lock(progressMutex);
-                if (Status s = igraph::saveCarryGraph(*g, graphFile); !s)
-                    notes.push_back("the carry graph could not be kept: " + s.error().message);
-                else
-                    notes.push_back("built " + std::to_string(g->states.size()) + " states, " + std::to_string(g->edges.size()) + " edges; kept in " +
-                                    graphFile.string());
-                stage = "policies";
-            }
-            auto p = igraph::computeCarryPolicies(*g, weights, depth, progress);
-            if (!p) error = p.error().message;
-            else builtPolicies = std::make_shared<const igraph::CarryPolicySet>(std::move(*p));
-            graphBuildSeconds = g->seconds;
-            builtGraph = std::make_unique<igraph::CarryGraph>(std::move(*g));
-        }
-        std::lock_guard lock(progressMutex);
-        buildError = error;
-        built = true;
+        auto p = igraph::computeCarryPolicies(*g, weights, depth, progress);
+        if (!p) error = p.error().message;
+        else builtPolicies = std::make_shared<const igraph::CarryPolicySet>(std::move(*p));
+        graphBuildSeconds = g->seconds;
+        builtGraph = std::make_unique<igraph::CarryGraph>(std::move(*g));
+        return error;
     }
 
-    Status takeBuilt() {
-        if (builder.joinable()) builder.join();
-        if (!buildError.empty()) return makeError(buildError);
+    bool hasGraph() const override { return graph != nullptr; }
+
+    Status takeBuilt() override {
+        if (Status s = build.finish(); !s) return s;
         graph = std::shared_ptr<const igraph::CarryGraph>(std::move(builtGraph));
         applied = builtPolicies;
         return {};
     }
 
-    Status startRun() {
+    Status start() override {
         if (!service) service = std::make_unique<igraph::CarryPolicyService>(graph, applied);
         auto d = igraph::CarryDriver::make(lib(), graph, applied, path);
         if (!d) return d.error();
         driver = std::move(*d);
-        poser = std::make_unique<sim::ScenePoser>(driver->scene(), lib());
-        const int n = static_cast<int>(driver->scene().characters.size());
-        tints.clear();
-        for (int c = 0; c < n; ++c) tints.push_back(cli::characterTint(driver->scene(), c));
-        poses.assign(static_cast<std::size_t>(n), {});
-        positions.assign(static_cast<std::size_t>(n), {});
-        rotations.assign(static_cast<std::size_t>(n), {});
-        labels.assign(static_cast<std::size_t>(n), {});
+        cast.reset(driver->scene(), lib(), static_cast<int>(driver->scene().characters.size()));
         pathPoints.clear();
         if (path) {
             for (const auto& p : path->points) pathPoints.emplace_back(p.x, 0.01f, p.y);
             if (path->loop) pathPoints.push_back(pathPoints.front());
         }
-        nextEvent = 0;
-        carry = 0;
+        script.next = 0;
+        steps.reset();
         follow.reset();
         decisions.clear();
         policies.push_back({0.0, applied->seconds, applied->weights, applied->depth});
@@ -360,14 +287,13 @@ struct CarryPlay::Impl {
     }
 
     void applyScript() {
-        while (nextEvent < script.size() && script[nextEvent].time <= driver->time() + 1e-9) {
-            const auto& e = script[nextEvent++];
+        script.due(driver->time(), [&](const CarryEvent& e) {
             switch (e.kind) {
                 case Kind::Set: edit(e.edit, "script"); break;
                 case Kind::Depth: requestPolicy(weights, e.depth, "script", "depth", std::to_string(e.depth)); break;
                 default: command(e.kind, e.degrees, "script"); break;
             }
-        }
+        });
     }
 
     void noteDecision() {
@@ -379,78 +305,21 @@ struct CarryPlay::Impl {
                              lib().action(track.back().action).name, lib().action(b.action).name});
     }
 
-    void advance(double dt) {
-        constexpr double kStep = 1.0 / 60.0;
-        carry += std::min(dt, 0.25);
-        auto steps = static_cast<int>(std::floor((carry + 1e-9) / kStep));
-        carry -= steps * kStep;
-        while (steps-- > 0 && driver->time() < sim::kMaxSceneSeconds - 1) {
+    void advance(double dt) override {
+        for (int n = steps.take(dt); n > 0 && driver->time() < sim::kMaxSceneSeconds - 1; --n) {
             swapPolicies();
             applyScript();
-            driver->advance(kStep);
+            driver->advance(FixedSteps::kStep);
             noteDecision();
         }
         swapPolicies();
     }
 
-    void readInput(GLFWwindow* window, bool keyboard, double dt) {
-        // 0 forward, 1 back, 2 turn left, 3 turn right, 4 stop
-        std::array<bool, 5> down{};
-        std::array<const char*, 5> from{};
-        bool wUp = false, wDown = false, dUp = false, dDown = false, pause = false, restart = false;
-        if (keyboard && window) {
-            auto key = [&](int k) { return glfwGetKey(window, k) == GLFW_PRESS; };
-            const int keys[5][2] = {{GLFW_KEY_W, GLFW_KEY_UP}, {GLFW_KEY_S, GLFW_KEY_DOWN}, {GLFW_KEY_A, GLFW_KEY_LEFT}, {GLFW_KEY_D, GLFW_KEY_RIGHT},
-                                    {GLFW_KEY_H, GLFW_KEY_SPACE}};
-            for (int i = 0; i < 5; ++i)
-                if (key(keys[i][0]) || key(keys[i][1])) down[static_cast<std::size_t>(i)] = true, from[static_cast<std::size_t>(i)] = "keyboard";
-            wUp = edges.pressed(10, key(GLFW_KEY_RIGHT_BRACKET));
-            wDown = edges.pressed(11, key(GLFW_KEY_LEFT_BRACKET));
-            dUp = edges.pressed(12, key(GLFW_KEY_EQUAL) || key(GLFW_KEY_KP_ADD));
-            dDown = edges.pressed(13, key(GLFW_KEY_MINUS) || key(GLFW_KEY_KP_SUBTRACT));
-            pause = edges.pressed(14, key(GLFW_KEY_P));
-            restart = edges.pressed(15, key(GLFW_KEY_R));
-        }
-        gamepadName.clear();
-        for (int j = GLFW_JOYSTICK_1; j <= GLFW_JOYSTICK_LAST; ++j) {
-            GLFWgamepadstate gp;
-            if (!glfwJoystickIsGamepad(j) || !glfwGetGamepadState(j, &gp)) continue;
-            const char* name = glfwGetGamepadName(j);
-            gamepadName = name ? name : "gamepad";
-            const float x = gp.axes[GLFW_GAMEPAD_AXIS_LEFT_X], y = gp.axes[GLFW_GAMEPAD_AXIS_LEFT_Y];
-            auto btn = [&](int b) { return gp.buttons[b] == GLFW_PRESS; };
-            auto set = [&](int i, bool on) {
-                if (on && !from[static_cast<std::size_t>(i)]) down[static_cast<std::size_t>(i)] = true, from[static_cast<std::size_t>(i)] = "gamepad";
-            };
-            set(0, y < -0.5f || btn(GLFW_GAMEPAD_BUTTON_DPAD_UP));
-            set(1, y > 0.5f || btn(GLFW_GAMEPAD_BUTTON_DPAD_DOWN));
-            set(2, x < -0.5f || btn(GLFW_GAMEPAD_BUTTON_DPAD_LEFT));
-            set(3, x > 0.5f || btn(GLFW_GAMEPAD_BUTTON_DPAD_RIGHT));
-            set(4, btn(GLFW_GAMEPAD_BUTTON_A));
-            wUp = edges.pressed(20, btn(GLFW_GAMEPAD_BUTTON_RIGHT_BUMPER)) || wUp;
-            wDown = edges.pressed(21, btn(GLFW_GAMEPAD_BUTTON_LEFT_BUMPER)) || wDown;
-            dUp = edges.pressed(22, gp.axes[GLFW_GAMEPAD_AXIS_RIGHT_TRIGGER] > 0.5f) || dUp;
-            dDown = edges.pressed(23, gp.axes[GLFW_GAMEPAD_AXIS_LEFT_TRIGGER] > 0.5f) || dDown;
-            pause = edges.pressed(24, btn(GLFW_GAMEPAD_BUTTON_START)) || pause;
-            restart = edges.pressed(25, btn(GLFW_GAMEPAD_BUTTON_BACK)) || restart;
-            break;
-        }
+    void readInput(GLFWwindow* window, bool keyboard, double dt) override {
+        const Controls in = input.read(window, keyboard);
         if (!driver) return;
-        const Kind kinds[5] = {Kind::Forward, Kind::Back, Kind::TurnLeft, Kind::TurnRight, Kind::Stop};
-        for (int i = 0; i < 5; ++i) {
-            const auto k = static_cast<std::size_t>(i);
-            const bool fresh = edges.pressed(i, down[k]);
-            if (!down[k]) {
-                heldFor[k] = 0;
-                continue;
-            }
-            heldFor[k] += dt;
-            const bool turn = i == 2 || i == 3;
-            if (fresh || (turn && heldFor[k] >= kRepeat)) {
-                if (!fresh) heldFor[k] = 0;
-                command(kinds[i], 0, from[k]);
-            }
-        }
+        input.send(in, dt, [&](std::size_t i, const char* from) { command(kHoldKinds[i], 0, from); });
+        const bool wUp = in.keys[0] || in.next, wDown = in.keys[1] || in.prev;
         if (wUp || wDown) {
             igraph::CarryWeights w = weights;
             w.wV = std::max(0.0, w.wV + (wUp ? 2.0 : -2.0));
@@ -458,31 +327,21 @@ struct CarryPlay::Impl {
             std::snprintf(v, sizeof v, "w_v=%g", w.wV);
             requestPolicy(w, depth, "input", "set", v);
         }
-        if (dUp) requestPolicy(weights, depth + 1, "input", "depth", std::to_string(std::min(depth + 1, kMaxDepth)));
-        if (dDown) requestPolicy(weights, depth - 1, "input", "depth", std::to_string(std::max(depth - 1, 1)));
-        if (pause) paused = !paused;
-        if (restart) {
-            ++restarts;
-            (void)startRun();
-        }
+        if (in.depthUp) requestPolicy(weights, depth + 1, "input", "depth", std::to_string(std::min(depth + 1, kMaxDepth)));
+        if (in.depthDown) requestPolicy(weights, depth - 1, "input", "depth", std::to_string(std::max(depth - 1, 1)));
+        if (in.pause) paused = !paused;
+        if (in.restart) restart();
     }
 
-    void pose() {
+    void pose() override {
         const double t = driver->time();
         const auto& scene = driver->scene();
-        shown.clear();
-        const int n = static_cast<int>(scene.characters.size());
-        for (int c = 0; c < n; ++c) {
+        cast.pose(t, [&](int c) {
             const auto k = static_cast<std::size_t>(c);
-            poser->pose(c, t, poses[k]);
-            positions[k].resize(poses[k].translations.size());
-            rotations[k].resize(poses[k].translations.size());
-            forwardKinematics(poser->skeleton(c), poses[k].translations, poses[k].rotations, positions[k], rotations[k]);
-            labels[k].clear();
             const int i = scene.instanceAt(c, t);
-            if (c < 2 && i >= 0) labels[k] = scene.characters[k].name + ": " + lib().action(scene.characters[k].track[static_cast<std::size_t>(i)].action).label();
-            shown.push_back({&poser->skeleton(c), positions[k], rotations[k], tints[k], labels[k], false});
-        }
+            if (c < 2 && i >= 0) return scene.characters[k].name + ": " + lib().action(scene.characters[k].track[static_cast<std::size_t>(i)].action).label();
+            return std::string();
+        });
         // The desired direction (steered): an arrow from the box's middle.
         arrowPoints.clear();
         const glm::vec2 m = driver->now().boxMiddle;
@@ -498,16 +357,13 @@ struct CarryPlay::Impl {
         if (!pathPoints.empty()) lines.push_back({pathPoints, glm::vec4(0.97f, 0.97f, 0.97f, 0.9f), 0.08f});
         if (!arrowPoints.empty())
             lines.push_back({arrowPoints, driver->moving() ? glm::vec4(1.0f, 0.62f, 0.1f, 0.95f) : glm::vec4(0.6f, 0.6f, 0.6f, 0.8f), 0.07f});
-        follow.to(render::characterBounds(shown));
+        follow.to(render::characterBounds(cast.shown()));
     }
 };
 
 CarryPlay::CarryPlay() : impl_(std::make_unique<Impl>()) {}
 
-CarryPlay::~CarryPlay() {
-    impl_->cancel = true;
-    if (impl_->builder.joinable()) impl_->builder.join();
-}
+CarryPlay::~CarryPlay() { impl_->build.stop(); }
 
 Result<std::unique_ptr<CarryPlay>> CarryPlay::open(const CarryPlayOptions& options) {
     std::unique_ptr<CarryPlay> p(new CarryPlay());
@@ -534,16 +390,9 @@ Result<std::unique_ptr<CarryPlay>> CarryPlay::open(const CarryPlayOptions& optio
         if (!text) return text.error();
         auto s = parseCarryScript(*text, options.input);
         if (!s) return s.error();
-        m.script = std::move(*s);
+        m.script.events = std::move(*s);
     }
-    const ProgressFn progress = options.quiet || !isatty(2) ? ProgressFn{} : ProgressFn([last = -1](double f, std::string_view stage) mutable {
-        const int pct = static_cast<int>(f * 100);
-        if (pct / 10 != last / 10) std::fprintf(stderr, "fray-play: %.*s %d%%\n", static_cast<int>(stage.size()), stage.data(), pct), last = pct;
-        return true;
-    });
-    auto ss = pipeline::openSimSession(options.project, progress);
-    if (!ss) return ss.error();
-    m.session = std::move(*ss);
+    if (Status st = m.openProject(options.project, options.quiet); !st) return st.error();
     // No carry-end actions: said before any graph file is touched.
     const igraph::CarryOptions co;
     bool any = false;
@@ -554,33 +403,17 @@ Result<std::unique_ptr<CarryPlay>> CarryPlay::open(const CarryPlayOptions& optio
     }
     if (Status st = m.acquireGraph(); !st) return st.error();
     if (m.graph) {
-        if (Status st = m.startRun(); !st) return st.error();
+        if (Status st = m.start(); !st) return st.error();
     }
     return p;
 }
 
-Status CarryPlay::update(double dt, GLFWwindow* window, bool keyboard) {
-    Impl& m = *impl_;
-    if (!m.graph) {
-        if (!m.built) {
-            m.readInput(window, keyboard, dt);
-            return {};
-        }
-        if (Status s = m.takeBuilt(); !s) return s;
-        if (Status s = m.startRun(); !s) return s;
-    }
-    m.readInput(window, keyboard, dt);
-    const auto t0 = Clock::now();
-    if (!m.paused) m.advance(dt);
-    m.pose();
-    m.clock.add(std::chrono::duration<double>(Clock::now() - t0).count());
-    return {};
-}
+Status CarryPlay::update(double dt, GLFWwindow* window, bool keyboard) { return impl_->frame(dt, window, keyboard); }
 
-std::span<const render::CharacterInstance> CarryPlay::shown() const { return impl_->shown; }
+std::span<const render::CharacterInstance> CarryPlay::shown() const { return impl_->cast.shown(); }
 std::span<const render::Polyline> CarryPlay::lines() const { return impl_->lines; }
 render::Bounds CarryPlay::framing() const {
-    render::Bounds b = render::characterBounds(impl_->shown);
+    render::Bounds b = render::characterBounds(impl_->cast.shown());
     if (b.empty()) b = framingPlaceholder();
     b.add(b.min - glm::vec3(1.0f, 0.0f, 1.0f));  // room to walk into
     b.add(b.max + glm::vec3(1.0f, 0.0f, 1.0f));
@@ -601,24 +434,13 @@ void CarryPlay::overlay() {
     Impl& m = *impl_;
     ImGui::Text("Two carriers, one box (Interaction Graph)");
     if (!m.driver) {
-        std::lock_guard lock(m.progressMutex);
-        ImGui::TextWrapped("Building the carry graph (%s)", m.stage.c_str());
-        ImGui::ProgressBar(static_cast<float>(m.fraction), ImVec2(-1, 0));
-        for (const auto& n : m.notes) ImGui::TextWrapped("%s", n.c_str());
+        m.build.panel("the carry graph");
         return;
     }
     const auto& d = *m.driver;
     const auto& now = d.now();
     const auto& st = d.stats();
-    ImGui::Text("time %.1f s%s", d.time(), m.paused ? "  (paused)" : "");
-    ImGui::SameLine();
-    if (ImGui::SmallButton(m.paused ? "Resume" : "Pause")) m.paused = !m.paused;
-    ImGui::SameLine();
-    if (ImGui::SmallButton("Restart")) {
-        ++m.restarts;
-        (void)m.startRun();
-        return;
-    }
+    if (m.timeRow("time", d.time())) return;
     ImGui::Separator();
     if (d.followsPath()) {
         ImGui::Text("following the path %s", m.opt.path.c_str());
@@ -673,7 +495,7 @@ void CarryPlay::overlay() {
     ImGui::Text("graph: %zu states, %zu edges", d.graph().states.size(), d.graph().edges.size());
     if (m.graphReadSeconds >= 0) ImGui::Text("  read from its file in %.0f ms", 1e3 * m.graphReadSeconds);
     else ImGui::Text("  built here in %.1f s", m.graphBuildSeconds);
-    if (!m.gamepadName.empty()) ImGui::Text("gamepad: %s", m.gamepadName.c_str());
+    if (!m.input.gamepad().empty()) ImGui::Text("gamepad: %s", m.input.gamepad().c_str());
     if (ImGui::CollapsingHeader("Controls")) {
         ImGui::TextWrapped("W/up go, S/down back (turn round and go), A/left and D/right turn the direction 45 deg, H/space stop; "
                            "[ and ] w_v -/+2, +/- depth, P pause, R restart. Gamepad: left stick or d-pad (up go, down back, "
@@ -682,24 +504,14 @@ void CarryPlay::overlay() {
     ImGui::Separator();
     ImGui::Text("Characters");
     for (int c = 0; c < static_cast<int>(d.scene().characters.size()); ++c) {
-        const glm::vec3 tint = m.tints[static_cast<std::size_t>(c)];
-        ImGui::PushID(c);
-        ImGui::ColorButton("##tint", ImVec4(tint.x, tint.y, tint.z, 1.0f), ImGuiColorEditFlags_NoTooltip, ImVec2(12, 12));
-        ImGui::SameLine();
-        ImGui::Text("%s", d.scene().characters[static_cast<std::size_t>(c)].name.c_str());
-        ImGui::PopID();
+        characterRow(c, m.cast.tints()[static_cast<std::size_t>(c)], d.scene().characters[static_cast<std::size_t>(c)].name);
     }
 }
 
 Status CarryPlay::writeLog() const {
     const Impl& m = *impl_;
     if (m.opt.log.empty()) return {};
-    nlohmann::ordered_json j;
-    j["format"] = "fray-play-log";
-    j["version"] = 1;
-    j["mode"] = "carry";
-    j["project"] = m.opt.project;
-    j["graph"] = m.graphFile.string();
+    nlohmann::ordered_json j = m.logHead("carry", m.opt.project);
     j["graph_read_seconds"] = m.graphReadSeconds >= 0 ? nlohmann::ordered_json(m.graphReadSeconds) : nlohmann::ordered_json(nullptr);
     j["graph_build_seconds"] = m.graphBuildSeconds >= 0 ? nlohmann::ordered_json(m.graphBuildSeconds) : nlohmann::ordered_json(nullptr);
     j["path"] = m.opt.path;

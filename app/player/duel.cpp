@@ -6,49 +6,30 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
-#include <mutex>
-#include <thread>
-
-#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
 #include "duel_script.h"
 #include "fray/core/atomic_file.h"
-#include "fray/core/kinematics.h"
 #include "fray/igraph/igraph.h"
 #include "fray/igraph/runtime.h"
-#include "fray/pipeline/sim_session.h"
 #include "fray/sim/scene.h"
+#include "live_play.h"
 #include "scene_stage.h"
 
 namespace fray::player {
 namespace {
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
 using igraph::Command;
 
 // A command key held down is sent again this often (s), so holding "forward" keeps walking.
 constexpr double kRepeat = 0.3;
 // Character 0 is the user's.
 constexpr int kUser = 0;
-
-// Which file sits at the graph's place.
-enum class GraphFileKind { Missing, Graph, Other };
-GraphFileKind graphFileKind(const fs::path& file) {
-    std::error_code ec;
-    if (!fs::exists(file, ec)) return GraphFileKind::Missing;
-    auto head = readWholeFile(file, "the interaction graph");
-    if (!head || head->size() < 8 || std::memcmp(head->data(), "FRAYIGPH", 8) != 0) return GraphFileKind::Other;
-    return GraphFileKind::Graph;
-}
 
 std::vector<std::string> actionTags(const sim::LibraryAction& a) {
     static constexpr std::pair<std::uint32_t, const char*> kTags[] = {
@@ -70,68 +51,35 @@ std::string styleOf(const igraph::RewardWeights& w) {
     return {};
 }
 
-struct Bindings {
-    Command command;
-    std::array<int, 2> keys;
+// The user's commands, in Command's order from Forward: keys, gamepad; the moves repeat when held.
+const std::vector<Hold> kHolds = {
+    {GLFW_KEY_W, GLFW_KEY_UP, Pad::Up, true},          {GLFW_KEY_S, GLFW_KEY_DOWN, Pad::Down, true},
+    {GLFW_KEY_A, GLFW_KEY_LEFT, Pad::Left, true},       {GLFW_KEY_D, GLFW_KEY_RIGHT, Pad::Right, true},
+    {GLFW_KEY_J, GLFW_KEY_UNKNOWN, Pad::A, false},      {GLFW_KEY_K, GLFW_KEY_UNKNOWN, Pad::B, false},
+    {GLFW_KEY_L, GLFW_KEY_UNKNOWN, Pad::X, false},      {GLFW_KEY_I, GLFW_KEY_UNKNOWN, Pad::Y, false},
 };
-constexpr Bindings kKeys[] = {
-    {Command::Forward, {GLFW_KEY_W, GLFW_KEY_UP}},          {Command::Back, {GLFW_KEY_S, GLFW_KEY_DOWN}},
-    {Command::TurnLeft, {GLFW_KEY_A, GLFW_KEY_LEFT}},       {Command::TurnRight, {GLFW_KEY_D, GLFW_KEY_RIGHT}},
-    {Command::Punch, {GLFW_KEY_J, GLFW_KEY_UNKNOWN}},       {Command::Kick, {GLFW_KEY_K, GLFW_KEY_UNKNOWN}},
-    {Command::Dodge, {GLFW_KEY_L, GLFW_KEY_UNKNOWN}},       {Command::Avoid, {GLFW_KEY_I, GLFW_KEY_UNKNOWN}},
-};
-constexpr int kCommandCount = 9;  // Command::None .. Command::Avoid
-bool moves(Command c) { return c == Command::Forward || c == Command::Back || c == Command::TurnLeft || c == Command::TurnRight; }
-
-// Edge detection of buttons and keys: true on the frame it goes down.
-struct Edges {
-    std::array<bool, 64> was{};
-    bool pressed(int slot, bool down) {
-        const bool p = down && !was[static_cast<std::size_t>(slot)];
-        was[static_cast<std::size_t>(slot)] = down;
-        return p;
-    }
-};
+Command commandOf(std::size_t hold) { return static_cast<Command>(hold + 1); }
 
 }  // namespace
 
-struct Duel::Impl {
+struct Duel::Impl final : LiveCore {
+    // The number keys 1, 2, 3 pick a style.
+    Impl() : LiveCore(InputReader(kHolds, {GLFW_KEY_1, GLFW_KEY_2, GLFW_KEY_3}, kRepeat)) {}
+
     DuelOptions opt;
-    fs::path graphFile;
-    std::unique_ptr<pipeline::SimSession> session;
     std::shared_ptr<const igraph::Rules> rules;
     std::shared_ptr<const igraph::Graph> graph;
     std::shared_ptr<const igraph::Policy> userPolicy;
     std::unique_ptr<igraph::PolicyService> service;
     std::shared_ptr<const igraph::Policy> applied;  // the opponents' policy in play
-    std::vector<ScriptEvent> script;
-    std::size_t nextEvent = 0;
+    TimedEvents<ScriptEvent> script;
 
-    // Building the graph in the background.
-    std::thread builder;
-    std::atomic<bool> cancel{false}, built{false};
-    std::mutex progressMutex;
-    double fraction = 0;
-    std::string stage = "starting";
-    std::string buildError;
-    std::vector<std::string> notes;  // shown in the panel
+    // What the worker built.
     std::unique_ptr<igraph::Graph> builtGraph;
     std::shared_ptr<const igraph::Policy> builtUser, builtOpponent;
 
     // The match.
     std::unique_ptr<igraph::Match> match;
-    std::unique_ptr<sim::ScenePoser> poser;
-    std::vector<glm::vec3> tints;
-    std::vector<Pose> poses;
-    std::vector<std::vector<glm::vec3>> positions;
-    std::vector<std::vector<glm::quat>> rotations;
-    std::vector<std::string> labels;
-    std::vector<render::CharacterInstance> shown;
-    FollowCentre follow;
-    double carry = 0;  // s of match time not yet stepped
-    bool paused = false;
-    int restarts = 0;
-    UpdateClock clock;
 
     // The opponents' style and depth as asked for (the policy in play may be older).
     std::string style;
@@ -150,14 +98,6 @@ struct Duel::Impl {
     };
     std::vector<LoggedEvent> events;
 
-    // Input state.
-    Edges edges;
-    std::array<double, kCommandCount> heldFor{};
-    std::string gamepadName;
-
-    const sim::ActionLibrary& lib() const { return session->library; }
-    int size() const { return match ? match->size() : opt.characters; }
-
     std::string nameOf(int c) const {
         if (opt.characters == 2) return c == kUser ? "you" : "opponent";
         if (c == kUser) return "you (red 1)";
@@ -166,99 +106,74 @@ struct Duel::Impl {
 
     Status acquireGraph() {
         graphFile = opt.graph.empty() ? fs::path(opt.project + ".igraph") : fs::path(opt.graph);
-        const auto kind = graphFileKind(graphFile);
-        if (kind == GraphFileKind::Other) {
+        const auto kind = graphAtPlace(graphFile);
+        if (kind == GraphAtPlace::Carry || kind == GraphAtPlace::Other) {
             return makeError(graphFile.string() + ": exists and is not an interaction graph file: not overwriting it (name another file with --graph)");
         }
-        if (kind == GraphFileKind::Graph) {
+        if (kind == GraphAtPlace::Duel) {
             auto g = igraph::loadGraph(graphFile, *rules);
             if (g) {
                 graph = std::make_shared<const igraph::Graph>(std::move(*g));
                 return computeFirstPolicies(*graph, style, depth, userPolicy, applied);
             }
             if (g.error().isCancelled()) return g.error();
-            notes.push_back(g.error().message + "; building it again");
+            build.note(g.error().message + "; building it again");
         } else {
-            notes.push_back(graphFile.string() + ": no graph yet; building it (" + std::to_string(opt.graphStates) + " states at most)");
+            build.note(graphFile.string() + ": no graph yet; building it (" + std::to_string(opt.graphStates) + " states at most)");
         }
-        for (const auto& n : notes) {
-            if (!opt.quiet) std::fprintf(stderr, "fray-play: %s\n", n.c_str());
-        }
-        if (opt.foreground) {
-            build(style, depth);
-            if (!buildError.empty()) return makeError(buildError);
-            return takeBuilt();
-        }
-        builder = std::thread([this, s = style, d = depth] { build(s, d); });
-        return {};
+        build.start(opt.foreground, opt.quiet, [this, s = style, d = depth] { return buildGraph(s, d); });
+        return opt.foreground ? takeBuilt() : Status{};
     }
 
     // The user's boxer ranks its commands by a general policy; the opponents play `firstStyle`.
     Status computeFirstPolicies(const igraph::Graph& g, const std::string& firstStyle, int firstDepth,
                                 std::shared_ptr<const igraph::Policy>& user, std::shared_ptr<const igraph::Policy>& opponent) const {
-        auto pu = igraph::computePolicy(g, igraph::RewardWeights{}, firstDepth, cancelWhen(cancel));
+        auto pu = igraph::computePolicy(g, igraph::RewardWeights{}, firstDepth, cancelWhen(build.cancel));
         if (!pu) return pu.error();
         auto w = igraph::stylePreset(firstStyle);
         if (!w) return w.error();
-        auto po = igraph::computePolicy(g, *w, firstDepth, cancelWhen(cancel));
+        auto po = igraph::computePolicy(g, *w, firstDepth, cancelWhen(build.cancel));
         if (!po) return po.error();
         user = std::make_shared<const igraph::Policy>(std::move(*pu));
         opponent = std::make_shared<const igraph::Policy>(std::move(*po));
         return {};
     }
 
-    // The worker: build, save as the cache, the first policies.
-    void build(const std::string& firstStyle, int firstDepth) {
+    // The worker: build, save as the cache, the first policies; returns the error ("": none).
+    std::string buildGraph(const std::string& firstStyle, int firstDepth) {
         igraph::BuildOptions bo;
         bo.seed = opt.seed;
         bo.maxSamples = opt.graphStates;
         bo.coverageDepth = 0;  // the coverage measurement (fray-cli igraph build) is not needed to play
-        const ProgressFn progress = [this](double f, std::string_view s) {
-            {
-                std::lock_guard lock(progressMutex);
-                fraction = f;
-                stage = std::string(s);
-            }
-            return !cancel.load();
-        };
-        auto g = igraph::buildGraph(*rules, bo, progress);
-        std::string error;
-        if (!g) {
-            error = opt.project + ": " + g.error().message;
+        auto g = igraph::buildGraph(*rules, bo, build.progress());
+        if (!g) return opt.project + ": " + g.error().message;
+        if (Status s = igraph::saveGraph(*g, graphFile); !s) {
+            build.note("the graph could not be kept: " + s.error().message);
         } else {
-            if (Status s = igraph::saveGraph(*g, graphFile); !s) {
-                std::lock_guard lock(progressMutex);
-                notes.push_back("the graph could not be kept: " + s.error().message);
-            } else {
-                std::lock_guard lock(progressMutex);
-                notes.push_back("built " + std::to_string(g->stateCount()) + " states, " + std::to_string(g->edgeCount()) + " edges; kept in " +
-                                graphFile.string());
-            }
-            {
-                std::lock_guard lock(progressMutex);
-                stage = "policies";
-            }
-            std::shared_ptr<const igraph::Policy> u, o;
-            if (Status s = computeFirstPolicies(*g, firstStyle, firstDepth, u, o); !s) error = s.error().message;
-            builtGraph = std::make_unique<igraph::Graph>(std::move(*g));
-            builtUser = u;
-            builtOpponent = o;
+            build.note("built " + std::to_string(g->stateCount()) + " states, " + std::to_string(g->edgeCount()) + " edges; kept in " +
+                       graphFile.string());
         }
-        std::lock_guard lock(progressMutex);
-        buildError = error;
-        built = true;
+        build.stage("policies");
+        std::string error;
+        std::shared_ptr<const igraph::Policy> u, o;
+        if (Status s = computeFirstPolicies(*g, firstStyle, firstDepth, u, o); !s) error = s.error().message;
+        builtGraph = std::make_unique<igraph::Graph>(std::move(*g));
+        builtUser = u;
+        builtOpponent = o;
+        return error;
     }
 
-    Status takeBuilt() {
-        if (builder.joinable()) builder.join();
-        if (!buildError.empty()) return makeError(buildError);
+    bool hasGraph() const override { return graph != nullptr; }
+
+    Status takeBuilt() override {
+        if (Status s = build.finish(); !s) return s;
         graph = std::shared_ptr<const igraph::Graph>(std::move(builtGraph));
         userPolicy = builtUser;
         applied = builtOpponent;
         return {};
     }
 
-    void startMatch() {
+    Status start() override {
         service = std::make_unique<igraph::PolicyService>(graph, applied);
         const int n = opt.characters;
         const std::uint64_t seed = opt.seed + static_cast<std::uint64_t>(restarts);
@@ -281,15 +196,9 @@ struct Duel::Impl {
         mo.seed = seed;
         mo.record = "fray-play " + std::string(n == 2 ? "duel" : "team fight");
         match = std::make_unique<igraph::Match>(rules, graph, std::move(fighters), mo);
-        poser = std::make_unique<sim::ScenePoser>(match->scene(), lib());
-        tints.clear();
-        for (int c = 0; c < n; ++c) tints.push_back(cli::characterTint(match->scene(), c));
-        poses.assign(static_cast<std::size_t>(n), {});
-        positions.assign(static_cast<std::size_t>(n), {});
-        rotations.assign(static_cast<std::size_t>(n), {});
-        labels.assign(static_cast<std::size_t>(n), {});
-        nextEvent = 0;
-        carry = 0;
+        cast.reset(match->scene(), lib(), n);
+        script.next = 0;
+        steps.reset();
         follow.reset();
         policies.push_back({0.0, applied->seconds, styleOf(applied->weights), applied->depth});
         // Asked for another while the graph was being built: recompute now.
@@ -297,6 +206,7 @@ struct Duel::Impl {
             if (auto w = igraph::stylePreset(style)) (void)service->request(*w, depth);
         }
         pose();
+        return {};
     }
 
     void requestPolicy(const std::string& newStyle, int newDepth, const std::string& source) {
@@ -328,99 +238,38 @@ struct Duel::Impl {
         policies.push_back({match->time(), p->seconds, styleOf(p->weights), p->depth});
     }
 
-    void readInput(GLFWwindow* window, bool keyboard, double dt) {
-        std::array<bool, kCommandCount> down{};
-        std::array<const char*, kCommandCount> from{};
-        bool styleNext = false, stylePrev = false, depthUp = false, depthDown = false, pause = false, restart = false;
-        int styleKey = -1;
-        if (keyboard && window) {
-            auto key = [&](int k) { return k != GLFW_KEY_UNKNOWN && glfwGetKey(window, k) == GLFW_PRESS; };
-            for (const auto& b : kKeys) {
-                if (key(b.keys[0]) || key(b.keys[1])) down[static_cast<std::size_t>(b.command)] = true, from[static_cast<std::size_t>(b.command)] = "keyboard";
-            }
-            for (int s = 0; s < 3; ++s) {
-                if (edges.pressed(20 + s, key(GLFW_KEY_1 + s))) styleKey = s;
-            }
-            depthUp = edges.pressed(23, key(GLFW_KEY_EQUAL) || key(GLFW_KEY_KP_ADD));
-            depthDown = edges.pressed(24, key(GLFW_KEY_MINUS) || key(GLFW_KEY_KP_SUBTRACT));
-            pause = edges.pressed(25, key(GLFW_KEY_P));
-            restart = edges.pressed(26, key(GLFW_KEY_R));
-        }
-        // The first joystick with a gamepad mapping.
-        gamepadName.clear();
-        for (int j = GLFW_JOYSTICK_1; j <= GLFW_JOYSTICK_LAST; ++j) {
-            GLFWgamepadstate gp;
-            if (!glfwJoystickIsGamepad(j) || !glfwGetGamepadState(j, &gp)) continue;
-            const char* name = glfwGetGamepadName(j);
-            gamepadName = name ? name : "gamepad";
-            const float x = gp.axes[GLFW_GAMEPAD_AXIS_LEFT_X], y = gp.axes[GLFW_GAMEPAD_AXIS_LEFT_Y];
-            auto btn = [&](int b) { return gp.buttons[b] == GLFW_PRESS; };
-            auto set = [&](Command c, bool on) {
-                if (on) down[static_cast<std::size_t>(c)] = true, from[static_cast<std::size_t>(c)] = from[static_cast<std::size_t>(c)] ? from[static_cast<std::size_t>(c)] : "gamepad";
-            };
-            set(Command::Forward, y < -0.5f || btn(GLFW_GAMEPAD_BUTTON_DPAD_UP));
-            set(Command::Back, y > 0.5f || btn(GLFW_GAMEPAD_BUTTON_DPAD_DOWN));
-            set(Command::TurnLeft, x < -0.5f || btn(GLFW_GAMEPAD_BUTTON_DPAD_LEFT));
-            set(Command::TurnRight, x > 0.5f || btn(GLFW_GAMEPAD_BUTTON_DPAD_RIGHT));
-            set(Command::Punch, btn(GLFW_GAMEPAD_BUTTON_A));
-            set(Command::Kick, btn(GLFW_GAMEPAD_BUTTON_B));
-            set(Command::Dodge, btn(GLFW_GAMEPAD_BUTTON_X));
-            set(Command::Avoid, btn(GLFW_GAMEPAD_BUTTON_Y));
-            styleNext = edges.pressed(30, btn(GLFW_GAMEPAD_BUTTON_RIGHT_BUMPER));
-            stylePrev = edges.pressed(31, btn(GLFW_GAMEPAD_BUTTON_LEFT_BUMPER));
-            depthUp = edges.pressed(32, gp.axes[GLFW_GAMEPAD_AXIS_RIGHT_TRIGGER] > 0.5f) || depthUp;
-            depthDown = edges.pressed(33, gp.axes[GLFW_GAMEPAD_AXIS_LEFT_TRIGGER] > 0.5f) || depthDown;
-            pause = edges.pressed(34, btn(GLFW_GAMEPAD_BUTTON_START)) || pause;
-            restart = edges.pressed(35, btn(GLFW_GAMEPAD_BUTTON_BACK)) || restart;
-            break;
-        }
+    void readInput(GLFWwindow* window, bool keyboard, double dt) override {
+        const Controls in = input.read(window, keyboard);
         if (!match) return;
-        for (int k = 1; k < kCommandCount; ++k) {
-            const auto c = static_cast<Command>(k);
-            const bool fresh = edges.pressed(k, down[static_cast<std::size_t>(k)]);
-            double& held = heldFor[static_cast<std::size_t>(k)];
-            if (!down[static_cast<std::size_t>(k)]) {
-                held = 0;
-                continue;
-            }
-            held += dt;
-            if (fresh || (moves(c) && held >= kRepeat)) {
-                if (!fresh) held = 0;
-                command(kUser, c, from[static_cast<std::size_t>(k)]);
-            }
+        input.send(in, dt, [&](std::size_t i, const char* from) { command(kUser, commandOf(i), from); });
+        int styleKey = -1;
+        for (int s = 0; s < 3; ++s) {
+            if (in.keys[static_cast<std::size_t>(s)]) styleKey = s;
         }
         const auto& names = igraph::styleNames();
         const int at = static_cast<int>(std::find(names.begin(), names.end(), style) - names.begin());
         const int count = static_cast<int>(names.size());
         if (styleKey >= 0 && styleKey < count) requestPolicy(names[static_cast<std::size_t>(styleKey)], depth, "keyboard");
-        if (styleNext) requestPolicy(names[static_cast<std::size_t>((at + 1) % count)], depth, "gamepad");
-        if (stylePrev) requestPolicy(names[static_cast<std::size_t>((at + count - 1) % count)], depth, "gamepad");
-        if (depthUp) requestPolicy(style, depth + 1, "input");
-        if (depthDown) requestPolicy(style, depth - 1, "input");
-        if (pause) paused = !paused;
-        if (restart) {
-            ++restarts;
-            startMatch();
-        }
+        if (in.next) requestPolicy(names[static_cast<std::size_t>((at + 1) % count)], depth, "gamepad");
+        if (in.prev) requestPolicy(names[static_cast<std::size_t>((at + count - 1) % count)], depth, "gamepad");
+        if (in.depthUp) requestPolicy(style, depth + 1, "input");
+        if (in.depthDown) requestPolicy(style, depth - 1, "input");
+        if (in.pause) paused = !paused;
+        if (in.restart) restart();
     }
 
     void applyScript() {
-        while (nextEvent < script.size() && script[nextEvent].time <= match->time() + 1e-9) {
-            const auto& e = script[nextEvent++];
+        script.due(match->time(), [&](const ScriptEvent& e) {
             switch (e.kind) {
                 case ScriptEvent::Kind::Command: command(e.character, e.command, "script"); break;
                 case ScriptEvent::Kind::Style: requestPolicy(e.style, depth, "script"); break;
                 case ScriptEvent::Kind::Depth: requestPolicy(style, e.depth, "script"); break;
             }
-        }
+        });
     }
 
-    void advance(double dt) {
-        constexpr double kStep = 1.0 / 60.0;  // MatchOptions::step
-        carry += std::min(dt, 0.25);          // a stalled frame does not fast-forward the fight
-        auto steps = static_cast<int>(std::floor((carry + 1e-9) / kStep));
-        carry -= steps * kStep;
-        while (steps-- > 0 && !match->finished()) {
+    void advance(double dt) override {
+        for (int n = steps.take(dt); n > 0 && !match->finished(); --n) {
             swapPolicy();
             applyScript();
             match->step();
@@ -428,29 +277,18 @@ struct Duel::Impl {
         swapPolicy();
     }
 
-    void pose() {
+    void pose() override {
         const double t = match->time();
         const auto& scene = match->scene();
-        shown.clear();
         const int n = match->size();
-        for (int c = 0; c < n; ++c) {
-            const auto k = static_cast<std::size_t>(c);
-            poser->pose(c, t, poses[k]);
-            positions[k].resize(poses[k].translations.size());
-            rotations[k].resize(poses[k].translations.size());
-            forwardKinematics(poser->skeleton(c), poses[k].translations, poses[k].rotations, positions[k], rotations[k]);
-            labels[k].clear();
-            if (n <= cli::SceneStage::kAutoLabels || c == kUser) {
-                const int i = scene.instanceAt(c, t);
-                if (i >= 0) {
-                    const auto& inst = scene.characters[k].track[static_cast<std::size_t>(i)];
-                    labels[k] = scene.characters[k].name + ": " + lib().action(inst.action).label() + (inst.forced ? " (hit)" : "");
-                }
-            }
-            // Not drawn selected: the highlight would shift its colour off its swatch; the label names it.
-            shown.push_back({&poser->skeleton(c), positions[k], rotations[k], tints[k], labels[k], false});
-        }
-        follow.to(render::characterBounds(shown));
+        cast.pose(t, [&](int c) {
+            if (n > cli::SceneStage::kAutoLabels && c != kUser) return std::string();
+            const int i = scene.instanceAt(c, t);
+            if (i < 0) return std::string();
+            const auto& inst = scene.characters[static_cast<std::size_t>(c)].track[static_cast<std::size_t>(i)];
+            return scene.characters[static_cast<std::size_t>(c)].name + ": " + lib().action(inst.action).label() + (inst.forced ? " (hit)" : "");
+        });
+        follow.to(render::characterBounds(cast.shown()));
     }
 
     std::array<int, 2> landedBySide() const {
@@ -470,10 +308,7 @@ struct Duel::Impl {
 
 Duel::Duel() : impl_(std::make_unique<Impl>()) {}
 
-Duel::~Duel() {
-    impl_->cancel = true;
-    if (impl_->builder.joinable()) impl_->builder.join();
-}
+Duel::~Duel() { impl_->build.stop(); }
 
 Result<std::unique_ptr<Duel>> Duel::open(const DuelOptions& options) {
     std::unique_ptr<Duel> d(new Duel());
@@ -491,47 +326,22 @@ Result<std::unique_ptr<Duel>> Duel::open(const DuelOptions& options) {
         auto s = loadScript(options.input);
         if (!s) return s.error();
         if (Status st = checkCharacters(*s, options.characters, options.input); !st) return st.error();
-        m.script = std::move(*s);
+        m.script.events = std::move(*s);
     }
-    // Progress on a terminal only: a scripted run's output stays its result and errors.
-    const ProgressFn progress = options.quiet || !isatty(2) ? ProgressFn{} : ProgressFn([last = -1](double f, std::string_view stage) mutable {
-        const int pct = static_cast<int>(f * 100);
-        if (pct / 10 != last / 10) std::fprintf(stderr, "fray-play: %.*s %d%%\n", static_cast<int>(stage.size()), stage.data(), pct), last = pct;
-        return true;
-    });
-    auto ss = pipeline::openSimSession(options.project, progress);
-    if (!ss) return ss.error();
-    m.session = std::move(*ss);
+    if (Status st = m.openProject(options.project, options.quiet); !st) return st.error();
     auto rules = igraph::Rules::make(m.session->library);
     if (!rules) return makeError(options.project + ": " + rules.error().message);
     m.rules = *rules;
     if (Status st = m.acquireGraph(); !st) return st.error();
-    if (m.graph) m.startMatch();
+    if (m.graph) (void)m.start();
     return d;
 }
 
-Status Duel::update(double dt, GLFWwindow* window, bool keyboard) {
-    Impl& m = *impl_;
-    if (!m.graph) {
-        if (!m.built) {
-            m.readInput(window, keyboard, dt);
-            return {};
-        }
-        if (Status s = m.takeBuilt(); !s) return s;
-        m.startMatch();
-    }
-    m.readInput(window, keyboard, dt);
-    const auto t0 = Clock::now();
-    if (!m.paused) m.advance(dt);
-    m.pose();
-    m.clock.add(std::chrono::duration<double>(Clock::now() - t0).count());
-    return {};
-}
+Status Duel::update(double dt, GLFWwindow* window, bool keyboard) { return impl_->frame(dt, window, keyboard); }
 
-
-std::span<const render::CharacterInstance> Duel::shown() const { return impl_->shown; }
+std::span<const render::CharacterInstance> Duel::shown() const { return impl_->cast.shown(); }
 render::Bounds Duel::framing() const {
-    const render::Bounds b = render::characterBounds(impl_->shown);
+    const render::Bounds b = render::characterBounds(impl_->cast.shown());
     return b.empty() ? framingPlaceholder() : b;
 }
 glm::vec3 Duel::moved() const { return impl_->follow.moved(); }
@@ -550,24 +360,13 @@ void Duel::overlay() {
     const bool duel = m.opt.characters == 2;
     ImGui::Text("%s", duel ? "Duel against the Interaction Graph" : "Team fight on the Interaction Graph");
     if (!m.match) {
-        std::lock_guard lock(m.progressMutex);
-        ImGui::TextWrapped("Building the graph (%s)", m.stage.c_str());
-        ImGui::ProgressBar(static_cast<float>(m.fraction), ImVec2(-1, 0));
-        for (const auto& n : m.notes) ImGui::TextWrapped("%s", n.c_str());
+        m.build.panel("the graph");
         return;
     }
     const auto landed = m.landedBySide();
     const auto blocked = m.blockedBySide();
     const int score = landed[0] - landed[1];
-    ImGui::Text("match %.1f s%s", m.match->time(), m.paused ? "  (paused)" : "");
-    ImGui::SameLine();
-    if (ImGui::SmallButton(m.paused ? "Resume" : "Pause")) m.paused = !m.paused;
-    ImGui::SameLine();
-    if (ImGui::SmallButton("Restart")) {
-        ++m.restarts;
-        m.startMatch();
-        return;
-    }
+    if (m.timeRow("match", m.match->time())) return;
     const ImVec4 scoreColour = score > 0 ? ImVec4(0.45f, 0.9f, 0.45f, 1) : score < 0 ? ImVec4(1.0f, 0.45f, 0.4f, 1) : ImVec4(1, 1, 1, 1);
     ImGui::SetWindowFontScale(1.6f);
     ImGui::TextColored(scoreColour, "Score %+d", score);
@@ -598,7 +397,7 @@ void Duel::overlay() {
     ImGui::Text("decisions %lld, off the graph %.0f %%", static_cast<long long>(st.decisions),
                 st.lookups > 0 ? 100.0 * static_cast<double>(st.offGraph) / static_cast<double>(st.lookups) : 0.0);
     ImGui::Text("graph: %zu states, %zu edges", m.graph->stateCount(), m.graph->edgeCount());
-    if (!m.gamepadName.empty()) ImGui::Text("gamepad: %s", m.gamepadName.c_str());
+    if (!m.input.gamepad().empty()) ImGui::Text("gamepad: %s", m.input.gamepad().c_str());
     if (ImGui::CollapsingHeader("Controls")) {
         ImGui::TextWrapped("W/up forward, S/down back, A/left turn left, D/right turn right, J punch, K kick, L dodge, I avoid; "
                            "1/2/3 style general/infighter/outboxer, +/- depth, P pause, R restart. Gamepad: left stick or d-pad "
@@ -609,13 +408,9 @@ void Duel::overlay() {
     const auto& scene = m.match->scene();
     const int n = m.match->size();
     for (int c = 0; c < std::min(n, 64); ++c) {
-        const glm::vec3 tint = m.tints[static_cast<std::size_t>(c)];
-        ImGui::PushID(c);
-        ImGui::ColorButton("##tint", ImVec4(tint.x, tint.y, tint.z, 1.0f), ImGuiColorEditFlags_NoTooltip, ImVec2(12, 12));
-        ImGui::SameLine();
         const auto l = m.match->landed()[static_cast<std::size_t>(c)];
-        ImGui::Text("%s  (%d landed)", scene.characters[static_cast<std::size_t>(c)].name.c_str(), l);
-        ImGui::PopID();
+        characterRow(c, m.cast.tints()[static_cast<std::size_t>(c)],
+                     scene.characters[static_cast<std::size_t>(c)].name + "  (" + std::to_string(l) + " landed)");
     }
     if (n > 64) ImGui::Text("... and %d more", n - 64);
 }
@@ -623,12 +418,7 @@ void Duel::overlay() {
 Status Duel::writeLog() const {
     const Impl& m = *impl_;
     if (m.opt.log.empty()) return {};
-    nlohmann::ordered_json j;
-    j["format"] = "fray-play-log";
-    j["version"] = 1;
-    j["mode"] = m.opt.characters == 2 ? "duel" : "teams";
-    j["project"] = m.opt.project;
-    j["graph"] = m.graphFile.string();
+    nlohmann::ordered_json j = m.logHead(m.opt.characters == 2 ? "duel" : "teams", m.opt.project);
     j["time"] = m.match ? m.match->time() : 0.0;
     j["characters"] = nlohmann::ordered_json::array();
     j["events"] = nlohmann::ordered_json::array();
@@ -640,7 +430,7 @@ Status Duel::writeLog() const {
         const auto landed = m.match->landed();
         for (int c = 0; c < m.match->size(); ++c) {
             const auto& ch = scene.characters[static_cast<std::size_t>(c)];
-            const glm::vec3 t = m.tints[static_cast<std::size_t>(c)];
+            const glm::vec3 t = m.cast.tints()[static_cast<std::size_t>(c)];
             j["characters"].push_back({{"name", ch.name}, {"side", ch.side}, {"user", c == kUser}, {"tint", {t.x, t.y, t.z}},
                                        {"landed", landed[static_cast<std::size_t>(c)]}});
         }

@@ -14,6 +14,7 @@
 
 #include "fray/render/font.h"
 #include "gpu.h"
+#include "vk_init.h"
 #include "overlay_builder.h"
 
 // SPIR-V compiled from resources/shaders at build time.
@@ -329,37 +330,13 @@ Status Renderer::Impl::init() {
         VkAttachmentReference depthRef{1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
         VkAttachmentReference resolveRef{2, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
         const bool ms = samples != VK_SAMPLE_COUNT_1_BIT;
-        VkAttachmentDescription color{};
-        color.format = kColorFormat;
-        color.samples = samples;
-        color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-        color.storeOp = ms ? VK_ATTACHMENT_STORE_OP_DONT_CARE : VK_ATTACHMENT_STORE_OP_STORE;
-        color.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-        color.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-        color.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-        color.finalLayout = ms ? VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL : VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-        VkAttachmentDescription depthAtt{};
-        depthAtt.format = depthFormat;
-        depthAtt.samples = samples;
-        depthAtt.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-        depthAtt.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-        depthAtt.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-        depthAtt.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-        depthAtt.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-        depthAtt.finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
-        att.push_back(color);
-        att.push_back(depthAtt);
+        att.push_back(attachment(kColorFormat, samples, VK_ATTACHMENT_LOAD_OP_CLEAR, ms ? VK_ATTACHMENT_STORE_OP_DONT_CARE : VK_ATTACHMENT_STORE_OP_STORE,
+                                 VK_IMAGE_LAYOUT_UNDEFINED, ms ? VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL : VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL));
+        att.push_back(attachment(depthFormat, samples, VK_ATTACHMENT_LOAD_OP_CLEAR, VK_ATTACHMENT_STORE_OP_DONT_CARE, VK_IMAGE_LAYOUT_UNDEFINED,
+                                 VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL));
         if (ms) {
-            VkAttachmentDescription res{};
-            res.format = kColorFormat;
-            res.samples = VK_SAMPLE_COUNT_1_BIT;
-            res.loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-            res.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-            res.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-            res.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-            res.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-            res.finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-            att.push_back(res);
+            att.push_back(attachment(kColorFormat, VK_SAMPLE_COUNT_1_BIT, VK_ATTACHMENT_LOAD_OP_DONT_CARE, VK_ATTACHMENT_STORE_OP_STORE,
+                                     VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL));
         }
         VkSubpassDescription sub{};
         sub.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
@@ -396,15 +373,8 @@ Status Renderer::Impl::init() {
         if ((r = vkCreateRenderPass(device, &rp, nullptr, &mainPass)) != VK_SUCCESS) return vkError("vkCreateRenderPass", r);
     }
     {
-        VkAttachmentDescription d{};
-        d.format = depthFormat;
-        d.samples = VK_SAMPLE_COUNT_1_BIT;
-        d.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-        d.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-        d.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-        d.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-        d.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-        d.finalLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+        const VkAttachmentDescription d = attachment(depthFormat, VK_SAMPLE_COUNT_1_BIT, VK_ATTACHMENT_LOAD_OP_CLEAR, VK_ATTACHMENT_STORE_OP_STORE,
+                                                     VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
         VkAttachmentReference ref{0, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
         VkSubpassDescription sub{};
         sub.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;

@@ -29,25 +29,7 @@ const prep::MotionActions& actionsOf(const ProjectDocument& doc, const std::stri
     return doc.project().findMotion(id)->actions;
 }
 
-// Applies `edit`, which must push exactly one command, then checks that undo
-// gives back the bytes from before and redo the bytes from after.
-void expectOneUndoableStep(ProjectDocument& doc, const std::string& what, const std::function<Status()>& edit) {
-    SCOPED_TRACE(what);
-    const std::string before = doc.serialized();
-    const int count = doc.undoStack()->count();
-    const Status st = edit();
-    ASSERT_TRUE(st.ok()) << st.error().message;
-    ASSERT_EQ(doc.undoStack()->count(), count + 1) << "the edit must push one command";
-    const std::string after = doc.serialized();
-    EXPECT_NE(after, before) << "the edit changed nothing";
-    doc.undoStack()->undo();
-    EXPECT_EQ(doc.serialized(), before);
-    doc.undoStack()->redo();
-    EXPECT_EQ(doc.serialized(), after);
-    // The document stays a loadable project (vocabulary, cuts and actions agree).
-    const auto reloaded = prep::projectFromJson(after, "after.frayproj");
-    EXPECT_TRUE(reloaded.ok()) << reloaded.error().message;
-}
+using test::expectOneUndoableStep;  // document_fixture.h
 
 prep::ProjectMotion extraMotion(const std::string& id, int frames) {
     prep::ProjectMotion m;

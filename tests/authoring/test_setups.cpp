@@ -21,23 +21,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// One undoable step (document_fixture.h) after which the project's setups still load.
 void oneStep(ProjectDocument& doc, const std::string& what, const std::function<Status()>& edit) {
-    SCOPED_TRACE(what);
-    const std::string before = doc.serialized();
-    const int count = doc.undoStack()->count();
-    const Status st = edit();
-    ASSERT_TRUE(st.ok()) << st.error().message;
-    ASSERT_EQ(doc.undoStack()->count(), count + 1) << "the edit must push one command";
-    const std::string after = doc.serialized();
-    EXPECT_NE(after, before) << "the edit changed nothing";
-    doc.undoStack()->undo();
-    EXPECT_EQ(doc.serialized(), before);
-    doc.undoStack()->redo();
-    EXPECT_EQ(doc.serialized(), after);
-    auto reloaded = prep::projectFromJson(after, "after.frayproj");
-    ASSERT_TRUE(reloaded.ok()) << reloaded.error().message;
-    auto setups = setup::projectSetups(*reloaded, "after.frayproj");
-    EXPECT_TRUE(setups.ok()) << setups.error().message;
+    test::expectOneUndoableStep(doc, what, edit, [](const prep::Project& reloaded) {
+        auto setups = setup::projectSetups(reloaded, "after.frayproj");
+        EXPECT_TRUE(setups.ok()) << setups.error().message;
+    });
 }
 
 void refused(ProjectDocument& doc, const std::string& what, const std::string& message, const std::function<Status()>& edit) {

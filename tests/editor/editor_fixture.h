@@ -4,11 +4,14 @@
 // project's takes loaded, the saved layout ignored, autosave off.
 #include <gtest/gtest.h>
 
+#include <QApplication>
 #include <QObject>
 #include <QString>
 #include <QTemporaryDir>
 #include <filesystem>
+#include <functional>
 #include <memory>
+#include <optional>
 
 #include "main_window.h"
 #include "takes.h"
@@ -31,6 +34,24 @@ inline std::unique_ptr<editor::MainWindow> openEditorWindow(
     w->resize(1400, 880);
     w->show();
     return w;
+}
+
+// A window test program's main(): the Qt platform (when QT_QPA_PLATFORM is
+// unset), the application, then the tests. `instead`, when it returns a
+// value, ends the program with it before the tests (a child process's role);
+// `after` runs once they have, while the application still exists.
+inline int runWindowTests(int argc, char** argv, const char* platform, const std::function<std::optional<int>()>& instead = {},
+                          const std::function<void()>& after = {}) {
+    if (qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) qputenv("QT_QPA_PLATFORM", platform);
+    QApplication app(argc, argv);
+    QApplication::setApplicationName("fray-tests");
+    if (instead) {
+        if (const std::optional<int> code = instead()) return *code;
+    }
+    ::testing::InitGoogleTest(&argc, argv);
+    const int result = RUN_ALL_TESTS();
+    if (after) after();
+    return result;
 }
 
 // The named child widget or object, a test failure when there is none.

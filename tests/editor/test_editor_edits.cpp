@@ -393,11 +393,9 @@ TEST(EditorCrash, KilledEditorIsRecoveredExactly) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) qputenv("QT_QPA_PLATFORM", "offscreen");
-    QApplication app(argc, argv);
-    QApplication::setApplicationName("fray-tests");
-    if (const QByteArray project = qgetenv("FRAY_CRASH_PROJECT"); !project.isEmpty())
-        return crashChild(QString::fromUtf8(project));
-    ::testing::InitGoogleTest(&argc, argv);
-    return RUN_ALL_TESTS();
+    // The crash-recovery test's child process: edits, then dies.
+    return fray::test::runWindowTests(argc, argv, "offscreen", []() -> std::optional<int> {
+        if (const QByteArray project = qgetenv("FRAY_CRASH_PROJECT"); !project.isEmpty()) return crashChild(QString::fromUtf8(project));
+        return std::nullopt;
+    });
 }

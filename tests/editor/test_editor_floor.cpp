@@ -193,10 +193,4 @@ TEST_F(FloorTools, TrajectoriesAndBadInputKeepTheProjectUnchanged) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-    if (qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) qputenv("QT_QPA_PLATFORM", "xcb");
-    QApplication app(argc, argv);
-    QApplication::setApplicationName("fray-tests");
-    ::testing::InitGoogleTest(&argc, argv);
-    return RUN_ALL_TESTS();
-}
+int main(int argc, char** argv) { return fray::test::runWindowTests(argc, argv, "xcb"); }

@@ -302,10 +302,4 @@ TEST(EditorPatches, AHandMadePatchBuiltActionByActionIsKeptAndStored) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-    if (qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) qputenv("QT_QPA_PLATFORM", "offscreen");
-    QApplication app(argc, argv);
-    QApplication::setApplicationName("fray-tests");
-    ::testing::InitGoogleTest(&argc, argv);
-    return RUN_ALL_TESTS();
-}
+int main(int argc, char** argv) { return fray::test::runWindowTests(argc, argv, "offscreen"); }

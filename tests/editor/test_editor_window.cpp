@@ -259,11 +259,6 @@ TEST(EditorWindow, DescribeUiListsDocksAndMenus) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) qputenv("QT_QPA_PLATFORM", "offscreen");
-    QApplication app(argc, argv);
-    QApplication::setApplicationName("fray-tests");
-    ::testing::InitGoogleTest(&argc, argv);
-    const int result = RUN_ALL_TESTS();
-    gDemoWindow.reset();
-    return result;
+    // The shared demo window goes before the application does.
+    return fray::test::runWindowTests(argc, argv, "offscreen", {}, [] { gDemoWindow.reset(); });
 }

@@ -10,8 +10,6 @@
 set -uo pipefail
 play=$1 check=$2 lib=$3 out=$4 cli=$5
 rm -rf "$out" && mkdir -p "$out"
-fails=0
-bad() { echo "FAIL: $*"; fails=$((fails + 1)); }
 source "$(dirname "$0")/xvfb_lib.sh"
 start_xvfb 1024x768x24 || exit 1
 p=$lib/demo.frayproj
@@ -26,22 +24,17 @@ cat >"$out/script.txt" <<'EOF'
 EOF
 # 40 frames of 0.1 s: 4 s of the match. No graph yet: fray-play builds a
 # small one of the demo project first (a counted run: before the window) and keeps it.
-if ! timeout 120 "$play" --duel "$p" --graph "$out/g.igraph" --graph-states 3000 --input "$out/script.txt" --log "$out/log.json" \
-     --frames 40 --frame-time 0.1 --size 800x450 --validate --screenshot "$out/duel.png" >"$out/duel.log" 2>&1; then
-  bad "fray-play --duel failed: $(cat "$out/duel.log") $(xvfb_log)"
-fi
+run_window "fray-play --duel" "$out/duel.log" "$play" --duel "$p" --graph "$out/g.igraph" --graph-states 3000 --input "$out/script.txt" --log "$out/log.json" \
+     --frames 40 --frame-time 0.1 --size 800x450 --validate --screenshot "$out/duel.png"
 grep -q "g.igraph: no graph yet; building it (3000 states at most)" "$out/duel.log" || bad "no build message: $(cat "$out/duel.log")"
 "$cli" igraph stats "$out/g.igraph" >"$out/stats.log" 2>&1 || bad "the graph kept is not read: $(cat "$out/stats.log")"
 grep -q "drew 40 frames" "$out/duel.log" || bad "expected 40 frames: $(cat "$out/duel.log")"
 grep -q "match at 4.000 s" "$out/duel.log" || bad "expected the match at 4 s: $(cat "$out/duel.log")"
-grep -q "validation" "$out/duel.log" && bad "validation messages: $(cat "$out/duel.log")"
 "$check" "$out/duel.png" 800 450 || bad "duel screenshot check"
 # You (side 0) in red and the opponent (side 1) in blue, as their swatches
 # (and the log's tints): the panel hidden, its widgets are blue too.
-if ! timeout 120 "$play" --duel "$p" --graph "$out/g.igraph" --frames 3 --size 640x360 --hide-panel --validate \
-     --screenshot "$out/colours.png" >"$out/colours.log" 2>&1; then
-  bad "fray-play --duel --hide-panel failed: $(cat "$out/colours.log") $(xvfb_log)"
-fi
+run_window "fray-play --duel --hide-panel" "$out/colours.log" "$play" --duel "$p" --graph "$out/g.igraph" --frames 3 --size 640x360 --hide-panel --validate \
+     --screenshot "$out/colours.png"
 "$check" "$out/colours.png" --tint $tint_red 300 || bad "the red boxer is not drawn"
 "$check" "$out/colours.png" --tint $tint_blue 300 || bad "the blue boxer is not drawn"
 python3 - "$out/log.json" <<'EOF' || bad "the log: $(head -c 3000 "$out/log.json")"
@@ -70,11 +63,8 @@ EOF
 
 # A team fight of 8, the user steering red 1.
 echo "0.5 forward" >"$out/teams.txt"
-if ! timeout 120 "$play" --teams 8 "$p" --graph "$out/g.igraph" --input "$out/teams.txt" --log "$out/teams.json" \
-     --frames 10 --frame-time 0.1 --size 640x360 --validate --screenshot "$out/teams.png" >"$out/teams.log" 2>&1; then
-  bad "fray-play --teams failed: $(cat "$out/teams.log") $(xvfb_log)"
-fi
-grep -q "validation" "$out/teams.log" && bad "teams: validation messages: $(cat "$out/teams.log")"
+run_window "fray-play --teams" "$out/teams.log" "$play" --teams 8 "$p" --graph "$out/g.igraph" --input "$out/teams.txt" --log "$out/teams.json" \
+     --frames 10 --frame-time 0.1 --size 640x360 --validate --screenshot "$out/teams.png"
 "$check" "$out/teams.png" 640 360 || bad "teams screenshot check"
 python3 -c "
 import json, sys
@@ -117,5 +107,4 @@ expect_play_error 1 "no attacks" "w.frayproj: Interaction Graph: the project has
 [[ -e "$out/walk/w.frayproj.igraph" ]] && bad "a graph was written for a project without attacks"
 expect_play_error 2 "not a project" "--duel/--teams: give one project" --duel "$out/script.txt"
 
-if (( fails > 0 )); then echo "$fails failure(s)"; exit 1; fi
-echo "duel_xvfb: all checks passed"
+finish_checks duel_xvfb

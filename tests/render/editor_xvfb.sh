@@ -12,18 +12,13 @@ set -uo pipefail
 fray=$1 check=$2 lib=$3 out=$4 cli=$5
 rm -rf "$out" && mkdir -p "$out"
 export XDG_RUNTIME_DIR=$out XDG_CONFIG_HOME=$out/config && chmod 700 "$out"
-fails=0
-bad() { echo "FAIL: $*"; fails=$((fails + 1)); }
 source "$(dirname "$0")/xvfb_lib.sh"
 start_xvfb 1400x900x24 || exit 1
 
-if ! timeout 120 "$fray" --quit-after 10 --validate \
-     --screenshot "$out/window.png" --viewport-screenshot "$out/viewport.png" >"$out/demo.log" 2>&1; then
-  bad "fray on the demo project failed: $(cat "$out/demo.log") $(xvfb_log)"
-fi
+run_window "fray on the demo project" "$out/demo.log" "$fray" --quit-after 10 --validate \
+     --screenshot "$out/window.png" --viewport-screenshot "$out/viewport.png"
 # Frame k is shown at k/60 s of scene (or take) time: the 10th at 0.150 s.
 grep -q "drew 10 frames, at 0.150 s" "$out/demo.log" || bad "expected 10 frames, the last at 0.150 s: $(cat "$out/demo.log")"
-grep -q "validation" "$out/demo.log" && bad "validation messages: $(cat "$out/demo.log")"
 "$check" "$out/window.png" 640 400 || bad "window screenshot check"
 "$check" "$out/viewport.png" 320 200 || bad "viewport screenshot check"
 # The first character is drawn in the first team colour (the demo's first
@@ -45,18 +40,13 @@ for name in LibraryDock TimelineDock InspectorDock GraphDock CombosDock actionOp
 done
 
 # A motion file given on the command line.
-if ! timeout 120 "$fray" "$lib/walking.bvh" --quit-after 3 >"$out/motion.log" 2>&1; then
-  bad "fray walking.bvh failed: $(cat "$out/motion.log") $(xvfb_log)"
-fi
+run_window "fray walking.bvh" "$out/motion.log" "$fray" "$lib/walking.bvh" --quit-after 3
 
 # A composed scene: one-vs-one from the demo project's attack-fall patches.
 compose_fight "$cli" "$lib" "$out"
-if ! timeout 120 "$fray" "$out/fight.frayscene" --quit-after 12 --validate \
-     --screenshot "$out/scene-window.png" --viewport-screenshot "$out/scene.png" >"$out/scene.log" 2>&1; then
-  bad "fray on a scene failed: $(cat "$out/scene.log") $(xvfb_log)"
-fi
+run_window "fray on a scene" "$out/scene.log" "$fray" "$out/fight.frayscene" --quit-after 12 --validate \
+     --screenshot "$out/scene-window.png" --viewport-screenshot "$out/scene.png"
 grep -q "drew 12 frames, at 0.183 s" "$out/scene.log" || bad "scene: expected 12 frames, the last at 0.183 s: $(cat "$out/scene.log")"
-grep -q "validation" "$out/scene.log" && bad "scene: validation messages: $(cat "$out/scene.log")"
 "$check" "$out/scene.png" 320 200 || bad "scene viewport screenshot check"
 # Both fighters are drawn in their team colours (side 0 red, side 1 blue;
 # the composed fight has no paths or checkpoints in those colours).
@@ -64,21 +54,16 @@ grep -q "validation" "$out/scene.log" && bad "scene: validation messages: $(cat 
 "$check" "$out/scene.png" --tint $blue 400 || bad "scene: the blue fighter is not drawn"
 # Playback moves: 36 frames later (0.6 s of fighting) both fighters' pixels
 # changed in many places.
-if ! timeout 120 "$fray" "$out/fight.frayscene" --quit-after 48 --viewport-screenshot "$out/scene-later.png" \
-     >"$out/later.log" 2>&1; then
-  bad "fray on a scene, 48 frames, failed: $(cat "$out/later.log") $(xvfb_log)"
-fi
+run_window "fray on a scene, 48 frames" "$out/later.log" "$fray" "$out/fight.frayscene" --quit-after 48 \
+     --viewport-screenshot "$out/scene-later.png"
 grep -q "drew 48 frames, at 0.783 s" "$out/later.log" || bad "scene: expected 48 frames, the last at 0.783 s: $(cat "$out/later.log")"
 "$check" "$out/scene.png" --differs "$out/scene-later.png" 150 $red || bad "scene: the red fighter did not move"
 "$check" "$out/scene.png" --differs "$out/scene-later.png" 150 $blue || bad "scene: the blue fighter did not move"
 # The same scene drawn with a skinned rig (the scene exported as GLB); a
 # truncated rig is one clear line and exit code 1, before any window.
 "$cli" export "$out/fight.frayscene" --format glb --out "$out/rig" -q >"$out/export.log" 2>&1 || bad "export: $(cat "$out/export.log")"
-if ! timeout 120 "$fray" "$out/fight.frayscene" --rig "$out/rig/fight.glb" --quit-after 6 --validate \
-     --viewport-screenshot "$out/rig.png" >"$out/rig.log" 2>&1; then
-  bad "fray with a rig failed: $(cat "$out/rig.log") $(xvfb_log)"
-fi
-grep -q "validation" "$out/rig.log" && bad "rig: validation messages: $(cat "$out/rig.log")"
+run_window "fray with a rig" "$out/rig.log" "$fray" "$out/fight.frayscene" --rig "$out/rig/fight.glb" --quit-after 6 --validate \
+     --viewport-screenshot "$out/rig.png"
 "$check" "$out/rig.png" 320 200 || bad "rig viewport screenshot check"
 head -c 1000 "$out/rig/fight.glb" > "$out/cut.glb"
 rc=0
@@ -107,5 +92,4 @@ while [[ -e /tmp/.X11-unix/X$dead || -e /tmp/.X$dead-lock ]]; do dead=$((dead + 
 expect_error "cannot connect to the X server at DISPLAY=:$dead" -u WAYLAND_DISPLAY DISPLAY=:$dead
 expect_error "has no Vulkan window surface" QT_QPA_PLATFORM=offscreen
 
-if (( fails > 0 )); then echo "$fails failure(s)"; exit 1; fi
-echo "editor_xvfb: all checks passed"
+finish_checks editor_xvfb

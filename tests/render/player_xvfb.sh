@@ -8,24 +8,17 @@
 set -uo pipefail
 play=$1 check=$2 lib=$3 out=$4 cli=$5
 rm -rf "$out" && mkdir -p "$out"
-fails=0
-bad() { echo "FAIL: $*"; fails=$((fails + 1)); }
 source "$(dirname "$0")/xvfb_lib.sh"
 start_xvfb 1024x768x24 || exit 1
 
 # Two takes side by side, 12 frames, the window captured at the end.
-if ! timeout 120 "$play" "$lib/walking.bvh" "$lib/shadowbox_energetic.bvh" --frames 12 \
-     --size 640x360 --validate --screenshot "$out/play.png" >"$out/play.log" 2>&1; then
-  bad "fray-play failed: $(cat "$out/play.log") $(xvfb_log)"
-fi
+run_window "fray-play" "$out/play.log" "$play" "$lib/walking.bvh" "$lib/shadowbox_energetic.bvh" --frames 12 \
+     --size 640x360 --validate --screenshot "$out/play.png"
 grep -q "drew 12 frames" "$out/play.log" || bad "expected 12 frames: $(cat "$out/play.log")"
-grep -q "validation" "$out/play.log" && bad "validation messages: $(cat "$out/play.log")"
 "$check" "$out/play.png" 640 360 || bad "screenshot check"
 
 # The demo project when started with no argument.
-if ! timeout 120 "$play" --frames 2 --size 320x200 >"$out/demo.log" 2>&1; then
-  bad "fray-play with no argument failed: $(cat "$out/demo.log") $(xvfb_log)"
-fi
+run_window "fray-play with no argument" "$out/demo.log" "$play" --frames 2 --size 320x200
 
 # No display: a clear message naming DISPLAY and Xvfb, exit code 1, no crash.
 rc=0
@@ -36,12 +29,8 @@ grep -q "DISPLAY" "$out/nodisplay.log" && grep -q "xvfb-run" "$out/nodisplay.log
 # A composed scene: one-vs-one from the demo project's attack-fall patches,
 # played for 12 frames with validation on; the shot is neither blank nor uniform.
 compose_fight "$cli" "$lib" "$out"
-if ! timeout 120 "$play" "$out/fight.frayscene" --frames 12 --size 640x360 --validate --screenshot "$out/scene.png" \
-     >"$out/scene.log" 2>&1; then
-  bad "fray-play on a scene failed: $(cat "$out/scene.log") $(xvfb_log)"
-fi
+run_window "fray-play on a scene" "$out/scene.log" "$play" "$out/fight.frayscene" --frames 12 --size 640x360 --validate --screenshot "$out/scene.png"
 grep -q "drew 12 frames" "$out/scene.log" || bad "scene: expected 12 frames: $(cat "$out/scene.log")"
-grep -q "validation" "$out/scene.log" && bad "scene: validation messages: $(cat "$out/scene.log")"
 "$check" "$out/scene.png" 640 360 || bad "scene screenshot check"
 # Both fighters are drawn beside the panel, in their team colours (the
 # panel's own swatches are 144 pixels each).
@@ -50,12 +39,9 @@ grep -q "validation" "$out/scene.log" && bad "scene: validation messages: $(cat 
 # The same scene with a skinned rig (the scene exported as GLB) instead of
 # capsules; a broken rig file is one clear line and exit code 1, before any window.
 "$cli" export "$out/fight.frayscene" --format glb --out "$out/rig" -q >"$out/export.log" 2>&1 || bad "export: $(cat "$out/export.log")"
-if ! timeout 120 "$play" "$out/fight.frayscene" --rig "$out/rig/fight.glb" --frames 6 --size 640x360 --validate \
-     --screenshot "$out/rig.png" >"$out/rig.log" 2>&1; then
-  bad "fray-play with a rig failed: $(cat "$out/rig.log") $(xvfb_log)"
-fi
+run_window "fray-play with a rig" "$out/rig.log" "$play" "$out/fight.frayscene" --rig "$out/rig/fight.glb" --frames 6 --size 640x360 --validate \
+     --screenshot "$out/rig.png"
 grep -q "drew 6 frames" "$out/rig.log" || bad "rig: expected 6 frames: $(cat "$out/rig.log")"
-grep -q "validation" "$out/rig.log" && bad "rig: validation messages: $(cat "$out/rig.log")"
 "$check" "$out/rig.png" 640 360 || bad "rig screenshot check"
 head -c 1000 "$out/rig/fight.glb" > "$out/cut.glb"
 rc=0
@@ -71,5 +57,4 @@ expect_broken_scene "$out" "$play" --frames 1
 # install, exit code 1, no crash.
 expect_no_vulkan_driver "$out" fray-play "$play" "$lib/walking.bvh" --frames 1
 
-if (( fails > 0 )); then echo "$fails failure(s)"; exit 1; fi
-echo "player_xvfb: all checks passed"
+finish_checks player_xvfb

@@ -47,6 +47,13 @@ const std::uint8_t* at(const Image& img, glm::vec3 px) {
 
 int jointIndex(const char* name) { return demoSkeleton().find(name); }
 
+// A body's pixel: one that differs from the empty floor's by more than 8 in a channel.
+bool differs(const Image& img, const Image& empty, int x, int y) {
+    for (int k = 0; k < 3; ++k)
+        if (std::abs(int(img.pixel(x, y)[k]) - int(empty.pixel(x, y)[k])) > 8) return true;
+    return false;
+}
+
 using RenderGolden = GpuTest;
 
 TEST_F(RenderGolden, TwoCharactersOnALitFloor) {
@@ -380,12 +387,7 @@ TEST_F(RenderEngine, FastQualityDrawsSmallCharactersAsCards) {
         int both = 0, either = 0, reddish = 0, cardPixels = 0;
         for (int y = 0; y < kHeight; ++y)
             for (int x = 0; x < kWidth; ++x) {
-                auto differs = [&](const Image& img) {
-                    for (int k = 0; k < 3; ++k)
-                        if (std::abs(int(img.pixel(x, y)[k]) - int(empty.pixel(x, y)[k])) > 8) return true;
-                    return false;
-                };
-                const bool a = differs(withCards), b = differs(withCapsules);
+                const bool a = differs(withCards, empty, x, y), b = differs(withCapsules, empty, x, y);
                 both += a && b;
                 either += a || b;
                 cardPixels += a;
@@ -459,12 +461,7 @@ TEST_F(RenderEngine, FarCardsCoverFullDetailPixels) {
         int both = 0, either = 0;
         for (int y = 0; y < kHeight; ++y)
             for (int x = 0; x < kWidth; ++x) {
-                auto differs = [&](const Image& img) {
-                    for (int k = 0; k < 3; ++k)
-                        if (std::abs(int(img.pixel(x, y)[k]) - int(empty.pixel(x, y)[k])) > 8) return true;
-                    return false;
-                };
-                const bool a = differs(withFar), b = differs(withFull);
+                const bool a = differs(withFar, empty, x, y), b = differs(withFull, empty, x, y);
                 both += a && b;
                 either += a || b;
             }

@@ -1,10 +1,20 @@
-# Sourced by the window tests. start_xvfb SCREEN starts a private Xvfb on a
+# Sourced by the window tests, which count their failures with bad() and end
+# with finish_checks NAME. start_xvfb SCREEN starts a private Xvfb on a
 # display number the server picks itself (-displayfd), so tests that run in
 # parallel never race for the same display the way `xvfb-run -a` can; it
 # exports DISPLAY and stops the server when the calling script exits.
 # -noreset: by default the server resets whenever its last client leaves, and
 # a window started during that reset could not connect (seen once in CI
 # between two runs of fray). xvfb_log prints the server's log for messages.
+fails=0
+bad() { echo "FAIL: $*"; fails=$((fails + 1)); }
+
+# finish_checks NAME: exit 1 after the count of failures, or say all passed.
+finish_checks() {
+  if (( fails > 0 )); then echo "$fails failure(s)"; exit 1; fi
+  echo "$1: all checks passed"
+}
+
 start_xvfb() {
   local screen=${1:-1280x1024x24}
   local dir; dir=$(mktemp -d)
@@ -33,6 +43,24 @@ start_xvfb() {
 xvfb_log() {
   if kill -0 "$xvfb_pid" 2>/dev/null; then echo "(Xvfb on $DISPLAY is running)"; else echo "(Xvfb on $DISPLAY has exited)"; fi
   cat "$xvfb_dir/xvfb.log" 2>/dev/null
+}
+
+# run_window WHAT LOG APP ARGS...: APP given ARGS (120 s at most) on the
+# Xvfb, its output in LOG; bad() with the output and the server's log when it
+# fails, and, when ARGS ask for --validate, when the output has validation
+# messages.
+run_window() {
+  local what=$1 log=$2; shift 2
+  if ! timeout 120 "$@" >"$log" 2>&1; then
+    bad "$what failed: $(cat "$log") $(xvfb_log)"
+  fi
+  local arg
+  for arg in "$@"; do
+    if [[ $arg == --validate ]]; then
+      grep -q "validation" "$log" && bad "$what: validation messages: $(cat "$log")"
+      break
+    fi
+  done
 }
 
 # The team colours a scene's first characters are drawn in (side 0, side 1:

@@ -3,14 +3,14 @@
 // library file's checksum), as the duel's graph file.
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <limits>
 
 #include "carry_internal.h"
+#include "file_header.h"
 #include "fray/core/atomic_file.h"
 #include "fray/core/byte_io.h"
 #include "fray/igraph/carry.h"
-#include "fray/sim/patches.h"  // libraryFingerprint, patchFileChecksum (CRC-32)
+#include "fray/sim/patches.h"  // libraryFingerprint
 
 namespace fray::igraph {
 
@@ -18,8 +18,8 @@ namespace {
 
 constexpr std::size_t kStateBytes = 3 * 8 + 4;
 constexpr std::size_t kEdgeBytes = 4 + 2 + 2 + 4 * 4;
-constexpr std::string_view kDuelMagic = "FRAYIGPH";
-constexpr std::size_t kTrailer = 4;
+
+detail::FileHeader fileHeader() { return {kCarryGraphMagic, kCarryGraphFileVersion, kCarryGraphRule, kGraphMagic}; }
 
 std::string again() { return " (build it again: fray-cli igraph build PROJECT --kind carry)"; }
 
@@ -42,29 +42,24 @@ bool finite(double v) { return std::isfinite(v); }
 
 Result<CarryGraph> readAny(std::string_view bytes, std::string_view fileName, const sim::ActionLibrary* lib) {
     const std::string name(fileName);
-    if (bytes.size() >= 8 && bytes.substr(0, 8) == kDuelMagic) {
-        return makeError(name + ": an interaction graph for a duel or team fight (fray-cli igraph build PROJECT), not a carry graph" + again());
-    }
-    if (bytes.size() < 12 || bytes.substr(0, 8) != kCarryGraphMagic) return makeError(name + ": not a Fray carry graph file");
-    std::uint32_t version = 0;
-    std::memcpy(&version, bytes.data() + 8, sizeof version);
-    if (version != kCarryGraphFileVersion) {
-        return makeError(ErrorKind::Unsupported, name + ": carry graph file version " + std::to_string(version) + ", this build reads version " +
-                                                     std::to_string(kCarryGraphFileVersion) + again());
-    }
-    if (bytes.size() < 12 + 4 + kTrailer) return makeError(name + ": the carry graph file is truncated (" + std::to_string(bytes.size()) + " bytes)" + again());
-    const std::string_view body = bytes.substr(0, bytes.size() - kTrailer);
-    std::uint32_t stored = 0;
-    std::memcpy(&stored, bytes.data() + body.size(), sizeof stored);
-    if (stored != sim::patchFileChecksum(body)) {
-        return makeError(name + ": the carry graph file is truncated or corrupt (its checksum does not match its contents)" + again());
-    }
-    ByteReader r{body, 12};
-    const auto rule = r.get<std::uint32_t>();
-    if (rule != kCarryGraphRule) {
-        return makeError(ErrorKind::Stale, name + ": made by carry graph rule " + std::to_string(rule) + ", this build uses rule " +
-                                               std::to_string(kCarryGraphRule) + again());
-    }
+    auto header = detail::readHeader(bytes, fileHeader(), [&](detail::HeaderProblem p, std::uint64_t found) {
+        switch (p) {
+            case detail::HeaderProblem::OtherKind:
+                return name + ": an interaction graph for a duel or team fight (fray-cli igraph build PROJECT), not a carry graph" + again();
+            case detail::HeaderProblem::NotThisKind: return name + ": not a Fray carry graph file";
+            case detail::HeaderProblem::Version:
+                return name + ": carry graph file version " + std::to_string(found) + ", this build reads version " + std::to_string(kCarryGraphFileVersion) +
+                       again();
+            case detail::HeaderProblem::Truncated: return name + ": the carry graph file is truncated (" + std::to_string(found) + " bytes)" + again();
+            case detail::HeaderProblem::Checksum:
+                return name + ": the carry graph file is truncated or corrupt (its checksum does not match its contents)" + again();
+            case detail::HeaderProblem::Rule:
+                return name + ": made by carry graph rule " + std::to_string(found) + ", this build uses rule " + std::to_string(kCarryGraphRule) + again();
+        }
+        return name + ": not a Fray carry graph file";
+    });
+    if (!header) return header.error();
+    ByteReader& r = *header;
     CarryGraph g;
     g.libraryKey = r.get<std::uint64_t>();
     readOptions(r, g.options);
@@ -132,9 +127,7 @@ Result<std::string> carryGraphBytes(const CarryGraph& g) {
     }
     ByteWriter w;
     w.out.reserve(256 + g.states.size() * kStateBytes + g.edges.size() * kEdgeBytes);
-    w.out.append(kCarryGraphMagic.data(), kCarryGraphMagic.size());
-    w.put(kCarryGraphFileVersion);
-    w.put(kCarryGraphRule);
+    detail::writeHeader(w, fileHeader());
     w.put(g.libraryKey);
     writeOptions(w, g.options);
     w.put(g.gripReach), w.put(g.gripHeight), w.put(g.samples), w.put(g.rounds), w.put(g.simulated);
@@ -149,7 +142,7 @@ Result<std::string> carryGraphBytes(const CarryGraph& g) {
     for (const auto& e : g.edges) {
         w.put(e.to), w.put(e.actionA), w.put(e.actionB), w.put(e.boxX), w.put(e.boxZ), w.put(e.gripError), w.put(e.seconds);
     }
-    w.put(sim::patchFileChecksum(w.out));
+    detail::sealFile(w);
     return std::move(w.out);
 }
 

@@ -2,19 +2,19 @@
 // fixed-size fields, bounds-checked on read, sealed by a CRC-32 (the patch
 // library file's checksum).
 #include <cmath>
-#include <cstring>
 #include <limits>
 
 #include "fray/core/atomic_file.h"
 #include "fray/core/byte_io.h"
-#include "fray/sim/patches.h"  // libraryFingerprint, patchFileChecksum (CRC-32)
+#include "file_header.h"
+#include "fray/igraph/carry.h"  // kCarryGraphMagic
+#include "fray/sim/patches.h"  // libraryFingerprint
 #include "game.h"
 
 namespace fray::igraph {
 
 namespace {
 
-constexpr char kMagic[8] = {'F', 'R', 'A', 'Y', 'I', 'G', 'P', 'H'};
 constexpr std::size_t kEdgeBytes = sizeof(Edge);
 constexpr std::size_t kStateBytes = 4 * 8 + 3 * 4;
 
@@ -43,23 +43,31 @@ void readOptions(Reader& r, BuildOptions& o) {
 
 bool finite(double v) { return std::isfinite(v); }
 
-// Reads everything after the magic and version; `rules` (when set) bounds the indices.
-Result<Graph> readBody(std::string_view bytes, const std::string& name, const Rules* rules) {
-    constexpr std::size_t kTrailer = 4;
-    if (bytes.size() < sizeof(kMagic) + 8 + kTrailer) return makeError(name + ": the graph file is truncated (" + std::to_string(bytes.size()) + " bytes)");
-    const std::string_view body = bytes.substr(0, bytes.size() - kTrailer);
-    std::uint32_t stored = 0;
-    std::memcpy(&stored, bytes.data() + body.size(), sizeof stored);
-    if (stored != sim::patchFileChecksum(body)) {
-        return makeError(name + ": the graph file is truncated or corrupt (its checksum does not match its contents; "
-                                "build the graph again: fray-cli igraph build PROJECT)");
-    }
-    Reader r{body, sizeof(kMagic) + 4};
-    const auto rule = r.get<std::uint32_t>();
-    if (rule != kGraphRule) {
-        return makeError(ErrorKind::Stale, name + ": made by graph rule " + std::to_string(rule) + ", this build uses rule " +
-                                               std::to_string(kGraphRule) + " (build the graph again: fray-cli igraph build PROJECT)");
-    }
+detail::FileHeader fileHeader() { return {kGraphMagic, kGraphFileVersion, kGraphRule, kCarryGraphMagic}; }
+
+// Reads the file; `rules` (when set) bounds the indices.
+Result<Graph> readAny(std::string_view bytes, std::string_view fileName, const Rules* rules) {
+    const std::string name(fileName);
+    auto header = detail::readHeader(bytes, fileHeader(), [&](detail::HeaderProblem p, std::uint64_t found) {
+        switch (p) {
+            case detail::HeaderProblem::OtherKind:
+                return name + ": a carry graph (two carriers of a box: igraph play --kind carry), not a duel's interaction graph";
+            case detail::HeaderProblem::NotThisKind: return name + ": not a Fray interaction graph file";
+            case detail::HeaderProblem::Version:
+                return name + ": interaction graph file version " + std::to_string(found) + ", this build reads version " +
+                       std::to_string(kGraphFileVersion) + " (build the graph again: fray-cli igraph build PROJECT)";
+            case detail::HeaderProblem::Truncated: return name + ": the graph file is truncated (" + std::to_string(found) + " bytes)";
+            case detail::HeaderProblem::Checksum:
+                return name + ": the graph file is truncated or corrupt (its checksum does not match its contents; "
+                              "build the graph again: fray-cli igraph build PROJECT)";
+            case detail::HeaderProblem::Rule:
+                return name + ": made by graph rule " + std::to_string(found) + ", this build uses rule " + std::to_string(kGraphRule) +
+                       " (build the graph again: fray-cli igraph build PROJECT)";
+        }
+        return name + ": not a Fray interaction graph file";
+    });
+    if (!header) return header.error();
+    Reader& r = *header;
     Graph g;
     g.libraryKey = r.get<std::uint64_t>();
     g.actionsKey = r.get<std::uint64_t>();
@@ -114,24 +122,6 @@ Result<Graph> readBody(std::string_view bytes, const std::string& name, const Ru
     return g;
 }
 
-Result<Graph> readAny(std::string_view bytes, std::string_view fileName, const Rules* rules) {
-    const std::string name(fileName);
-    if (bytes.size() >= 8 && std::memcmp(bytes.data(), "FRAYIGCA", 8) == 0) {  // carry.h's kCarryGraphMagic
-        return makeError(name + ": a carry graph (two carriers of a box: igraph play --kind carry), not a duel's interaction graph");
-    }
-    if (bytes.size() < sizeof(kMagic) + 4 || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) {
-        return makeError(name + ": not a Fray interaction graph file");
-    }
-    std::uint32_t version = 0;
-    std::memcpy(&version, bytes.data() + sizeof(kMagic), sizeof version);
-    if (version != kGraphFileVersion) {
-        return makeError(ErrorKind::Unsupported, name + ": interaction graph file version " + std::to_string(version) +
-                                                     ", this build reads version " + std::to_string(kGraphFileVersion) +
-                                                     " (build the graph again: fray-cli igraph build PROJECT)");
-    }
-    return readBody(bytes, name, rules);
-}
-
 }  // namespace
 
 Result<std::string> graphBytes(const Graph& g) {
@@ -140,9 +130,7 @@ Result<std::string> graphBytes(const Graph& g) {
     }
     Writer w;
     w.out.reserve(64 + g.states.size() * kStateBytes + g.edges.size() * kEdgeBytes);
-    w.out.append(kMagic, sizeof(kMagic));
-    w.put(kGraphFileVersion);
-    w.put(kGraphRule);
+    detail::writeHeader(w, fileHeader());
     w.put(g.libraryKey);
     w.put(g.actionsKey);
     writeOptions(w, g.options);
@@ -158,7 +146,7 @@ Result<std::string> graphBytes(const Graph& g) {
     for (const auto& e : g.edges) {
         w.put(e.to), w.put(e.actionBits), w.put(e.givenQ), w.put(e.receivedQ);
     }
-    w.put(sim::patchFileChecksum(w.out));
+    detail::sealFile(w);
     return std::move(w.out);
 }
 

@@ -36,6 +36,8 @@ namespace fray::igraph {
 // (the interaction state, the distance, the simulation of an edge). A file of
 // another rule is stale: build the graph again.
 inline constexpr std::uint32_t kGraphFileVersion = 1;
+// Its first 8 bytes; the carry graph file starts "FRAYIGCA" (carry.h).
+inline constexpr std::string_view kGraphMagic = "FRAYIGPH";
 // 2: an edge's blows are expected over its state's spread (BuildOptions::outcomeSamples);
 // 3: an action whose result falls in no state is an edge to the nearest state with edges.
 inline constexpr std::uint32_t kGraphRule = 3;
