@@ -589,6 +589,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     }
 
     static constexpr double kRatClear = 0.08;
+    static constexpr std::size_t kCandidateBatch = 8;  // candidates whose body tests run in parallel at a time
     static constexpr double kContactWindow = 0.2;  // s a bump may keep two bodies touching (MetricsOptions::hitWindow)  // m between the rat and an avoider's feet and shins
     std::optional<detail::InteractionEngine> rules;  // forced reactions of the pushed
     static constexpr float kTouchShrink = 0.82f;     // firstTouch's, as the composer's penetration test
@@ -738,39 +739,79 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             // highest score, the first of equals, as a pass over all in order.
             std::stable_sort(bases.begin(), bases.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
             std::size_t bestC = SIZE_MAX;
-            for (const auto& [base, c] : bases) {
-                const double reach = base + std::max(0.0, bumpBonus);
-                if (reach < best.score) break;                         // nor can any after it
-                if (reach == best.score && c > bestC) continue;         // cannot win: skip the body tests
+            // One candidate's body tests against the crowd as it stands (read
+            // only: each candidate starts from the same crowd, so candidates can
+            // be tried in parallel). Empty `plan`: it bumps someone it may not.
+            struct Tried {
+                std::vector<ActionInstance> plan;
+                std::vector<Push> pushes;
+            };
+            auto tryCandidate = [&](std::size_t c) {
+                Tried out;
                 const RatPatch& patch = ways1[c].patch;
-                const double clear = ways1[c].clear;
                 const auto& way = ways[static_cast<std::size_t>(patch.way)];
                 const double ts = b.passTime - patch.lead;
                 const RootXf root = b.at * lib.rootAt(way.front(), 0).inverse();
                 auto plan = planMove(b.at, ts, way, 0.0, root, false, until);
                 const double settled = until;  // everyone stands still afterwards: touching later counts too
                 const auto [other, when] = firstTouch(CrowdView(crowd), i, plan, ts, settled);
-                std::vector<Push> pushes;
                 if (other >= 0) {
                     CrowdView trial(crowd);
                     trial.set(i, plan);
                     const detail::BodyPose mine = bodyIn(plan, b.at, when);
                     auto chain = push(trial, static_cast<std::size_t>(other), i, mine.root * lib.rootAt(mine.action, mine.tau),
                                       when, until, 1);
-                    if (!chain) continue;
+                    if (!chain) return out;
                     // With the pushed ones moving, the rest of the way out
                     // touches nobody, the pushed one included once the
                     // contact is over.
                     for (const auto& m : *chain) trial.set(m.who, m.plan);
-                    if (firstTouch(trial, i, plan, when, settled, static_cast<std::size_t>(other)).first >= 0) continue;
-                    if (firstTouch(trial, i, plan, when + kContactWindow, settled).first >= 0) continue;
-                    pushes = std::move(*chain);
+                    if (firstTouch(trial, i, plan, when, settled, static_cast<std::size_t>(other)).first >= 0) return out;
+                    if (firstTouch(trial, i, plan, when + kContactWindow, settled).first >= 0) return out;
+                    out.pushes = std::move(*chain);
                 }
-                const double score = base + (pushes.empty() ? 0.0 : bumpBonus);
-                if (score > best.score || (score == best.score && c < bestC)) {
-                    best = {score, std::move(plan), ts, clear, std::move(pushes)};
-                    bestC = c;
+                out.plan = std::move(plan);
+                return out;
+            };
+            // The candidates in `bases` order, a batch at a time: the batch's
+            // body tests in parallel, then its results taken in order by the
+            // same rules as one candidate after another (the same best, the
+            // same bytes, whatever the number of threads; a batch may test a
+            // few candidates past the point where the rules stop).
+            std::vector<Tried> tried;
+            for (std::size_t p = 0; p < bases.size();) {
+                // The batch: from p on, those the rules would still test with the best so far.
+                std::vector<std::size_t> batch;
+                std::size_t q = p;
+                for (; q < bases.size() && batch.size() < kCandidateBatch; ++q) {
+                    const double reach = bases[q].first + std::max(0.0, bumpBonus);
+                    if (reach < best.score) break;
+                    if (reach == best.score && bases[q].second > bestC) continue;
+                    batch.push_back(q);
                 }
+                if (batch.empty()) break;
+                tried.assign(batch.size(), {});
+                tbb::parallel_for(std::size_t{0}, batch.size(), [&](std::size_t k) { tried[k] = tryCandidate(bases[batch[k]].second); },
+                                  tbb::simple_partitioner{});
+                bool stop = false;
+                for (std::size_t k = 0; k < batch.size(); ++k) {
+                    const auto& [base, c] = bases[batch[k]];
+                    const double reach = base + std::max(0.0, bumpBonus);
+                    if (reach < best.score) {
+                        stop = true;  // nor can any after it
+                        break;
+                    }
+                    if (reach == best.score && c > bestC) continue;  // cannot win
+                    Tried& r = tried[k];
+                    if (r.plan.empty()) continue;
+                    const double score = base + (r.pushes.empty() ? 0.0 : bumpBonus);
+                    if (score > best.score || (score == best.score && c < bestC)) {
+                        best = {score, std::move(r.plan), b.passTime - ways1[c].patch.lead, ways1[c].clear, std::move(r.pushes)};
+                        bestC = c;
+                    }
+                }
+                if (stop) break;
+                p = q;
             }
             if (!best.plan.empty()) {
                 b.plan = std::move(best.plan);
