@@ -27,6 +27,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         double passTime = 0, passDistance = 1e9;  // the rat's closest approach
         bool near = false;
         std::vector<ActionInstance> plan;    // empty: stands all along
+        detail::CoreDiscs::Disc standHull;   // standing: a disc round its core discs at every sample of the idle (coreHulls)
     };
 
     // The crowd as a trial sees it: everyone's plan, with the few plans the
@@ -89,6 +90,44 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             d.radius += 1e-3f;
         }
     }
+    // Per action: a disc round the core-box discs (CoreDiscs) of all its
+    // samples, in the clip's frame (a millimetre more covers the rounding).
+    // Apart from it by a margin, a body is apart from the discs of every
+    // sample, so coreBodiesOverlap's answer is known without placing the
+    // other body (firstTouch's test before the pelvis).
+    std::vector<detail::CoreDiscs::Disc> coreHulls;
+    void measureCoreHulls() {
+        coreHulls.assign(static_cast<std::size_t>(lib.size()), {});
+        const FloorRotation none(0.0);
+        for (int a = 0; a < lib.size(); ++a) {
+            const int n = act(a).sampleCount;
+            std::vector<detail::CoreDiscs::Disc> local;
+            glm::vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+            for (int k = 0; k < n; ++k) {
+                // At the identity placement, placed() is the sample's disc in the clip's frame.
+                local.push_back(discs->placed(detail::BodyPose{a, k / kSampleRate, RootXf{}}, none));
+                lo = glm::min(lo, local.back().centre), hi = glm::max(hi, local.back().centre);
+            }
+            auto& h = coreHulls[static_cast<std::size_t>(a)];
+            h.centre = n > 0 ? 0.5f * (lo + hi) : glm::vec2(0.0f);
+            for (const auto& d : local) h.radius = std::max(h.radius, glm::length(d.centre - h.centre) + d.radius);
+            h.radius += 1e-3f;
+        }
+    }
+    detail::CoreDiscs::Disc placedHull(int action, const RootXf& root) const {
+        const auto& h = coreHulls[static_cast<std::size_t>(action)];
+        return {root.pos + FloorRotation(root.heading)(h.centre), h.radius};
+    }
+    // Certainly apart from every sample's disc inside the hull `h`: CoreDiscs::apart with
+    // a centimetre more (the discs' placement rounds differently from the hull's).
+    static bool apartFromHull(const detail::CoreDiscs::Disc& me, const detail::CoreDiscs::Disc& h) {
+        const glm::dvec2 d = glm::dvec2(me.centre) - glm::dvec2(h.centre);
+        const double scale = std::fabs(static_cast<double>(me.centre.x)) + std::fabs(static_cast<double>(me.centre.y)) +
+                             std::fabs(static_cast<double>(h.centre.x)) + std::fabs(static_cast<double>(h.centre.y));
+        const double r = static_cast<double>(me.radius) + static_cast<double>(h.radius) + 2e-3 + 2e-5 * scale + 0.01;
+        return glm::dot(d, d) > r * r;
+    }
+
     void measureHoldWander() {
         const auto& h = act(hold);
         const glm::vec2 p0 = lib.rootAt(hold, 0).pos;
@@ -436,10 +475,20 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             const float far = kReach + wander + 0.01f + 1e-5f * (std::fabs(centre.x) + std::fabs(centre.y));
             return glm::length(p - centre) > far;
         };
+        // Their core discs at t are certainly apart from `meDisc`: the disc round
+        // every sample's of the action they play at t (or their idle) is.
+        auto hullApart = [&](std::size_t o, double t, const detail::CoreDiscs::Disc& meDisc) {
+            const auto& theirs = crowd.plan(o);
+            if (theirs.empty()) return apartFromHull(meDisc, crowd[o].standHull);
+            const ActionInstance& inst = theirs[static_cast<std::size_t>(instanceIndexAt(theirs, t))];
+            return apartFromHull(meDisc, placedHull(inst.action, inst.root));
+        };
         auto touches = [&](std::size_t o, double t) {
             const detail::CoreBody me(lib, bodyIn(plan, crowd[self].at, t), kShrink);
             if (surelyApart(o, t, me.pelvis())) return false;
-            return overlap(me, discs->placed(me), bodyOf(o, t));
+            const detail::CoreDiscs::Disc meDisc = discs->placed(me);
+            if (hullApart(o, t, meDisc)) return false;
+            return overlap(me, meDisc, bodyOf(o, t));
         };
         // Drop those who never come within the pelvis reach of its pelvis
         // from `from` on: the discs round the pelvis paths of its instances
@@ -478,6 +527,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             const detail::CoreDiscs::Disc meDisc = discs->placed(me);
             for (std::size_t o : close) {
                 if (surelyApart(o, t, me.pelvis())) continue;
+                if (hullApart(o, t, meDisc)) continue;
                 if (overlap(me, meDisc, bodyOf(o, t))) return {static_cast<int>(o), t};
             }
         }
@@ -616,6 +666,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         measureHoldWander();
         discs.emplace(lib, kTouchShrink);
         measurePelvisPaths();
+        measureCoreHulls();
         if (!findWays()) return makeError(kNoWays);
         makeRatPatches();
 
@@ -649,6 +700,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         }
         if (crowd.empty()) return makeError("rat: nobody could stand near the trajectory (widen band or lower spacing)");
         for (std::size_t k = 0; k < crowd.size(); ++k) spotGrid.insert(static_cast<int>(k), crowd[k].spot);
+        for (auto& b : crowd) b.standHull = placedHull(hold, b.at * lib.rootAt(hold, 0).inverse());
         findNeighbours(crowd);
         // The rat's closest approach to each person, sampled every 0.02 s:
         // the samples once for everyone, in blocks with a bounding circle, so
