@@ -513,11 +513,31 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             }
             return out;
         };
-        const Disc mine = pathDisc(plan, plan.empty() ? 0 : static_cast<std::size_t>(instanceIndexAt(plan, from)), crowd[self].spot);
+        const std::size_t k0 = plan.empty() ? 0 : static_cast<std::size_t>(instanceIndexAt(plan, from));
+        const Disc mine = pathDisc(plan, k0, crowd[self].spot);
+        // Likewise the discs round the core discs of every sample of the
+        // instances (coreHulls): apart, no sample of theirs meets one of its.
+        auto hullsOf = [&](const std::vector<ActionInstance>& p, std::size_t from0, const Disc& standing) {
+            if (p.empty()) return standing;
+            SweptBox around = SweptBox::empty();
+            for (std::size_t k = from0; k < p.size(); ++k) {
+                const Disc d = placedHull(p[k].action, p[k].root);
+                around.add({d.centre, d.centre});
+            }
+            Disc out{0.5f * (around.lo + around.hi), 0.0f};
+            for (std::size_t k = from0; k < p.size(); ++k) {
+                const Disc d = placedHull(p[k].action, p[k].root);
+                out.radius = std::max(out.radius, glm::length(d.centre - out.centre) + d.radius);
+            }
+            out.radius += 1e-3f;
+            return out;
+        };
+        const Disc myHulls = hullsOf(plan, k0, crowd[self].standHull);
         std::erase_if(close, [&](std::size_t o) {
             const Disc theirs = pathDisc(crowd.plan(o), 0, crowd[o].spot);
             const float scale = std::fabs(mine.centre.x) + std::fabs(mine.centre.y) + std::fabs(theirs.centre.x) + std::fabs(theirs.centre.y);
-            return glm::length(mine.centre - theirs.centre) > kReach + mine.radius + theirs.radius + 0.02f + 1e-5f * scale;
+            if (glm::length(mine.centre - theirs.centre) > kReach + mine.radius + theirs.radius + 0.02f + 1e-5f * scale) return true;
+            return apartFromHull(myHulls, hullsOf(crowd.plan(o), 0, crowd[o].standHull));
         });
         if (close.empty()) return {-1, 0.0};
         const double settle = std::min(until, std::max(from, movingWindow(plan).second) + dt);
