@@ -82,4 +82,35 @@ TEST(Pipeline, ADamagedCacheIsNotedAndRebuilt) {
     EXPECT_TRUE(notes.empty()) << notes.front();
 }
 
+// An existing output is overwritten only when it is a scene file: JSON (to
+// its end, within the limits on size and nesting), an object whose "format"
+// is "fray-scene" (the last of the key, as the parsed document has it) and
+// whose "project" is a string. Read without building the document (issue 27:
+// a 10,000-character scene is tens of MB).
+TEST(Pipeline, OverwritesOnlyASceneFile) {
+    test::TempDir dir;
+    const fs::path out = dir.path() / "out.frayscene";
+    auto with = [&](const std::string& text) {
+        std::ofstream(out, std::ios::binary) << text;
+        return static_cast<bool>(pipeline::checkSceneOutput(out));
+    };
+    EXPECT_TRUE(static_cast<bool>(pipeline::checkSceneOutput(dir.path() / "none.frayscene")));
+    EXPECT_TRUE(with(R"({"format": "fray-scene", "version": 2, "project": "p.frayproj", "characters": [{"name": "a"}]})"));
+    EXPECT_TRUE(with(R"({"x": {"format": 1, "project": 2}, "project": "p", "format": "fray-scene"})"));
+    EXPECT_FALSE(with(R"({"format": "fray-scene", "project": "p", "characters": [)"));  // cut short
+    EXPECT_FALSE(with(R"({"format": "fray-scene", "project": "p"} trailing)"));
+    EXPECT_FALSE(with(R"({"format": "fray-scene", "project": 3})"));
+    EXPECT_FALSE(with(R"({"format": "fray-scene", "project": ["p"]})"));
+    EXPECT_FALSE(with(R"({"format": "fray-scene"})"));
+    EXPECT_FALSE(with(R"({"format": "fray-scene", "project": "p", "format": "other"})"));
+    EXPECT_FALSE(with(R"({"format": {"fray-scene": 1}, "project": "p"})"));
+    EXPECT_FALSE(with(R"([{"format": "fray-scene", "project": "p"}])"));
+    EXPECT_FALSE(with("a cover letter"));
+    EXPECT_FALSE(with(""));
+    // Nested deeper than prep's limit (64 levels), as parseJson refuses it.
+    const std::string deep = std::string(64, '[') + std::string(64, ']');
+    EXPECT_TRUE(with(R"({"format": "fray-scene", "project": "p", "x": )" + std::string(63, '[') + std::string(63, ']') + "}"));
+    EXPECT_FALSE(with(R"({"format": "fray-scene", "project": "p", "x": )" + deep + "}"));
+}
+
 }  // namespace

@@ -8,6 +8,7 @@
 #include <random>
 #include <set>
 
+#include <nlohmann/json.hpp>
 #include <tbb/task_arena.h>
 
 #include "compose_grid.h"
@@ -336,6 +337,48 @@ TEST(LoopedIdle, RatBystandersLoopAndPoseAsRepeatedInstances) {
     bad = sceneFromJson(v3, "l.frayscene", lib);
     ASSERT_FALSE(bad);
     EXPECT_NE(bad.error().message.find("/version: version 3 is not supported"), std::string::npos) << bad.error().message;
+}
+
+}  // namespace
+}  // namespace fray::sim
+
+namespace fray::sim {
+namespace {
+
+// The rat's people decide one after another, each trying its ways out in
+// parallel batches (issue 27): the scene is the same bytes whatever the
+// number of threads, bumps and pushes included; and the scene file, its
+// characters written in parallel and spliced in, is exactly what one dump of
+// the whole document prints.
+TEST(ComposeScale, RatSameBytesWhateverTheThreadCount) {
+    const auto& lib = test::demoWorld().library;
+    ComposeSpec spec = ComposeSpec::of(RatSpec{});
+    auto& own = *spec.part<RatSpec>();
+    own.ratPath = {{-8, 0}, {8, 0}, {8, 2.5f}, {-8, 2.5f}};  // two rows, as the 10,000-person benchmark's
+    own.crowd = 160;
+    own.spacing = 0.8;
+    own.bumps = 1.0;  // seek bumps: pushes, and pushes of the pushed
+    spec.seed = 5;
+    const PatchLibrary none;
+    ComposeStats st;
+    auto scene = compose(lib, none, spec, &st);
+    ASSERT_TRUE(scene) << scene.error().message;
+    const auto* rs = st.part<RatStats>();
+    ASSERT_NE(rs, nullptr);
+    EXPECT_GE(rs->ratAvoided, 20);
+    EXPECT_GE(rs->bumps, 3) << "the test needs bumps to cover the pushes' tests";
+    const std::string text = sceneToJson(*scene, lib);
+    for (int threads : {1, 3}) {
+        std::string again;
+        tbb::task_arena arena(threads);
+        arena.execute([&] {
+            auto s = compose(lib, none, spec);
+            ASSERT_TRUE(s);
+            again = sceneToJson(*s, lib);
+        });
+        EXPECT_TRUE(again == text) << threads << " threads: the scene differs";
+    }
+    EXPECT_EQ(nlohmann::ordered_json::parse(text).dump(1) + "\n", text);
 }
 
 }  // namespace

@@ -27,6 +27,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         double passTime = 0, passDistance = 1e9;  // the rat's closest approach
         bool near = false;
         std::vector<ActionInstance> plan;    // empty: stands all along
+        detail::CoreDiscs::Disc standHull;   // standing: a disc round its core discs at every sample of the idle (coreHulls)
     };
 
     // The crowd as a trial sees it: everyone's plan, with the few plans the
@@ -89,6 +90,44 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             d.radius += 1e-3f;
         }
     }
+    // Per action: a disc round the core-box discs (CoreDiscs) of all its
+    // samples, in the clip's frame (a millimetre more covers the rounding).
+    // Apart from it by a margin, a body is apart from the discs of every
+    // sample, so coreBodiesOverlap's answer is known without placing the
+    // other body (firstTouch's test before the pelvis).
+    std::vector<detail::CoreDiscs::Disc> coreHulls;
+    void measureCoreHulls() {
+        coreHulls.assign(static_cast<std::size_t>(lib.size()), {});
+        const FloorRotation none(0.0);
+        for (int a = 0; a < lib.size(); ++a) {
+            const int n = act(a).sampleCount;
+            std::vector<detail::CoreDiscs::Disc> local;
+            glm::vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+            for (int k = 0; k < n; ++k) {
+                // At the identity placement, placed() is the sample's disc in the clip's frame.
+                local.push_back(discs->placed(detail::BodyPose{a, k / kSampleRate, RootXf{}}, none));
+                lo = glm::min(lo, local.back().centre), hi = glm::max(hi, local.back().centre);
+            }
+            auto& h = coreHulls[static_cast<std::size_t>(a)];
+            h.centre = n > 0 ? 0.5f * (lo + hi) : glm::vec2(0.0f);
+            for (const auto& d : local) h.radius = std::max(h.radius, glm::length(d.centre - h.centre) + d.radius);
+            h.radius += 1e-3f;
+        }
+    }
+    detail::CoreDiscs::Disc placedHull(int action, const RootXf& root) const {
+        const auto& h = coreHulls[static_cast<std::size_t>(action)];
+        return {root.pos + FloorRotation(root.heading)(h.centre), h.radius};
+    }
+    // Certainly apart from every sample's disc inside the hull `h`: CoreDiscs::apart with
+    // a centimetre more (the discs' placement rounds differently from the hull's).
+    static bool apartFromHull(const detail::CoreDiscs::Disc& me, const detail::CoreDiscs::Disc& h) {
+        const glm::dvec2 d = glm::dvec2(me.centre) - glm::dvec2(h.centre);
+        const double scale = std::fabs(static_cast<double>(me.centre.x)) + std::fabs(static_cast<double>(me.centre.y)) +
+                             std::fabs(static_cast<double>(h.centre.x)) + std::fabs(static_cast<double>(h.centre.y));
+        const double r = static_cast<double>(me.radius) + static_cast<double>(h.radius) + 2e-3 + 2e-5 * scale + 0.01;
+        return glm::dot(d, d) > r * r;
+    }
+
     void measureHoldWander() {
         const auto& h = act(hold);
         const glm::vec2 p0 = lib.rootAt(hold, 0).pos;
@@ -436,10 +475,20 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             const float far = kReach + wander + 0.01f + 1e-5f * (std::fabs(centre.x) + std::fabs(centre.y));
             return glm::length(p - centre) > far;
         };
+        // Their core discs at t are certainly apart from `meDisc`: the disc round
+        // every sample's of the action they play at t (or their idle) is.
+        auto hullApart = [&](std::size_t o, double t, const detail::CoreDiscs::Disc& meDisc) {
+            const auto& theirs = crowd.plan(o);
+            if (theirs.empty()) return apartFromHull(meDisc, crowd[o].standHull);
+            const ActionInstance& inst = theirs[static_cast<std::size_t>(instanceIndexAt(theirs, t))];
+            return apartFromHull(meDisc, placedHull(inst.action, inst.root));
+        };
         auto touches = [&](std::size_t o, double t) {
             const detail::CoreBody me(lib, bodyIn(plan, crowd[self].at, t), kShrink);
             if (surelyApart(o, t, me.pelvis())) return false;
-            return overlap(me, discs->placed(me), bodyOf(o, t));
+            const detail::CoreDiscs::Disc meDisc = discs->placed(me);
+            if (hullApart(o, t, meDisc)) return false;
+            return overlap(me, meDisc, bodyOf(o, t));
         };
         // Drop those who never come within the pelvis reach of its pelvis
         // from `from` on: the discs round the pelvis paths of its instances
@@ -464,11 +513,31 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             }
             return out;
         };
-        const Disc mine = pathDisc(plan, plan.empty() ? 0 : static_cast<std::size_t>(instanceIndexAt(plan, from)), crowd[self].spot);
+        const std::size_t k0 = plan.empty() ? 0 : static_cast<std::size_t>(instanceIndexAt(plan, from));
+        const Disc mine = pathDisc(plan, k0, crowd[self].spot);
+        // Likewise the discs round the core discs of every sample of the
+        // instances (coreHulls): apart, no sample of theirs meets one of its.
+        auto hullsOf = [&](const std::vector<ActionInstance>& p, std::size_t from0, const Disc& standing) {
+            if (p.empty()) return standing;
+            SweptBox around = SweptBox::empty();
+            for (std::size_t k = from0; k < p.size(); ++k) {
+                const Disc d = placedHull(p[k].action, p[k].root);
+                around.add({d.centre, d.centre});
+            }
+            Disc out{0.5f * (around.lo + around.hi), 0.0f};
+            for (std::size_t k = from0; k < p.size(); ++k) {
+                const Disc d = placedHull(p[k].action, p[k].root);
+                out.radius = std::max(out.radius, glm::length(d.centre - out.centre) + d.radius);
+            }
+            out.radius += 1e-3f;
+            return out;
+        };
+        const Disc myHulls = hullsOf(plan, k0, crowd[self].standHull);
         std::erase_if(close, [&](std::size_t o) {
             const Disc theirs = pathDisc(crowd.plan(o), 0, crowd[o].spot);
             const float scale = std::fabs(mine.centre.x) + std::fabs(mine.centre.y) + std::fabs(theirs.centre.x) + std::fabs(theirs.centre.y);
-            return glm::length(mine.centre - theirs.centre) > kReach + mine.radius + theirs.radius + 0.02f + 1e-5f * scale;
+            if (glm::length(mine.centre - theirs.centre) > kReach + mine.radius + theirs.radius + 0.02f + 1e-5f * scale) return true;
+            return apartFromHull(myHulls, hullsOf(crowd.plan(o), 0, crowd[o].standHull));
         });
         if (close.empty()) return {-1, 0.0};
         const double settle = std::min(until, std::max(from, movingWindow(plan).second) + dt);
@@ -478,6 +547,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             const detail::CoreDiscs::Disc meDisc = discs->placed(me);
             for (std::size_t o : close) {
                 if (surelyApart(o, t, me.pelvis())) continue;
+                if (hullApart(o, t, meDisc)) continue;
                 if (overlap(me, meDisc, bodyOf(o, t))) return {static_cast<int>(o), t};
             }
         }
@@ -589,6 +659,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     }
 
     static constexpr double kRatClear = 0.08;
+    static constexpr std::size_t kCandidateBatch = 8;  // candidates whose body tests run in parallel at a time
     static constexpr double kContactWindow = 0.2;  // s a bump may keep two bodies touching (MetricsOptions::hitWindow)  // m between the rat and an avoider's feet and shins
     std::optional<detail::InteractionEngine> rules;  // forced reactions of the pushed
     static constexpr float kTouchShrink = 0.82f;     // firstTouch's, as the composer's penetration test
@@ -615,6 +686,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         measureHoldWander();
         discs.emplace(lib, kTouchShrink);
         measurePelvisPaths();
+        measureCoreHulls();
         if (!findWays()) return makeError(kNoWays);
         makeRatPatches();
 
@@ -648,6 +720,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         }
         if (crowd.empty()) return makeError("rat: nobody could stand near the trajectory (widen band or lower spacing)");
         for (std::size_t k = 0; k < crowd.size(); ++k) spotGrid.insert(static_cast<int>(k), crowd[k].spot);
+        for (auto& b : crowd) b.standHull = placedHull(hold, b.at * lib.rootAt(hold, 0).inverse());
         findNeighbours(crowd);
         // The rat's closest approach to each person, sampled every 0.02 s:
         // the samples once for everyone, in blocks with a bounding circle, so
@@ -738,39 +811,79 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             // highest score, the first of equals, as a pass over all in order.
             std::stable_sort(bases.begin(), bases.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
             std::size_t bestC = SIZE_MAX;
-            for (const auto& [base, c] : bases) {
-                const double reach = base + std::max(0.0, bumpBonus);
-                if (reach < best.score) break;                         // nor can any after it
-                if (reach == best.score && c > bestC) continue;         // cannot win: skip the body tests
+            // One candidate's body tests against the crowd as it stands (read
+            // only: each candidate starts from the same crowd, so candidates can
+            // be tried in parallel). Empty `plan`: it bumps someone it may not.
+            struct Tried {
+                std::vector<ActionInstance> plan;
+                std::vector<Push> pushes;
+            };
+            auto tryCandidate = [&](std::size_t c) {
+                Tried out;
                 const RatPatch& patch = ways1[c].patch;
-                const double clear = ways1[c].clear;
                 const auto& way = ways[static_cast<std::size_t>(patch.way)];
                 const double ts = b.passTime - patch.lead;
                 const RootXf root = b.at * lib.rootAt(way.front(), 0).inverse();
                 auto plan = planMove(b.at, ts, way, 0.0, root, false, until);
                 const double settled = until;  // everyone stands still afterwards: touching later counts too
                 const auto [other, when] = firstTouch(CrowdView(crowd), i, plan, ts, settled);
-                std::vector<Push> pushes;
                 if (other >= 0) {
                     CrowdView trial(crowd);
                     trial.set(i, plan);
                     const detail::BodyPose mine = bodyIn(plan, b.at, when);
                     auto chain = push(trial, static_cast<std::size_t>(other), i, mine.root * lib.rootAt(mine.action, mine.tau),
                                       when, until, 1);
-                    if (!chain) continue;
+                    if (!chain) return out;
                     // With the pushed ones moving, the rest of the way out
                     // touches nobody, the pushed one included once the
                     // contact is over.
                     for (const auto& m : *chain) trial.set(m.who, m.plan);
-                    if (firstTouch(trial, i, plan, when, settled, static_cast<std::size_t>(other)).first >= 0) continue;
-                    if (firstTouch(trial, i, plan, when + kContactWindow, settled).first >= 0) continue;
-                    pushes = std::move(*chain);
+                    if (firstTouch(trial, i, plan, when, settled, static_cast<std::size_t>(other)).first >= 0) return out;
+                    if (firstTouch(trial, i, plan, when + kContactWindow, settled).first >= 0) return out;
+                    out.pushes = std::move(*chain);
                 }
-                const double score = base + (pushes.empty() ? 0.0 : bumpBonus);
-                if (score > best.score || (score == best.score && c < bestC)) {
-                    best = {score, std::move(plan), ts, clear, std::move(pushes)};
-                    bestC = c;
+                out.plan = std::move(plan);
+                return out;
+            };
+            // The candidates in `bases` order, a batch at a time: the batch's
+            // body tests in parallel, then its results taken in order by the
+            // same rules as one candidate after another (the same best, the
+            // same bytes, whatever the number of threads; a batch may test a
+            // few candidates past the point where the rules stop).
+            std::vector<Tried> tried;
+            for (std::size_t p = 0; p < bases.size();) {
+                // The batch: from p on, those the rules would still test with the best so far.
+                std::vector<std::size_t> batch;
+                std::size_t q = p;
+                for (; q < bases.size() && batch.size() < kCandidateBatch; ++q) {
+                    const double reach = bases[q].first + std::max(0.0, bumpBonus);
+                    if (reach < best.score) break;
+                    if (reach == best.score && bases[q].second > bestC) continue;
+                    batch.push_back(q);
                 }
+                if (batch.empty()) break;
+                tried.assign(batch.size(), {});
+                tbb::parallel_for(std::size_t{0}, batch.size(), [&](std::size_t k) { tried[k] = tryCandidate(bases[batch[k]].second); },
+                                  tbb::simple_partitioner{});
+                bool stop = false;
+                for (std::size_t k = 0; k < batch.size(); ++k) {
+                    const auto& [base, c] = bases[batch[k]];
+                    const double reach = base + std::max(0.0, bumpBonus);
+                    if (reach < best.score) {
+                        stop = true;  // nor can any after it
+                        break;
+                    }
+                    if (reach == best.score && c > bestC) continue;  // cannot win
+                    Tried& r = tried[k];
+                    if (r.plan.empty()) continue;
+                    const double score = base + (r.pushes.empty() ? 0.0 : bumpBonus);
+                    if (score > best.score || (score == best.score && c < bestC)) {
+                        best = {score, std::move(r.plan), b.passTime - ways1[c].patch.lead, ways1[c].clear, std::move(r.pushes)};
+                        bestC = c;
+                    }
+                }
+                if (stop) break;
+                p = q;
             }
             if (!best.plan.empty()) {
                 b.plan = std::move(best.plan);

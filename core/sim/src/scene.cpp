@@ -7,6 +7,7 @@
 
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
+#include <tbb/parallel_for.h>
 
 #include "fray/core/atomic_file.h"
 #include "fray/core/kinematics.h"
@@ -321,8 +322,15 @@ std::string sceneToJson(const Scene& scene, const ActionLibrary& lib) {
         j["marks"] = std::move(marks);
     }
     if (!scene.floor.empty()) j["floor"] = floorToJson(scene.floor);
-    json chars = json::array();
-    for (const auto& c : scene.characters) {
+    // The characters are written in parallel, each on its own: its document
+    // built and dumped as the whole document's dump would print it at its
+    // depth (two levels in: every line after the first indented two spaces
+    // more; a string's line breaks are escaped, so every raw one is
+    // structural), then spliced in where a placeholder stands. The same bytes
+    // as one dump of everything, without the whole scene's document in memory.
+    std::vector<std::string> charText(scene.characters.size());
+    tbb::parallel_for(std::size_t{0}, scene.characters.size(), [&](std::size_t n) {
+        const SceneCharacter& c = scene.characters[n];
         json cj;
         cj["name"] = c.name;
         if (!c.body.empty()) {
@@ -357,9 +365,18 @@ std::string sceneToJson(const Scene& scene, const ActionLibrary& lib) {
             track.push_back(std::move(ij));
         }
         cj["track"] = std::move(track);
-        chars.push_back(std::move(cj));
-    }
-    j["characters"] = std::move(chars);
+        const std::string text = prep::dumpJson(cj, 1);
+        std::string& out = charText[n];
+        out.reserve(text.size() + text.size() / 8 + 2);
+        out += "  ";
+        for (const char ch : text) {
+            out += ch;
+            if (ch == '\n') out += "  ";
+        }
+    });
+    // A value no dump of a real scene has there (the dump escapes control characters).
+    constexpr const char* kCharactersHere = "\x01fray-characters\x01";
+    j["characters"] = scene.characters.empty() ? json::array() : json(kCharactersHere);
     json hits = json::array();
     for (const auto& h : scene.hits) {
         hits.push_back(json{{"time", h.time},
@@ -385,7 +402,27 @@ std::string sceneToJson(const Scene& scene, const ActionLibrary& lib) {
                       {"shallower", s.shallower}};
     auto spec = prep::parseJson(scene.spec, "spec");
     j["spec"] = spec ? std::move(*spec) : json(scene.spec);
-    return prep::dumpJson(j, 1) + "\n";
+    std::string text = prep::dumpJson(j, 1);
+    if (scene.characters.empty()) return text + "\n";
+    // The placeholder as dumped (a control character is written \u0001),
+    // replaced by the characters' array as the whole dump prints it.
+    const std::string key = "\"characters\": ";
+    const std::size_t at = text.find(key + prep::dumpJson(json(kCharactersHere))) + key.size();
+    const std::size_t placeholder = prep::dumpJson(json(kCharactersHere)).size();
+    std::size_t size = text.size() + 8;
+    for (const auto& t : charText) size += t.size() + 2;
+    std::string out;
+    out.reserve(size);
+    out.append(text, 0, at);
+    out += "[\n";
+    for (std::size_t n = 0; n < charText.size(); ++n) {
+        out += charText[n];
+        out += n + 1 < charText.size() ? ",\n" : "\n";
+    }
+    out += " ]";
+    out.append(text, at + placeholder, std::string::npos);
+    out += "\n";
+    return out;
 }
 
 namespace {
