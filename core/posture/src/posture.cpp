@@ -1489,8 +1489,12 @@ struct Simulator::Impl {
                 for (int m : is.members) {
                     auto& c = chars[static_cast<std::size_t>(m)];
                     if (c.calm && pairEnd) continue;
-                    const double a = c.calm ? static_cast<double>(s + 2) / opt.substeps : alpha;
-                    if (c.created && c.controlled) control(is, c, a);
+                    // A calm character's step of 2h aims, as every step, at
+                    // the targets h ahead (not 2h): the PD control then keeps
+                    // the bodies h ahead of the captured motion, as with two
+                    // steps of h (aiming 2h ahead they ran twice as far ahead,
+                    // the chase's mean deviation 0.89 -> 1.39 cm).
+                    if (c.created && c.controlled) control(is, c, alpha);
                     if (c.created) moveHandPins(c, is.time + h);
                 }
                 pushBlows(is, stepIndex);
