@@ -22,7 +22,9 @@ fray::sim::Scene crowd(int characters) {
 }
 
 // Args: characters, frames simulated per iteration, solver (0 the default,
-// 1 the direct dWorldStep, 2 QuickStep, 3 the hybrid of the two). `first`:
+// 1 the direct dWorldStep, 2 QuickStep, 3 the hybrid of the two; 1 and 3
+// with calm pairs as by default; 4 the hybrid without calm pairs, the
+// default before them: Options::calmPairs). `first`:
 // the first measured frame; the frames before it are simulated untimed.
 void runPosture(benchmark::State& state, int first) {
     const auto scene = crowd(static_cast<int>(state.range(0)));
@@ -31,6 +33,7 @@ void runPosture(benchmark::State& state, int first) {
     if (state.range(2) == 1) options.solver = fray::posture::Solver::Direct;
     if (state.range(2) == 2) options.solver = fray::posture::Solver::Iterative;
     if (state.range(2) == 3) options.solver = fray::posture::Solver::Hybrid;
+    if (state.range(2) == 4) options.calmPairs = false;
     double produced = 0, cpu = 0, touching = 0;
     for (auto _ : state) {
         // BM_PosturePhysics times the construction (as it always did);
@@ -86,19 +89,27 @@ BENCHMARK(BM_PosturePhysics)
     ->Args({1000, 30, 2})
     ->Args({200, 60, 3})
     ->Args({1000, 30, 3})
+    ->Args({200, 60, 4})
+    ->Args({1000, 30, 4})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
 // Windows of the duel (per 60-frame window of {2, 60, 0, f}, the share of
 // character-steps touching another character: 0 in frames 1-180, 85 % in
 // 181-240, 18-20 % in 421-540, 97 % in 721-780, 18 % over the whole duel):
-// 421 an exchange of blows as common as the duel's average, 721 a clinch
-// where nearly every step touches (the worst case).
+// 421-480 an exchange of blows touching as often as the duel's average (its
+// first 30 frames do not touch: 60 frames for 1,000 characters too), 721-780
+// a clinch where nearly every step touches (the worst case). Solver 4: the
+// same without calm pairs, in the same binary.
 BENCHMARK(BM_PosturePhysicsContact)
     ->Args({200, 60, 0, 421})
-    ->Args({1000, 30, 0, 421})
+    ->Args({1000, 60, 0, 421})
     ->Args({200, 60, 0, 721})
-    ->Args({1000, 30, 0, 721})
+    ->Args({1000, 60, 0, 721})
+    ->Args({200, 60, 4, 421})
+    ->Args({1000, 60, 4, 421})
+    ->Args({200, 60, 4, 721})
+    ->Args({1000, 60, 4, 721})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
