@@ -103,7 +103,8 @@ struct Report {
     std::int64_t cappedForces = 0;  // particle forces or torques at their cap (steps x particles)
     int resets = 0;             // characters put back on their targets after a non-finite state
     int initialOverlaps = 0;    // pairs of characters starting inside each other
-    std::int64_t directSteps = 0;     // character-steps solved by the direct solver (Solver::Direct, Hybrid)
+    std::int64_t directSteps = 0;     // character-steps solved by the direct solver (Solver::Direct, Hybrid; a calm
+                                      // pair's one step counts for its two substeps)
     std::int64_t iterativeSteps = 0;  // and by QuickStep (Solver::Iterative, Hybrid: characters touching another)
     std::int64_t calmSteps = 0;       // of the direct ones, pairs of substeps taken as one step (Options::calmPairs)
     std::vector<std::string> notes;  // one line each, the first kMaxNotes
