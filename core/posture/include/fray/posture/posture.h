@@ -68,6 +68,9 @@ struct Options {
     int iterations = 40;         // Solver::Iterative: QuickStep iterations in steps with contacts between characters (strong PD
                                  // forces push bodies through contacts with fewer)
     int freeIterations = 40;     // and in steps without (25 lets pinned feet slip 1.2 cm in the luggage chain)
+    bool calmPairs = true;       // Solver::Direct, Hybrid: a character with no contact with another character
+                                 // (its grown boxes apart from everyone's) at the first substep of a pair takes
+                                 // both substeps as one direct step (docs/POSTURE.md "Calm pairs")
     double frequency = 8;        // Hz: PD natural frequency of the particles (Ke = m w^2); the
                                  // captured velocity and acceleration are fed forward
     double dampingRatio = 1;     // Kd = 2 zeta m w
@@ -100,8 +103,10 @@ struct Report {
     std::int64_t cappedForces = 0;  // particle forces or torques at their cap (steps x particles)
     int resets = 0;             // characters put back on their targets after a non-finite state
     int initialOverlaps = 0;    // pairs of characters starting inside each other
-    std::int64_t directSteps = 0;     // character-steps solved by the direct solver (Solver::Direct, Hybrid)
+    std::int64_t directSteps = 0;     // character-steps solved by the direct solver (Solver::Direct, Hybrid; a calm
+                                      // pair's one step counts for its two substeps)
     std::int64_t iterativeSteps = 0;  // and by QuickStep (Solver::Iterative, Hybrid: characters touching another)
+    std::int64_t calmSteps = 0;       // of the direct ones, pairs of substeps taken as one step (Options::calmPairs)
     std::vector<std::string> notes;  // one line each, the first kMaxNotes
     static constexpr std::size_t kMaxNotes = 50;
     void note(std::string line);
