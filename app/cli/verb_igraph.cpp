@@ -634,6 +634,30 @@ void runTable(const TableArgs& a) {
             changes += buf;
         }
         previous = policy, previousDepth = depth;
+        if (depth == a.depths.front() && !l->graph->nearFirst.empty()) {
+            std::size_t withNear = 0;
+            for (std::size_t i = 0; i + 1 < l->graph->nearFirst.size(); ++i) withNear += l->graph->nearFirst[i + 1] > l->graph->nearFirst[i];
+            char buf[160];
+            std::snprintf(buf, sizeof buf, "%.1f %% of the states have neighbours within D %.1f (%.2f each)\n",
+                          100.0 * static_cast<double>(withNear) / static_cast<double>(l->graph->stateCount()), l->graph->options.joinRadius,
+                          static_cast<double>(l->graph->near.size()) / static_cast<double>(l->graph->stateCount()));
+            changes += buf;
+        }
+        if (!l->graph->edgeFrames.empty()) {
+            // The horizon in seconds: the policy's chosen edges' time to the next decision, and every edge's.
+            double chosen = 0, all = 0;
+            std::int64_t nc = 0;
+            for (const auto b : policy->best) {
+                if (b >= 0) chosen += l->graph->edgeSeconds(static_cast<std::size_t>(b)), ++nc;
+            }
+            for (std::size_t k = 0; k < l->graph->edges.size(); ++k) all += l->graph->edgeSeconds(k);
+            all /= static_cast<double>(std::max<std::size_t>(1, l->graph->edges.size()));
+            chosen /= static_cast<double>(std::max<std::int64_t>(1, nc));
+            char buf[200];
+            std::snprintf(buf, sizeof buf, "depth %d: %.2f s a decision on the chosen edges, %.2f s on every edge: a horizon of about %.1f s\n", depth,
+                          chosen, all, depth * all);
+            changes += buf;
+        }
         std::string row = "| " + std::to_string(depth), more = "| " + std::to_string(depth);
         for (std::size_t k = 0; k < opponents.size(); ++k) {
             auto r = igraph::playSeries(l->rules, l->graph, policy, opponents[k], so, stderrProgress(a.quiet));

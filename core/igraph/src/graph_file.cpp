@@ -111,6 +111,8 @@ Result<Graph> readBody(std::string_view bytes, const std::string& name, const Ru
     if (r.bad) return makeError(name + ": the graph file is corrupt at byte " + std::to_string(r.at));
     if (r.at != r.in.size()) return makeError(name + ": unexpected data after the graph's edges");
     g.index();
+    if (rules) g.timeEdges(rules->library());
+    g.findNeighbours();
     return g;
 }
 
