@@ -313,6 +313,8 @@ void runPolicy(const PolicyArgs& a, bool presetGiven) {
     if (hasMagic(*bytes, igraph::kCarryGraphMagic)) return runCarryPolicy(a, *bytes, presetGiven);
     auto w = weightsFor(a.preset, a.set);
     if (!w) return fail(w.error().message);
+    // The edges' times come from the project's actions, which this verb does not read.
+    if (w->tau > 0) return fail("--set tau: timing the edges needs the project's actions; igraph policy reads the graph alone (use igraph table PROJECT --set tau=...)");
     auto g = igraph::readGraphUnbound(*bytes, a.graph);
     if (!g) return fail(g.error().message);
     auto p = igraph::computePolicy(*g, *w, a.depth);
@@ -848,7 +850,7 @@ void registerIgraph(CLI::App& app) {
         cmd->add_option("graph", a->graph, "Graph file")->required();
         cmd->add_option("--preset", a->preset, "Boxing style: general | infighter | outboxer");
         cmd->add_option("--depth", a->depth, "Min-max depth")->check(CLI::Range(1, 64));
-        cmd->add_option("--set", a->set, "Reward edits name=value (w_theta, w_d, d_p, w_a, w_r, gamma)");
+        cmd->add_option("--set", a->set, "Reward edits name=value (w_theta, w_d, d_p, w_a, w_r, gamma, tau, blur, opponent_mix, opponent)");
         cmd->add_flag("--json", a->json, "JSON output");
         auto* preset = cmd->get_option("--preset");
         cmd->callback([a, preset] { runPolicy(*a, preset->count() > 0); });
@@ -895,7 +897,7 @@ void registerIgraph(CLI::App& app) {
         cmd->add_flag("--refine", a->refine, "Refined look-ups (the default): the graph boxer re-simulates its state's edges from the real bodies (MatchOptions::refine)");
         cmd->add_flag("--plain", a->plain, "The graph boxer by look-up alone, with the style's gamma (default: refined look-ups, gamma 0.5)");
         cmd->add_flag("--measure", a->measure, "Measure the graph boxer's predictions against the real bodies (MatchOptions::measure)");
-        cmd->add_option("--set", a->edits, "Reward weight edit of the graph boxer, name=value (w_theta, w_d, d_p, w_a, w_r, gamma)");
+        cmd->add_option("--set", a->edits, "Reward weight edit of the graph boxer, name=value (w_theta, w_d, d_p, w_a, w_r, gamma, tau, blur, opponent_mix, opponent)");
         cmd->add_flag("-q,--quiet", a->quiet, "No progress on stderr");
         cmd->callback([a] { runTable(*a); });
     }
