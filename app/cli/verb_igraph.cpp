@@ -312,6 +312,8 @@ void runPolicy(const PolicyArgs& a, bool presetGiven) {
     if (hasMagic(*bytes, igraph::kCarryGraphMagic)) return runCarryPolicy(a, *bytes, presetGiven);
     auto w = weightsFor(a.preset, a.set);
     if (!w) return fail(w.error().message);
+    // The edges' times come from the project's actions, which this verb does not read.
+    if (w->tau > 0) return fail("--set tau: timing the edges needs the project's actions; igraph policy reads the graph alone (use igraph table PROJECT --set tau=...)");
     auto g = igraph::readGraphUnbound(*bytes, a.graph);
     if (!g) return fail(g.error().message);
     auto p = igraph::computePolicy(*g, *w, a.depth);
@@ -633,6 +635,30 @@ void runTable(const TableArgs& a) {
             changes += buf;
         }
         previous = policy, previousDepth = depth;
+        if (depth == a.depths.front() && !l->graph->nearFirst.empty()) {
+            std::size_t withNear = 0;
+            for (std::size_t i = 0; i + 1 < l->graph->nearFirst.size(); ++i) withNear += l->graph->nearFirst[i + 1] > l->graph->nearFirst[i];
+            char buf[160];
+            std::snprintf(buf, sizeof buf, "%.1f %% of the states have neighbours within D %.1f (%.2f each)\n",
+                          100.0 * static_cast<double>(withNear) / static_cast<double>(l->graph->stateCount()), l->graph->options.joinRadius,
+                          static_cast<double>(l->graph->near.size()) / static_cast<double>(l->graph->stateCount()));
+            changes += buf;
+        }
+        if (!l->graph->edgeFrames.empty()) {
+            // The horizon in seconds: the policy's chosen edges' time to the next decision, and every edge's.
+            double chosen = 0, all = 0;
+            std::int64_t nc = 0;
+            for (const auto b : policy->best) {
+                if (b >= 0) chosen += l->graph->edgeSeconds(static_cast<std::size_t>(b)), ++nc;
+            }
+            for (std::size_t k = 0; k < l->graph->edges.size(); ++k) all += l->graph->edgeSeconds(k);
+            all /= static_cast<double>(std::max<std::size_t>(1, l->graph->edges.size()));
+            chosen /= static_cast<double>(std::max<std::int64_t>(1, nc));
+            char buf[200];
+            std::snprintf(buf, sizeof buf, "depth %d: %.2f s a decision on the chosen edges, %.2f s on every edge: a horizon of about %.1f s\n", depth,
+                          chosen, all, depth * all);
+            changes += buf;
+        }
         std::string row = "| " + std::to_string(depth), more = "| " + std::to_string(depth);
         for (std::size_t k = 0; k < opponents.size(); ++k) {
             auto r = igraph::playSeries(l->rules, l->graph, policy, opponents[k], so, stderrProgress(a.quiet));
@@ -823,7 +849,7 @@ void registerIgraph(CLI::App& app) {
         cmd->add_option("graph", a->graph, "Graph file")->required();
         cmd->add_option("--preset", a->preset, "Boxing style: general | infighter | outboxer");
         cmd->add_option("--depth", a->depth, "Min-max depth")->check(CLI::Range(1, 64));
-        cmd->add_option("--set", a->set, "Reward edits name=value (w_theta, w_d, d_p, w_a, w_r, gamma)");
+        cmd->add_option("--set", a->set, "Reward edits name=value (w_theta, w_d, d_p, w_a, w_r, gamma, tau, blur, opponent_mix, opponent)");
         cmd->add_flag("--json", a->json, "JSON output");
         auto* preset = cmd->get_option("--preset");
         cmd->callback([a, preset] { runPolicy(*a, preset->count() > 0); });
@@ -870,7 +896,7 @@ void registerIgraph(CLI::App& app) {
         cmd->add_flag("--refine", a->refine, "Refined look-ups (the default): the graph boxer re-simulates its state's edges from the real bodies (MatchOptions::refine)");
         cmd->add_flag("--plain", a->plain, "The graph boxer by look-up alone, with the style's gamma (default: refined look-ups, gamma 0.5)");
         cmd->add_flag("--measure", a->measure, "Measure the graph boxer's predictions against the real bodies (MatchOptions::measure)");
-        cmd->add_option("--set", a->edits, "Reward weight edit of the graph boxer, name=value (w_theta, w_d, d_p, w_a, w_r, gamma)");
+        cmd->add_option("--set", a->edits, "Reward weight edit of the graph boxer, name=value (w_theta, w_d, d_p, w_a, w_r, gamma, tau, blur, opponent_mix, opponent)");
         cmd->add_flag("-q,--quiet", a->quiet, "No progress on stderr");
         cmd->callback([a] { runTable(*a); });
     }

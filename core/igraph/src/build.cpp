@@ -3,6 +3,7 @@
 // SPEC distance, edges by simulating every action of each state's Next set,
 // and the coverage of tree expansion's states.
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -149,7 +150,55 @@ std::size_t Graph::memoryBytes() const {
     return states.capacity() * sizeof(InteractionState) + firstEdge.capacity() * sizeof(std::uint32_t) +
            edges.capacity() * sizeof(Edge) + buckets_.capacity() * sizeof(Bucket) + states.size() * sizeof(std::uint32_t) +
            packed_.capacity() * sizeof(Packed) + cellStart_.capacity() * sizeof(std::uint32_t) + gridBytes() +
-           actions.capacity() * sizeof(int);
+           actions.capacity() * sizeof(int) + edgeFrames.capacity() + (nearFirst.capacity() + near.capacity()) * sizeof(std::uint32_t);
+}
+
+void Graph::timeEdges(const sim::ActionLibrary& lib) {
+    edgeFrames.assign(edges.size(), 0);
+    auto frames = [](double seconds) {
+        return static_cast<std::uint8_t>(std::clamp(std::lround(seconds * sim::kSampleRate), 1L, 255L));
+    };
+    for (std::size_t i = 0; i < states.size(); ++i) {
+        const auto& s = states[i];
+        const double leftB = lib.action(s.actionB).duration - s.frameB / sim::kSampleRate;
+        for (std::uint32_t k = firstEdge[i]; k < firstEdge[i + 1]; ++k) {
+            const Edge& e = edges[k];
+            edgeFrames[k] = frames(e.sameChooser() ? lib.action(e.action()).duration : leftB);
+        }
+    }
+}
+
+void Graph::findNeighbours() {
+    const std::size_t n = states.size();
+    std::vector<std::array<std::uint32_t, kNeighbours>> found(n);
+    std::vector<std::uint8_t> count(n, 0);
+    tbb::parallel_for(std::size_t{0}, buckets_.size(), [&](std::size_t b) {
+        const auto& bk = buckets_[b];
+        std::vector<std::pair<double, std::uint32_t>> cand;
+        for (std::uint32_t i = bk.begin; i < bk.end; ++i) {
+            cand.clear();
+            for (std::uint32_t j = bk.begin; j < bk.end; ++j) {
+                if (j == i) continue;
+                const double d = distance(states[i], states[j], options.scale);
+                if (d <= options.joinRadius) cand.emplace_back(d, j);
+            }
+            const auto k = std::min<std::size_t>(cand.size(), kNeighbours);
+            std::partial_sort(cand.begin(), cand.begin() + static_cast<std::ptrdiff_t>(k), cand.end());
+            for (std::size_t q = 0; q < k; ++q) found[i][q] = cand[q].second;
+            count[i] = static_cast<std::uint8_t>(k);
+        }
+    });
+    nearFirst.assign(n + 1, 0);
+    near.clear();
+    for (std::size_t i = 0; i < n; ++i) {
+        nearFirst[i] = static_cast<std::uint32_t>(near.size());
+        near.insert(near.end(), found[i].begin(), found[i].begin() + count[i]);
+    }
+    nearFirst[n] = static_cast<std::uint32_t>(near.size());
+}
+
+double Graph::edgeSeconds(std::size_t edge) const {
+    return edge < edgeFrames.size() ? edgeFrames[edge] / sim::kSampleRate : 0.0;
 }
 
 int Graph::frameBucket(double frame) const {
@@ -629,6 +678,8 @@ Result<Graph> buildGraph(const Rules& rules, const BuildOptions& o, const Progre
         g.stats.coverage = sum.visited > 0 ? static_cast<double>(sum.inside) / static_cast<double>(sum.visited) : 0.0;
     }
     reportProgress(progress, 1.0, "done");
+    g.timeEdges(lib);
+    g.findNeighbours();
     return g;
 }
 

@@ -119,6 +119,8 @@ Result<Graph> readAny(std::string_view bytes, std::string_view fileName, const R
     if (r.bad) return makeError(name + ": the graph file is corrupt at byte " + std::to_string(r.at));
     if (r.at != r.in.size()) return makeError(name + ": unexpected data after the graph's edges");
     g.index();
+    if (rules) g.timeEdges(rules->library());
+    g.findNeighbours();
     return g;
 }
 

@@ -2,6 +2,7 @@
 // rewards, min-max to a depth with a discount, and a service that recomputes
 // a policy in the background while the previous one stays in use.
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -26,7 +27,9 @@ struct NamedWeight {
     double RewardWeights::*field;
 };
 constexpr NamedWeight kWeights[] = {{"w_theta", &RewardWeights::wTheta}, {"w_d", &RewardWeights::wD}, {"d_p", &RewardWeights::dP},
-                                    {"w_a", &RewardWeights::wA},         {"w_r", &RewardWeights::wR}, {"gamma", &RewardWeights::gamma}};
+                                    {"w_a", &RewardWeights::wA},         {"w_r", &RewardWeights::wR}, {"gamma", &RewardWeights::gamma},
+                                    {"tau", &RewardWeights::tau},          {"opponent_mix", &RewardWeights::opponentMix},
+                                    {"blur", &RewardWeights::blur}};
 
 }  // namespace
 
@@ -37,7 +40,14 @@ Status validate(const RewardWeights& w) {
         if (v < 0) return makeError(std::string("reward weight ") + nw.name + " is negative (" + std::to_string(v) + ")");
     }
     if (w.gamma > 1) return makeError("reward weight gamma must be in [0, 1], got " + std::to_string(w.gamma));
+    if (w.blur > 1) return makeError("reward weight blur must be in [0, 1], got " + std::to_string(w.blur));
+    if (w.opponentMix > 1) return makeError("reward weight opponent_mix must be in [0, 1], got " + std::to_string(w.opponentMix));
     return {};
+}
+
+double RewardWeights::discount(int frames) const {
+    if (!(tau > 0) || frames <= 0) return gamma;
+    return std::pow(gamma, frames / sim::kSampleRate / tau);
 }
 
 const std::vector<std::string>& styleNames() {
@@ -81,7 +91,7 @@ Status applyRewardEdit(RewardWeights& w, std::string_view edit) {
         w = probe;
         return {};
     }
-    return makeError("no reward weight named '" + std::string(key) + "' (w_theta, w_d, d_p, w_a, w_r, gamma, opponent)");
+    return makeError("no reward weight named '" + std::string(key) + "' (w_theta, w_d, d_p, w_a, w_r, gamma, tau, opponent_mix, blur, opponent)");
 }
 
 double edgeReward(const Graph& g, const Edge& e, const RewardWeights& w, bool chooserIsMine) {
@@ -103,7 +113,8 @@ double edgeReward(const Graph& g, const Edge& e, const RewardWeights& w, bool ch
 double Policy::edgeValue(const Graph& g, const Edge& e) const {
     const auto to = static_cast<std::size_t>(e.to);
     const double below = e.sameChooser() ? (mineBelow.empty() ? 0.0 : mineBelow[to]) : (theirsBelow.empty() ? 0.0 : theirsBelow[to]);
-    return edgeReward(g, e, weights, true) + weights.gamma * below;
+    const auto k = static_cast<std::size_t>(&e - g.edges.data());
+    return edgeReward(g, e, weights, true) + weights.discount(k < g.edgeFrames.size() ? g.edgeFrames[k] : 0) * below;
 }
 
 Result<Policy> computePolicy(const Graph& g, const RewardWeights& w, int depth, const ProgressFn& progress) {
@@ -128,6 +139,11 @@ Result<Policy> computePolicy(const Graph& g, const RewardWeights& w, int depth, 
     }
     nxt = cur;
     p.best.assign(n, -1);
+    // The discount of an edge by its time to the next decision (RewardWeights::tau).
+    const bool timed = w.tau > 0 && g.edgeFrames.size() == g.edges.size();
+    const bool blurred = w.blur > 0 && g.nearFirst.size() == n + 1;
+    std::array<double, 256> disc{};
+    for (int f = 0; f < 256; ++f) disc[static_cast<std::size_t>(f)] = w.discount(f);
     for (int d = 0; d < depth; ++d) {
         if (!reportProgress(progress, static_cast<double>(d) / depth, "policy")) return cancelled();
         const bool last = d + 1 == depth;
@@ -146,29 +162,47 @@ Result<Policy> computePolicy(const Graph& g, const RewardWeights& w, int depth, 
                     nxt[i].vt = (w.opponentOwn ? -cur[i].moveA : cur[i].moveB) + w.gamma * cur[i].vt;
                     continue;
                 }
-                double best = -std::numeric_limits<double>::infinity(), worst = std::numeric_limits<double>::infinity();
+                double best = -std::numeric_limits<double>::infinity(), worst = std::numeric_limits<double>::infinity(), sum = 0;
                 std::int32_t bestEdge = -1;
                 for (const Edge* x = b; x != e; ++x) {
                     const Cell& t = cur[static_cast<std::size_t>(x->to)];
                     const double given = x->given(), received = x->received();
+                    const double gamma = timed ? disc[g.edgeFrames[static_cast<std::size_t>(x - g.edges.data())]] : w.gamma;
                     // = edgeReward(g, *x, w, true / false) + gamma V(next), inlined.
-                    const double mine = x->sameChooser() ? t.moveA + w.wA * given - w.wR * received + w.gamma * t.vm
-                                                         : t.moveB + w.wA * given - w.wR * received + w.gamma * t.vt;
+                    const double mine = x->sameChooser() ? t.moveA + w.wA * given - w.wR * received + gamma * t.vm
+                                                         : t.moveB + w.wA * given - w.wR * received + gamma * t.vt;
                     if (mine > best) best = mine, bestEdge = static_cast<std::int32_t>(x - g.edges.data());
                     // = edgeReward(g, *x, w, false) + gamma V(next): the opponent's own W against us, or ours.
                     const double theirs =
-                        w.opponentOwn ? (x->sameChooser() ? -(t.moveA + w.wA * given - w.wR * received) + w.gamma * t.vt
-                                                          : -(t.moveB + w.wA * given - w.wR * received) + w.gamma * t.vm)
-                                      : (x->sameChooser() ? t.moveB + w.wA * received - w.wR * given + w.gamma * t.vt
-                                                          : t.moveA + w.wA * received - w.wR * given + w.gamma * t.vm);
+                        w.opponentOwn ? (x->sameChooser() ? -(t.moveA + w.wA * given - w.wR * received) + gamma * t.vt
+                                                          : -(t.moveB + w.wA * given - w.wR * received) + gamma * t.vm)
+                                      : (x->sameChooser() ? t.moveB + w.wA * received - w.wR * given + gamma * t.vt
+                                                          : t.moveA + w.wA * received - w.wR * given + gamma * t.vm);
                     worst = std::min(worst, theirs);
+                    sum += theirs;
                 }
                 nxt[i].vm = best;
-                nxt[i].vt = worst;
+                nxt[i].vt = w.opponentMix > 0 ? (1 - w.opponentMix) * worst + w.opponentMix * sum / static_cast<double>(e - b) : worst;
                 if (last) p.best[i] = bestEdge;
             }
         });
         std::swap(cur, nxt);
+        if (blurred && !last) {
+            // What the next level reads: each state's value blurred with its neighbours'.
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
+                for (std::size_t i = range.begin(); i < range.end(); ++i) {
+                    const auto k0 = g.nearFirst[i], k1 = g.nearFirst[i + 1];
+                    nxt[i] = cur[i];
+                    if (k0 == k1) continue;
+                    double m = 0, t = 0;
+                    for (auto k = k0; k < k1; ++k) m += cur[g.near[k]].vm, t += cur[g.near[k]].vt;
+                    const double inv = 1.0 / static_cast<double>(k1 - k0);
+                    nxt[i].vm = (1 - w.blur) * cur[i].vm + w.blur * m * inv;
+                    nxt[i].vt = (1 - w.blur) * cur[i].vt + w.blur * t * inv;
+                }
+            });
+            std::swap(cur, nxt);
+        }
     }
     p.value.resize(n);
     for (std::size_t i = 0; i < n; ++i) p.value[i] = cur[i].vm;

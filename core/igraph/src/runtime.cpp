@@ -255,7 +255,8 @@ struct Match::Impl {
             const auto ut = static_cast<std::size_t>(to);
             const double below = nc == 0 ? (policy.mineBelow.empty() ? 0.0 : policy.mineBelow[ut]) : (policy.theirsBelow.empty() ? 0.0 : policy.theirsBelow[ut]);
             const double v = -w.wTheta * mine.thetaA * mine.thetaA - w.wD * d * d + w.wA * static_cast<double>(oc.given[0]) -
-                             w.wR * static_cast<double>(oc.received[0]) + w.gamma * below;
+                             w.wR * static_cast<double>(oc.received[0]) +
+                             w.discount(static_cast<int>(std::lround(std::min(t1 - at, 8.5) * sim::kSampleRate))) * below;
             if (v > bestValue) bestValue = v, bestAction = e->action();
         }
         return bestAction;

@@ -166,6 +166,22 @@ public:
     std::vector<Edge> edges;
     std::uint64_t libraryKey = 0, actionsKey = 0;
     std::vector<int> actions;               // the chosen actions it was built with
+    // Per edge, the time from its decision to the next one in samples
+    // (kSampleRate, at most 255): the chooser's action when it chooses again,
+    // else what is left of B's action (a blow's reaction may make it longer).
+    // Filled by timeEdges (buildGraph and readGraph/loadGraph with the rules
+    // do; it follows from the states, the edges and the library, so it is not
+    // in the file). Empty: not timed (RewardWeights::tau then has no effect).
+    std::vector<std::uint8_t> edgeFrames;
+    void timeEdges(const sim::ActionLibrary& lib);
+    double edgeSeconds(std::size_t edge) const;
+    // Per state, its nearest other states of the same group within
+    // joinRadius (at most kNeighbours, nearest first; CSR): where a real
+    // result near the state may fall instead (RewardWeights::blur). Filled
+    // with edgeFrames; empty: none.
+    static constexpr int kNeighbours = 4;
+    std::vector<std::uint32_t> nearFirst, near;
+    void findNeighbours();
     BuildOptions options;
     GraphStats stats;
 
@@ -253,6 +269,20 @@ struct RewardWeights {
     // the controlled character's W of that edge (its own facing and
     // distance): the min is an opponent that spoils them (rule 1's policies).
     bool opponentOwn = false;
+    // tau (s) > 0: an edge's discount is gamma^(dt / tau), dt the edge's time
+    // to the next decision (Graph::edgeFrames), so the discount counts
+    // seconds, not decisions of either character; 0: gamma per decision.
+    double tau = 0;
+    // The opponent's reply at its states: (1 - mix) x the worst for the
+    // controlled character (the min of SPEC 3.4) + mix x the mean over its
+    // edges. 0: the min.
+    double opponentMix = 0;
+    // The value of the state an edge leads to: (1 - blur) x its own +
+    // blur x the mean of its neighbours' (Graph::near), as a real result
+    // falls near the state the edge stores, not on it. 0: its own (SPEC 3.4).
+    double blur = 0;
+    // The discount of an edge of `frames` samples to the next decision.
+    double discount(int frames) const;
     friend bool operator==(const RewardWeights&, const RewardWeights&) = default;
 };
 // Every weight a finite number >= 0 (gamma in [0, 1]); the message names the field.
