@@ -128,7 +128,7 @@ cat > "$tmp/football.json" <<'JSON'
 {"kind": "football", "seed": 1, "tacklers": 4, "goal": 35, "directions": [{"time": 0, "heading_deg": 0}, {"time": 5, "heading_deg": 20}]}
 JSON
 "$cli" compose "$tmp/fb/demo.frayproj" --spec "$tmp/football.json" --out "$tmp/football.frayscene" -q > "$tmp/football.txt"
-check "football composed" "grep -q 'football, 5 characters' '$tmp/football.txt'"
+check "football composed (carrier, 4 tacklers and the ball)" "grep -q 'football, 6 characters' '$tmp/football.txt'"
 check "carrier past the tacklers to the goal line" "grep -q 'got past 4 tacklers and crossed the goal line' '$tmp/football.txt'"
 "$cli" metrics "$tmp/football.frayscene" --json -q > "$tmp/football_metrics.json"
 check "football: nobody tackled, no penetration" "python3 -c 'import json,sys; m=json.load(open(sys.argv[1])); assert m[\"penetration_frames\"] == 0 and m[\"hits\"] == 0 and m[\"attacks\"] == 4, m' '$tmp/football_metrics.json'"

@@ -112,9 +112,10 @@ std::vector<const Skeleton*> SceneStage::skeletons() const {
 
 glm::vec3 characterTint(const sim::Scene& scene, int c) {
     if (scene.isCreature(c)) {
-        // A brown rat and a khaki bag among the teams' colours.
-        return scene.characters[static_cast<std::size_t>(c)].body == "rat" ? glm::vec3(0.35f, 0.27f, 0.22f)
-                                                                         : glm::vec3(0.52f, 0.46f, 0.28f);
+        // A brown rat, a khaki bag and a leather-brown ball among the teams' colours.
+        const std::string& body = scene.characters[static_cast<std::size_t>(c)].body;
+        if (body == "ball") return glm::vec3(0.55f, 0.25f, 0.10f);
+        return body == "rat" ? glm::vec3(0.35f, 0.27f, 0.22f) : glm::vec3(0.52f, 0.46f, 0.28f);
     }
     const int side = scene.characters[static_cast<std::size_t>(c)].side;
     int member = 0;

@@ -153,6 +153,15 @@ std::vector<BodyCapsule> bodyCapsules(const Skeleton& sk) {
     if (sk.jointCount() == 1 && sk.endSites[0] && glm::length(*sk.endSites[0]) >= 1e-3f) {
         // A one-joint creature (a rat): one plump capsule from the joint to its end site.
         const glm::vec3 e = *sk.endSites[0];
+        if (sk.names[0] == "ball") {
+            // A ball (the football carrier's): a capsule whose tips are the
+            // joint and the end site, 0.6 of its length across (a 0.28 m
+            // ball is 0.17 m thick).
+            const float r = 0.3f * glm::length(e);
+            const glm::vec3 u = glm::normalize(e);
+            capsules.push_back({u * r, e - u * r, r, 0});
+            return capsules;
+        }
         capsules.push_back({glm::vec3(0.0f), e, 0.22f * glm::length(e), 0});
         return capsules;
     }

@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <stdexcept>
+#include <utility>
 
 #include "fray/core/kinematics.h"
 #include "fray/posture/posture.h"
@@ -36,6 +38,30 @@ const sim::Scene& oneVsMany() {
     return scene;
 }
 
+// The README football run (resources/demo/football.json) on the demo actor's
+// football set, with the carrier's ball.
+const sim::Scene& football() {
+    static const sim::Scene scene = [] {
+        const auto& lib = test::footballWorld().library;
+        static const sim::PatchLibrary patches = [&] {
+            sim::PatchLibrary out;
+            for (const auto& p : sim::defaultPatterns()) {
+                if (p.name != "run-tackle-avoid") continue;
+                if (auto st = sim::generatePatches(lib, p, sim::PatternSet{}, out); !st) throw std::runtime_error(st.error().message);
+            }
+            sim::buildConnections(lib, out);
+            return out;
+        }();
+        const std::string path = kDemo + "football.json";
+        auto spec = sim::parseComposeSpec(test::readText(path), path, patches);
+        if (!spec) throw std::runtime_error(spec.error().message);
+        auto made = sim::compose(lib, patches, *spec);
+        if (!made) throw std::runtime_error(made.error().message);
+        return std::move(*made);
+    }();
+    return scene;
+}
+
 void expectSameBytes(const sim::Scene& scene);
 
 bool allFinite(const sim::JointTracks& t) {
@@ -52,8 +78,7 @@ struct Both {
     posture::Report report;
 };
 
-Both measure(const sim::Scene& scene, const posture::Options& options = {}) {
-    const auto& lib = demoWorld().library;
+Both measure(const sim::Scene& scene, const posture::Options& options = {}, const sim::ActionLibrary& lib = demoWorld().library) {
     const auto captured = sim::kinematicTracks(scene, lib, options.fps);
     auto frames = posture::simulate(scene, lib, options);
     EXPECT_TRUE(frames) << frames.error().message;
@@ -649,3 +674,101 @@ TEST(PostureSolver, ParryMovesTheFreeForearmTowardsTheBlow) {
     EXPECT_LT(a, b - 0.02f);
     EXPECT_TRUE(allFinite(withParry->world));
 }
+
+namespace {
+
+// Where the carrying hand holds the ball shown at t (ScenePoses), and that hand.
+std::pair<glm::vec3, glm::vec3> gripAndHand(const posture::ScenePoses& poses, const sim::Scene& scene, int ball, double t) {
+    const auto& lib = test::footballWorld().library;
+    const auto& b = scene.characters[static_cast<std::size_t>(ball)];
+    const auto& joints = lib.motion(lib.actions()[static_cast<std::size_t>(scene.characters[static_cast<std::size_t>(b.holder)].track.front().action)].motion).joints;
+    std::vector<glm::vec3> p;
+    std::vector<glm::quat> r;
+    poses.world(ball, t, p, r);
+    EXPECT_EQ(p.size(), 1u);
+    const glm::vec3 grip = p[0] + r[0] * glm::vec3(0, 0, 0.5f * sim::kBallLength + sim::kBallTuck);
+    poses.world(b.holder, t, p, r);
+    return {grip, p[static_cast<std::size_t>(b.hand == 0 ? joints.leftHand : joints.rightHand)]};
+}
+
+// Issue 25 item 2: a football carrier's arm holds the ball. The composed run
+// has a ball in the carrier's right hand; its grip stays within 5 cm of the
+// hand on average and 10 cm at worst (a hand is about 10 cm long: a ball
+// farther than that is out of the hand) in both postures, against the ball
+// shown and, with physics, against the ball as keyed (the soft constraint
+// holds the physics hand there); at times between frames too; and the
+// issue's thresholds still hold on the football run with physics.
+TEST(PostureSolver, FootballCarrierHoldsTheBall) {
+    const auto& scene = football();
+    const auto& lib = test::footballWorld().library;
+    int ball = -1;
+    for (std::size_t i = 0; i < scene.characters.size(); ++i) {
+        if (scene.characters[i].body == "ball") ball = static_cast<int>(i);
+    }
+    ASSERT_GE(ball, 0);
+    const auto& b = scene.characters[static_cast<std::size_t>(ball)];
+    ASSERT_EQ(b.holder, 0);
+    EXPECT_EQ(scene.characters[0].name, "carrier");
+    EXPECT_EQ(b.hand, 1);
+    const auto both = measure(scene, {}, lib);
+    record("kinematic", both.kinematic);
+    record("physics", both.physics);
+    expectThresholds(both.physics, "football");
+    for (const auto* m : {&both.kinematic, &both.physics}) {
+        ASSERT_EQ(m->balls.size(), 1u);
+        const auto& h = m->balls[0];
+        EXPECT_EQ(h.holder, "carrier");
+        EXPECT_GT(h.frames, 600);  // the whole run at 60 fps
+        EXPECT_LT(h.meanCm, 5.0);
+        EXPECT_LT(h.maxCm, 10.0);
+        EXPECT_LT(h.keyedMeanCm, 5.0);
+        EXPECT_LT(h.keyedMaxCm, 10.0);
+        testing::Test::RecordProperty(m == &both.kinematic ? "kinematic_ball_max_cm" : "physics_ball_keyed_max_cm",
+                                      std::to_string(m == &both.kinematic ? h.maxCm : h.keyedMaxCm));
+    }
+    // The ball shown between frames: at the hand of the pose shown, in either mode.
+    for (const auto mode : {posture::Mode::Kinematic, posture::Mode::Physics}) {
+        auto poses = posture::ScenePoses::make(mode, scene, lib);
+        ASSERT_TRUE(poses) << poses.error().message;
+        for (const double t : {0.51, 3.333, 7.77, 12.345}) {
+            const auto [grip, hand] = gripAndHand(*poses, scene, ball, t);
+            EXPECT_LT(glm::length(grip - hand), 0.02f) << posture::modeName(mode) << " at " << t << " s";
+        }
+    }
+    // The ball's keys survive the scene file.
+    const std::string text = sim::sceneToJson(scene, lib);
+    auto back = sim::sceneFromJson(text, "f.frayscene", lib);
+    ASSERT_TRUE(back) << back.error().message;
+    const auto& kb = back->characters[static_cast<std::size_t>(ball)];
+    EXPECT_EQ(kb.keys, b.keys);
+    EXPECT_EQ(kb.holder, b.holder);
+    EXPECT_EQ(kb.hand, b.hand);
+    EXPECT_EQ(sim::sceneToJson(*back, lib), text);
+    // A bad holder or hand is named.
+    std::string bad = text;
+    bad.replace(bad.find("\"holder\": 0"), 11, "\"holder\": 99");
+    auto broken = sim::sceneFromJson(bad, "f.frayscene", lib);
+    ASSERT_FALSE(broken);
+    EXPECT_NE(broken.error().message.find("f.frayscene: /characters/" + std::to_string(ball) + "/holder: must be a character index"),
+              std::string::npos)
+        << broken.error().message;
+    bad = text;
+    bad.replace(bad.find("\"hand\": \"right\""), 15, "\"hand\": \"both\"");
+    broken = sim::sceneFromJson(bad, "f.frayscene", lib);
+    ASSERT_FALSE(broken);
+    EXPECT_NE(broken.error().message.find("/hand: must be"), std::string::npos) << broken.error().message;
+}
+
+// With --hand-pins the carrying hand is also pinned to the ball: it holds it
+// at least as closely as without, and the thresholds still hold.
+TEST(PostureSolver, FootballBallWithHandPins) {
+    posture::Options pinned;
+    pinned.handPins = true;
+    const auto both = measure(football(), pinned, test::footballWorld().library);
+    expectThresholds(both.physics, "football, hand pins");
+    ASSERT_EQ(both.physics.balls.size(), 1u);
+    EXPECT_LT(both.physics.balls[0].keyedMeanCm, 2.0);
+    EXPECT_LT(both.physics.balls[0].keyedMaxCm, 10.0);
+}
+
+}  // namespace

@@ -25,6 +25,9 @@ sim::Scene cropSceneTo(const sim::Scene& scene, Keep&& keep) {
         out.characters.push_back(ch);
         out.characters.back().opponent = -1;
     }
+    for (auto& ch : out.characters) {
+        if (ch.holder >= 0) ch.holder = index[static_cast<std::size_t>(ch.holder)];  // a ball whose holder is left out: nobody's
+    }
     for (const auto& h : scene.hits) {
         const int a = index[static_cast<std::size_t>(h.attacker)], d = index[static_cast<std::size_t>(h.defender)];
         if (a < 0 || d < 0) continue;

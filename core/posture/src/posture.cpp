@@ -249,6 +249,8 @@ struct Character {
     std::array<glm::dvec3, 2> grip{};                   // where, in the bag's frame
     std::array<bool, 2> gripped{false, false};          // grip taken in the current hold
     int heldBag = -1;                                   // the scene character of the bag held
+    int heldBall = -1;                                  // the scene character of the ball it carries (its holder is this one)
+    dJointID ballPin = nullptr;                         // its ball hand pinned to the ball (Options::handPins)
     std::array<double, 2> armLength{0.6, 0.6};          // m: shoulder to hand
     bool reportedReach = false;
     std::array<double, 2> legLength{1.0, 1.0};  // m: ankle to hip joint
@@ -351,6 +353,12 @@ struct Simulator::Impl {
             if (scene.characters[i].body == "bag" && !scene.characters[i].keys.empty()) bags.push_back(static_cast<int>(i));
         }
         setupCharacters();
+        // A ball's holder (the football carrier) holds it all along.
+        for (std::size_t i = 0; i < scene.characters.size(); ++i) {
+            const auto& b = scene.characters[i];
+            if (b.body != "ball" || b.keys.empty() || b.holder < 0 || static_cast<std::size_t>(b.holder) >= chars.size()) continue;
+            if (!scene.isCreature(b.holder)) chars[static_cast<std::size_t>(b.holder)].heldBall = static_cast<int>(i);
+        }
         setupPulls();
         setupIslands();
     }
@@ -881,6 +889,7 @@ struct Simulator::Impl {
         for (auto& pin : c.handPin) {
             if (pin) dJointDestroy(pin), pin = nullptr;
         }
+        if (c.ballPin) dJointDestroy(c.ballPin), c.ballPin = nullptr;
         c.heldBag = -1;
         for (std::size_t j = 0; j < static_cast<std::size_t>(c.jointCount); ++j) {
             if (c.rides[j]) continue;
@@ -1107,8 +1116,58 @@ struct Simulator::Impl {
         }
     }
 
-    // Moves the hand pins with their bag to where it is at the end of a step.
+    // Where a ball carrier's hand holds its ball at t (the ball as keyed).
+    glm::dvec3 ballGripAt(int ball, double t) const {
+        const auto& b = scene.characters[static_cast<std::size_t>(ball)];
+        return glm::dvec3(sim::ballGrip(sim::creatureAt(b, t), sim::creatureHeightAt(b, t), sim::creaturePitchAt(b, t)));
+    }
+
+    // A football carrier's arm holds the ball (issue 25): a soft constraint,
+    // the carrying hand's target moved onto the ball's grip (the ball is keyed
+    // from the captured hand, so this is the captured hand up to the keys'
+    // interpolation, and stays there while the body is pushed about); with
+    // Options::handPins also a hard pin of the hand on the grip, moved with
+    // the ball every step (moveHandPins), let go like the bag's pins where
+    // the arm cannot reach it.
+    void updateBallHold(Island& is, Character& c, double t) {
+        if (c.heldBall < 0 || !c.controlled || !c.roles.hasHands()) return;
+        const int k = scene.characters[static_cast<std::size_t>(c.heldBall)].hand == 0 ? 0 : 1;
+        const int hand = k == 0 ? c.roles.leftHand : c.roles.rightHand;
+        const glm::dvec3 grip = ballGripAt(c.heldBall, t);
+        if (!finite(glm::vec3(grip))) return;
+        c.pinShift[static_cast<std::size_t>(hand)] = glm::vec3(grip) - c.p1[static_cast<std::size_t>(hand)];
+        if (!opt.handPins) return;
+        const int shoulder = k == 0 ? c.roles.leftShoulder : c.roles.rightShoulder;
+        if (shoulder < 0) return;
+        const int collar = c.skeleton->parents[static_cast<std::size_t>(shoulder)];
+        const glm::dvec3 from = jointPos(c, collar >= 0 ? collar : shoulder);
+        if (glm::length(grip - from) > kArmSlack * c.armLength[static_cast<std::size_t>(k)]) {
+            if (c.ballPin) dJointDestroy(c.ballPin), c.ballPin = nullptr, ++is.report.releasedPins;
+            else ++is.report.refusedPins;
+            if (!c.reportedReach) {
+                c.reportedReach = true;
+                is.report.note("character " + nameOf(c.index) + ": a hand pin on the ball at " + std::to_string(t) +
+                               " s is beyond the arm's reach; not held");
+            }
+            return;
+        }
+        if (!c.ballPin) {
+            // Pinned where the hand is; the pin moves onto the grip with the ball's next step.
+            const glm::dvec3 at = jointPos(c, hand);
+            c.ballPin = dJointCreateBall(is.world, nullptr);
+            dJointAttach(c.ballPin, c.bodies[static_cast<std::size_t>(hand)], nullptr);
+            dJointSetBallAnchor(c.ballPin, at.x, at.y, at.z);
+            dJointSetBallParam(c.ballPin, dParamERP, 0.95);
+            dJointSetBallParam(c.ballPin, dParamCFM, 1e-9);
+        }
+    }
+
+    // Moves the hand pins with their bag (or ball) to where it is at the end of a step.
     void moveHandPins(Character& c, double t) {
+        if (c.ballPin) {
+            const glm::dvec3 at = ballGripAt(c.heldBall, t);
+            dJointSetBallAnchor2(c.ballPin, at.x, at.y, at.z);
+        }
         if (c.heldBag < 0) return;
         const BagFrame f = bagFrame(c.heldBag, t);
         for (int k = 0; k < 2; ++k) {
@@ -1466,6 +1525,7 @@ struct Simulator::Impl {
             any = true;
             updatePins(is, c, t);
             if (opt.handPins) updateHandPins(is, c, t);
+            updateBallHold(is, c, t);
         }
         if (any && f > 0) {
             for (int m : is.members) {
@@ -1653,6 +1713,40 @@ Status checkOptions(const sim::Scene& scene, const Options& o) {
     return {};
 }
 
+// The balls held in the scene, frame by frame at the holder's physics hand
+// and forearm, so a ball never floats away from the arm that holds it; and
+// where that hand holds it (world.grips). A ball whose holder is not simulated
+// stays as keyed.
+void heldBalls(const sim::Scene& scene, const sim::ActionLibrary& lib, Frames& out) {
+    const auto n = scene.characters.size();
+    out.ballPositions.assign(n, {});
+    out.ballRotations.assign(n, {});
+    out.world.grips.assign(n, {});
+    for (std::size_t b = 0; b < n; ++b) {
+        const auto& ball = scene.characters[b];
+        const int h = ball.holder;
+        if (ball.body != "ball" || ball.keys.empty() || h < 0 || static_cast<std::size_t>(h) >= n || !out.world.has(h)) continue;
+        const auto& track = scene.characters[static_cast<std::size_t>(h)].track;
+        if (track.empty()) continue;
+        const auto& joints = lib.motion(lib.actions()[static_cast<std::size_t>(track.front().action)].motion).joints;
+        const int hand = ball.hand == 0 ? joints.leftHand : joints.rightHand;
+        const int elbow = ball.hand == 0 ? joints.leftElbow : joints.rightElbow;
+        if (hand < 0 || elbow < 0) continue;
+        const auto frames = static_cast<std::size_t>(out.world.frames);
+        auto& pos = out.ballPositions[b];
+        auto& rot = out.ballRotations[b];
+        auto& grip = out.world.grips[b];
+        pos.reserve(frames), rot.reserve(frames), grip.reserve(frames);
+        for (int f = 0; f < out.world.frames; ++f) {
+            const auto at = out.world.at(h, f);
+            const sim::RootKey k = sim::ballKey(f / out.world.fps, at[static_cast<std::size_t>(hand)], at[static_cast<std::size_t>(elbow)]);
+            pos.emplace_back(k.at.pos.x, k.height, k.at.pos.y);
+            rot.push_back(sim::creatureRotation(k.at.heading, k.pitch));
+            grip.push_back(sim::ballGrip(k.at, k.height, k.pitch));
+        }
+    }
+}
+
 }  // namespace
 
 Result<Frames> simulate(const sim::Scene& scene, const sim::ActionLibrary& lib, const Options& options,
@@ -1686,6 +1780,7 @@ Result<Frames> simulate(const sim::Scene& scene, const sim::ActionLibrary& lib, 
     }
     out.report = s.report();
     out.islands = s.islands();
+    heldBalls(scene, lib, out);
     return out;
 }
 
@@ -1704,6 +1799,11 @@ struct ScenePoses::Impl {
 
     Impl(Mode m, const sim::Scene& s, const sim::ActionLibrary& lib) : mode(m), scene(s), poser(s, lib) {}
 
+    // A held ball that follows its holder's physics hand (Frames::ballPositions).
+    bool ballFollows(int c) const {
+        return mode == Mode::Physics && c >= 0 && static_cast<std::size_t>(c) < frames.ballPositions.size() &&
+               !frames.ballPositions[static_cast<std::size_t>(c)].empty();
+    }
     bool simulated(int c) const {
         return mode == Mode::Physics && c >= 0 && static_cast<std::size_t>(c) < frames.world.joints.size() &&
                frames.world.jointCount[static_cast<std::size_t>(c)] > 0 && frames.world.frames > 0;
@@ -1732,6 +1832,20 @@ const Report& ScenePoses::report() const { return impl_->frames.report; }
 
 void ScenePoses::world(int character, double t, std::vector<glm::vec3>& positions, std::vector<glm::quat>& rotations) const {
     const Impl& m = *impl_;
+    if (m.ballFollows(character)) {
+        const auto& p = m.frames.ballPositions[static_cast<std::size_t>(character)];
+        const auto& r = m.frames.ballRotations[static_cast<std::size_t>(character)];
+        const int last = static_cast<int>(p.size()) - 1;
+        double x = std::isfinite(t) ? t * m.frames.world.fps : 0.0;
+        x = std::clamp(x, 0.0, static_cast<double>(last));
+        const int f0 = std::min(static_cast<int>(std::floor(x)), last);
+        const int f1 = std::min(f0 + 1, last);
+        const auto a = static_cast<float>(x - f0);
+        const auto i0 = static_cast<std::size_t>(f0), i1 = static_cast<std::size_t>(f1);
+        positions.assign(1, p[i0] + (p[i1] - p[i0]) * a);
+        rotations.assign(1, a == 0.0f ? r[i0] : glm::normalize(glm::slerp(r[i0], r[i1], a)));
+        return;
+    }
     if (!m.simulated(character)) {
         Pose pose;
         m.poser.pose(character, t, pose);
@@ -1761,7 +1875,7 @@ void ScenePoses::world(int character, double t, std::vector<glm::vec3>& position
 }
 
 void ScenePoses::pose(int character, double t, Pose& out) const {
-    if (!impl_->simulated(character)) {
+    if (!impl_->simulated(character) && !impl_->ballFollows(character)) {
         impl_->poser.pose(character, t, out);
         return;
     }

@@ -530,6 +530,7 @@ inline void mergeScene(Scene& into, Scene&& part, const std::string& prefix, con
         ch.name = prefix + ch.name;
         for (auto& inst : ch.track) inst.root = offset * inst.root;
         for (auto& k : ch.keys) k.at = offset * k.at;
+        if (ch.holder >= 0) ch.holder += base;
         into.characters.push_back(std::move(ch));
     }
     for (HitEvent h : part.hits) {

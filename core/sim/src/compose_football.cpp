@@ -152,6 +152,41 @@ struct FootballComposer : KindComposer<FootballSpec, FootballStats> {
 
     Status run(const ProgressFn& progress) {
         if (own.runs > 1) return runMany(progress);
+        if (auto st = runOne(progress); !st) return st.error();
+        addBall(0, 1);
+        return {};
+    }
+
+    // The ball, a one-joint body ("ball") tucked at the carrier's carrying
+    // hand along its forearm (SPEC 4.5), keyed from the carrier's kinematic
+    // pose at the scene's frame rate (kSampleRate) from its first action to
+    // its last: through the cuts, and down with it when it is tackled (it
+    // keeps the ball; nobody else takes it in this scene).
+    void addBall(int carrier, int hand) {
+        const auto& joints = lib.motion(act(track(carrier).front().action).motion).joints;
+        const int handJoint = hand == 0 ? joints.leftHand : joints.rightHand;
+        const int elbowJoint = hand == 0 ? joints.leftElbow : joints.rightElbow;
+        if (handJoint < 0 || elbowJoint < 0) return;  // a skeleton without arms carries no ball
+        SceneCharacter ball;
+        ball.name = "ball";
+        ball.body = "ball";
+        ball.side = 0;
+        ball.preset = "prop";
+        ball.holder = carrier;
+        ball.hand = hand;
+        const ScenePoser poser(scene, lib);
+        std::vector<glm::vec3> world;
+        const double from = track(carrier).front().start, to = freeAt(carrier);
+        const int n = static_cast<int>(std::ceil((to - from) * kSampleRate - 1e-9));
+        for (int k = 0; k <= n; ++k) {
+            const double t = std::min(to, from + k / kSampleRate);
+            poser.worldPositions(carrier, t, world);
+            ball.keys.push_back(ballKey(t, world[static_cast<std::size_t>(handJoint)], world[static_cast<std::size_t>(elbowJoint)]));
+        }
+        scene.characters.push_back(std::move(ball));
+    }
+
+    Status runOne(const ProgressFn& progress) {
         bool any = false;
         for (std::size_t i = 0; i < patches.patches().size() && !any; ++i) {
             const auto& p = patches.patches()[i];
@@ -406,6 +441,8 @@ struct FootballComposer : KindComposer<FootballSpec, FootballStats> {
         for (SceneCharacter ch : lane.scene.characters) {
             ch.name = "run-" + std::to_string(k + 1) + "/" + ch.name;
             for (auto& inst : ch.track) inst.root = offset * inst.root;
+            for (auto& key : ch.keys) key.at = offset * key.at;
+            if (ch.holder >= 0) ch.holder += base;
             scene.characters.push_back(std::move(ch));
         }
         for (HitEvent h : lane.scene.hits) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <tuple>
 
 #include <glm/gtc/quaternion.hpp>
@@ -228,7 +229,10 @@ struct BodyKind {
 // (fray/igraph/carry.h): its root at one carrier's grip, 1.6 m (the demo
 // pair's grip span) to the other's.
 constexpr float kCarryBoxLength = 1.6f;
-constexpr BodyKind kBodyKinds[] = {{"rat", kRatLength, kRatHeight}, {"bag", kBagLength, 0.0f}, {"box", kCarryBoxLength, 0.0f}};
+constexpr BodyKind kBodyKinds[] = {{"rat", kRatLength, kRatHeight},
+                                   {"bag", kBagLength, 0.0f},
+                                   {"box", kCarryBoxLength, 0.0f},
+                                   {"ball", kBallLength, 1.0f}};
 
 const BodyKind* bodyKind(std::string_view name) {
     for (const auto& k : kBodyKinds) {
@@ -287,6 +291,37 @@ float creatureHeightAt(const SceneCharacter& c, double t) {
     return a->height + static_cast<float>(u) * (b->height - a->height);
 }
 
+float creaturePitchAt(const SceneCharacter& c, double t) {
+    if (c.keys.empty()) return 0.0f;
+    const auto [a, b, u] = keysAround(c.keys, t);
+    return a->pitch + static_cast<float>(u) * (b->pitch - a->pitch);
+}
+
+glm::quat creatureRotation(double heading, float pitch) {
+    // Pitch about -X raises +Z towards +Y; then the heading about +Y.
+    return glm::angleAxis(static_cast<float>(heading), glm::vec3(0, 1, 0)) * glm::angleAxis(-pitch, glm::vec3(1, 0, 0));
+}
+
+RootKey ballKey(double time, const glm::vec3& hand, const glm::vec3& elbow) {
+    glm::vec3 d = hand - elbow;
+    const float len = glm::length(d);
+    d = len > 1e-4f && std::isfinite(len) ? d / len : glm::vec3(0, 0, 1);
+    const float flat = std::sqrt(d.x * d.x + d.z * d.z);
+    const double heading = flat > 1e-4f ? static_cast<double>(std::atan2(d.x, d.z)) : 0.0;
+    const float pitch = std::atan2(d.y, flat);
+    const glm::vec3 back = hand - d * (kBallTuck + 0.5f * kBallLength);
+    RootKey k;
+    k.time = time;
+    k.at = {{back.x, back.z}, wrapAngle(heading)};
+    k.height = std::max(0.0f, back.y);
+    k.pitch = pitch;
+    return k;
+}
+
+glm::vec3 ballGrip(const RootXf& at, float height, float pitch) {
+    return glm::vec3(at.pos.x, height, at.pos.y) + creatureRotation(at.heading, pitch) * glm::vec3(0, 0, 0.5f * kBallLength + kBallTuck);
+}
+
 int Scene::instanceAt(int c, double t) const { return instanceIndexAt(characters[static_cast<std::size_t>(c)].track, t); }
 
 int instanceIndexAt(std::span<const ActionInstance> track, double t) {
@@ -338,10 +373,15 @@ std::string sceneToJson(const Scene& scene, const ActionLibrary& lib) {
             json keys = json::array();
             for (const auto& k : c.keys) {
                 json key = json::array({k.time, k.at.pos.x, k.at.pos.y, k.at.heading});
-                if (k.height >= 0) key.push_back(k.height);
+                if (k.height >= 0 || k.pitch != 0.0f) key.push_back(k.height);
+                if (k.pitch != 0.0f) key.push_back(k.pitch);
                 keys.push_back(std::move(key));
             }
             cj["keys"] = std::move(keys);
+            if (c.holder >= 0) {
+                cj["holder"] = c.holder;
+                cj["hand"] = c.hand == 0 ? "left" : "right";
+            }
         }
         cj["side"] = c.side;
         cj["group"] = c.group;
@@ -569,13 +609,15 @@ Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, co
             sc.body = body;
             FRAY_TRY(kf, rd.field(c, p, "keys"));
             if (!kf->is_array() || kf->empty() || kf->size() > 1'000'000) {
-                return rd.error(p + "/keys", "must be an array of [time, x, z, heading(, height)] keys, at least one");
+                return rd.error(p + "/keys", "must be an array of [time, x, z, heading(, height(, pitch))] keys, at least one");
             }
             for (std::size_t k = 0; k < kf->size(); ++k) {
                 const std::string kp = p + "/keys/" + std::to_string(k);
                 const json& q = (*kf)[k];
-                if (!q.is_array() || (q.size() != 4 && q.size() != 5)) return rd.error(kp, "must be [time, x, z, heading] or [time, x, z, heading, height]");
-                double v[5] = {0, 0, 0, 0, -1};
+                if (!q.is_array() || q.size() < 4 || q.size() > 6) {
+                    return rd.error(kp, "must be [time, x, z, heading], [time, x, z, heading, height] or [time, x, z, heading, height, pitch]");
+                }
+                double v[6] = {0, 0, 0, 0, -1, 0};
                 for (std::size_t e = 0; e < q.size(); ++e) {
                     FRAY_TRY(num, rd.number(q[e], kp + "/" + std::to_string(e)));
                     if (!(std::fabs(num) <= 1e6)) return rd.error(kp + "/" + std::to_string(e), "is not a finite value in range");
@@ -583,7 +625,18 @@ Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, co
                 }
                 if (!sc.keys.empty() && v[0] < sc.keys.back().time) return rd.error(kp + "/0", "keys must be in time order");
                 if (q.size() == 5 && !(v[4] >= 0 && v[4] <= 100)) return rd.error(kp + "/4", "height must be in [0, 100] m");
-                sc.keys.push_back({v[0], {{static_cast<float>(v[1]), static_cast<float>(v[2])}, wrapAngle(v[3])}, static_cast<float>(v[4])});
+                if (q.size() == 6 && !(v[4] >= -1 && v[4] <= 100)) return rd.error(kp + "/4", "height must be in [0, 100] m (or -1: the body's own)");
+                if (!(std::fabs(v[5]) <= std::numbers::pi / 2)) return rd.error(kp + "/5", "pitch must be in [-pi/2, pi/2] rad");
+                sc.keys.push_back({v[0], {{static_cast<float>(v[1]), static_cast<float>(v[2])}, wrapAngle(v[3])}, static_cast<float>(v[4]),
+                                   static_cast<float>(v[5])});
+            }
+            if (const auto hf = c.find("holder"); hf != c.end()) {
+                FRAY_TRY(holder, rd.integerAt(c, p, "holder"));
+                if (holder < 0 || holder >= n) return rd.error(p + "/holder", "must be a character index");
+                sc.holder = holder;
+                FRAY_TRY(hand, rd.stringAt(c, p, "hand"));
+                if (hand != "left" && hand != "right") return rd.error(p + "/hand", "must be \"left\" or \"right\"");
+                sc.hand = hand == "left" ? 0 : 1;
             }
         }
         FRAY_TRY(side, rd.integerAt(c, p, "side"));
@@ -719,7 +772,7 @@ void ScenePoser::pose(int character, double t, Pose& out) const {
         const auto& c = scene_.characters[static_cast<std::size_t>(character)];
         const RootXf at = creatureAt(c, t);
         out.translations.assign(1, glm::vec3(at.pos.x, creatureHeightAt(c, t), at.pos.y));
-        out.rotations.assign(1, glm::angleAxis(static_cast<float>(at.heading), glm::vec3(0, 1, 0)));
+        out.rotations.assign(1, creatureRotation(at.heading, creaturePitchAt(c, t)));
         return;
     }
     const int i = scene_.instanceAt(character, t);

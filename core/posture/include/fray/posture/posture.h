@@ -116,6 +116,12 @@ struct Report {
 struct Frames {
     sim::JointTracks world;                      // world joint positions (also what metrics read)
     std::vector<std::vector<glm::quat>> rotations;  // per character: frames x joints world rotations
+    // Per character: a held ball's root position and rotation per frame,
+    // tucked at its holder's physics hand along the physics forearm (as the
+    // composer keys it on the captured pose: sim::ballKey); empty for every
+    // other character. world.grips has where the hand holds it.
+    std::vector<std::vector<glm::vec3>> ballPositions;
+    std::vector<std::vector<glm::quat>> ballRotations;
     Report report;
     int islands = 0;
 };
@@ -157,7 +163,8 @@ Result<sim::JointTracks> tracks(Mode mode, const sim::Scene& scene, const sim::A
 // Physics: the whole scene simulated once at options.fps when made, then
 // joint positions interpolated linearly and rotations spherically between
 // the two frames around t (times outside the scene are clamped to it).
-// Creatures (a rat, a bag) are always the scene poser's. Keeps references
+// Creatures (a rat, a bag) are always the scene poser's, except a held ball
+// in physics mode: it follows its holder's physics hand (Frames::ballPositions). Keeps references
 // to the scene and the library, which must outlive it. Thread-safe to read.
 class ScenePoses {
 public:

@@ -72,6 +72,9 @@ struct JointTracks {
     // creatures (rat, bag).
     std::vector<std::vector<glm::vec3>> joints;
     std::vector<int> jointCount;
+    // Per character: a held ball's grip (ballGrip: where its holder's hand
+    // holds it) per frame; empty for every other character.
+    std::vector<std::vector<glm::vec3>> grips;
     bool has(int c) const { return !joints[static_cast<std::size_t>(c)].empty(); }
     std::span<const glm::vec3> at(int c, int frame) const {
         const auto n = static_cast<std::size_t>(jointCount[static_cast<std::size_t>(c)]);
@@ -116,8 +119,17 @@ struct HitContact {
     int met = 0;                    // the victim's segment nearest to the effector
 };
 
+// A carried ball (the football carrier's) against its holder's hand.
+struct BallHold {
+    std::string ball, holder;
+    int frames = 0;                    // frames the holder is in the scene
+    double meanCm = 0, maxCm = 0;      // its hand to the ball shown (the grip of the ball in `shown`)
+    double keyedMeanCm = 0, keyedMaxCm = 0;  // its hand to the ball as keyed (the grip in `captured`)
+};
+
 struct PostureMetrics {
     double fps = 60;
+    std::vector<BallHold> balls;
     std::vector<PostureCharacterMetrics> characters;
     std::vector<HitContact> hits;
     // Scene-wide: the worst character and the frame-weighted means.

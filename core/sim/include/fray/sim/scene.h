@@ -165,15 +165,19 @@ struct RootKey {
     double time = 0;
     RootXf at;
     float height = -1;  // m above the floor; < 0: the body's own (a rat runs on the floor)
+    float pitch = 0;    // rad: the body's +Z axis raised above the floor this much (a ball along a forearm)
     friend bool operator==(const RootKey&, const RootKey&) = default;
 };
 
 struct SceneCharacter {
     std::string name;
-    // "" for a person playing the project's actions; "rat" or "bag" for a
-    // one-joint body whose root follows `keys` (its track stays empty).
+    // "" for a person playing the project's actions; "rat", "bag" or "ball"
+    // for a one-joint body whose root follows `keys` (its track stays empty).
     std::string body;
     std::vector<RootKey> keys;  // time-ordered
+    // A carried body (the football carrier's ball): the character holding it
+    // and which hand (0 left, 1 right); -1: nobody in particular.
+    int holder = -1, hand = 1;
     int side = 0, group = 0;
     std::string preset;
     int depth = 0;
@@ -209,17 +213,33 @@ struct Scene {
     bool isCreature(int c) const { return !characters[static_cast<std::size_t>(c)].body.empty(); }
 };
 
-// The one-joint skeleton of a body kind ("rat", "bag"): a root joint with an
+// The one-joint skeleton of a body kind ("rat", "bag", "ball"): a root joint with an
 // end site along +Z (a rat's nose), so the body mesh is one capsule; nullptr
 // for a kind this build does not know.
 const Skeleton* creatureSkeleton(std::string_view body);
 inline constexpr float kRatLength = 0.24f;  // m, root to nose
 inline constexpr float kRatHeight = 0.05f;  // m, root above the floor
 inline constexpr float kBagLength = 0.45f;  // m, end to end of the luggage chain's bag (a holdall)
+// The American football carrier's ball: 0.28 m tip to tip, 0.17 m across (a
+// regulation ball), tucked at the carrying hand along its forearm, its
+// middle kBallTuck behind the hand (the front tip in the palm, the back end
+// against the forearm).
+inline constexpr float kBallLength = 0.28f;
+inline constexpr float kBallRadius = 0.085f;
+inline constexpr float kBallTuck = 0.06f;
+// The key of a ball tucked at `hand` (world) along the forearm from `elbow`:
+// its root is the back tip, its +Z axis points from the elbow to the hand.
+RootKey ballKey(double time, const glm::vec3& hand, const glm::vec3& elbow);
+// Where the holding hand is on a ball placed by (at, height, pitch): the
+// point of its axis kBallTuck beyond its middle.
+glm::vec3 ballGrip(const RootXf& at, float height, float pitch);
+// The world rotation of a one-joint body: heading about +Y, then pitch.
+glm::quat creatureRotation(double heading, float pitch);
 // A creature's placement at time t (held at its first and last keys), and
 // the height of its root then.
 RootXf creatureAt(const SceneCharacter& c, double t);
 float creatureHeightAt(const SceneCharacter& c, double t);
+float creaturePitchAt(const SceneCharacter& c, double t);
 
 std::string sceneToJson(const Scene& scene, const ActionLibrary& lib);
 // Resolves actions against the library; errors name the file, JSON path and problem.
