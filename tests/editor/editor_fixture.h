@@ -7,6 +7,10 @@
 #include <QApplication>
 #include <QObject>
 #include <QString>
+#include <QTest>
+#include <QStyleOptionViewItem>
+#include <QStyle>
+#include <QListWidget>
 #include <QTemporaryDir>
 #include <filesystem>
 #include <functional>
@@ -80,5 +84,24 @@ struct DemoCopy {
     }
 };
 #endif
+
+// Clicks the box of a check list's item, as a user does (the space bar plays
+// the scene in the editor).
+inline bool toggleItem(QListWidget* list, const QString& text) {
+    const auto found = list->findItems(text, Qt::MatchExactly);
+    if (found.size() != 1) return false;
+    list->scrollToItem(found[0]);
+    QStyleOptionViewItem opt;
+    opt.initFrom(list->viewport());
+    opt.rect = list->visualItemRect(found[0]);
+    opt.features = QStyleOptionViewItem::HasCheckIndicator | QStyleOptionViewItem::HasDisplay;
+    opt.widget = list;
+    const QRect box = list->style()->subElementRect(QStyle::SE_ItemViewItemCheckIndicator, &opt, list);
+    const Qt::CheckState was = found[0]->checkState();
+    QTest::mouseClick(list->viewport(), Qt::LeftButton, {}, box.center());
+    // (An edit refreshes the list: find the item again.)
+    const auto now = list->findItems(text, Qt::MatchExactly);
+    return now.size() == 1 && now[0]->checkState() != was;
+}
 
 }  // namespace fray::test

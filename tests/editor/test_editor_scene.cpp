@@ -57,6 +57,7 @@
 namespace {
 
 using fray::test::child;
+using fray::test::toggleItem;
 
 namespace fs = std::filesystem;
 using fray::editor::MainWindow;
@@ -876,25 +877,6 @@ void typeOver(QWidget* edit, const QString& text) {
     QTest::keyClick(edit, Qt::Key_A, Qt::ControlModifier);
     QTest::keyClicks(edit, text);
     QTest::keyClick(edit, Qt::Key_Return);
-}
-
-// Clicks the box of a check list's item, as a user does (the space bar plays
-// the scene in the editor).
-bool toggleItem(QListWidget* list, const QString& text) {
-    const auto found = list->findItems(text, Qt::MatchExactly);
-    if (found.size() != 1) return false;
-    list->scrollToItem(found[0]);
-    QStyleOptionViewItem opt;
-    opt.initFrom(list->viewport());
-    opt.rect = list->visualItemRect(found[0]);
-    opt.features = QStyleOptionViewItem::HasCheckIndicator | QStyleOptionViewItem::HasDisplay;
-    opt.widget = list;
-    const QRect box = list->style()->subElementRect(QStyle::SE_ItemViewItemCheckIndicator, &opt, list);
-    const Qt::CheckState was = found[0]->checkState();
-    QTest::mouseClick(list->viewport(), Qt::LeftButton, {}, box.center());
-    // (An edit refreshes the list: find the item again.)
-    const auto now = list->findItems(text, Qt::MatchExactly);
-    return now.size() == 1 && now[0]->checkState() != was;
 }
 
 // A duel's characters in the Setup box (preset, a weight, the action set):

@@ -85,15 +85,7 @@ TEST_F(EditorTools, CircleWithThreeTimedCheckpointsTakesTheFightRound) {
         const auto found = list->findItems(text, Qt::MatchExactly);
         ASSERT_EQ(found.size(), 1) << text.toStdString();
         ASSERT_EQ(found[0]->checkState(), Qt::Checked) << text.toStdString();
-        // A click on the item's box (the space bar plays the scene in the editor).
-        list->scrollToItem(found[0]);
-        QStyleOptionViewItem opt;
-        opt.initFrom(list->viewport());
-        opt.rect = list->visualItemRect(found[0]);
-        opt.features = QStyleOptionViewItem::HasCheckIndicator | QStyleOptionViewItem::HasDisplay;
-        opt.widget = list;
-        QTest::mouseClick(list->viewport(), Qt::LeftButton, {},
-                          list->style()->subElementRect(QStyle::SE_ItemViewItemCheckIndicator, &opt, list).center());
+        ASSERT_TRUE(fray::test::toggleItem(list, text)) << text.toStdString();
         EXPECT_EQ(doc->undoStack()->count(), ++edits) << w->lastError().toStdString();
     };
     for (int c = 0; c < 2; ++c) {

@@ -677,6 +677,44 @@ TEST(IgraphTable, DeeperScoresHigherAndTreeColumnsArePlayed) {
 constexpr int kTreeMatches = 10;
 constexpr double kTreeSeconds = 20;
 
+// Table 5.1's tree-expansion column at depth 2 (a general boxer); its tree is
+// null when the planner could not be made (the failure is recorded).
+igraph::FighterSpec treeDepth2() {
+    auto tree = igraph::treeBoxer(*igWorld().rules, demoWorld().project.combos, generalBoxer(), 2);
+    if (!tree) ADD_FAILURE() << tree.error().message;
+    return {"tree", 1, igraph::Mind::Tree, nullptr, "general-boxer", {}, tree ? *tree : nullptr};
+}
+
+// The reduced tree matches: kTreeMatches seeded matches of kTreeSeconds, refined look-ups.
+igraph::SeriesOptions treeSeriesOptions() {
+    igraph::SeriesOptions so;
+    so.matches = kTreeMatches;
+    so.seconds = kTreeSeconds;
+    so.refine = true;
+    return so;
+}
+
+// The graph boxer at each depth against opp over the same matches; fewer
+// results than depths when a policy or a series failed (recorded).
+std::vector<igraph::SeriesResult> seriesByDepth(const igraph::RewardWeights& w, std::initializer_list<int> depths, const igraph::FighterSpec& opp,
+                                                const igraph::SeriesOptions& so) {
+    std::vector<igraph::SeriesResult> r;
+    for (int depth : depths) {
+        auto p = igraph::computePolicy(*tableGraph(), w, depth);
+        if (!p) {
+            ADD_FAILURE() << "depth " << depth << ": " << p.error().message;
+            return r;
+        }
+        auto s = igraph::playSeries(igWorld().rules, tableGraph(), std::make_shared<const igraph::Policy>(std::move(*p)), opp, so);
+        if (!s) {
+            ADD_FAILURE() << "depth " << depth << ": " << s.error().message;
+            return r;
+        }
+        r.push_back(std::move(*s));
+    }
+    return r;
+}
+
 // Table 5.1 against tree expansion (reduced): with refined look-ups and
 // gamma 0.5 (docs/IGRAPH.md), the deeper graph policy scores higher against
 // a tree-expansion boxer of depth 2 over the same seeded matches, and the
@@ -685,21 +723,11 @@ TEST(IgraphTable, DeeperScoresHigherAgainstTreeExpansion) {
     auto w = igraph::stylePreset("general");
     ASSERT_TRUE(w);
     ASSERT_TRUE(igraph::applyRewardEdit(*w, "gamma=0.5"));
-    auto tree = igraph::treeBoxer(*igWorld().rules, demoWorld().project.combos, generalBoxer(), 2);
-    ASSERT_TRUE(tree) << tree.error().message;
-    const igraph::FighterSpec opp{"tree", 1, igraph::Mind::Tree, nullptr, "general-boxer", {}, *tree};
-    igraph::SeriesOptions so;
-    so.matches = kTreeMatches;
-    so.seconds = kTreeSeconds;
-    so.refine = true;
-    std::vector<igraph::SeriesResult> r;
-    for (int depth : {1, 5}) {
-        auto p = igraph::computePolicy(*tableGraph(), *w, depth);
-        ASSERT_TRUE(p);
-        auto s = igraph::playSeries(igWorld().rules, tableGraph(), std::make_shared<const igraph::Policy>(std::move(*p)), opp, so);
-        ASSERT_TRUE(s) << s.error().message;
-        r.push_back(std::move(*s));
-    }
+    const auto opp = treeDepth2();
+    ASSERT_TRUE(opp.tree);
+    const auto so = treeSeriesOptions();
+    const auto r = seriesByDepth(*w, {1, 5}, opp, so);
+    ASSERT_EQ(r.size(), 2u);
     std::printf("vs tree expansion depth 2 (refined, gamma 0.5): depth 1 %.2f +- %.2f, depth 5 %.2f +- %.2f\n", r[0].mean, r[0].standardError(),
                 r[1].mean, r[1].standardError());
     EXPECT_LT(r[0].mean, r[1].mean);
@@ -733,21 +761,10 @@ TEST(IgraphTable, DepthPaysWithTheSecondPassOptions) {
     auto w = igraph::stylePreset("general");
     ASSERT_TRUE(w);
     for (const char* e : {"gamma=0.5", "tau=1", "blur=0.5", "opponent_mix=0.5"}) ASSERT_TRUE(igraph::applyRewardEdit(*w, e));
-    auto tree = igraph::treeBoxer(*igWorld().rules, demoWorld().project.combos, generalBoxer(), 2);
-    ASSERT_TRUE(tree) << tree.error().message;
-    const igraph::FighterSpec opp{"tree", 1, igraph::Mind::Tree, nullptr, "general-boxer", {}, *tree};
-    igraph::SeriesOptions so;
-    so.matches = kTreeMatches;
-    so.seconds = kTreeSeconds;
-    so.refine = true;
-    std::vector<igraph::SeriesResult> r;
-    for (int depth : {1, 3, 5}) {
-        auto p = igraph::computePolicy(*tableGraph(), *w, depth);
-        ASSERT_TRUE(p);
-        auto s = igraph::playSeries(igWorld().rules, tableGraph(), std::make_shared<const igraph::Policy>(std::move(*p)), opp, so);
-        ASSERT_TRUE(s) << s.error().message;
-        r.push_back(std::move(*s));
-    }
+    const auto opp = treeDepth2();
+    ASSERT_TRUE(opp.tree);
+    const auto r = seriesByDepth(*w, {1, 3, 5}, opp, treeSeriesOptions());
+    ASSERT_EQ(r.size(), 3u);
     auto paired = [&](std::size_t hi, std::size_t lo) {
         const auto n = static_cast<double>(r[hi].scores.size());
         double mean = 0, ss = 0;
