@@ -457,7 +457,10 @@ private:
     QLabel* planWeightFrom_ = nullptr;
     QListWidget* planMotions_ = nullptr;
     QListWidget* planActions_ = nullptr;
+    QListWidget* planReactions_ = nullptr;
     std::vector<QWidget*> planRows_;
+    // A domino setup's painted floor scale (metres per pixel; ProjectDocument::setFloorScale).
+    QDoubleSpinBox* floorScale_ = nullptr;
     // Interaction graphs built in memory by earlier generates (graph setups), reused.
     std::shared_ptr<pipeline::GraphCache> graphCache_;
     QGroupBox* cpBox_ = nullptr;

@@ -109,6 +109,24 @@ constexpr Field kComposeFields[] = {
     {"crowd", "Crowd", FieldType::Int, 1, 20000, 1, "", false, false, false, "People in the crowd the rat runs through"},
 };
 
+// The rat kind's nested and own numbers: a row for each whether the setup
+// stores it or not (the value compose uses when absent, sim::RatSpec's
+// defaults); ranges as compose reads them.
+struct RatField {
+    const char* key;
+    const char* label;
+    double lo, hi, step, def;
+    const char* tip;
+};
+constexpr RatField kRatFields[] = {
+    {"rat/speed", "Rat speed (m/s)", 0.3, 10, 0.1, 2.5, "How fast the rat runs along its trajectory (its run patches are made for it)"},
+    {"rat/start", "Rat start (s)", 0, 600, 0.5, 1.0, "When the rat starts running"},
+    {"band", "Band (m)", 0, 100, 0.5, 2.5, "How far either side of the rat's trajectory the crowd stands"},
+    {"spacing", "Spacing (m)", 0.5, 20, 0.1, 0.9, "How far apart the people of the crowd stand"},
+    {"reach", "Reach (m)", 0, 10, 0.1, 1.0, "How near the rat passes for someone to step out of its way"},
+    {"bumps", "Bumps", 0, 1, 0.05, 0.5, "0: people stepping aside avoid bumping into their neighbours; 1: they seek it"},
+};
+
 // A plan field's value from the setup's spec, when it is a number there.
 std::optional<double> planValue(const setup::SceneSetup& s, const std::string& key) {
     const auto text = setup::parameter(s, "/" + key);
@@ -258,6 +276,37 @@ QWidget* MainWindow::makeSetupParameters() {
         // A duel's or chase's characters after its duration, seed and depths.
         if (field == &kPlanFields[std::size(kPlanFields) - 1]) makePlanCharacterRows();
     }
+    for (const RatField& f : kRatFields) {
+        auto* s = new QDoubleSpinBox;
+        s->setRange(f.lo, f.hi);
+        s->setSingleStep(f.step);
+        s->setDecimals(3);
+        s->setKeyboardTracking(false);
+        const std::string key = f.key;
+        connect(s, &QDoubleSpinBox::valueChanged, this, [this, key](double x) { setGraphParameter(key, jsonNumber(x)); });
+        s->setObjectName("compose_" + QString(f.key).replace('/', '_'));
+        s->setToolTip(f.tip);
+        paramsForm_->addRow(f.label, s);
+        paramWidgets_.push_back(s);
+    }
+    // A domino setup's painted floor: its scale (the pixels stay, the floor grows from its origin).
+    floorScale_ = new QDoubleSpinBox;
+    floorScale_->setObjectName("compose_floor_metres_per_pixel");
+    floorScale_->setToolTip("Metres per pixel of the painted floor, in (0.001, 10] (one undo step); pixel (0, 0) stays at the "
+                            "floor's origin, so the painting grows or shrinks away from that corner; chain starts stay on their pixels");
+    floorScale_->setRange(0.001, 10);
+    floorScale_->setDecimals(4);
+    floorScale_->setSingleStep(0.01);
+    floorScale_->setKeyboardTracking(false);
+    connect(floorScale_, &QDoubleSpinBox::valueChanged, this, [this](double x) {
+        if (fillingParams_ || !doc_ || currentSetup().isEmpty()) return;
+        if (Status st = doc_->setFloorScale(currentSetup().toStdString(), x); !st) {
+            toolMessage(qs(st.error().message), true);
+            refreshSetupParameters();
+        }
+    });
+    paramsForm_->addRow("Floor scale (m/px)", floorScale_);
+    paramWidgets_.push_back(floorScale_);
     v->addLayout(paramsForm_);
     paramsInfo_ = new QLabel;
     paramsInfo_->setObjectName("setupParamsInfo");
@@ -351,6 +400,21 @@ void MainWindow::refreshSetupParameters() {
         const QSignalBlocker quiet(w);
         if (f.type == FieldType::Int) static_cast<QSpinBox*>(w)->setValue(static_cast<int>(*v));
         else static_cast<QDoubleSpinBox*>(w)->setValue(*v);
+    }
+    const bool rat = compose && s->kind == SetupKind::Rat;
+    for (std::size_t i = 0; i < std::size(kRatFields); ++i) {
+        const RatField& f = kRatFields[i];
+        auto* w = static_cast<QDoubleSpinBox*>(paramWidgets_[std::size(kFields) + std::size(kPlanFields) + std::size(kComposeFields) + i]);
+        paramsForm_->setRowVisible(w, rat);
+        if (!rat) continue;
+        const QSignalBlocker quiet(w);
+        w->setValue(planValue(*s, f.key).value_or(f.def));
+    }
+    const bool floor = compose && s->floor.has_value();
+    paramsForm_->setRowVisible(floorScale_, floor);
+    if (floor) {
+        const QSignalBlocker quiet(floorScale_);
+        floorScale_->setValue(s->floor->metresPerPixel);
     }
     if (!s) paramsInfo_->setText("No setup selected: pick one above, or a kind and New setup.");
     else if (plan)

@@ -1,7 +1,8 @@
 // MainWindow: a duel's or chase's characters in the Scene panel's Setup box
 // (docs/EDITOR.md "Setup box"): the character picked, its preset, any of the
 // planner's weights (sim::StyleWeights: the spec's "weights"), its takes
-// ("motions") and its actions ("actions"). Every change is one undo command
+// ("motions"), its actions ("actions") and the reactions hits may force on it
+// ("reactions"). Every change is one undo command
 // (ProjectDocument::setSetupParameter), checked as simulate reads the setup;
 // a refused value leaves the project as it was and says why.
 #include <QComboBox>
@@ -140,14 +141,19 @@ void MainWindow::makePlanCharacterRows() {
     planMotions_ = checkList("plan_motions", "The takes the character's actions come from (the spec's \"motions\"); all checked: every take");
     planActions_ = checkList("plan_actions",
                              "The actions the character may choose, by annotation (the spec's \"actions\"; reactions are forced by hits)");
+    planReactions_ = checkList("plan_reactions",
+                               "The reactions a hit may force on the character, by annotation (the spec's \"reactions\"; "
+                               "all checked: every reaction of its takes)");
     connect(planMotions_, &QListWidget::itemChanged, this, [this] { setPlanList(planMotions_, "motions"); });
     connect(planActions_, &QListWidget::itemChanged, this, [this] { setPlanList(planActions_, "actions"); });
+    connect(planReactions_, &QListWidget::itemChanged, this, [this] { setPlanList(planReactions_, "reactions"); });
     paramsForm_->addRow("Character", planCharacter_);
     paramsForm_->addRow("Preset", planPreset_);
     paramsForm_->addRow("Weight", weightRow);
     paramsForm_->addRow("Takes", planMotions_);
     paramsForm_->addRow("Actions", planActions_);
-    planRows_ = {planCharacter_, planPreset_, weightRow, planMotions_, planActions_};
+    paramsForm_->addRow("Reactions", planReactions_);
+    planRows_ = {planCharacter_, planPreset_, weightRow, planMotions_, planActions_, planReactions_};
 }
 
 void MainWindow::setPlanWeight() {
@@ -191,8 +197,9 @@ void MainWindow::setPlanList(QListWidget* list, const char* field) {
     for (const auto& x : on)
         if (std::find(stored.begin(), stored.end(), x) == stored.end()) checked.push_back(x);
     if (checked.empty()) {
-        toolMessage(QString("Setup '%1': %2 needs at least one %3").arg(currentSetup(), planCharacter_->currentText(),
-                                                                        std::string_view(field) == "motions" ? "take" : "action"),
+        const std::string_view f(field);
+        toolMessage(QString("Setup '%1': %2 needs at least one %3")
+                        .arg(currentSetup(), planCharacter_->currentText(), f == "motions" ? "take" : f == "actions" ? "action" : "reaction"),
                     true);
         refreshSetupParameters();
         return;
@@ -205,7 +212,7 @@ void MainWindow::refreshPlanCharacterRows(const setup::SceneSetup* s) {
     const bool shown = s && setup::isTreeExpansion(s->kind) && !people.empty();
     for (QWidget* w : planRows_) paramsForm_->setRowVisible(w, shown);
     if (!shown || !doc_) return;
-    const QSignalBlocker q1(planCharacter_), q2(planPreset_), q3(planWeightKey_), q4(planMotions_), q5(planActions_);
+    const QSignalBlocker q1(planCharacter_), q2(planPreset_), q3(planWeightKey_), q4(planMotions_), q5(planActions_), q6(planReactions_);
     // The character picked stays picked (by index) while the setup has it.
     int c = planCharacter_->currentIndex();
     if (planCharacter_->property("setup").toString() != qs(s->name)) c = 0;
@@ -275,6 +282,30 @@ void MainWindow::refreshPlanCharacterRows(const setup::SceneSetup* s) {
         if (std::find(items.begin(), items.end(), a) == items.end()) items.push_back(a);
     fillCheckList(planActions_, items, [&](const std::string& a) {
         return actionsJ.is_null() || std::find(actions.begin(), actions.end(), a) != actions.end();
+    });
+    // Reactions: "@word" for each annotation of a reaction (pushed, falling...)
+    // in the chosen takes, or in any take when they hold none (as simulate
+    // falls back), then what the setup stores beyond them.
+    std::set<std::string> reactive;
+    for (int pass = 0; pass < 2 && reactive.empty(); ++pass) {
+        for (const auto& m : project.motions) {
+            if (pass == 0 && !motions.empty() && std::find(motions.begin(), motions.end(), m.id) == motions.end()) continue;
+            for (const auto& a : m.actions.actions) {
+                if (!(sim::actionFlags(a.annotations) & sim::kReactive)) continue;
+                for (const auto& w : a.annotations)
+                    if (sim::actionFlags({w}) & sim::kReactive) reactive.insert(w);
+            }
+        }
+    }
+    const json reactionsJ = specValue(*s, at + "/reactions");
+    const std::vector<std::string> reactions = strings(reactionsJ);
+    std::vector<std::string> reactionItems;
+    for (const auto& w : project.vocabulary)
+        if (reactive.contains(w)) reactionItems.push_back("@" + w);
+    for (const auto& a : reactions)
+        if (std::find(reactionItems.begin(), reactionItems.end(), a) == reactionItems.end()) reactionItems.push_back(a);
+    fillCheckList(planReactions_, reactionItems, [&](const std::string& a) {
+        return reactionsJ.is_null() || std::find(reactions.begin(), reactions.end(), a) != reactions.end();
     });
 }
 

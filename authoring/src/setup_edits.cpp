@@ -201,6 +201,29 @@ Status ProjectDocument::replaceSetup(const std::string& name, SceneSetup replace
     });
 }
 
+Status ProjectDocument::checkSetupEdit(const SceneSetup& was, const SceneSetup& now) const {
+    const std::string file = file_.empty() ? project_.name : file_.string();
+    if (setup::isTreeExpansion(now.kind)) {
+        // A duel's or chase's spec is read as simulate reads it (presets, weights, actions,
+        // takes), against one catalogue for both checks.
+        auto context = setup::planCheckContext(project_, file);
+        if (!context) return context.error();
+        if (auto after = setup::checkPlanSetup(now, *context); !after) {
+            const auto before = setup::checkPlanSetup(was, *context);
+            if (before || before.error().message != after.error().message) return after.error();
+        }
+    } else if (!setup::isGraphKind(now.kind)) {
+        // A patch kind's spec is read as compose reads it (its numbers' ranges, the rat's speed...).
+        auto patterns = patternSet();
+        if (!patterns) return patterns.error();
+        if (auto after = setup::checkComposeSetup(now, patterns->patterns); !after) {
+            const auto before = setup::checkComposeSetup(was, patterns->patterns);
+            if (before || before.error().message != after.error().message) return after.error();
+        }
+    }
+    return {};
+}
+
 Status ProjectDocument::setSetupParameter(const std::string& name, const std::string& pointer, const std::string& json, DragId drag) {
     return editSetup(name, QStringLiteral("Set %1").arg(QString::fromStdString(pointer)), "param" + pointer, drag,
                      {ChangeKind::SetupParameters, {}, -1, 0},
@@ -211,16 +234,18 @@ Status ProjectDocument::setSetupParameter(const std::string& name, const std::st
                          if (setup::isGraphKind(s.kind)) {
                              if (auto p = setup::graphParams(s, false); !p) return p.error();
                          }
-                         // A duel's or chase's spec is read as simulate reads it (presets, weights, actions,
-                         // takes); an edit is refused when it brings a problem the setup did not have before.
-                         if (setup::isTreeExpansion(s.kind)) {
-                             const std::string file = file_.empty() ? project_.name : file_.string();
-                             if (auto after = setup::checkPlanSetup(s, project_, file); !after) {
-                                 const auto before = setup::checkPlanSetup(was, project_, file);
-                                 if (before || before.error().message != after.error().message) return after.error();
-                             }
-                         }
-                         return {};
+                         // The others as simulate or compose reads them; an edit is refused when it brings a
+                         // problem the setup did not have before.
+                         return checkSetupEdit(was, s);
+                     });
+}
+
+Status ProjectDocument::setFloorScale(const std::string& name, double metresPerPixel, DragId drag) {
+    return editSetup(name, QStringLiteral("Set the floor's scale"), "floor_scale", drag, {ChangeKind::SetupFloor, {}, -1, 0},
+                     [&](SceneSetup& s) -> Status {
+                         const SceneSetup was = s;
+                         if (auto st = setup::setFloorScale(s, metresPerPixel); !st) return st;
+                         return checkSetupEdit(was, s);
                      });
 }
 

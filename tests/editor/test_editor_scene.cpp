@@ -37,6 +37,7 @@
 #include <QTemporaryDir>
 #include <QTest>
 #include <QTimer>
+#include <algorithm>
 #include <cstdio>
 #include <ctime>
 #include <glm/glm.hpp>
@@ -989,6 +990,210 @@ TEST(SceneSetups, PresetWeightAndActionsAreEditedInTheSetupBox) {
     doc->undoStack()->undo();
     EXPECT_EQ(doc->serialized(), original);
     EXPECT_EQ(actions->findItems("@kick", Qt::MatchExactly)[0]->checkState(), Qt::Checked);
+}
+
+// The Setup box at its own size (in the dock it scrolls) saved for docs/EDITOR.md.
+void saveSetupBox(MainWindow* w, const char* name) {
+    QDir().mkpath(FRAY_EDITOR_SHOTS);
+    auto* box = child<QGroupBox>(w, "setupBox");
+    const QSize was = box->size();
+    box->resize(std::max(box->width(), 420), box->sizeHint().height());
+    box->grab().save(QString(FRAY_EDITOR_SHOTS) + "/" + name);
+    box->resize(was);
+}
+
+// A setup's reactions list in the Setup box (issue 23's nested parameters): the
+// reactions a hit may force on blue, clicked off one at a time: one undo step,
+// stored as simulate reads it, the scene re-planned with it; the last one
+// unchecked is refused with a message, and a reaction the takes do not have is
+// refused naming the setup and the field; undo gives the project back.
+TEST(SceneSetups, ReactionsAreEditedInTheSetupBox) {
+    QTemporaryDir dir;
+    auto w = openWithDemoDuelSetup(dir);
+    ASSERT_NE(w, nullptr);
+    auto* doc = w->document();
+    typeOver(child<QDoubleSpinBox>(w.get(), "plan_duration"), "6");
+    typeOver(child<QSpinBox>(w.get(), "plan_characters_0_depth"), "2");
+    generateAndWait(w.get());
+    ASSERT_NE(w->scene(), nullptr) << w->lastError().toStdString();
+    const auto replanned = [&](const fray::cli::SceneStage* before) {
+        return QTest::qWaitFor([&] { return w->scene() != before && !w->replanPending() && !w->busy(); }, 60000) && w->scene();
+    };
+    auto* character = child<QComboBox>(w.get(), "plan_character");
+    auto* reactions = child<QListWidget>(w.get(), "plan_reactions");
+    ASSERT_TRUE(character && reactions);
+    EXPECT_FALSE(reactions->isHidden());
+    QTest::keyClick(character, Qt::Key_Down);
+    ASSERT_EQ(character->currentText(), "blue");
+    // The demo take's reactions, all checked: the setup stores none (simulate's default).
+    std::vector<QString> items;
+    for (int i = 0; i < reactions->count(); ++i) {
+        items.push_back(reactions->item(i)->text());
+        EXPECT_EQ(reactions->item(i)->checkState(), Qt::Checked) << items.back().toStdString();
+    }
+    ASSERT_GE(items.size(), 2u);
+    EXPECT_NE(std::find(items.begin(), items.end(), "@pushed"), items.end());
+    EXPECT_NE(std::find(items.begin(), items.end(), "@falling"), items.end());
+    std::vector<QString> others = items;  // in the box's (vocabulary) order
+    others.erase(std::find(others.begin(), others.end(), "@pushed"));
+    EXPECT_FALSE(fray::setup::parameter(*doc->sceneSetup("duel"), "/characters/1/reactions").has_value());
+    const std::string original = doc->serialized();
+    const int steps = doc->undoStack()->index();
+    // @pushed off: blue may only be knocked down from now on.
+    const auto* before = w->scene();
+    ASSERT_TRUE(toggleItem(reactions, "@pushed"));
+    EXPECT_EQ(doc->undoStack()->index(), steps + 1) << w->lastError().toStdString();
+    std::string rest = "[";
+    for (std::size_t i = 0; i < others.size(); ++i) rest += (i > 0 ? ",\"" : "\"") + others[i].toStdString() + "\"";
+    rest += "]";
+    EXPECT_EQ(fray::setup::parameter(*doc->sceneSetup("duel"), "/characters/1/reactions").value_or(""), rest);
+    EXPECT_EQ(reactions->findItems("@pushed", Qt::MatchExactly)[0]->checkState(), Qt::Unchecked);
+    ASSERT_TRUE(replanned(before)) << w->lastError().toStdString();
+    saveSetupBox(w.get(), "setup-box-reactions.png");
+    const auto& scene = w->scene()->scene();
+    EXPECT_NE(scene.spec.find("\"reactions\""), std::string::npos) << "the new scene was planned with the list";
+    const auto& lib = w->scene()->library();
+    for (const auto& inst : scene.characters[1].track) EXPECT_FALSE(lib.action(inst.action).is(fray::sim::kPushed)) << "blue is never pushed";
+    // Every reaction off: refused, nothing changes.
+    const std::string one = doc->serialized();
+    for (const QString& r : others) toggleItem(reactions, r);
+    EXPECT_TRUE(w->lastError().contains("at least one reaction")) << w->lastError().toStdString();
+    EXPECT_EQ(doc->undoStack()->index(), steps + static_cast<int>(others.size()));
+    while (doc->undoStack()->index() > steps + 1) doc->undoStack()->undo();
+    EXPECT_EQ(doc->serialized(), one);
+    // A reaction no take of blue's has, as simulate reads it: refused naming the setup and the field.
+    const auto bad = doc->setSetupParameter("duel", "/characters/1/reactions", R"(["@moonwalk"])");
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.error().message.find("setup 'duel'"), std::string::npos) << bad.error().message;
+    EXPECT_NE(bad.error().message.find("/characters/1/reactions/0"), std::string::npos) << bad.error().message;
+    EXPECT_EQ(doc->serialized(), one);
+    doc->undoStack()->undo();
+    EXPECT_EQ(doc->serialized(), original);
+    EXPECT_EQ(reactions->findItems("@pushed", Qt::MatchExactly)[0]->checkState(), Qt::Checked) << "the box follows undo";
+}
+
+// The rat's numbers in the Setup box: its speed (nested in the spec's "rat")
+// typed, one undo step, the scene re-planned: the rat ends its run at its
+// start + the trajectory's length / the new speed; its other numbers (start,
+// band, spacing, reach, bumps) have rows, with compose's defaults where the
+// setup stores none; a speed compose would refuse is refused naming the setup
+// and the field; undo gives the project back.
+TEST(SceneSetups, RatSpeedIsEditedInTheSetupBox) {
+    QTemporaryDir dir;
+    copyDemoProject(dir);
+    auto w = fray::test::openEditorWindow(dir.filePath("demo.frayproj"));
+    ASSERT_NE(w, nullptr);
+    ASSERT_TRUE(QTest::qWaitFor([&] { return w->analysis() != nullptr; }, 120000));
+    ASSERT_TRUE(w->newSetup("rat", fray::setup::SetupKind::Rat));
+    auto* doc = w->document();
+    auto* speed = child<QDoubleSpinBox>(w.get(), "compose_rat_speed");
+    ASSERT_NE(speed, nullptr);
+    EXPECT_FALSE(speed->isHidden());
+    EXPECT_EQ(speed->value(), 2.5);
+    for (const char* name : {"compose_rat_start", "compose_band", "compose_spacing", "compose_reach", "compose_bumps"})
+        EXPECT_FALSE(child<QDoubleSpinBox>(w.get(), name)->isHidden()) << name;
+    EXPECT_EQ(child<QDoubleSpinBox>(w.get(), "compose_spacing")->value(), 0.9) << "compose's default: the setup stores none";
+    EXPECT_TRUE(child<QDoubleSpinBox>(w.get(), "compose_floor_metres_per_pixel")->isHidden()) << "a domino's row";
+    generateAndWait(w.get());
+    ASSERT_NE(w->scene(), nullptr) << w->lastError().toStdString();
+    const auto ratEnd = [&] {
+        const auto& rat = w->scene()->scene().characters[0];
+        EXPECT_EQ(rat.body, "rat");
+        return rat.keys.empty() ? -1.0 : rat.keys.back().time;
+    };
+    EXPECT_NEAR(ratEnd(), 1.0 + 14.0 / 2.5, 0.11);
+    const std::string original = doc->serialized();
+    const int steps = doc->undoStack()->index();
+    const auto* before = w->scene();
+    typeOver(speed, "4");
+    EXPECT_EQ(doc->undoStack()->index(), steps + 1) << w->lastError().toStdString();
+    EXPECT_EQ(fray::setup::parameter(*doc->sceneSetup("rat"), "/rat/speed").value_or(""), "4");
+    ASSERT_TRUE(QTest::qWaitFor([&] { return w->scene() != before && !w->replanPending() && !w->busy(); }, 60000));
+    ASSERT_NE(w->scene(), nullptr) << w->lastError().toStdString();
+    EXPECT_NEAR(ratEnd(), 1.0 + 14.0 / 4.0, 0.11) << "re-planned at the new speed";
+    // The spacing, not stored before: one step, stored where compose reads it.
+    typeOver(child<QDoubleSpinBox>(w.get(), "compose_spacing"), "1.2");
+    EXPECT_EQ(doc->undoStack()->index(), steps + 2);
+    EXPECT_EQ(fray::setup::parameter(*doc->sceneSetup("rat"), "/spacing").value_or(""), "1.2");
+    saveSetupBox(w.get(), "setup-box-rat.png");
+    // Out of compose's range: refused naming the setup and the field, nothing changes.
+    const std::string edited = doc->serialized();
+    const auto bad = doc->setSetupParameter("rat", "/rat/speed", "20");
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.error().message.find("setup 'rat'"), std::string::npos) << bad.error().message;
+    EXPECT_NE(bad.error().message.find("/rat/speed"), std::string::npos) << bad.error().message;
+    EXPECT_EQ(doc->serialized(), edited);
+    EXPECT_FALSE(doc->setSetupParameter("rat", "/rat/pace", "3")) << "a field compose does not know";
+    EXPECT_EQ(doc->serialized(), edited);
+    doc->undoStack()->undo();
+    doc->undoStack()->undo();
+    EXPECT_EQ(doc->serialized(), original);
+    EXPECT_EQ(speed->value(), 2.5) << "the box follows undo";
+}
+
+// The painted floor's scale in the Setup box (the demo domino imported with
+// its bitmap): typed, one undo step, the floor's metres per pixel changed
+// (pixels and origin kept, the chain starts on their pixels) and the scene re-planned on the smaller floor: its
+// people stand within the painting's new extent or round it; a scale compose
+// refuses is refused naming the setup and the field; undo gives it back.
+TEST(SceneSetups, FloorScaleIsEditedInTheSetupBox) {
+    QTemporaryDir dir;
+    copyDemoProject(dir);
+    auto w = fray::test::openEditorWindow(dir.filePath("demo.frayproj"));
+    ASSERT_NE(w, nullptr);
+    ASSERT_TRUE(QTest::qWaitFor([&] { return w->analysis() != nullptr; }, 120000));
+    QString spec;
+    for (const QString& s : w->sceneSources())
+        if (s.endsWith("resources/demo/domino.json")) spec = s;
+    ASSERT_TRUE(w->selectSceneSource(spec));
+    ASSERT_TRUE(w->importSpecAsSetup("domino")) << w->lastError().toStdString();
+    auto* doc = w->document();
+    auto* scale = child<QDoubleSpinBox>(w.get(), "compose_floor_metres_per_pixel");
+    ASSERT_NE(scale, nullptr);
+    EXPECT_FALSE(scale->isHidden());
+    EXPECT_EQ(scale->value(), 0.1);
+    EXPECT_TRUE(child<QDoubleSpinBox>(w.get(), "compose_rat_speed")->isHidden()) << "a rat's row";
+    generateAndWait(w.get());
+    ASSERT_NE(w->scene(), nullptr) << w->lastError().toStdString();
+    const auto floorBefore = *doc->sceneSetup("domino")->floor;
+    const std::string original = doc->serialized();
+    const int steps = doc->undoStack()->index();
+    const auto* before = w->scene();
+    typeOver(scale, "0.2");
+    EXPECT_EQ(doc->undoStack()->index(), steps + 1) << w->lastError().toStdString();
+    const auto floor = *doc->sceneSetup("domino")->floor;
+    EXPECT_EQ(floor.metresPerPixel, 0.2);
+    EXPECT_EQ(floor.painted, floorBefore.painted);
+    EXPECT_EQ(floor.origin, floorBefore.origin);
+    const auto starts = fray::setup::dominoStarts(*doc->sceneSetup("domino"));
+    ASSERT_EQ(starts.size(), 2u);
+    EXPECT_EQ(starts[1].pos, (fray::setup::Point{20, 6})) << "a chain start stays on its pixel: (5, 0) at 0.1 m from (-10, -6)";
+    ASSERT_TRUE(QTest::qWaitFor([&] { return w->scene() != before && !w->replanPending() && !w->busy(); }, 120000));
+    ASSERT_NE(w->scene(), nullptr) << w->lastError().toStdString();
+    // The painting now spans twice as far from its origin: people stand beyond the old extent.
+    const auto& scene = w->scene()->scene();
+    const auto& lib = w->scene()->library();
+    const double oldFarX = floor.origin.x + floor.width * floorBefore.metresPerPixel;
+    const double newFarX = floor.origin.x + floor.width * floor.metresPerPixel;
+    int beyond = 0;
+    for (int c = 0; c < static_cast<int>(scene.characters.size()); ++c) {
+        const auto& track = scene.characters[static_cast<std::size_t>(c)].track;
+        if (track.empty()) continue;
+        const glm::vec2 p = track.front().placementAt(lib, 0.0).pos;
+        beyond += static_cast<double>(p.x) > oldFarX + 1.0 && static_cast<double>(p.x) < newFarX + 6.0;
+    }
+    EXPECT_GT(beyond, 0) << "the scene was composed on the scaled floor";
+    saveSetupBox(w.get(), "setup-box-floor.png");
+    // (0.001 is not in (0.001, 10]): refused with a message naming the setup and the field.
+    const std::string edited = doc->serialized();
+    typeOver(scale, "0.001");
+    EXPECT_TRUE(w->lastError().contains("setup 'domino'")) << w->lastError().toStdString();
+    EXPECT_TRUE(w->lastError().contains("metres_per_pixel")) << w->lastError().toStdString();
+    EXPECT_EQ(doc->serialized(), edited);
+    EXPECT_EQ(scale->value(), 0.2) << "the stored value again";
+    doc->undoStack()->undo();
+    EXPECT_EQ(doc->serialized(), original);
+    EXPECT_EQ(scale->value(), 0.1) << "the box follows undo";
 }
 
 // Live re-plan of the demo duel after a weight typed into the Setup box

@@ -194,6 +194,16 @@ Result<sim::ComposeSpec> toComposeSpec(const SceneSetup& setup, const sim::Patch
     return spec;
 }
 
+Status checkComposeSetup(const SceneSetup& setup, const std::vector<sim::PatternList>& patterns) {
+    if (isTreeExpansion(setup.kind) || isGraphKind(setup.kind)) {
+        return makeError(what(setup) + " is a " + std::string(setupKindName(setup.kind)) + " setup: it is not composed");
+    }
+    FRAY_TRY(text, setupSpecJson(setup));
+    FRAY_TRY(spec, sim::parseComposeSpec(text, what(setup), patterns));
+    (void)spec;
+    return {};
+}
+
 namespace {
 // An Interaction Graph spec: the parameters as they are (checked by
 // graphParams), a carry's "path" ("circle:R" or {"loop", "points"}) made

@@ -54,12 +54,20 @@ Status applyActionSet(SceneSetup& setup, const ActionSet& set) {
     return {};
 }
 
-Status checkPlanSetup(const SceneSetup& setup, const prep::Project& project, std::string_view fileName) {
+Result<PlanCheckContext> planCheckContext(const prep::Project& project, std::string_view fileName) {
     FRAY_TRY(presets, sim::projectPresets(project, fileName));
-    const sim::ActionLibrary catalogue = sim::projectCatalogue(project);
-    FRAY_TRY(spec, toSceneSpec(setup, catalogue, presets));
+    return PlanCheckContext{std::move(presets), sim::projectCatalogue(project)};
+}
+
+Status checkPlanSetup(const SceneSetup& setup, const PlanCheckContext& context) {
+    FRAY_TRY(spec, toSceneSpec(setup, context.catalogue, context.presets));
     (void)spec;
     return {};
+}
+
+Status checkPlanSetup(const SceneSetup& setup, const prep::Project& project, std::string_view fileName) {
+    FRAY_TRY(context, planCheckContext(project, fileName));
+    return checkPlanSetup(setup, context);
 }
 
 }  // namespace fray::setup

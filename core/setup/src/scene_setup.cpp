@@ -797,6 +797,31 @@ Status setDominoStarts(SceneSetup& setup, const std::vector<DominoStartPoint>& s
     });
 }
 
+Status setFloorScale(SceneSetup& setup, double metresPerPixel) {
+    if (!setup.floor) return setupError(setup, "has no painted floor (paint it or import a bitmap first)");
+    if (!(metresPerPixel > 0.001) || metresPerPixel > 10) {
+        return setupError(setup, "/floor/metres_per_pixel: must be in (0.001, 10] (the painted floor's metres per pixel)");
+    }
+    const double ratio = metresPerPixel / setup.floor->metresPerPixel;
+    const Point origin = setup.floor->origin;
+    setup.floor->metresPerPixel = metresPerPixel;
+    return updateSpec(setup, [&](json& j) -> Status {
+        if (auto f = j.find("floor"); f != j.end() && f->is_object() && f->contains("metres_per_pixel")) {
+            putNumber((*f)["metres_per_pixel"], metresPerPixel);
+        }
+        // A domino's chain starts stay on the pixels they were put on.
+        if (auto st = j.find("starts"); setup.kind == SetupKind::Domino && st != j.end() && st->is_array()) {
+            for (json& q : *st) {
+                if (!q.is_object()) continue;
+                for (auto [key, o] : {std::pair<const char*, double>{"x", origin.x}, {"z", origin.z}}) {
+                    if (auto v = q.find(key); v != q.end() && v->is_number()) putNumber(*v, o + (v->get<double>() - o) * ratio);
+                }
+            }
+        }
+        return {};
+    });
+}
+
 Status setParameter(SceneSetup& setup, std::string_view pointer, std::string_view value) {
     if (pointer.empty() || pointer[0] != '/') return setupError(setup, "parameter '" + std::string(pointer) + "' must be a JSON pointer (\"/duration\")");
     if (pointer == "/kind" || pointer.starts_with("/kind/")) return setupError(setup, "the kind is set on the setup, not as a parameter");

@@ -179,6 +179,9 @@ public:
     Status importFloorImage(const std::string& setup, const std::filesystem::path& file, double metresPerPixel,
                             setup::Point origin);
     Status setFloor(const std::string& setup, std::optional<setup::FloorPaint> floor, const QString& text);
+    // The painted floor's scale (metres per pixel, setup::setFloorScale),
+    // checked as compose reads it: one undo step.
+    Status setFloorScale(const std::string& setup, double metresPerPixel, DragId drag = 0);
     // Pins of edited generated interactions.
     Status addPin(const std::string& setup, const setup::Pin& pin);
     Status removePin(const std::string& setup, int index);
@@ -250,6 +253,10 @@ private:
     Status editPatterns(const QString& text, const std::string& key, DragId drag, const std::string& pattern,
                         const std::function<Status(sim::PatternSet&)>& change);
     Status checkPatternAnnotation(const std::string& annotation, const std::string& where) const;
+    // A setup parameter edit read as simulate (duel, chase) or compose (the
+    // patch kinds) reads it: refused when it brings a problem `was` did not
+    // have (the message names the setup and the field).
+    Status checkSetupEdit(const setup::SceneSetup& was, const setup::SceneSetup& now) const;
 
     Status writeLocked(const std::filesystem::path& file, const std::string& bytes, bool checkUnchanged);
 

@@ -36,6 +36,11 @@ Result<sim::SceneSpec> toSceneSpec(const SceneSetup& setup, const sim::ActionLib
 std::string pinsNotHonoured(const SceneSetup& setup);
 // The compose spec of a compose-kind setup, with the floor bitmap in place.
 Result<sim::ComposeSpec> toComposeSpec(const SceneSetup& setup, const sim::PatchLibrary& patches);
+// A compose-kind setup's spec read the way `fray-cli compose --setup` reads
+// it (every field, ranges included; the PatternLists a spec names must be
+// among `patterns`, the project's), without composing. The error names the
+// setup and the field ("setup 'rat': /rat/speed: must be ...").
+Status checkComposeSetup(const SceneSetup& setup, const std::vector<sim::PatternList>& patterns);
 
 // Reads a painted floor from a file ("bitmap" of a spec's "floor", resolved
 // against the spec's folder); the CLI passes its PNG reader.

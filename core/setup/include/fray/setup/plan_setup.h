@@ -9,6 +9,8 @@
 #include "fray/core/result.h"
 #include "fray/prep/project.h"
 #include "fray/setup/scene_setup.h"
+#include "fray/sim/action_library.h"
+#include "fray/sim/spec.h"
 
 namespace fray::setup {
 
@@ -40,5 +42,15 @@ Status applyActionSet(SceneSetup& setup, const ActionSet& set);
 // names the setup and the field ("setup 'duel': /characters/0/weights/w_r:
 // must be a finite number"). Not for the other kinds.
 Status checkPlanSetup(const SceneSetup& setup, const prep::Project& project, std::string_view fileName);
+
+// What checkPlanSetup reads a setup against: the project's presets and its
+// action catalogue, built once so that an edit can check the setup before and
+// after it against the same (the editor's Setup box does, docs/EDITOR.md).
+struct PlanCheckContext {
+    std::vector<sim::Preset> presets;
+    sim::ActionLibrary catalogue;
+};
+Result<PlanCheckContext> planCheckContext(const prep::Project& project, std::string_view fileName);
+Status checkPlanSetup(const SceneSetup& setup, const PlanCheckContext& context);
 
 }  // namespace fray::setup

@@ -219,6 +219,12 @@ Result<std::vector<Point>> sampleTrajectory(const Trajectory& t, double spacing 
 double trajectoryParameter(const std::vector<Point>& line, Point p, double* distance = nullptr);
 
 // ---- bitmap --------------------------------------------------------------------
+// The painted floor's scale, metres per pixel in (0.001, 10] as compose reads
+// it: the pixels stay, pixel (0, 0) stays at the floor's origin, so the
+// painting grows or shrinks away from that corner, and a domino's chain
+// starts move with it (each stays on its pixel); the spec's
+// "floor"/"metres_per_pixel", when stored, follows. Errors name the setup.
+Status setFloorScale(SceneSetup& setup, double metresPerPixel);
 sim::FloorBitmap toFloorBitmap(const FloorPaint& paint);
 FloorPaint fromFloorBitmap(const sim::FloorBitmap& floor);
 // Lossless text form kept in the project: the pixels packed eight to a byte
