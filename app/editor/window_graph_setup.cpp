@@ -418,7 +418,7 @@ void MainWindow::refreshSetupParameters() {
     }
     if (!s) paramsInfo_->setText("No setup selected: pick one above, or a kind and New setup.");
     else if (plan)
-        paramsInfo_->setText(QString("%1 setup planned by tree expansion: each character's preset, weights, takes and actions above; paths, "
+        paramsInfo_->setText(QString("%1 setup planned by tree expansion: each character's preset, weights, takes, actions and reactions above; paths, "
                                      "checkpoints and starts on the floor (Floor tools), pins in the action track.")
                                  .arg(setup::setupKindName(s->kind)));
     else if (!graph) paramsInfo_->setText(QString("%1 setup: its numbers above, the rest on the floor (Floor tools) or with fray-cli setup.").arg(setup::setupKindName(s->kind)));

@@ -144,6 +144,7 @@ void MainWindow::makePlanCharacterRows() {
     planReactions_ = checkList("plan_reactions",
                                "The reactions a hit may force on the character, by annotation (the spec's \"reactions\"; "
                                "all checked: every reaction of its takes)");
+    planReactions_->setMaximumHeight(80);  // a few reactions (pushed, falling)
     connect(planMotions_, &QListWidget::itemChanged, this, [this] { setPlanList(planMotions_, "motions"); });
     connect(planActions_, &QListWidget::itemChanged, this, [this] { setPlanList(planActions_, "actions"); });
     connect(planReactions_, &QListWidget::itemChanged, this, [this] { setPlanList(planReactions_, "reactions"); });

@@ -1094,6 +1094,10 @@ TEST(SceneSetups, RatSpeedIsEditedInTheSetupBox) {
         EXPECT_FALSE(child<QDoubleSpinBox>(w.get(), name)->isHidden()) << name;
     EXPECT_EQ(child<QDoubleSpinBox>(w.get(), "compose_spacing")->value(), 0.9) << "compose's default: the setup stores none";
     EXPECT_TRUE(child<QDoubleSpinBox>(w.get(), "compose_floor_metres_per_pixel")->isHidden()) << "a domino's row";
+    // fray --describe-ui lists the new widgets with their labels.
+    const QString ui = QString::fromUtf8(w->describeUi());
+    for (const char* name : {"compose_rat_speed", "Rat speed (m/s)", "compose_bumps", "compose_floor_metres_per_pixel", "plan_reactions"})
+        EXPECT_TRUE(ui.contains(name)) << name;
     generateAndWait(w.get());
     ASSERT_NE(w->scene(), nullptr) << w->lastError().toStdString();
     const auto ratEnd = [&] {
