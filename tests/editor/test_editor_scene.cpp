@@ -1157,6 +1157,9 @@ TEST(SceneSetups, FloorScaleIsEditedInTheSetupBox) {
     EXPECT_FALSE(scale->isHidden());
     EXPECT_EQ(scale->value(), 0.1);
     EXPECT_TRUE(child<QDoubleSpinBox>(w.get(), "compose_rat_speed")->isHidden()) << "a rat's row";
+    // A smaller crowd, so each composition takes a moment.
+    ASSERT_TRUE(doc->setSetupParameter("domino", "/max_characters", "60"));
+    ASSERT_TRUE(doc->setSetupParameter("domino", "/background", "0"));
     generateAndWait(w.get());
     ASSERT_NE(w->scene(), nullptr) << w->lastError().toStdString();
     const auto floorBefore = *doc->sceneSetup("domino")->floor;
