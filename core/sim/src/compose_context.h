@@ -166,8 +166,16 @@ struct Composer {
     // clip time between lies on the segment between them), plus 1.5 times the
     // sum of its half extents (its floor box's corner is nearer than that).
     static float measureBodyReach(const ActionLibrary& lib) {
+        const std::vector<float> each = measureActionReach(lib);
         float reach = 0;
+        for (float r : each) reach = std::max(reach, r);
+        return reach;
+    }
+    // The same bound per action (bodyReach is their largest).
+    static std::vector<float> measureActionReach(const ActionLibrary& lib) {
+        std::vector<float> out(static_cast<std::size_t>(lib.size()), 0.0f);
         for (int a = 0; a < lib.size(); ++a) {
+            float& reach = out[static_cast<std::size_t>(a)];
             const int n = lib.actions()[static_cast<std::size_t>(a)].sampleCount;
             for (int s = 0; s < n; ++s) {
                 const glm::vec2 r0 = lib.rootAt(a, s / kSampleRate).pos, r1 = lib.rootAt(a, std::min(s + 1, n - 1) / kSampleRate).pos;
@@ -179,15 +187,20 @@ struct Composer {
                 }
             }
         }
-        return reach;
+        return out;
     }
+    // Per action, when the caller measured them (measureActionReach): the
+    // bodyReach of that action alone, so that the test below skips more.
+    const std::vector<float>* actionReach = nullptr;
     // Character c's body at time t is certainly farther than `dist` from p
-    // (its root beyond bodyReach + dist, with a margin): its boxes need not be placed.
+    // (its root beyond the reach of what it plays + dist, with a margin): its
+    // boxes need not be placed.
     bool surelyFarther(int c, const glm::vec2& p, double t, float dist) const {
-        if (bodyReach < 0) return false;
+        if (bodyReach < 0 && !actionReach) return false;
         const auto& inst = playingAt(c, t);
+        const float reach = actionReach ? (*actionReach)[static_cast<std::size_t>(inst.action)] : bodyReach;
         const glm::vec2 r = inst.placementAt(lib, inst.clipTimeAt(t)).pos;
-        return glm::length(r - p) > bodyReach + dist + 0.05f;
+        return glm::length(r - p) > reach + dist + 0.05f;
     }
 
     // Someone (other than self and partner) is closer than nearDistance to p at time t.
@@ -224,19 +237,66 @@ struct Composer {
     const detail::CoreDiscs* coreDiscs = nullptr;
     static constexpr float kPenetrationShrink = 0.82f;
 
+    // Per action: a disc round its pelvis path in the clip's frame (rootAt
+    // interpolates between samples and clamps to the clip: the samples bound
+    // it; a millimetre more covers the rounding).
+    static std::vector<detail::CoreDiscs::Disc> pelvisPathDiscs(const ActionLibrary& lib) {
+        std::vector<detail::CoreDiscs::Disc> out(static_cast<std::size_t>(lib.size()));
+        for (int a = 0; a < lib.size(); ++a) {
+            const int n = lib.actions()[static_cast<std::size_t>(a)].sampleCount;
+            glm::vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+            for (int k = 0; k < n; ++k) {
+                const glm::vec2 p = lib.rootAt(a, k / kSampleRate).pos;
+                lo = glm::min(lo, p), hi = glm::max(hi, p);
+            }
+            auto& d = out[static_cast<std::size_t>(a)];
+            d.centre = n > 0 ? 0.5f * (lo + hi) : glm::vec2(0.0f);
+            for (int k = 0; k < n; ++k) d.radius = std::max(d.radius, glm::length(lib.rootAt(a, k / kSampleRate).pos - d.centre));
+            d.radius += 1e-3f;
+        }
+        return out;
+    }
+    // The discs above, when the caller made them for the library:
+    // penetrates passes over everyone whose pelvis path stays beyond the pelvis
+    // reach of the walker's for a whole action (no sample of theirs would pass
+    // the pelvis test).
+    const std::vector<detail::CoreDiscs::Disc>* pathDiscs = nullptr;
+    detail::CoreDiscs::Disc placedPath(const ActionInstance& inst) const {
+        const auto& d = (*pathDiscs)[static_cast<std::size_t>(inst.action)];
+        return {inst.root.pos + FloorRotation(inst.root.heading)(d.centre), d.radius};
+    }
+
     // Would a planned list of actions for character `self` put its body inside
     // anyone else's (the metrics' test, at every 30 Hz sample)?
     bool penetrates(const std::vector<ActionInstance>& walk, int self) const {
         constexpr float kShrink = kPenetrationShrink;
         constexpr float kPelvisReach = 1.2f;  // coreBodiesOverlap's default
+        std::vector<char> far;  // per character: apart from the walker for all of w (pathDiscs)
         for (const auto& w : walk) {
+            if (pathDiscs && !standWhenDone) {
+                const detail::CoreDiscs::Disc me = placedPath(w);
+                far.assign(scene.characters.size(), 0);
+                for (std::size_t c = 0; c < scene.characters.size(); ++c) {
+                    const auto& tr = scene.characters[c].track;
+                    if (tr.empty()) continue;
+                    // The instances played at the samples of w (instanceIndexAt is monotone in t).
+                    const int i0 = instanceIndexAt(tr, w.start), i1 = instanceIndexAt(tr, w.end + 1e-6);
+                    bool apart = true;
+                    for (int i = i0; i <= i1 && apart; ++i) {
+                        const detail::CoreDiscs::Disc d = placedPath(tr[static_cast<std::size_t>(i)]);
+                        const float scale = std::fabs(me.centre.x) + std::fabs(me.centre.y) + std::fabs(d.centre.x) + std::fabs(d.centre.y);
+                        apart = glm::length(me.centre - d.centre) > kPelvisReach + me.radius + d.radius + 0.02f + 1e-5f * scale;
+                    }
+                    far[c] = apart ? 1 : 0;
+                }
+            }
             const FloorRotation meRotation(w.root.heading);
             auto touches = [&](double t) {
                 // The walker's body placed once per sample (its boxes only if someone is near).
                 const detail::CoreBody me(lib, detail::BodyPose{w.action, w.offset + (t - w.start), w.root}, meRotation, kShrink);
                 const detail::CoreDiscs::Disc meDisc = coreDiscs ? coreDiscs->placed(me) : detail::CoreDiscs::Disc{};
                 for (int c = 0; c < static_cast<int>(scene.characters.size()); ++c) {
-                    if (c == self) continue;
+                    if (c == self || (!far.empty() && far[static_cast<std::size_t>(c)])) continue;
                     detail::BodyPose other;
                     if (standWhenDone && !track0(c).empty() && t > track0(c).back().end) {
                         // Waiting where its track stopped, as waitUntil will

@@ -299,19 +299,26 @@ struct OneVsManyComposer : KindComposer<OneVsManySpec> {
                     from = at * act(mv).end;
                     tm = t0 + act(mv).duration;
                     if (blocked(mainC, -1, at.pos, from.pos, tm) ||
-                        blocked(mainC, -1, at.pos, (at * lib.rootAt(mv, 0.5 * act(mv).duration)).pos, t0) ||
-                        penetrates({ActionInstance{mv, t0, 0.0, tm, at, false, false}}, mainC)) {
+                        blocked(mainC, -1, at.pos, (at * lib.rootAt(mv, 0.5 * act(mv).duration)).pos, t0)) {
                         continue;
                     }
                 }
+                // The step's body test (the dearest) only once some candidate
+                // fits after it: where none does, its answer changes nothing.
+                bool stepTested = mv < 0;
                 const int lastA = mv >= 0 ? mv : lastMain;
-                const std::vector<glm::vec2> present = positionsAt(tm);
+                std::vector<glm::vec2> present;
                 const signed char* command = commandAt(tm);
                 const int lastEnd = lib.endNode()[static_cast<std::size_t>(lastA)];
                 for (std::size_t i : cands) {
                     const auto& e = search->entries[i];
                     const RootXf xf = from * e.mainStartInverse;
                     if (collidesFast(i, xf, obstacleBoxes, allObstacles)) continue;
+                    if (!stepTested) {
+                        if (penetrates({ActionInstance{mv, t0, 0.0, tm, at, false, false}}, mainC)) break;
+                        stepTested = true;
+                    }
+                    if (present.empty()) present = positionsAt(tm);
                     const double s = score(i, densityAmong(present, xf.apply(e.newcomerStart)), command ? command[i] : 0) +
                                      (e.mainStartNode == lastEnd ? 1.0 : 0.0) - (mv >= 0 ? 5.0 : 0.0);
                     options.push_back({s, i, mv, options.size()});
@@ -414,6 +421,8 @@ struct OneVsManyComposer : KindComposer<OneVsManySpec> {
     Status runMany(const ProgressFn& progress) {
         const int n = own.mains;
         const float reach = measureBodyReach(lib);
+        const std::vector<float> actionReaches = measureActionReach(lib);
+        const std::vector<CoreDiscs::Disc> paths = pelvisPathDiscs(lib);
         const PatchSearchData shared(lib, patches, spec.commands);
         const CoreDiscs discs(lib, kPenetrationShrink);
         std::vector<Fight> fights(static_cast<std::size_t>(n));
@@ -437,6 +446,8 @@ struct OneVsManyComposer : KindComposer<OneVsManySpec> {
                 OneVsManyComposer c(lib, patches, s, f.stats);
                 c.sampleCandidates = true;
                 c.bodyReach = reach;
+                c.actionReach = &actionReaches;
+                c.pathDiscs = &paths;
                 c.search = &shared;
                 c.coreDiscs = &discs;
                 st = c.ready();
