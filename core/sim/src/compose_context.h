@@ -16,6 +16,7 @@
 #include <string>
 #include <tuple>
 #include <type_traits>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -148,12 +149,37 @@ struct Composer {
 
     // Floor rectangle around character c's whole body at time t.
     SweptBox bodyBox(int c, double t) const {
-        const auto& inst = playingAt(c, t);
-        const Obb* boxes = lib.boxesAt(inst.action, lib.sampleAt(inst.action, inst.clipTimeAt(t)));
+        const int index = scene.instanceAt(c, t);
+        const auto& inst = scene.characters[static_cast<std::size_t>(c)].track[static_cast<std::size_t>(index)];
+        const int sample = lib.sampleAt(inst.action, inst.clipTimeAt(t));
+        BoxMemo* memo = nullptr;
+        if (memoBodyBoxes) {
+            // Keyed by character, instance and sample; the instance's action and
+            // placement are checked too (a character may be removed and another
+            // take its index).
+            const std::uint64_t key = (static_cast<std::uint64_t>(c) << 42) ^ (static_cast<std::uint64_t>(index) << 21) ^
+                                      static_cast<std::uint64_t>(sample);
+            auto [it, fresh] = bodyBoxMemo.try_emplace(key);
+            memo = &it->second;
+            if (!fresh && memo->action == inst.action && memo->root.pos == inst.root.pos && memo->root.heading == inst.root.heading) {
+                return memo->box;
+            }
+        }
+        const Obb* boxes = lib.boxesAt(inst.action, sample);
         SweptBox out = SweptBox::empty();
         for (int seg = 0; seg < kSegmentCount; ++seg) out.add(floorBox(boxes[seg].placed(inst.root)));
+        if (memo) *memo = {inst.action, inst.root, out};
         return out;
     }
+    // bodyBox remembers what it placed (a composer used by one thread at a
+    // time: the memo is not locked).
+    bool memoBodyBoxes = false;
+    struct BoxMemo {
+        int action = -1;
+        RootXf root;
+        SweptBox box;
+    };
+    mutable std::unordered_map<std::uint64_t, BoxMemo> bodyBoxMemo;
     static float rectDistance(const SweptBox& r, const glm::vec2& p) {
         const glm::vec2 d = glm::max(glm::max(r.lo - p, p - r.hi), glm::vec2(0.0f));
         return glm::length(d);
