@@ -16,7 +16,6 @@
 #include <string>
 #include <tuple>
 #include <type_traits>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -152,34 +151,38 @@ struct Composer {
         const int index = scene.instanceAt(c, t);
         const auto& inst = scene.characters[static_cast<std::size_t>(c)].track[static_cast<std::size_t>(index)];
         const int sample = lib.sampleAt(inst.action, inst.clipTimeAt(t));
-        BoxMemo* memo = nullptr;
+        InstanceBoxes* memo = nullptr;
         if (memoBodyBoxes) {
-            // Keyed by character, instance and sample; the instance's action and
-            // placement are checked too (a character may be removed and another
+            // Per character and instance, per sample; the instance's action and
+            // placement are checked (a character may be removed and another
             // take its index).
-            const std::uint64_t key = (static_cast<std::uint64_t>(c) << 42) ^ (static_cast<std::uint64_t>(index) << 21) ^
-                                      static_cast<std::uint64_t>(sample);
-            auto [it, fresh] = bodyBoxMemo.try_emplace(key);
-            memo = &it->second;
-            if (!fresh && memo->action == inst.action && memo->root.pos == inst.root.pos && memo->root.heading == inst.root.heading) {
-                return memo->box;
+            if (static_cast<std::size_t>(c) >= bodyBoxMemo.size()) bodyBoxMemo.resize(static_cast<std::size_t>(c) + 1);
+            auto& perInstance = bodyBoxMemo[static_cast<std::size_t>(c)];
+            if (static_cast<std::size_t>(index) >= perInstance.size()) perInstance.resize(static_cast<std::size_t>(index) + 1);
+            memo = &perInstance[static_cast<std::size_t>(index)];
+            if (memo->action != inst.action || memo->root.pos != inst.root.pos || memo->root.heading != inst.root.heading) {
+                memo->action = inst.action, memo->root = inst.root;
+                memo->box.assign(static_cast<std::size_t>(act(inst.action).sampleCount), SweptBox{});
+                memo->have.assign(static_cast<std::size_t>(act(inst.action).sampleCount), 0);
             }
+            if (memo->have[static_cast<std::size_t>(sample)]) return memo->box[static_cast<std::size_t>(sample)];
         }
         const Obb* boxes = lib.boxesAt(inst.action, sample);
         SweptBox out = SweptBox::empty();
         for (int seg = 0; seg < kSegmentCount; ++seg) out.add(floorBox(boxes[seg].placed(inst.root)));
-        if (memo) *memo = {inst.action, inst.root, out};
+        if (memo) memo->box[static_cast<std::size_t>(sample)] = out, memo->have[static_cast<std::size_t>(sample)] = 1;
         return out;
     }
     // bodyBox remembers what it placed (a composer used by one thread at a
     // time: the memo is not locked).
     bool memoBodyBoxes = false;
-    struct BoxMemo {
+    struct InstanceBoxes {
         int action = -1;
         RootXf root;
-        SweptBox box;
+        std::vector<SweptBox> box;  // per sample of the action
+        std::vector<char> have;
     };
-    mutable std::unordered_map<std::uint64_t, BoxMemo> bodyBoxMemo;
+    mutable std::vector<std::vector<InstanceBoxes>> bodyBoxMemo;  // per character, per instance
     static float rectDistance(const SweptBox& r, const glm::vec2& p) {
         const glm::vec2 d = glm::max(glm::max(r.lo - p, p - r.hi), glm::vec2(0.0f));
         return glm::length(d);
