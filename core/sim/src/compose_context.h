@@ -296,8 +296,10 @@ struct Composer {
     }
 
     // Would a planned list of actions for character `self` put its body inside
-    // anyone else's (the metrics' test, at every 30 Hz sample)?
-    bool penetrates(const std::vector<ActionInstance>& walk, int self) const {
+    // anyone else's (the metrics' test, at every 30 Hz sample of each action
+    // from its start; with sceneGrid, at the scene's 30 Hz samples within it,
+    // s / 30 s, the times the metrics look at)?
+    bool penetrates(const std::vector<ActionInstance>& walk, int self, bool sceneGrid = false) const {
         constexpr float kShrink = kPenetrationShrink;
         constexpr float kPelvisReach = 1.2f;  // coreBodiesOverlap's default
         std::vector<char> far;  // per character: apart from the walker for all of w (pathDiscs)
@@ -353,6 +355,12 @@ struct Composer {
                 }
                 return false;
             };
+            if (sceneGrid) {
+                for (auto k = static_cast<long long>(std::ceil(w.start * kSampleRate - 1e-9)); k / kSampleRate <= w.end + 1e-9; ++k) {
+                    if (touches(static_cast<double>(k) / kSampleRate)) return true;
+                }
+                continue;
+            }
             for (double t = w.start; t <= w.end + 1e-9; t += 1.0 / kSampleRate) {
                 if (touches(t)) return true;
             }
