@@ -388,10 +388,19 @@ struct Composer {
             for (int a : locomotion) {
                 const auto& A = act(a);
                 const RootXf end = at * A.end;
-                const RootXf mid = at * lib.rootAt(a, 0.5 * A.duration);
+                const bool offGraph = last >= 0 && lib.startNode()[static_cast<std::size_t>(a)] != lib.endNode()[static_cast<std::size_t>(last)];
+                // The cost is at least the distance (the facing term is never
+                // negative, and adding to it rounds no lower): a step whose
+                // distance alone loses is passed over without its angle.
+                {
+                    double floorCost = static_cast<double>(glm::length(target.pos - end.pos));
+                    if (offGraph) floorCost += 0.05;
+                    if (floorCost >= bestCost) continue;
+                }
                 double c = cost(end);
-                if (last >= 0 && lib.startNode()[static_cast<std::size_t>(a)] != lib.endNode()[static_cast<std::size_t>(last)]) c += 0.05;
+                if (offGraph) c += 0.05;
                 if (c >= bestCost) continue;
+                const RootXf mid = at * lib.rootAt(a, 0.5 * A.duration);
                 if (!blocked(self, partner, at.pos, mid.pos, t + 0.5 * A.duration + timeShift) &&
                     !blocked(self, partner, at.pos, end.pos, t + A.duration + timeShift)) {
                     best = a, bestCost = c;
