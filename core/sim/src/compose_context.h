@@ -148,12 +148,41 @@ struct Composer {
 
     // Floor rectangle around character c's whole body at time t.
     SweptBox bodyBox(int c, double t) const {
-        const auto& inst = playingAt(c, t);
-        const Obb* boxes = lib.boxesAt(inst.action, lib.sampleAt(inst.action, inst.clipTimeAt(t)));
+        const int index = scene.instanceAt(c, t);
+        const auto& inst = scene.characters[static_cast<std::size_t>(c)].track[static_cast<std::size_t>(index)];
+        const int sample = lib.sampleAt(inst.action, inst.clipTimeAt(t));
+        InstanceBoxes* memo = nullptr;
+        if (memoBodyBoxes) {
+            // Per character and instance, per sample; the instance's action and
+            // placement are checked (a character may be removed and another
+            // take its index).
+            if (static_cast<std::size_t>(c) >= bodyBoxMemo.size()) bodyBoxMemo.resize(static_cast<std::size_t>(c) + 1);
+            auto& perInstance = bodyBoxMemo[static_cast<std::size_t>(c)];
+            if (static_cast<std::size_t>(index) >= perInstance.size()) perInstance.resize(static_cast<std::size_t>(index) + 1);
+            memo = &perInstance[static_cast<std::size_t>(index)];
+            if (memo->action != inst.action || memo->root.pos != inst.root.pos || memo->root.heading != inst.root.heading) {
+                memo->action = inst.action, memo->root = inst.root;
+                memo->box.assign(static_cast<std::size_t>(act(inst.action).sampleCount), SweptBox{});
+                memo->have.assign(static_cast<std::size_t>(act(inst.action).sampleCount), 0);
+            }
+            if (memo->have[static_cast<std::size_t>(sample)]) return memo->box[static_cast<std::size_t>(sample)];
+        }
+        const Obb* boxes = lib.boxesAt(inst.action, sample);
         SweptBox out = SweptBox::empty();
         for (int seg = 0; seg < kSegmentCount; ++seg) out.add(floorBox(boxes[seg].placed(inst.root)));
+        if (memo) memo->box[static_cast<std::size_t>(sample)] = out, memo->have[static_cast<std::size_t>(sample)] = 1;
         return out;
     }
+    // bodyBox remembers what it placed (a composer used by one thread at a
+    // time: the memo is not locked).
+    bool memoBodyBoxes = false;
+    struct InstanceBoxes {
+        int action = -1;
+        RootXf root;
+        std::vector<SweptBox> box;  // per sample of the action
+        std::vector<char> have;
+    };
+    mutable std::vector<std::vector<InstanceBoxes>> bodyBoxMemo;  // per character, per instance
     static float rectDistance(const SweptBox& r, const glm::vec2& p) {
         const glm::vec2 d = glm::max(glm::max(r.lo - p, p - r.hi), glm::vec2(0.0f));
         return glm::length(d);
@@ -166,8 +195,16 @@ struct Composer {
     // clip time between lies on the segment between them), plus 1.5 times the
     // sum of its half extents (its floor box's corner is nearer than that).
     static float measureBodyReach(const ActionLibrary& lib) {
+        const std::vector<float> each = measureActionReach(lib);
         float reach = 0;
+        for (float r : each) reach = std::max(reach, r);
+        return reach;
+    }
+    // The same bound per action (bodyReach is their largest).
+    static std::vector<float> measureActionReach(const ActionLibrary& lib) {
+        std::vector<float> out(static_cast<std::size_t>(lib.size()), 0.0f);
         for (int a = 0; a < lib.size(); ++a) {
+            float& reach = out[static_cast<std::size_t>(a)];
             const int n = lib.actions()[static_cast<std::size_t>(a)].sampleCount;
             for (int s = 0; s < n; ++s) {
                 const glm::vec2 r0 = lib.rootAt(a, s / kSampleRate).pos, r1 = lib.rootAt(a, std::min(s + 1, n - 1) / kSampleRate).pos;
@@ -179,15 +216,20 @@ struct Composer {
                 }
             }
         }
-        return reach;
+        return out;
     }
+    // Per action, when the caller measured them (measureActionReach): the
+    // bodyReach of that action alone, so that the test below skips more.
+    const std::vector<float>* actionReach = nullptr;
     // Character c's body at time t is certainly farther than `dist` from p
-    // (its root beyond bodyReach + dist, with a margin): its boxes need not be placed.
+    // (its root beyond the reach of what it plays + dist, with a margin): its
+    // boxes need not be placed.
     bool surelyFarther(int c, const glm::vec2& p, double t, float dist) const {
-        if (bodyReach < 0) return false;
+        if (bodyReach < 0 && !actionReach) return false;
         const auto& inst = playingAt(c, t);
+        const float reach = actionReach ? (*actionReach)[static_cast<std::size_t>(inst.action)] : bodyReach;
         const glm::vec2 r = inst.placementAt(lib, inst.clipTimeAt(t)).pos;
-        return glm::length(r - p) > bodyReach + dist + 0.05f;
+        return glm::length(r - p) > reach + dist + 0.05f;
     }
 
     // Someone (other than self and partner) is closer than nearDistance to p at time t.
@@ -224,19 +266,68 @@ struct Composer {
     const detail::CoreDiscs* coreDiscs = nullptr;
     static constexpr float kPenetrationShrink = 0.82f;
 
+    // Per action: a disc round its pelvis path in the clip's frame (rootAt
+    // interpolates between samples and clamps to the clip: the samples bound
+    // it; a millimetre more covers the rounding).
+    static std::vector<detail::CoreDiscs::Disc> pelvisPathDiscs(const ActionLibrary& lib) {
+        std::vector<detail::CoreDiscs::Disc> out(static_cast<std::size_t>(lib.size()));
+        for (int a = 0; a < lib.size(); ++a) {
+            const int n = lib.actions()[static_cast<std::size_t>(a)].sampleCount;
+            glm::vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+            for (int k = 0; k < n; ++k) {
+                const glm::vec2 p = lib.rootAt(a, k / kSampleRate).pos;
+                lo = glm::min(lo, p), hi = glm::max(hi, p);
+            }
+            auto& d = out[static_cast<std::size_t>(a)];
+            d.centre = n > 0 ? 0.5f * (lo + hi) : glm::vec2(0.0f);
+            for (int k = 0; k < n; ++k) d.radius = std::max(d.radius, glm::length(lib.rootAt(a, k / kSampleRate).pos - d.centre));
+            d.radius += 1e-3f;
+        }
+        return out;
+    }
+    // The discs above, when the caller made them for the library:
+    // penetrates passes over everyone whose pelvis path stays beyond the pelvis
+    // reach of the walker's for a whole action (no sample of theirs would pass
+    // the pelvis test).
+    const std::vector<detail::CoreDiscs::Disc>* pathDiscs = nullptr;
+    detail::CoreDiscs::Disc placedPath(const ActionInstance& inst) const {
+        const auto& d = (*pathDiscs)[static_cast<std::size_t>(inst.action)];
+        return {inst.root.pos + FloorRotation(inst.root.heading)(d.centre), d.radius};
+    }
+
     // Would a planned list of actions for character `self` put its body inside
-    // anyone else's (the metrics' test, at every 30 Hz sample)?
-    bool penetrates(const std::vector<ActionInstance>& walk, int self) const {
+    // anyone else's (the metrics' test, at every 30 Hz sample of each action
+    // from its start; with sceneGrid, at the scene's 30 Hz samples within it,
+    // s / 30 s, the times the metrics look at)?
+    bool penetrates(const std::vector<ActionInstance>& walk, int self, bool sceneGrid = false) const {
         constexpr float kShrink = kPenetrationShrink;
         constexpr float kPelvisReach = 1.2f;  // coreBodiesOverlap's default
+        std::vector<char> far;  // per character: apart from the walker for all of w (pathDiscs)
         for (const auto& w : walk) {
+            if (pathDiscs && !standWhenDone) {
+                const detail::CoreDiscs::Disc me = placedPath(w);
+                far.assign(scene.characters.size(), 0);
+                for (std::size_t c = 0; c < scene.characters.size(); ++c) {
+                    const auto& tr = scene.characters[c].track;
+                    if (tr.empty()) continue;
+                    // The instances played at the samples of w (instanceIndexAt is monotone in t).
+                    const int i0 = instanceIndexAt(tr, w.start), i1 = instanceIndexAt(tr, w.end + 1e-6);
+                    bool apart = true;
+                    for (int i = i0; i <= i1 && apart; ++i) {
+                        const detail::CoreDiscs::Disc d = placedPath(tr[static_cast<std::size_t>(i)]);
+                        const float scale = std::fabs(me.centre.x) + std::fabs(me.centre.y) + std::fabs(d.centre.x) + std::fabs(d.centre.y);
+                        apart = glm::length(me.centre - d.centre) > kPelvisReach + me.radius + d.radius + 0.02f + 1e-5f * scale;
+                    }
+                    far[c] = apart ? 1 : 0;
+                }
+            }
             const FloorRotation meRotation(w.root.heading);
             auto touches = [&](double t) {
                 // The walker's body placed once per sample (its boxes only if someone is near).
                 const detail::CoreBody me(lib, detail::BodyPose{w.action, w.offset + (t - w.start), w.root}, meRotation, kShrink);
                 const detail::CoreDiscs::Disc meDisc = coreDiscs ? coreDiscs->placed(me) : detail::CoreDiscs::Disc{};
                 for (int c = 0; c < static_cast<int>(scene.characters.size()); ++c) {
-                    if (c == self) continue;
+                    if (c == self || (!far.empty() && far[static_cast<std::size_t>(c)])) continue;
                     detail::BodyPose other;
                     if (standWhenDone && !track0(c).empty() && t > track0(c).back().end) {
                         // Waiting where its track stopped, as waitUntil will
@@ -264,6 +355,12 @@ struct Composer {
                 }
                 return false;
             };
+            if (sceneGrid) {
+                for (auto k = static_cast<long long>(std::ceil(w.start * kSampleRate - 1e-9)); k / kSampleRate <= w.end + 1e-9; ++k) {
+                    if (touches(static_cast<double>(k) / kSampleRate)) return true;
+                }
+                continue;
+            }
             for (double t = w.start; t <= w.end + 1e-9; t += 1.0 / kSampleRate) {
                 if (touches(t)) return true;
             }
@@ -291,10 +388,19 @@ struct Composer {
             for (int a : locomotion) {
                 const auto& A = act(a);
                 const RootXf end = at * A.end;
-                const RootXf mid = at * lib.rootAt(a, 0.5 * A.duration);
+                const bool offGraph = last >= 0 && lib.startNode()[static_cast<std::size_t>(a)] != lib.endNode()[static_cast<std::size_t>(last)];
+                // The cost is at least the distance (the facing term is never
+                // negative, and adding to it rounds no lower): a step whose
+                // distance alone loses is passed over without its angle.
+                {
+                    double floorCost = static_cast<double>(glm::length(target.pos - end.pos));
+                    if (offGraph) floorCost += 0.05;
+                    if (floorCost >= bestCost) continue;
+                }
                 double c = cost(end);
-                if (last >= 0 && lib.startNode()[static_cast<std::size_t>(a)] != lib.endNode()[static_cast<std::size_t>(last)]) c += 0.05;
+                if (offGraph) c += 0.05;
                 if (c >= bestCost) continue;
+                const RootXf mid = at * lib.rootAt(a, 0.5 * A.duration);
                 if (!blocked(self, partner, at.pos, mid.pos, t + 0.5 * A.duration + timeShift) &&
                     !blocked(self, partner, at.pos, end.pos, t + A.duration + timeShift)) {
                     best = a, bestCost = c;

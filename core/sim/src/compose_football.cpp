@@ -274,6 +274,17 @@ struct FootballComposer : KindComposer<FootballSpec, FootballStats> {
                 if (penetrates(walk, tackler)) continue;
                 for (auto& w : walk) track(tackler).push_back(w);
                 placeTrack(p, 1, tackler, tp, xf);
+                // A tackle that misses must miss: the carrier's part of the
+                // patch clear of every body, its tackler's dive included, at
+                // the scene's 30 Hz samples, where the metrics look (a patch's
+                // actions may start between them, and a few avoid patches of
+                // a library graze the carrier between their own samples).
+                // Tested before the carrier's part is placed: penetrates skips
+                // the carrier itself.
+                if (p.hits.empty() && penetrates(Composer::placed(p, 0, tp, xf), carrier, true)) {
+                    track(tackler).clear();
+                    continue;
+                }
                 placeTrack(p, 0, carrier, tp, xf);
                 placeHits(p, {carrier, tackler}, tp);
                 stats.locomotionSteps += static_cast<int>(walk.size()) + op.lead;

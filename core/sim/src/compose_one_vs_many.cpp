@@ -128,36 +128,47 @@ struct OneVsManyComposer : KindComposer<OneVsManySpec> {
     // patch's swept squares from PatchSearchData and a first test against the
     // box round every obstacle (a patch box clear of it is clear of each):
     // the same answer.
+    // The runs and squares are tested only against the obstacles that meet
+    // the square round the whole patch: every run and square lies inside it
+    // (its disc's margins cover the rounding, as for the test against `all`),
+    // so no other obstacle can meet one of them.
     bool collidesFast(std::size_t i, const RootXf& xf, const std::vector<SweptBox>& obstacles, const SweptBox& all) const {
         if (obstacles.empty()) return false;
         const FloorRotation rot(xf.heading);
         const auto& e = search->entries[i];
-        // The whole patch first, then its runs, then their squares.
-        auto clear = [&](const glm::vec2& centre, float radius) {
+        auto around = [](const glm::vec2& centre, float radius) {
             const float reach = radius + 1e-5f * (std::fabs(centre.x) + std::fabs(centre.y));  // and the rounding far out
-            const SweptBox around{centre - glm::vec2(reach), centre + glm::vec2(reach)};
-            if (!around.overlaps(all, kClearance)) return true;
-            for (const auto& o : obstacles) {
-                if (around.overlaps(o, kClearance)) return false;
-            }
-            return true;
+            return SweptBox{centre - glm::vec2(reach), centre + glm::vec2(reach)};
         };
-        if (clear(xf.pos + rot(e.centre), e.radius)) return false;
+        // The whole patch first, then its runs, then their squares.
+        const SweptBox whole = around(xf.pos + rot(e.centre), e.radius);
+        if (!whole.overlaps(all, kClearance)) return false;
+        std::vector<SweptBox>& near = nearScratch;
+        near.clear();
+        SweptBox nearAll = SweptBox::empty();
+        for (const auto& o : obstacles) {
+            if (whole.overlaps(o, kClearance)) near.push_back(o), nearAll.add(o);
+        }
+        if (near.empty()) return false;
+        auto hits = [&](const SweptBox& w) {
+            if (!w.overlaps(nearAll, kClearance)) return false;
+            for (const auto& o : near) {
+                if (w.overlaps(o, kClearance)) return true;
+            }
+            return false;
+        };
         for (std::uint32_t r = e.runBegin; r < e.runEnd; ++r) {
             const auto& run = search->runs[r];
-            if (clear(xf.pos + rot(run.centre), run.radius)) continue;
+            if (!hits(around(xf.pos + rot(run.centre), run.radius))) continue;
             for (std::uint32_t k = run.begin; k < run.end; ++k) {
                 const auto& sq = search->squares[k];
                 const glm::vec2 c0 = xf.pos + rot(sq.centre);
-                const SweptBox w{c0 - glm::vec2(sq.half), c0 + glm::vec2(sq.half)};
-                if (!w.overlaps(all, kClearance)) continue;
-                for (const auto& o : obstacles) {
-                    if (w.overlaps(o, kClearance)) return true;
-                }
+                if (hits(SweptBox{c0 - glm::vec2(sq.half), c0 + glm::vec2(sq.half)})) return true;
             }
         }
         return false;
     }
+    mutable std::vector<SweptBox> nearScratch;  // collidesFast's (one thread per composer)
 
     // userPreference(patch i, role 0, t) is commandAt(t)[i] (0 where it
     // gives null): the user command due at t (the last non-move one)
@@ -299,19 +310,26 @@ struct OneVsManyComposer : KindComposer<OneVsManySpec> {
                     from = at * act(mv).end;
                     tm = t0 + act(mv).duration;
                     if (blocked(mainC, -1, at.pos, from.pos, tm) ||
-                        blocked(mainC, -1, at.pos, (at * lib.rootAt(mv, 0.5 * act(mv).duration)).pos, t0) ||
-                        penetrates({ActionInstance{mv, t0, 0.0, tm, at, false, false}}, mainC)) {
+                        blocked(mainC, -1, at.pos, (at * lib.rootAt(mv, 0.5 * act(mv).duration)).pos, t0)) {
                         continue;
                     }
                 }
+                // The step's body test (the dearest) only once some candidate
+                // fits after it: where none does, its answer changes nothing.
+                bool stepTested = mv < 0;
                 const int lastA = mv >= 0 ? mv : lastMain;
-                const std::vector<glm::vec2> present = positionsAt(tm);
+                std::vector<glm::vec2> present;
                 const signed char* command = commandAt(tm);
                 const int lastEnd = lib.endNode()[static_cast<std::size_t>(lastA)];
                 for (std::size_t i : cands) {
                     const auto& e = search->entries[i];
                     const RootXf xf = from * e.mainStartInverse;
                     if (collidesFast(i, xf, obstacleBoxes, allObstacles)) continue;
+                    if (!stepTested) {
+                        if (penetrates({ActionInstance{mv, t0, 0.0, tm, at, false, false}}, mainC)) break;
+                        stepTested = true;
+                    }
+                    if (present.empty()) present = positionsAt(tm);
                     const double s = score(i, densityAmong(present, xf.apply(e.newcomerStart)), command ? command[i] : 0) +
                                      (e.mainStartNode == lastEnd ? 1.0 : 0.0) - (mv >= 0 ? 5.0 : 0.0);
                     options.push_back({s, i, mv, options.size()});
@@ -414,6 +432,8 @@ struct OneVsManyComposer : KindComposer<OneVsManySpec> {
     Status runMany(const ProgressFn& progress) {
         const int n = own.mains;
         const float reach = measureBodyReach(lib);
+        const std::vector<float> actionReaches = measureActionReach(lib);
+        const std::vector<CoreDiscs::Disc> paths = pelvisPathDiscs(lib);
         const PatchSearchData shared(lib, patches, spec.commands);
         const CoreDiscs discs(lib, kPenetrationShrink);
         std::vector<Fight> fights(static_cast<std::size_t>(n));
@@ -437,6 +457,9 @@ struct OneVsManyComposer : KindComposer<OneVsManySpec> {
                 OneVsManyComposer c(lib, patches, s, f.stats);
                 c.sampleCandidates = true;
                 c.bodyReach = reach;
+                c.actionReach = &actionReaches;
+                c.pathDiscs = &paths;
+                c.memoBodyBoxes = true;
                 c.search = &shared;
                 c.coreDiscs = &discs;
                 st = c.ready();
