@@ -33,7 +33,7 @@ inline constexpr int kSceneVersion = 3;
 inline constexpr int kSceneVersionLoops = 2;
 inline constexpr int kSceneVersionNoLoops = 1;
 // The most keys a scene file's held bodies may make when read (all of them
-// together: the 1,430-run football crowd makes about 470,000).
+// together: the 1,430-run football crowd makes 702,160).
 inline constexpr std::int64_t kMaxHeldKeys = 4'000'000;
 // Limits of scene specs and scene files (docs/FILES.md): a scene lasts at
 // most an hour; positions on the floor stay within 10 km of the origin.
