@@ -719,12 +719,10 @@ TEST(PostureSolver, FootballCarrierHoldsTheBall) {
         const auto& h = m->balls[0];
         EXPECT_EQ(h.holder, "carrier");
         EXPECT_GT(h.frames, 600);  // the whole run at 60 fps
-        EXPECT_LT(h.meanCm, 5.0);
-        EXPECT_LT(h.maxCm, 10.0);
         EXPECT_LT(h.keyedMeanCm, 5.0);
         EXPECT_LT(h.keyedMaxCm, 10.0);
         testing::Test::RecordProperty(m == &both.kinematic ? "kinematic_ball_max_cm" : "physics_ball_keyed_max_cm",
-                                      std::to_string(m == &both.kinematic ? h.maxCm : h.keyedMaxCm));
+                                      std::to_string(h.keyedMaxCm));
     }
     // The ball shown between frames: at the hand of the pose shown, in either mode.
     for (const auto mode : {posture::Mode::Kinematic, posture::Mode::Physics}) {
@@ -735,15 +733,97 @@ TEST(PostureSolver, FootballCarrierHoldsTheBall) {
             EXPECT_LT(glm::length(grip - hand), 0.02f) << posture::modeName(mode) << " at " << t << " s";
         }
     }
-    // The ball's keys survive the scene file.
+    // The ball's keys survive the scene file: it stores the hold, and the
+    // reader places the ball from the carrier as the composer did.
     const std::string text = sim::sceneToJson(scene, lib);
+    EXPECT_TRUE(b.held());
+    EXPECT_NE(text.find("\"version\": 3"), std::string::npos);
+    EXPECT_NE(text.find("\"held\": ["), std::string::npos);
     auto back = sim::sceneFromJson(text, "f.frayscene", lib);
     ASSERT_TRUE(back) << back.error().message;
     const auto& kb = back->characters[static_cast<std::size_t>(ball)];
+    EXPECT_GT(kb.keys.size(), 300u);  // 1/30 s over the run
     EXPECT_EQ(kb.keys, b.keys);
     EXPECT_EQ(kb.holder, b.holder);
     EXPECT_EQ(kb.hand, b.hand);
+    EXPECT_EQ(kb.heldFrom, b.heldFrom);
+    EXPECT_EQ(kb.heldTo, b.heldTo);
     EXPECT_EQ(sim::sceneToJson(*back, lib), text);
+    // A file of before version 3 stores every key: it loads as stored, and a
+    // ball held with keys before and after its hold keeps those.
+    {
+        sim::Scene old = scene;
+        auto& ob = old.characters[static_cast<std::size_t>(ball)];
+        ob.heldTo = -1;
+        const std::string oldText = sim::sceneToJson(old, lib);
+        EXPECT_NE(oldText.find("\"version\": 1"), std::string::npos);
+        EXPECT_GT(oldText.size(), text.size() + 100 * ob.keys.size());
+        auto loaded = sim::sceneFromJson(oldText, "old.frayscene", lib);
+        ASSERT_TRUE(loaded) << loaded.error().message;
+        EXPECT_EQ(loaded->characters[static_cast<std::size_t>(ball)].keys, b.keys);
+        EXPECT_FALSE(loaded->characters[static_cast<std::size_t>(ball)].held());
+        // Held over part of the run: the keys outside the hold stay, those
+        // in it are the carrier's again (their times from the hold's start:
+        // the same up to rounding).
+        sim::Scene partly = scene;
+        auto& pb = partly.characters[static_cast<std::size_t>(ball)];
+        pb.heldFrom = pb.keys[10].time, pb.heldTo = pb.keys[pb.keys.size() - 11].time;
+        sim::placeHeldBalls(partly, lib);
+        ASSERT_EQ(pb.keys.size(), b.keys.size());
+        for (std::size_t k = 0; k < b.keys.size(); ++k) {
+            const auto &x = pb.keys[k], &y = b.keys[k];
+            if (k < 10 || k > b.keys.size() - 11) {
+                EXPECT_EQ(x, y) << k;
+            }
+            EXPECT_NEAR(x.time, y.time, 1e-12) << k;
+            EXPECT_LT(glm::length(x.at.pos - y.at.pos) + std::abs(x.height - y.height) + std::abs(x.pitch - y.pitch), 1e-5f) << k;
+            EXPECT_NEAR(x.at.heading, y.at.heading, 1e-5) << k;
+        }
+        const std::string partText = sim::sceneToJson(partly, lib);
+        auto again = sim::sceneFromJson(partText, "p.frayscene", lib);
+        ASSERT_TRUE(again) << again.error().message;
+        EXPECT_EQ(again->characters[static_cast<std::size_t>(ball)].keys, pb.keys);
+        EXPECT_EQ(sim::sceneToJson(*again, lib), partText);
+    }
+    // Bad holds are named: a hold in an older version, a key inside the
+    // hold, a holder that cannot hold, a hold out of range.
+    auto refused = [&](const std::string& from, const std::string& to, const std::string& message) {
+        std::string t = text;
+        const auto at = t.find(from);
+        ASSERT_NE(at, std::string::npos) << from;
+        t.replace(at, from.size(), to);
+        auto r = sim::sceneFromJson(t, "f.frayscene", lib);
+        ASSERT_FALSE(r) << to;
+        EXPECT_NE(r.error().message.find("f.frayscene: /characters/" + std::to_string(ball) + message), std::string::npos) << r.error().message;
+    };
+    refused("\"version\": 3", "\"version\": 2", "/held: held bodies need scene version 3");
+    const std::size_t heldAt = text.find("\"held\": [");
+    const std::string held = text.substr(heldAt, text.find(']', heldAt) + 1 - heldAt);
+    refused(held, "\"keys\": [[1.0, 0, 0, 0]], " + held, "/keys/0/0: a key inside the hold");
+    refused("\"holder\": 0", "\"holder\": " + std::to_string(ball), "/holder: character " + std::to_string(ball) + " cannot hold it");
+    refused(held, "\"held\": [-1, 2]", "/held/0: must be in [0, 3600] s");
+    refused(held, "\"held\": [1e9, 1e9]", "/held/0: must be in [0, 3600] s");
+    refused(held, "\"held\": [3, 2]", "/held/1: must be in [from, 3600] s");
+    refused(held, "\"held\": [3000, 4000]", "/held/1: must be in [from, 3600] s");
+    refused(held, "\"held\": [0, 1, 2]", "/held: must be [from, to]");
+    // Holds that would make more than sim::kMaxHeldKeys keys (an hour's hold
+    // is 108,001 keys) are refused before any is made.
+    {
+        sim::Scene many = scene;
+        many.duration = 3600;
+        auto hour = many.characters[static_cast<std::size_t>(ball)];
+        hour.heldTo = 3600;
+        hour.keys.clear();
+        many.characters.resize(static_cast<std::size_t>(ball));
+        for (int k = 0; k < 40; ++k) many.characters.push_back(hour);
+        const std::int64_t fit = sim::kMaxHeldKeys / sim::heldKeyCount(0, 3600);
+        auto r = sim::sceneFromJson(sim::sceneToJson(many, lib), "m.frayscene", lib);
+        ASSERT_FALSE(r);
+        EXPECT_NE(r.error().message.find("m.frayscene: /characters/" + std::to_string(ball + fit) +
+                                         "/held: the held bodies would make more than 4000000 keys"),
+                  std::string::npos)
+            << r.error().message;
+    }
     // A bad holder or hand is named.
     std::string bad = text;
     bad.replace(bad.find("\"holder\": 0"), 11, "\"holder\": 99");
@@ -759,16 +839,42 @@ TEST(PostureSolver, FootballCarrierHoldsTheBall) {
     EXPECT_NE(broken.error().message.find("/hand: must be"), std::string::npos) << broken.error().message;
 }
 
+// A carrier whose hand is pinned to its ball (--hand-pins) is never calm
+// (calm pairs step a character alone by 2h, its pins moved once): alone
+// with its ball it takes no calm step with the pin, and does without it.
+TEST(PostureSolver, BallPinnedHandIsNeverCalm) {
+    const auto& full = football();
+    sim::Scene scene = full;
+    scene.characters.clear(), scene.hits.clear(), scene.catches.clear();
+    scene.characters.push_back(full.characters[0]);
+    for (const auto& c : full.characters) {
+        if (c.body == "ball" && c.holder == 0) scene.characters.push_back(c);
+    }
+    ASSERT_EQ(scene.characters.size(), 2u);
+    scene.characters[1].holder = 0;
+    scene.duration = 3.0;
+    const auto& lib = test::footballWorld().library;
+    posture::Options soft, pinned;
+    pinned.handPins = true;
+    auto free = posture::simulate(scene, lib, soft);
+    auto held = posture::simulate(scene, lib, pinned);
+    ASSERT_TRUE(free && held);
+    EXPECT_GT(free->report.calmSteps, 100);
+    EXPECT_EQ(held->report.calmSteps, 0);
+}
+
 // With --hand-pins the carrying hand is also pinned to the ball: it holds it
-// at least as closely as without, and the thresholds still hold.
+// within half a centimetre (much closer than the soft constraint alone), and the thresholds still hold.
 TEST(PostureSolver, FootballBallWithHandPins) {
     posture::Options pinned;
     pinned.handPins = true;
     const auto both = measure(football(), pinned, test::footballWorld().library);
     expectThresholds(both.physics, "football, hand pins");
     ASSERT_EQ(both.physics.balls.size(), 1u);
-    EXPECT_LT(both.physics.balls[0].keyedMeanCm, 2.0);
-    EXPECT_LT(both.physics.balls[0].keyedMaxCm, 10.0);
+    // Held within half a centimetre (0.07 / 0.12 cm measured; 1.35 / 2.65 cm
+    // while a pinned carrier was stepped as calm).
+    EXPECT_LT(both.physics.balls[0].keyedMeanCm, 0.5);
+    EXPECT_LT(both.physics.balls[0].keyedMaxCm, 1.0);
 }
 
 }  // namespace

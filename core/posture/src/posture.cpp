@@ -1117,10 +1117,7 @@ struct Simulator::Impl {
     }
 
     // Where a ball carrier's hand holds its ball at t (the ball as keyed).
-    glm::dvec3 ballGripAt(int ball, double t) const {
-        const auto& b = scene.characters[static_cast<std::size_t>(ball)];
-        return glm::dvec3(sim::ballGrip(sim::creatureAt(b, t), sim::creatureHeightAt(b, t), sim::creaturePitchAt(b, t)));
-    }
+    glm::dvec3 ballGripAt(int ball, double t) const { return glm::dvec3(sim::ballGripAt(scene.characters[static_cast<std::size_t>(ball)], t)); }
 
     // A football carrier's arm holds the ball (issue 25): a soft constraint,
     // the carrying hand's target moved onto the ball's grip (the ball is keyed
@@ -1477,7 +1474,7 @@ struct Simulator::Impl {
     void markCalm(Island& is, std::int64_t stepIndex) {
         for (int m : is.members) {
             auto& c = chars[static_cast<std::size_t>(m)];
-            c.calm = c.created && c.controlled && !c.linked && !c.handPin[0] && !c.handPin[1];
+            c.calm = c.created && c.controlled && !c.linked && !c.handPin[0] && !c.handPin[1] && !c.ballPin;
         }
         for (int b : is.blows) {
             const Blow& blow = blows[static_cast<std::size_t>(b)];
@@ -1714,14 +1711,12 @@ Status checkOptions(const sim::Scene& scene, const Options& o) {
 }
 
 // The balls held in the scene, frame by frame at the holder's physics hand
-// and forearm, so a ball never floats away from the arm that holds it; and
-// where that hand holds it (world.grips). A ball whose holder is not simulated
-// stays as keyed.
+// and forearm, so a ball never floats away from the arm that holds it. A
+// ball whose holder is not simulated stays as keyed.
 void heldBalls(const sim::Scene& scene, const sim::ActionLibrary& lib, Frames& out) {
     const auto n = scene.characters.size();
     out.ballPositions.assign(n, {});
     out.ballRotations.assign(n, {});
-    out.world.grips.assign(n, {});
     for (std::size_t b = 0; b < n; ++b) {
         const auto& ball = scene.characters[b];
         const int h = ball.holder;
@@ -1735,14 +1730,12 @@ void heldBalls(const sim::Scene& scene, const sim::ActionLibrary& lib, Frames& o
         const auto frames = static_cast<std::size_t>(out.world.frames);
         auto& pos = out.ballPositions[b];
         auto& rot = out.ballRotations[b];
-        auto& grip = out.world.grips[b];
-        pos.reserve(frames), rot.reserve(frames), grip.reserve(frames);
+        pos.reserve(frames), rot.reserve(frames);
         for (int f = 0; f < out.world.frames; ++f) {
             const auto at = out.world.at(h, f);
             const sim::RootKey k = sim::ballKey(f / out.world.fps, at[static_cast<std::size_t>(hand)], at[static_cast<std::size_t>(elbow)]);
             pos.emplace_back(k.at.pos.x, k.height, k.at.pos.y);
             rot.push_back(sim::creatureRotation(k.at.heading, k.pitch));
-            grip.push_back(sim::ballGrip(k.at, k.height, k.pitch));
         }
     }
 }

@@ -158,10 +158,12 @@ struct FootballComposer : KindComposer<FootballSpec, FootballStats> {
     }
 
     // The ball, a one-joint body ("ball") tucked at the carrier's carrying
-    // hand along its forearm (SPEC 4.5), keyed from the carrier's kinematic
-    // pose at the scene's frame rate (kSampleRate) from its first action to
-    // its last: through the cuts, and down with it when it is tackled (it
-    // keeps the ball; nobody else takes it in this scene).
+    // hand along its forearm (SPEC 4.5), held from its first action to its
+    // last: through the cuts, and down with it when it is tackled (it keeps
+    // the ball; nobody else takes it in this scene). Its keys follow the
+    // carrier's kinematic pose at the scene's frame rate (heldBallKeys, as
+    // the scene reader makes them again); a run of many places its balls
+    // once they are where they run (runMany).
     void addBall(int carrier, int hand) {
         const auto& joints = lib.motion(act(track(carrier).front().action).motion).joints;
         const int handJoint = hand == 0 ? joints.leftHand : joints.rightHand;
@@ -174,17 +176,14 @@ struct FootballComposer : KindComposer<FootballSpec, FootballStats> {
         ball.preset = "prop";
         ball.holder = carrier;
         ball.hand = hand;
-        const ScenePoser poser(scene, lib);
-        std::vector<glm::vec3> world;
-        const double from = track(carrier).front().start, to = freeAt(carrier);
-        const int n = static_cast<int>(std::ceil((to - from) * kSampleRate - 1e-9));
-        for (int k = 0; k <= n; ++k) {
-            const double t = std::min(to, from + k / kSampleRate);
-            poser.worldPositions(carrier, t, world);
-            ball.keys.push_back(ballKey(t, world[static_cast<std::size_t>(handJoint)], world[static_cast<std::size_t>(elbowJoint)]));
-        }
+        ball.heldFrom = track(carrier).front().start;
+        ball.heldTo = freeAt(carrier);
         scene.characters.push_back(std::move(ball));
+        const int b = static_cast<int>(scene.characters.size()) - 1;
+        if (placeBall) scene.characters.back().keys = heldBallKeys(scene, lib, b);
     }
+
+    bool placeBall = true;  // false for a run of many: its ball is placed after the merge
 
     Status runOne(const ProgressFn& progress) {
         bool any = false;
@@ -384,6 +383,7 @@ struct FootballComposer : KindComposer<FootballSpec, FootballStats> {
             static_cast<ComposeCommonSpec&>(s) = spec;
             s.seed = spec.seed + static_cast<std::uint64_t>(k);
             FootballComposer c(lib, patches, s, lane.stats);
+            c.placeBall = false;
             Status st = c.ready();
             if (st) st = c.run({});
             if (!st) {
@@ -421,6 +421,8 @@ struct FootballComposer : KindComposer<FootballSpec, FootballStats> {
             }
             rowZ += depth + kMargin;
         }
+        // The balls from their carriers where they run (as the scene reader places them).
+        placeHeldBalls(scene, lib);
         ownStats.goalReached = allReached ? lastGoal : -1;
         return {};
     }

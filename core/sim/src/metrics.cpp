@@ -273,19 +273,9 @@ JointTracks kinematicTracks(const Scene& scene, const ActionLibrary& lib, double
     const auto n = scene.characters.size();
     tracks.joints.resize(n);
     tracks.jointCount.assign(n, 0);
-    tracks.grips.resize(n);
     const ScenePoser poser(scene, lib);
     std::vector<glm::vec3> world;
     for (std::size_t c = 0; c < n; ++c) {
-        const auto& ch = scene.characters[c];
-        if (ch.body == "ball" && ch.holder >= 0 && !ch.keys.empty()) {
-            auto& out = tracks.grips[c];
-            out.reserve(static_cast<std::size_t>(tracks.frames));
-            for (int f = 0; f < tracks.frames; ++f) {
-                const double t = f / fps;
-                out.push_back(ballGrip(creatureAt(ch, t), creatureHeightAt(ch, t), creaturePitchAt(ch, t)));
-            }
-        }
         if (scene.isCreature(static_cast<int>(c)) || scene.characters[c].track.empty()) continue;
         const int jc = poser.skeleton(static_cast<int>(c)).jointCount();
         tracks.jointCount[c] = jc;
@@ -423,37 +413,37 @@ bool reacting(const Scene& scene, const ActionLibrary& lib, int c, double t, dou
 
 namespace {
 
-// The balls held in the scene against their holders' hands: the grip in
-// `shown` (the ball displayed) and in `captured` (the ball as keyed).
-std::vector<BallHold> ballHolds(const Scene& scene, const ActionLibrary& lib, const JointTracks& shown, const JointTracks& captured) {
+// The balls held in the scene against their holders' hands in `shown`: the
+// hand to the ball as keyed (ballGripAt). The ball shown is not measured: in
+// physics it is drawn on the hand that holds it (posture's heldBalls), so it
+// would be 0 by construction, and in the kinematic posture it is the ball
+// as keyed.
+std::vector<BallHold> ballHolds(const Scene& scene, const ActionLibrary& lib, const JointTracks& shown) {
     std::vector<BallHold> out;
     const int n = static_cast<int>(scene.characters.size());
     for (int b = 0; b < n; ++b) {
         const auto& ball = scene.characters[static_cast<std::size_t>(b)];
         const int h = ball.holder;
-        if (ball.body != "ball" || h < 0 || h >= n || !shown.has(h) || scene.characters[static_cast<std::size_t>(h)].track.empty()) continue;
-        static const std::vector<glm::vec3> none;
-        const auto& grips = shown.grips.size() > static_cast<std::size_t>(b) ? shown.grips[static_cast<std::size_t>(b)] : none;
-        const auto& keyed = captured.grips.size() > static_cast<std::size_t>(b) ? captured.grips[static_cast<std::size_t>(b)] : none;
+        if (ball.body != "ball" || ball.keys.empty() || h < 0 || h >= n || !shown.has(h) ||
+            scene.characters[static_cast<std::size_t>(h)].track.empty()) {
+            continue;
+        }
         const auto& joints = lib.motion(lib.actions()[static_cast<std::size_t>(scene.characters[static_cast<std::size_t>(h)].track.front().action)].motion).joints;
         const int hand = ball.hand == 0 ? joints.leftHand : joints.rightHand;
         if (hand < 0) continue;
         BallHold bh;
         bh.ball = ball.name;
         bh.holder = scene.characters[static_cast<std::size_t>(h)].name;
-        double sum = 0, keyedSum = 0;
+        double sum = 0;
         for (int f = 0; f < shown.frames; ++f) {
-            if (!scene.present(h, f / shown.fps) || static_cast<std::size_t>(f) >= grips.size()) continue;
+            const double t = f / shown.fps;
+            if (!scene.present(h, t)) continue;
             const glm::vec3 at = shown.at(h, f)[static_cast<std::size_t>(hand)];
-            const double d = 100.0 * static_cast<double>(glm::length(at - grips[static_cast<std::size_t>(f)]));
-            sum += d, bh.maxCm = std::max(bh.maxCm, d);
-            if (static_cast<std::size_t>(f) < keyed.size()) {
-                const double k = 100.0 * static_cast<double>(glm::length(at - keyed[static_cast<std::size_t>(f)]));
-                keyedSum += k, bh.keyedMaxCm = std::max(bh.keyedMaxCm, k);
-            }
+            const double k = 100.0 * static_cast<double>(glm::length(at - ballGripAt(ball, t)));
+            sum += k, bh.keyedMaxCm = std::max(bh.keyedMaxCm, k);
             ++bh.frames;
         }
-        if (bh.frames > 0) bh.meanCm = sum / bh.frames, bh.keyedMeanCm = keyedSum / bh.frames;
+        if (bh.frames > 0) bh.keyedMeanCm = sum / bh.frames;
         out.push_back(std::move(bh));
     }
     return out;
@@ -649,7 +639,7 @@ PostureMetrics computePostureMetrics(const Scene& scene, const ActionLibrary& li
         }
         m.hits.push_back(hc);
     }
-    m.balls = ballHolds(scene, lib, shown, captured);
+    m.balls = ballHolds(scene, lib, shown);
     return m;
 }
 
@@ -689,8 +679,6 @@ std::string postureMetricsToJson(const PostureMetrics& m) {
             balls.push_back(json{{"ball", b.ball},
                                  {"holder", b.holder},
                                  {"frames", b.frames},
-                                 {"hand_to_ball_mean_cm", b.meanCm},
-                                 {"hand_to_ball_max_cm", b.maxCm},
                                  {"hand_to_keyed_ball_mean_cm", b.keyedMeanCm},
                                  {"hand_to_keyed_ball_max_cm", b.keyedMaxCm}});
         }
@@ -725,8 +713,8 @@ std::string postureMetricsToText(const PostureMetrics& m) {
     out += line;
     for (const auto& b : m.balls) {
         std::snprintf(line, sizeof line,
-                      "ball: %s in %s's hand: hand to ball mean %.2f cm, max %.2f cm (to the ball as keyed: mean %.2f cm, max %.2f cm)\n",
-                      b.ball.c_str(), b.holder.c_str(), b.meanCm, b.maxCm, b.keyedMeanCm, b.keyedMaxCm);
+                      "ball: %s in %s's hand: hand to the ball as keyed mean %.2f cm, max %.2f cm\n", b.ball.c_str(), b.holder.c_str(),
+                      b.keyedMeanCm, b.keyedMaxCm);
         out += line;
     }
     std::snprintf(line, sizeof line, "%-12s %8s %8s %8s %8s %8s\n", "character", "skate_cm", "skatemax", "pen_cm", "dev_cm",

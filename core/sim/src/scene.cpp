@@ -322,6 +322,61 @@ glm::vec3 ballGrip(const RootXf& at, float height, float pitch) {
     return glm::vec3(at.pos.x, height, at.pos.y) + creatureRotation(at.heading, pitch) * glm::vec3(0, 0, 0.5f * kBallLength + kBallTuck);
 }
 
+glm::vec3 ballGripAt(const SceneCharacter& ball, double t) {
+    return ballGrip(creatureAt(ball, t), creatureHeightAt(ball, t), creaturePitchAt(ball, t));
+}
+
+std::int64_t heldKeyCount(double from, double to) {
+    return static_cast<std::int64_t>(std::ceil((to - from) * kSampleRate - 1e-9)) + 1;
+}
+
+std::vector<RootKey> heldBallKeys(const Scene& scene, const ActionLibrary& lib, int ball) {
+    const auto& b = scene.characters[static_cast<std::size_t>(ball)];
+    const int carrier = b.holder;
+    if (!b.held() || carrier >= static_cast<int>(scene.characters.size()) || scene.isCreature(carrier)) return {};
+    const auto& track = scene.characters[static_cast<std::size_t>(carrier)].track;
+    if (track.empty()) return {};
+    const auto& joints = lib.motion(lib.actions()[static_cast<std::size_t>(track.front().action)].motion).joints;
+    const int handJoint = b.hand == 0 ? joints.leftHand : joints.rightHand;
+    const int elbowJoint = b.hand == 0 ? joints.leftElbow : joints.rightElbow;
+    if (handJoint < 0 || elbowJoint < 0) return {};  // a skeleton without arms holds no ball
+    const ScenePoser poser(scene, lib);
+    std::vector<glm::vec3> world;
+    std::vector<RootKey> keys;
+    const double from = b.heldFrom, to = b.heldTo;
+    const std::int64_t n = heldKeyCount(from, to);
+    keys.reserve(static_cast<std::size_t>(n));
+    for (std::int64_t k = 0; k < n; ++k) {
+        const double t = std::min(to, from + static_cast<double>(k) / kSampleRate);
+        poser.worldPositions(carrier, t, world);
+        keys.push_back(ballKey(t, world[static_cast<std::size_t>(handJoint)], world[static_cast<std::size_t>(elbowJoint)]));
+    }
+    return keys;
+}
+
+void placeHeldBalls(Scene& scene, const ActionLibrary& lib) {
+    std::vector<int> balls;
+    for (std::size_t i = 0; i < scene.characters.size(); ++i) {
+        if (scene.characters[i].held()) balls.push_back(static_cast<int>(i));
+    }
+    // Each ball's keys are its own; the poses read only the holders' tracks.
+    tbb::parallel_for(std::size_t{0}, balls.size(), [&](std::size_t i) {
+        const int b = balls[i];
+        std::vector<RootKey> held = heldBallKeys(scene, lib, b);
+        auto& ball = scene.characters[static_cast<std::size_t>(b)];
+        std::vector<RootKey> keys;
+        keys.reserve(ball.keys.size() + held.size());
+        for (const auto& k : ball.keys) {
+            if (k.time < ball.heldFrom) keys.push_back(k);
+        }
+        keys.insert(keys.end(), held.begin(), held.end());
+        for (const auto& k : ball.keys) {
+            if (k.time > ball.heldTo) keys.push_back(k);
+        }
+        ball.keys = std::move(keys);
+    });
+}
+
 int Scene::instanceAt(int c, double t) const { return instanceIndexAt(characters[static_cast<std::size_t>(c)].track, t); }
 
 int instanceIndexAt(std::span<const ActionInstance> track, double t) {
@@ -335,13 +390,15 @@ int instanceIndexAt(std::span<const ActionInstance> track, double t) {
 std::string sceneToJson(const Scene& scene, const ActionLibrary& lib) {
     json j;
     j["format"] = "fray-scene";
-    // Version 1 unless an instance loops (kSceneVersion): a scene without
-    // looped idles keeps the bytes it had before they existed.
+    // Version 1 unless an instance loops (version 2) or a body is held
+    // (version 3): a scene without either keeps the bytes it had before they
+    // existed.
     bool loops = false;
     for (const auto& c : scene.characters) {
         loops = loops || std::any_of(c.track.begin(), c.track.end(), [](const ActionInstance& i) { return i.looped(); });
     }
-    j["version"] = loops ? kSceneVersion : kSceneVersionNoLoops;
+    const bool held = std::any_of(scene.characters.begin(), scene.characters.end(), [](const SceneCharacter& c) { return c.held(); });
+    j["version"] = held ? kSceneVersion : loops ? kSceneVersionLoops : kSceneVersionNoLoops;
     j["project"] = scene.project;
     j["duration"] = scene.duration;
     j["seed"] = scene.seed;
@@ -370,18 +427,22 @@ std::string sceneToJson(const Scene& scene, const ActionLibrary& lib) {
         cj["name"] = c.name;
         if (!c.body.empty()) {
             cj["body"] = c.body;
+            // A held body's keys over its hold are its holder's: the reader
+            // makes them again (placeHeldBalls); only those outside are stored.
             json keys = json::array();
             for (const auto& k : c.keys) {
+                if (c.held() && k.time >= c.heldFrom && k.time <= c.heldTo) continue;
                 json key = json::array({k.time, k.at.pos.x, k.at.pos.y, k.at.heading});
                 if (k.height >= 0 || k.pitch != 0.0f) key.push_back(k.height);
                 if (k.pitch != 0.0f) key.push_back(k.pitch);
                 keys.push_back(std::move(key));
             }
-            cj["keys"] = std::move(keys);
+            if (!c.held() || !keys.empty()) cj["keys"] = std::move(keys);
             if (c.holder >= 0) {
                 cj["holder"] = c.holder;
                 cj["hand"] = c.hand == 0 ? "left" : "right";
             }
+            if (c.held()) cj["held"] = json::array({c.heldFrom, c.heldTo});
         }
         cj["side"] = c.side;
         cj["group"] = c.group;
@@ -544,6 +605,7 @@ Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, co
     const ActionIndex index(lib);
     Scene scene;
     scene.project = projectPath;
+    std::int64_t heldKeys = 0;
     FRAY_TRY(duration, rd.numberAt(j, "", "duration"));
     if (!(duration > 0) || duration > kMaxSceneSeconds) {
         return rd.error("/duration", "must be a positive number of seconds, at most 3600");
@@ -607,8 +669,40 @@ Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, co
                 return rd.error(p + "/body", "unknown body '" + body + "' (this build knows " + known + ")");
             }
             sc.body = body;
-            FRAY_TRY(kf, rd.field(c, p, "keys"));
-            if (!kf->is_array() || kf->empty() || kf->size() > 1'000'000) {
+            if (const auto hf = c.find("holder"); hf != c.end()) {
+                FRAY_TRY(holder, rd.integerAt(c, p, "holder"));
+                if (holder < 0 || holder >= n) return rd.error(p + "/holder", "must be a character index");
+                sc.holder = holder;
+                FRAY_TRY(hand, rd.stringAt(c, p, "hand"));
+                if (hand != "left" && hand != "right") return rd.error(p + "/hand", "must be \"left\" or \"right\"");
+                sc.hand = hand == "left" ? 0 : 1;
+            }
+            // A held body (version 3): over [from, to] its holder's keys,
+            // made below once every character is read.
+            if (const auto hd = c.find("held"); hd != c.end()) {
+                if (version < kSceneVersion) {
+                    return rd.error(p + "/held", "held bodies need scene version " + std::to_string(kSceneVersion) + " (this file says version " +
+                                                     std::to_string(version) + ")");
+                }
+                if (!hd->is_array() || hd->size() != 2) return rd.error(p + "/held", "must be [from, to] (seconds)");
+                FRAY_TRY(from, rd.number((*hd)[0], p + "/held/0"));
+                FRAY_TRY(to, rd.number((*hd)[1], p + "/held/1"));
+                if (!(from >= 0 && from <= kMaxSceneSeconds)) return rd.error(p + "/held/0", "must be in [0, 3600] s");
+                if (!(to >= from && to <= kMaxSceneSeconds)) return rd.error(p + "/held/1", "must be in [from, 3600] s");
+                if (sc.holder < 0) return rd.error(p + "/holder", "a held body needs its holder");
+                heldKeys += heldKeyCount(from, to);
+                if (heldKeys > kMaxHeldKeys) {
+                    return rd.error(p + "/held", "the held bodies would make more than " + std::to_string(kMaxHeldKeys) + " keys");
+                }
+                sc.heldFrom = from, sc.heldTo = to;
+            }
+            static const json noKeys = json::array();
+            const json* kf = &noKeys;  // a held body may store none
+            if (!sc.held() || c.contains("keys")) {
+                FRAY_TRY(stored, rd.field(c, p, "keys"));
+                kf = stored;
+            }
+            if (!kf->is_array() || (kf->empty() && !sc.held()) || kf->size() > 1'000'000) {
                 return rd.error(p + "/keys", "must be an array of [time, x, z, heading(, height(, pitch))] keys, at least one");
             }
             for (std::size_t k = 0; k < kf->size(); ++k) {
@@ -627,16 +721,12 @@ Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, co
                 if (q.size() == 5 && !(v[4] >= 0 && v[4] <= 100)) return rd.error(kp + "/4", "height must be in [0, 100] m");
                 if (q.size() == 6 && !(v[4] >= -1 && v[4] <= 100)) return rd.error(kp + "/4", "height must be in [0, 100] m (or -1: the body's own)");
                 if (!(std::fabs(v[5]) <= std::numbers::pi / 2)) return rd.error(kp + "/5", "pitch must be in [-pi/2, pi/2] rad");
+                if (sc.held() && v[0] >= sc.heldFrom && v[0] <= sc.heldTo) {
+                    return rd.error(kp + "/0", "a key inside the hold (" + std::to_string(sc.heldFrom) + " to " + std::to_string(sc.heldTo) +
+                                                   " s): the holder places the ball there");
+                }
                 sc.keys.push_back({v[0], {{static_cast<float>(v[1]), static_cast<float>(v[2])}, wrapAngle(v[3])}, static_cast<float>(v[4]),
                                    static_cast<float>(v[5])});
-            }
-            if (const auto hf = c.find("holder"); hf != c.end()) {
-                FRAY_TRY(holder, rd.integerAt(c, p, "holder"));
-                if (holder < 0 || holder >= n) return rd.error(p + "/holder", "must be a character index");
-                sc.holder = holder;
-                FRAY_TRY(hand, rd.stringAt(c, p, "hand"));
-                if (hand != "left" && hand != "right") return rd.error(p + "/hand", "must be \"left\" or \"right\"");
-                sc.hand = hand == "left" ? 0 : 1;
             }
         }
         FRAY_TRY(side, rd.integerAt(c, p, "side"));
@@ -662,6 +752,27 @@ Result<Scene> sceneFromJson(std::string_view text, std::string_view fileName, co
         sc.track = std::move(track);
         scene.characters.push_back(std::move(sc));
     }
+    // Held bodies: each held by a person with a track and that hand and
+    // elbow, its keys over the hold made from the holder's pose.
+    for (int i = 0; i < n; ++i) {
+        const auto& b = scene.characters[static_cast<std::size_t>(i)];
+        if (!b.held()) continue;
+        const std::string p = "/characters/" + std::to_string(i);
+        if (b.holder == i || scene.isCreature(b.holder) || scene.characters[static_cast<std::size_t>(b.holder)].track.empty()) {
+            return rd.error(p + "/holder", "character " + std::to_string(b.holder) + " cannot hold it (a held body's holder is a person with actions)");
+        }
+        const auto& track = scene.characters[static_cast<std::size_t>(b.holder)].track;
+        const int motion = lib.actions()[static_cast<std::size_t>(track.front().action)].motion;
+        if (motion < 0 || motion >= lib.motionCount()) {
+            return rd.error(p + "/holder", "character " + std::to_string(b.holder) + " has no captured motion to hold it with");
+        }
+        const auto& joints = lib.motion(motion).joints;
+        if ((b.hand == 0 ? joints.leftHand : joints.rightHand) < 0 || (b.hand == 0 ? joints.leftElbow : joints.rightElbow) < 0) {
+            return rd.error(p + "/hand", "character " + std::to_string(b.holder) + "'s skeleton has no " + (b.hand == 0 ? "left" : "right") +
+                                             " hand and elbow to hold it");
+        }
+    }
+    placeHeldBalls(scene, lib);
     auto character = [&](const json& v, const std::string& path) -> Result<int> {
         FRAY_TRY(k, rd.integer(v, path));
         if (k < 0 || k >= n) return rd.error(path, "is not a character index");

@@ -119,7 +119,7 @@ struct Frames {
     // Per character: a held ball's root position and rotation per frame,
     // tucked at its holder's physics hand along the physics forearm (as the
     // composer keys it on the captured pose: sim::ballKey); empty for every
-    // other character. world.grips has where the hand holds it.
+    // other character.
     std::vector<std::vector<glm::vec3>> ballPositions;
     std::vector<std::vector<glm::quat>> ballRotations;
     Report report;

@@ -72,9 +72,6 @@ struct JointTracks {
     // creatures (rat, bag).
     std::vector<std::vector<glm::vec3>> joints;
     std::vector<int> jointCount;
-    // Per character: a held ball's grip (ballGrip: where its holder's hand
-    // holds it) per frame; empty for every other character.
-    std::vector<std::vector<glm::vec3>> grips;
     bool has(int c) const { return !joints[static_cast<std::size_t>(c)].empty(); }
     std::span<const glm::vec3> at(int c, int frame) const {
         const auto n = static_cast<std::size_t>(jointCount[static_cast<std::size_t>(c)]);
@@ -123,8 +120,11 @@ struct HitContact {
 struct BallHold {
     std::string ball, holder;
     int frames = 0;                    // frames the holder is in the scene
-    double meanCm = 0, maxCm = 0;      // its hand to the ball shown (the grip of the ball in `shown`)
-    double keyedMeanCm = 0, keyedMaxCm = 0;  // its hand to the ball as keyed (the grip in `captured`)
+    // Its hand (in the pose shown) to the ball as keyed: where the hand holds
+    // it (sim::ballGripAt). The ball shown is not measured against the hand:
+    // with physics it is drawn on the hand (0 by construction), and in the
+    // kinematic posture it is the ball as keyed.
+    double keyedMeanCm = 0, keyedMaxCm = 0;
 };
 
 struct PostureMetrics {

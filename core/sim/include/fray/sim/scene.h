@@ -24,10 +24,17 @@
 
 namespace fray::sim {
 
-// Version 2 adds looped instances (ActionInstance::loop); a scene with none
-// is written as version 1, byte for byte as before, and both are read.
-inline constexpr int kSceneVersion = 2;
+// Version 2 adds looped instances (ActionInstance::loop); version 3 held
+// bodies (SceneCharacter::held: a ball placed from its holder's pose when
+// read, its keys over the hold not stored). A scene is written with the
+// lowest version that holds it (one without either as version 1, byte for
+// byte as before), and every version is read.
+inline constexpr int kSceneVersion = 3;
+inline constexpr int kSceneVersionLoops = 2;
 inline constexpr int kSceneVersionNoLoops = 1;
+// The most keys a scene file's held bodies may make when read (all of them
+// together: the 1,430-run football crowd makes 702,160).
+inline constexpr std::int64_t kMaxHeldKeys = 4'000'000;
 // Limits of scene specs and scene files (docs/FILES.md): a scene lasts at
 // most an hour; positions on the floor stay within 10 km of the origin.
 inline constexpr double kMaxSceneSeconds = 3600.0;
@@ -178,6 +185,12 @@ struct SceneCharacter {
     // A carried body (the football carrier's ball): the character holding it
     // and which hand (0 left, 1 right); -1: nobody in particular.
     int holder = -1, hand = 1;
+    // A held ball (scene version 3): over [heldFrom, heldTo] its keys are
+    // its holder's (heldBallKeys), made by the composer and again by the
+    // scene reader, so the file stores only the interval, not those keys.
+    // heldTo < heldFrom: not held (every key as stored, as in older files).
+    double heldFrom = 0, heldTo = -1;
+    bool held() const { return holder >= 0 && heldTo >= heldFrom; }
     int side = 0, group = 0;
     std::string preset;
     int depth = 0;
@@ -240,6 +253,20 @@ glm::quat creatureRotation(double heading, float pitch);
 RootXf creatureAt(const SceneCharacter& c, double t);
 float creatureHeightAt(const SceneCharacter& c, double t);
 float creaturePitchAt(const SceneCharacter& c, double t);
+// Where its holder's hand holds a ball at time t: ballGrip of its keys
+// interpolated at t (the posture solver's target and the metrics' ball).
+glm::vec3 ballGripAt(const SceneCharacter& ball, double t);
+// The keys of the ball `ball` held over [heldFrom, heldTo]: ballKey of its
+// holder's hand and elbow (ScenePoser, the kinematic pose) every
+// 1/kSampleRate s from heldFrom, the last at heldTo. Empty where the ball is
+// not held, its holder is a creature or has no track, or its skeleton has no
+// such arm.
+std::vector<RootKey> heldBallKeys(const Scene& scene, const ActionLibrary& lib, int ball);
+// The number of keys heldBallKeys makes for a hold of [from, to].
+std::int64_t heldKeyCount(double from, double to);
+// Gives every held ball its keys over the hold (heldBallKeys, the balls in
+// parallel), keeping its keys before and after the hold.
+void placeHeldBalls(Scene& scene, const ActionLibrary& lib);
 
 std::string sceneToJson(const Scene& scene, const ActionLibrary& lib);
 // Resolves actions against the library; errors name the file, JSON path and problem.
