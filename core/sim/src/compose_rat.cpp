@@ -1,6 +1,4 @@
 // The rat scene: people step out of the way of a rat and bump into their neighbours (SPEC 4.5).
-#include <set>
-
 #include <tbb/parallel_for.h>
 
 #include "compose_grid.h"
@@ -112,6 +110,18 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             h.centre = n > 0 ? 0.5f * (lo + hi) : glm::vec2(0.0f);
             for (const auto& d : local) h.radius = std::max(h.radius, glm::length(d.centre - h.centre) + d.radius);
             h.radius += 1e-3f;
+        }
+    }
+    // Per action: the box round the floor boxes of its feet and shins at
+    // every sample, in the clip's frame (clearWays' first test).
+    std::vector<SweptBox> footHulls;
+    void measureFootHulls() {
+        footHulls.assign(static_cast<std::size_t>(lib.size()), SweptBox::empty());
+        for (int a = 0; a < lib.size(); ++a) {
+            for (int k = 0; k < act(a).sampleCount; ++k) {
+                const Obb* boxes = lib.boxesAt(a, k);
+                for (int seg : {kLeftFoot, kRightFoot, kLeftShin, kRightShin}) footHulls[static_cast<std::size_t>(a)].add(floorBox(boxes[seg]));
+            }
         }
     }
     detail::CoreDiscs::Disc placedHull(int action, const RootXf& root) const {
@@ -269,6 +279,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         int way = 0;           // index into `ways`
         double lead = 0;       // s
         double clearance = 0;  // m, against the straight rat
+        int step = 0;          // lead / kRatLeadStep
         double score() const { return std::min(clearance, 0.25) - 0.01 * lead; }  // clear by a safe margin, at the last moment
     };
     static constexpr double kRatLateralStep = 0.2, kRatLeadStep = 0.1;
@@ -276,6 +287,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     int ratLaterals = 0;                    // cells either side of the line
     std::vector<std::vector<RatPatch>> ratTable;  // per (lateral, facing) cell, best first
     std::vector<std::vector<int>> ways;      // ways out: one or two avoiding or stepping actions
+    int ratSteps = 1;                        // above every patch's lead step
 
     static glm::vec2 leftOf(double heading) { return headingVector(heading + 0.5 * std::numbers::pi); }
     static double ratFacingAt(int f) { return wrapAngle((f - kRatFacings / 2) * 2 * std::numbers::pi / kRatFacings); }
@@ -303,11 +315,15 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                         const double clear = clearanceOf(
                             feet, [&](double t) { return RootXf{line + headingVector(0.0) * static_cast<float>(own.ratSpeed * (t - kPass)), 0.0}; },
                             kPass, kRatClear);
-                        if (clear >= kRatClear) ratTable[ratCell(l, f)].push_back({static_cast<int>(w), lead, clear});
+                        if (clear >= kRatClear) ratTable[ratCell(l, f)].push_back({static_cast<int>(w), lead, clear, k});
                     }
                 }
             }
         });
+        ratSteps = 1;
+        for (const auto& cell : ratTable) {
+            for (const RatPatch& p : cell) ratSteps = std::max(ratSteps, p.step + 1);
+        }
         for (auto& cell : ratTable) {
             std::stable_sort(cell.begin(), cell.end(), [](const RatPatch& a, const RatPatch& b) { return a.score() > b.score(); });
             ownStats.ratPatches += static_cast<int>(cell.size());
@@ -322,12 +338,14 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         const double facing = (wrapAngle(b.at.heading - r.heading) + std::numbers::pi) / (2 * std::numbers::pi / kRatFacings);
         const int l0 = static_cast<int>(std::floor(lateral)), f0 = static_cast<int>(std::floor(facing));
         std::vector<RatPatch> out;
-        std::set<std::pair<int, double>> seen;  // (way, lead): the cells share the 0.1 s lead grid exactly
+        // (way, lead) once: the cells share the 0.1 s lead grid exactly (lead = step * 0.1).
+        std::vector<char> seen(ways.size() * static_cast<std::size_t>(ratSteps), 0);
         for (int l : {l0, l0 + 1}) {
             if (l < -ratLaterals || l > ratLaterals) continue;
             for (int f : {f0, f0 + 1}) {
                 for (const RatPatch& p : ratTable[ratCell(l, ((f % kRatFacings) + kRatFacings) % kRatFacings)]) {
-                    if (seen.emplace(p.way, p.lead).second) out.push_back(p);
+                    char& s = seen[static_cast<std::size_t>(p.way) * static_cast<std::size_t>(ratSteps) + static_cast<std::size_t>(p.step)];
+                    if (!s) s = 1, out.push_back(p);
                 }
             }
         }
@@ -335,7 +353,9 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     }
 
     // A way out of one person that keeps the rat clear of the feet and shins:
-    // its candidate (way, lead) and exactly ratClearance's value for its plan.
+    // its candidate (way, lead) and exactly min(ratClearance's value for its
+    // plan, kClearScored), what its score reads.
+    static constexpr double kClearScored = 0.25;
     struct ClearWay {
         RatPatch patch;
         double clear = 0;
@@ -354,24 +374,53 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     // minimum, and the value, are the same).
     std::vector<ClearWay> clearWays(const Bystander& b, double until) const {
         constexpr double dt = 1.0 / kSampleRate;
-        std::vector<std::array<glm::vec2, 3>> rat;  // the rat's tail, middle and nose at footBoxes' sample times
+        std::vector<double> times;                  // footBoxes' sample times
+        std::vector<std::array<glm::vec2, 3>> rat;  // the rat's tail, middle and nose then
         for (double t = b.passTime - 0.6; t <= b.passTime + 0.6; t += dt) {
             const RootXf r = creatureAt(ratBody, t);
             const glm::vec2 fwd = headingVector(r.heading);
             std::array<glm::vec2, 3> pts{};
             int k = 0;
             for (float along : {0.0f, 0.5f, 1.0f}) pts[static_cast<std::size_t>(k++)] = r.pos + fwd * (along * kRatLength);
+            times.push_back(t);
             rat.push_back(pts);
         }
+        // rectDistance squared: the square root is monotone, so the least
+        // distance is the root of the least square (one root, the same value).
+        auto square = [](const SweptBox& r, const glm::vec2& p) {
+            const glm::vec2 d = glm::max(glm::max(r.lo - p, p - r.hi), glm::vec2(0.0f));
+            return glm::dot(d, d);
+        };
+        auto distance = [](float squared) { return static_cast<double>(std::sqrt(squared)) - 0.04; };  // the rat's girth
         struct Slot {
             int action = -1;
             RootXf root;
             std::vector<std::array<SweptBox, 5>> boxes;  // per sample: feet, shins, and the box around the four
             std::vector<char> have;
+            SweptBox hull;              // round the feet and shins at every sample (footHulls placed, with a margin)
+            std::vector<double> apart;  // per rat sample: the distance from the rat to `hull` (NaN: not measured yet)
         };
         std::vector<Slot> slots(1 + 4 * ways.size());  // the standing idle, then per way its plan's instances 1-3
         std::array<SweptBox, 5> scratch{};
-        auto boxesOf = [&](std::size_t slot, const ActionInstance& inst, int sample) -> const std::array<SweptBox, 5>& {
+        // The slot of an instance, or none when the slot holds another instance.
+        auto slotOf = [&](std::size_t slot, const ActionInstance& inst) -> Slot* {
+            Slot* s = slot < slots.size() ? &slots[slot] : nullptr;
+            if (s && s->action < 0) {
+                s->action = inst.action;
+                s->root = inst.root;
+                s->boxes.resize(static_cast<std::size_t>(act(inst.action).sampleCount));
+                s->have.assign(s->boxes.size(), 0);
+                // placedBox holds the placed boxes' floor boxes (a rectangle
+                // round the rotated rectangle); the margin covers the rounding.
+                s->hull = placedBox(footHulls[static_cast<std::size_t>(inst.action)], inst.root);
+                const float margin = 1e-3f + 1e-5f * (std::fabs(inst.root.pos.x) + std::fabs(inst.root.pos.y));
+                s->hull.lo -= glm::vec2(margin), s->hull.hi += glm::vec2(margin);
+                s->apart.assign(rat.size(), std::numeric_limits<double>::quiet_NaN());
+            }
+            const bool same = s && s->action == inst.action && s->root.pos == inst.root.pos && s->root.heading == inst.root.heading;
+            return same ? s : nullptr;
+        };
+        auto boxesOf = [&](Slot* s, const ActionInstance& inst, int sample) -> const std::array<SweptBox, 5>& {
             auto fill = [&](std::array<SweptBox, 5>& out) {
                 const Obb* boxes = lib.boxesAt(inst.action, sample);
                 int k = 0;
@@ -381,15 +430,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                     out[4].add(out[static_cast<std::size_t>(k++)]);
                 }
             };
-            Slot* s = slot < slots.size() ? &slots[slot] : nullptr;
-            if (s && s->action < 0) {
-                s->action = inst.action;
-                s->root = inst.root;
-                s->boxes.resize(static_cast<std::size_t>(act(inst.action).sampleCount));
-                s->have.assign(s->boxes.size(), 0);
-            }
-            const bool same = s && s->action == inst.action && s->root.pos == inst.root.pos && s->root.heading == inst.root.heading;
-            if (!same) {
+            if (!s) {
                 fill(scratch);  // not the slot's instance: placed afresh
                 return scratch;
             }
@@ -398,25 +439,44 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             return s->boxes[i];
         };
         std::vector<ClearWay> out;
+        SmallPlan plan;
         for (const RatPatch& patch : ratCandidates(b)) {
             const auto& way = ways[static_cast<std::size_t>(patch.way)];
             const double ts = b.passTime - patch.lead;
             if (ts < 0.2) continue;
             const RootXf root = b.at * lib.rootAt(way.front(), 0).inverse();
-            const auto plan = planMove(b.at, ts, way, 0.0, root, false, until);
-            double best = std::numeric_limits<double>::max();
-            double t = b.passTime - 0.6;
-            for (std::size_t i = 0; i < rat.size(); ++i, t += dt) {
-                const auto k = static_cast<std::size_t>(instanceIndexAt(plan, t));
+            plan.clear();
+            planMoveInto(plan, b.at, ts, way, 0.0, root, false, until);
+            // Only min(clearance, kClearScored) counts for the score: a sample
+            // no closer than that changes nothing (the chosen way's own
+            // clearance is measured again in full, for the stats).
+            double best = kClearScored;
+            std::size_t k = 0;  // instanceIndexAt(plan, t): the times increase
+            for (std::size_t i = 0; i < rat.size(); ++i) {
+                const double t = times[i];
+                while (k + 1 < plan.size() && plan[k + 1].start <= t) ++k;
                 const ActionInstance& inst = plan[k];
                 const std::size_t slot = k == 0 ? 0 : (k <= 3 ? 1 + 4 * static_cast<std::size_t>(patch.way) + k - 1 : SIZE_MAX);
-                const auto& boxes = boxesOf(slot, inst, lib.sampleAt(inst.action, inst.clipTimeAt(t)));
-                double bound = std::numeric_limits<double>::max();
-                for (const glm::vec2& p : rat[i]) bound = std::min(bound, static_cast<double>(rectDistance(boxes[4], p)) - 0.04);
-                if (bound >= best) continue;  // no box of the four comes closer than the best so far
-                for (std::size_t seg = 0; seg < 4; ++seg) {
-                    for (const glm::vec2& p : rat[i]) best = std::min(best, static_cast<double>(rectDistance(boxes[seg], p)) - 0.04);
+                Slot* s = slotOf(slot, inst);
+                if (s) {
+                    // Nothing of the instance at any sample comes closer than the best so far.
+                    double& apart = s->apart[i];
+                    if (std::isnan(apart)) {
+                        float least = std::numeric_limits<float>::max();
+                        for (const glm::vec2& p : rat[i]) least = std::min(least, square(s->hull, p));
+                        apart = distance(least);
+                    }
+                    if (apart >= best) continue;
                 }
+                const auto& boxes = boxesOf(s, inst, lib.sampleAt(inst.action, inst.clipTimeAt(t)));
+                float bound = std::numeric_limits<float>::max();
+                for (const glm::vec2& p : rat[i]) bound = std::min(bound, square(boxes[4], p));
+                if (distance(bound) >= best) continue;  // no box of the four comes closer than the best so far
+                float least = std::numeric_limits<float>::max();
+                for (std::size_t seg = 0; seg < 4; ++seg) {
+                    for (const glm::vec2& p : rat[i]) least = std::min(least, square(boxes[seg], p));
+                }
+                best = std::min(best, distance(least));
                 if (best < kRatClear) break;
             }
             if (best >= kRatClear) out.push_back({patch, best});
@@ -589,7 +649,15 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     // clip time `offset`, placed at `root`), then stands where they leave off until `until`.
     std::vector<ActionInstance> planMove(const RootXf& at, double from, const std::vector<int>& actions, double offset,
                                          const RootXf& root, bool forced, double until) const {
-        std::vector<ActionInstance> plan = standing(at, from);
+        std::vector<ActionInstance> plan;
+        planMoveInto(plan, at, from, actions, offset, root, forced, until);
+        return plan;
+    }
+    // The same plan into `plan` (a vector, or a SmallPlan for a way out: no heap).
+    template <class Plan>
+    void planMoveInto(Plan& plan, const RootXf& at, double from, const std::vector<int>& actions, double offset,
+                      const RootXf& root, bool forced, double until) const {
+        if (auto inst = loopedIdle(hold, 0.0, from, at * lib.rootAt(hold, 0).inverse())) plan.push_back(*inst);  // standing(at, from)
         double t = from;
         RootXf place = root;
         for (std::size_t k = 0; k < actions.size(); ++k) {
@@ -601,8 +669,17 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         }
         const int idle = idleAfter(actions.back());
         if (auto inst = loopedIdle(idle, t, until, place * lib.rootAt(idle, 0).inverse())) plan.push_back(*inst);
-        return plan;
     }
+    // A way out's plan on the stack: standing, at most kMaxWayActions actions, the idle after.
+    static constexpr std::size_t kMaxWayActions = 2;
+    struct SmallPlan {
+        std::array<ActionInstance, kMaxWayActions + 2> inst{};
+        std::size_t n = 0;
+        void clear() { n = 0; }
+        void push_back(const ActionInstance& a) { inst[n++] = a; }
+        std::size_t size() const { return n; }
+        const ActionInstance& operator[](std::size_t k) const { return inst[k]; }
+    };
 
     // Someone pushed into a reaction: by a bystander (index) or the rat (SIZE_MAX), when, and their new plan.
     struct Push {
@@ -687,6 +764,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         discs.emplace(lib, kTouchShrink);
         measurePelvisPaths();
         measureCoreHulls();
+        measureFootHulls();
         if (!findWays()) return makeError(kNoWays);
         makeRatPatches();
 
@@ -889,7 +967,9 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                 b.plan = std::move(best.plan);
                 ++ownStats.ratAvoided;
                 ++stats.patchesUsed;
-                ownStats.ratClearance = ownStats.ratClearance < 0 ? best.clearance : std::min(ownStats.ratClearance, best.clearance);
+                // clearWays measured it up to kClearScored: beyond, measured in full.
+                const double clearance = best.clearance < kClearScored ? best.clearance : ratClearance(b, b.plan);
+                ownStats.ratClearance = ownStats.ratClearance < 0 ? clearance : std::min(ownStats.ratClearance, clearance);
                 for (auto& m : best.pushes) {
                     if (crowd[m.who].near) ++ownStats.ratPushed;
                     commit(crowd, std::move(m), log);
