@@ -1,4 +1,7 @@
 // The rat scene: people step out of the way of a rat and bump into their neighbours (SPEC 4.5).
+#include <atomic>
+#include <cstring>
+
 #include <tbb/parallel_for.h>
 
 #include "compose_grid.h"
@@ -26,6 +29,10 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         bool near = false;
         std::vector<ActionInstance> plan;    // empty: stands all along
         detail::CoreDiscs::Disc standHull;   // standing: a disc round its core discs at every sample of the idle (coreHulls)
+        // Its plan's discs round its pelvis paths and round its core hulls
+        // (pathDiscOf, hullsDiscOf from its first instance): firstTouch's
+        // first test, kept with the plan (refreshDiscs).
+        detail::CoreDiscs::Disc pathAll, hullsAll;
     };
 
     // The crowd as a trial sees it: everyone's plan, with the few plans the
@@ -42,6 +49,12 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                 if (who == o) return p;
             }
             return (*base)[o].plan;
+        }
+        bool isChanged(std::size_t o) const {
+            for (const auto& [who, p] : changed) {
+                if (who == o) return true;
+            }
+            return false;
         }
         void set(std::size_t o, std::vector<ActionInstance> p) {
             for (auto& [who, q] : changed) {
@@ -496,6 +509,89 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         return w;
     }
 
+    // Core bodies placed (CoreBody::boxes, shrunk by kTouchShrink), kept
+    // per thread in a table by (action, sample, root): the same pose places
+    // the same boxes, and firstTouch meets the same poses again and again
+    // (a neighbour's idle, a way out's samples at every lead). `generation`
+    // tells this composition's entries from another's.
+    struct PlacedCore {
+        std::uint64_t generation = 0;
+        int action = -1, sample = -1;
+        glm::vec2 pos{0.0f};
+        double heading = 0;
+        std::array<Obb, kCoreSegments.size()> boxes;
+        std::array<float, kCoreSegments.size()> radii;
+    };
+    static inline std::atomic<std::uint64_t> generations{0};
+    std::uint64_t generation = ++generations;
+    void placedBoxes(const detail::CoreBody& body) const {
+        if (body.hasBoxes()) return;
+        constexpr std::size_t kSlots = 2048;
+        thread_local std::vector<PlacedCore> table(kSlots);
+        const detail::BodyPose& pose = body.pose();
+        const int sample = lib.sampleAt(pose.action, pose.tau);
+        std::uint64_t h = generation * 0x9E3779B97F4A7C15ull;
+        std::uint32_t x, z;
+        std::uint64_t hd;
+        std::memcpy(&x, &pose.root.pos.x, 4), std::memcpy(&z, &pose.root.pos.y, 4), std::memcpy(&hd, &pose.root.heading, 8);
+        for (const std::uint64_t v : {static_cast<std::uint64_t>(static_cast<std::uint32_t>(pose.action)), static_cast<std::uint64_t>(static_cast<std::uint32_t>(sample)),
+                                      static_cast<std::uint64_t>(x), static_cast<std::uint64_t>(z), hd}) {
+            h = (h ^ v) * 0x100000001b3ull;
+        }
+        PlacedCore& e = table[static_cast<std::size_t>((h ^ (h >> 31)) % kSlots)];
+        if (e.generation == generation && e.action == pose.action && e.sample == sample && e.pos == pose.root.pos &&
+            std::memcmp(&e.heading, &pose.root.heading, 8) == 0) {
+            body.adoptBoxes(e.boxes, e.radii);
+            return;
+        }
+        e.boxes = body.boxes();
+        e.radii = body.radii();
+        e.generation = generation, e.action = pose.action, e.sample = sample, e.pos = pose.root.pos, e.heading = pose.root.heading;
+    }
+
+    // A disc round the pelvis paths (pelvisPaths) of the instances of `p`
+    // from k0 on (standing at `spot`: holdWander round it).
+    detail::CoreDiscs::Disc pathDiscOf(const std::vector<ActionInstance>& p, std::size_t k0, const glm::vec2& spot) const {
+        using Disc = detail::CoreDiscs::Disc;
+        if (p.empty()) return Disc{spot, holdWander};
+        auto placed = [&](std::size_t k) {
+            const Disc& path = pelvisPaths[static_cast<std::size_t>(p[k].action)];
+            return Disc{p[k].root.pos + FloorRotation(p[k].root.heading)(path.centre), path.radius};
+        };
+        SweptBox around = SweptBox::empty();
+        for (std::size_t k = k0; k < p.size(); ++k) {
+            const Disc d = placed(k);
+            around.add({d.centre, d.centre});
+        }
+        Disc out{0.5f * (around.lo + around.hi), 0.0f};
+        for (std::size_t k = k0; k < p.size(); ++k) {
+            const Disc d = placed(k);
+            out.radius = std::max(out.radius, glm::length(d.centre - out.centre) + d.radius);
+        }
+        return out;
+    }
+    // A disc round the core hulls (coreHulls) of the instances of `p` from k0 on (standing: `standing`).
+    detail::CoreDiscs::Disc hullsDiscOf(const std::vector<ActionInstance>& p, std::size_t k0, const detail::CoreDiscs::Disc& standing) const {
+        using Disc = detail::CoreDiscs::Disc;
+        if (p.empty()) return standing;
+        SweptBox around = SweptBox::empty();
+        for (std::size_t k = k0; k < p.size(); ++k) {
+            const Disc d = placedHull(p[k].action, p[k].root);
+            around.add({d.centre, d.centre});
+        }
+        Disc out{0.5f * (around.lo + around.hi), 0.0f};
+        for (std::size_t k = k0; k < p.size(); ++k) {
+            const Disc d = placedHull(p[k].action, p[k].root);
+            out.radius = std::max(out.radius, glm::length(d.centre - out.centre) + d.radius);
+        }
+        out.radius += 1e-3f;
+        return out;
+    }
+    void refreshDiscs(Bystander& o) const {
+        o.pathAll = pathDiscOf(o.plan, 0, o.spot);
+        o.hullsAll = hullsDiscOf(o.plan, 0, o.standHull);
+    }
+
     // First time someone following `plan` from `from` to `until` touches
     // another bystander's body: {who, when}; {-1, 0} when nobody. Two people
     // standing still do not start touching, so once this plan has settled only
@@ -506,7 +602,8 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         constexpr double dt = 1.0 / kSampleRate;
         // Those within 3 m, ascending (the grid's query is a superset; the
         // same test as a pass over everyone then keeps the same ones).
-        std::vector<std::size_t> close;
+        thread_local std::vector<std::size_t> close;  // (no firstTouch runs inside another on a thread)
+        close.clear();
         for (const std::size_t k : within3m[self]) {
             if (k != ignore) close.push_back(k);
         }
@@ -517,6 +614,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             const glm::vec2 d = a.pelvis() - b.pelvis();
             if (glm::dot(d, d) > kReach * kReach) return false;
             if (detail::CoreDiscs::apart(aDisc, discs->placed(b))) return false;
+            placedBoxes(a), placedBoxes(b);
             return detail::coreBodiesOverlap(a, b, kReach);
         };
         // Someone's pelvis at t is certainly beyond the pelvis reach of p:
@@ -555,49 +653,18 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         // from then and round all of theirs (or their spot and holdWander)
         // are apart (so neither loop below would find them touching).
         using Disc = detail::CoreDiscs::Disc;
-        auto pathDisc = [&](const std::vector<ActionInstance>& p, std::size_t k0, const glm::vec2& spot) {
-            if (p.empty()) return Disc{spot, holdWander};
-            auto placed = [&](std::size_t k) {
-                const Disc& path = pelvisPaths[static_cast<std::size_t>(p[k].action)];
-                return Disc{p[k].root.pos + FloorRotation(p[k].root.heading)(path.centre), path.radius};
-            };
-            SweptBox around = SweptBox::empty();
-            for (std::size_t k = k0; k < p.size(); ++k) {
-                const Disc d = placed(k);
-                around.add({d.centre, d.centre});
-            }
-            Disc out{0.5f * (around.lo + around.hi), 0.0f};
-            for (std::size_t k = k0; k < p.size(); ++k) {
-                const Disc d = placed(k);
-                out.radius = std::max(out.radius, glm::length(d.centre - out.centre) + d.radius);
-            }
-            return out;
-        };
         const std::size_t k0 = plan.empty() ? 0 : static_cast<std::size_t>(instanceIndexAt(plan, from));
-        const Disc mine = pathDisc(plan, k0, crowd[self].spot);
+        const Disc mine = pathDiscOf(plan, k0, crowd[self].spot);
         // Likewise the discs round the core discs of every sample of the
         // instances (coreHulls): apart, no sample of theirs meets one of its.
-        auto hullsOf = [&](const std::vector<ActionInstance>& p, std::size_t from0, const Disc& standing) {
-            if (p.empty()) return standing;
-            SweptBox around = SweptBox::empty();
-            for (std::size_t k = from0; k < p.size(); ++k) {
-                const Disc d = placedHull(p[k].action, p[k].root);
-                around.add({d.centre, d.centre});
-            }
-            Disc out{0.5f * (around.lo + around.hi), 0.0f};
-            for (std::size_t k = from0; k < p.size(); ++k) {
-                const Disc d = placedHull(p[k].action, p[k].root);
-                out.radius = std::max(out.radius, glm::length(d.centre - out.centre) + d.radius);
-            }
-            out.radius += 1e-3f;
-            return out;
-        };
-        const Disc myHulls = hullsOf(plan, k0, crowd[self].standHull);
+        const Disc myHulls = hullsDiscOf(plan, k0, crowd[self].standHull);
         std::erase_if(close, [&](std::size_t o) {
-            const Disc theirs = pathDisc(crowd.plan(o), 0, crowd[o].spot);
+            // (The crowd's own plans' discs are kept with them; a trial's are made here.)
+            const bool changed = crowd.isChanged(o);
+            const Disc theirs = changed ? pathDiscOf(crowd.plan(o), 0, crowd[o].spot) : crowd[o].pathAll;
             const float scale = std::fabs(mine.centre.x) + std::fabs(mine.centre.y) + std::fabs(theirs.centre.x) + std::fabs(theirs.centre.y);
             if (glm::length(mine.centre - theirs.centre) > kReach + mine.radius + theirs.radius + 0.02f + 1e-5f * scale) return true;
-            return apartFromHull(myHulls, hullsOf(crowd.plan(o), 0, crowd[o].standHull));
+            return apartFromHull(myHulls, changed ? hullsDiscOf(crowd.plan(o), 0, crowd[o].standHull) : crowd[o].hullsAll);
         });
         if (close.empty()) return {-1, 0.0};
         const double settle = std::min(until, std::max(from, movingWindow(plan).second) + dt);
@@ -731,6 +798,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     void commit(std::vector<Bystander>& crowd, Push&& m, std::vector<Push>& log) {
         Bystander& o = crowd[m.who];
         o.plan = m.plan;
+        refreshDiscs(o);
         if (m.by != SIZE_MAX) ++ownStats.bumps;
         log.push_back(std::move(m));
     }
@@ -798,7 +866,10 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         }
         if (crowd.empty()) return makeError("rat: nobody could stand near the trajectory (widen band or lower spacing)");
         for (std::size_t k = 0; k < crowd.size(); ++k) spotGrid.insert(static_cast<int>(k), crowd[k].spot);
-        for (auto& b : crowd) b.standHull = placedHull(hold, b.at * lib.rootAt(hold, 0).inverse());
+        for (auto& b : crowd) {
+            b.standHull = placedHull(hold, b.at * lib.rootAt(hold, 0).inverse());
+            refreshDiscs(b);
+        }
         findNeighbours(crowd);
         // The rat's closest approach to each person, sampled every 0.02 s:
         // the samples once for everyone, in blocks with a bounding circle, so
@@ -965,6 +1036,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             }
             if (!best.plan.empty()) {
                 b.plan = std::move(best.plan);
+                refreshDiscs(b);
                 ++ownStats.ratAvoided;
                 ++stats.patchesUsed;
                 // clearWays measured it up to kClearScored: beyond, measured in full.
