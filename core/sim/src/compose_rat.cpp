@@ -667,8 +667,35 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             return apartFromHull(myHulls, changed ? hullsDiscOf(crowd.plan(o), 0, crowd[o].standHull) : crowd[o].hullsAll);
         });
         if (close.empty()) return {-1, 0.0};
+        // Per instance of the plan, the disc round its core hulls (coreHulls);
+        // per neighbour left who stands, whether it is apart from theirs
+        // (standHull): a moment whose instance is apart from everyone's is
+        // passed over without placing its body (hullApart's test, for the
+        // whole instance at once).
+        thread_local std::vector<Disc> ownHulls;
+        thread_local std::vector<char> standApart;  // [neighbour * plan.size() + instance]
+        ownHulls.clear(), standApart.assign(close.size() * plan.size(), 0);
+        for (const ActionInstance& inst : plan) ownHulls.push_back(placedHull(inst.action, inst.root));
+        for (std::size_t c = 0; c < close.size(); ++c) {
+            if (!crowd.plan(close[c]).empty()) continue;
+            for (std::size_t k = 0; k < plan.size(); ++k) standApart[c * plan.size() + k] = apartFromHull(ownHulls[k], crowd[close[c]].standHull);
+        }
+        // Is neighbour close[c] at t certainly apart from the instance k of the plan?
+        auto instanceApart = [&](std::size_t c, std::size_t k, double t) {
+            const auto& theirs = crowd.plan(close[c]);
+            if (theirs.empty()) return standApart[c * plan.size() + k] != 0;
+            const ActionInstance& inst = theirs[static_cast<std::size_t>(instanceIndexAt(theirs, t))];
+            return apartFromHull(ownHulls[k], placedHull(inst.action, inst.root));
+        };
+        auto ownInstance = [&](double t) { return static_cast<std::size_t>(instanceIndexAt(plan, t)); };
         const double settle = std::min(until, std::max(from, movingWindow(plan).second) + dt);
         for (double t = from; t <= settle + 1e-9; t += dt) {
+            if (!plan.empty()) {
+                const std::size_t k = ownInstance(t);
+                bool anyone = false;
+                for (std::size_t c = 0; c < close.size() && !anyone; ++c) anyone = !instanceApart(c, k, t);
+                if (!anyone) continue;
+            }
             // Its own body once per moment (its boxes placed only when someone is near).
             const detail::CoreBody me(lib, bodyIn(plan, crowd[self].at, t), kShrink);
             const detail::CoreDiscs::Disc meDisc = discs->placed(me);
@@ -679,9 +706,11 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             }
         }
         std::pair<int, double> first{-1, std::numeric_limits<double>::infinity()};
-        for (std::size_t o : close) {
+        for (std::size_t c = 0; c < close.size(); ++c) {
+            const std::size_t o = close[c];
             const auto [w0, w1] = movingWindow(crowd.plan(o));
             for (double t = std::max(settle, w0 - dt); t <= std::min({until, w1 + dt, first.second}) + 1e-9; t += dt) {
+                if (!plan.empty() && instanceApart(c, ownInstance(t), t)) continue;
                 if (touches(o, t)) {
                     first = {static_cast<int>(o), t};
                     break;
