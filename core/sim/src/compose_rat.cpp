@@ -596,17 +596,49 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     // another bystander's body: {who, when}; {-1, 0} when nobody. Two people
     // standing still do not start touching, so once this plan has settled only
     // the others' moving windows are sampled.
-    std::pair<int, double> firstTouch(const CrowdView& crowd, std::size_t self, const std::vector<ActionInstance>& plan,
-                                      double from, double until, std::size_t ignore = SIZE_MAX) const {
-        constexpr float kShrink = kTouchShrink;
-        constexpr double dt = 1.0 / kSampleRate;
+    // The neighbours firstTouch looks at, ascending: those within 3 m (but
+    // `ignore`) whose pelvis can come within the pelvis reach of its pelvis
+    // from `from` on and whose core hulls meet its. It reads the plan's
+    // instances from the one playing at `from` on (their actions and roots
+    // only), so the ways out of a person at every lead share it.
+    void keptNeighbours(const CrowdView& crowd, std::size_t self, const std::vector<ActionInstance>& plan, double from,
+                        std::size_t ignore, std::vector<std::size_t>& close) const {
+        constexpr float kReach = 1.2f;  // coreBodiesOverlap's pelvis reach
         // Those within 3 m, ascending (the grid's query is a superset; the
         // same test as a pass over everyone then keeps the same ones).
-        thread_local std::vector<std::size_t> close;  // (no firstTouch runs inside another on a thread)
         close.clear();
         for (const std::size_t k : within3m[self]) {
             if (k != ignore) close.push_back(k);
         }
+        // Drop those who never come within the pelvis reach of its pelvis
+        // from `from` on: the discs round the pelvis paths of its instances
+        // from then and round all of theirs (or their spot and holdWander)
+        // are apart (so neither loop below would find them touching).
+        using Disc = detail::CoreDiscs::Disc;
+        const std::size_t k0 = plan.empty() ? 0 : static_cast<std::size_t>(instanceIndexAt(plan, from));
+        const Disc mine = pathDiscOf(plan, k0, crowd[self].spot);
+        // Likewise the discs round the core discs of every sample of the
+        // instances (coreHulls): apart, no sample of theirs meets one of its.
+        const Disc myHulls = hullsDiscOf(plan, k0, crowd[self].standHull);
+        std::erase_if(close, [&](std::size_t o) {
+            // (The crowd's own plans' discs are kept with them; a trial's are made here.)
+            const bool changed = crowd.isChanged(o);
+            const Disc theirs = changed ? pathDiscOf(crowd.plan(o), 0, crowd[o].spot) : crowd[o].pathAll;
+            const float scale = std::fabs(mine.centre.x) + std::fabs(mine.centre.y) + std::fabs(theirs.centre.x) + std::fabs(theirs.centre.y);
+            if (glm::length(mine.centre - theirs.centre) > kReach + mine.radius + theirs.radius + 0.02f + 1e-5f * scale) return true;
+            return apartFromHull(myHulls, changed ? hullsDiscOf(crowd.plan(o), 0, crowd[o].standHull) : crowd[o].hullsAll);
+        });
+    }
+
+    // `kept`, when given: keptNeighbours' answer for these arguments, worked out already.
+    std::pair<int, double> firstTouch(const CrowdView& crowd, std::size_t self, const std::vector<ActionInstance>& plan,
+                                      double from, double until, std::size_t ignore = SIZE_MAX,
+                                      const std::vector<std::size_t>* kept = nullptr) const {
+        constexpr float kShrink = kTouchShrink;
+        constexpr double dt = 1.0 / kSampleRate;
+        thread_local std::vector<std::size_t> close;  // (no firstTouch runs inside another on a thread)
+        if (kept) close = *kept;
+        else keptNeighbours(crowd, self, plan, from, ignore, close);
         constexpr float kReach = 1.2f;  // coreBodiesOverlap's pelvis reach
         auto bodyOf = [&](std::size_t o, double t) { return detail::CoreBody(lib, bodyIn(crowd.plan(o), crowd[o].at, t), kShrink); };
         // The pelvis test, then the discs round the core boxes (the same answer as the boxes alone).
@@ -648,24 +680,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             if (hullApart(o, t, meDisc)) return false;
             return overlap(me, meDisc, bodyOf(o, t));
         };
-        // Drop those who never come within the pelvis reach of its pelvis
-        // from `from` on: the discs round the pelvis paths of its instances
-        // from then and round all of theirs (or their spot and holdWander)
-        // are apart (so neither loop below would find them touching).
         using Disc = detail::CoreDiscs::Disc;
-        const std::size_t k0 = plan.empty() ? 0 : static_cast<std::size_t>(instanceIndexAt(plan, from));
-        const Disc mine = pathDiscOf(plan, k0, crowd[self].spot);
-        // Likewise the discs round the core discs of every sample of the
-        // instances (coreHulls): apart, no sample of theirs meets one of its.
-        const Disc myHulls = hullsDiscOf(plan, k0, crowd[self].standHull);
-        std::erase_if(close, [&](std::size_t o) {
-            // (The crowd's own plans' discs are kept with them; a trial's are made here.)
-            const bool changed = crowd.isChanged(o);
-            const Disc theirs = changed ? pathDiscOf(crowd.plan(o), 0, crowd[o].spot) : crowd[o].pathAll;
-            const float scale = std::fabs(mine.centre.x) + std::fabs(mine.centre.y) + std::fabs(theirs.centre.x) + std::fabs(theirs.centre.y);
-            if (glm::length(mine.centre - theirs.centre) > kReach + mine.radius + theirs.radius + 0.02f + 1e-5f * scale) return true;
-            return apartFromHull(myHulls, changed ? hullsDiscOf(crowd.plan(o), 0, crowd[o].standHull) : crowd[o].hullsAll);
-        });
         if (close.empty()) return {-1, 0.0};
         // Per instance of the plan, the disc round its core hulls (coreHulls);
         // per neighbour left who stands, whether it is apart from theirs
@@ -996,15 +1011,41 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                 std::vector<ActionInstance> plan;
                 std::vector<Push> pushes;
             };
-            auto tryCandidate = [&](std::size_t c) {
+            // Per way: the neighbours firstTouch keeps for its plans against
+            // the crowd as it stands (the same at every lead: the plans from
+            // the way's start on share their actions and roots), with those
+            // instances to tell a plan that differs (its last idle left out
+            // near the scene's end).
+            struct Kept {
+                bool made = false;
+                std::vector<std::pair<int, RootXf>> from;  // the plan's instances from the way's start on
+                std::vector<std::size_t> neighbours;
+            };
+            std::vector<Kept> keptOf(ways.size());
+            auto keptFor = [&](const std::vector<ActionInstance>& plan, double ts, std::size_t way) -> const std::vector<std::size_t>* {
+                Kept& k = keptOf[way];
+                const auto k0 = static_cast<std::size_t>(instanceIndexAt(plan, ts));
+                auto same = [&] {
+                    if (k.from.size() != plan.size() - k0) return false;
+                    for (std::size_t j = k0; j < plan.size(); ++j) {
+                        const auto& [action, root] = k.from[j - k0];
+                        if (action != plan[j].action || root.pos != plan[j].root.pos || root.heading != plan[j].root.heading) return false;
+                    }
+                    return true;
+                };
+                if (!k.made) {
+                    k.made = true;
+                    for (std::size_t j = k0; j < plan.size(); ++j) k.from.emplace_back(plan[j].action, plan[j].root);
+                    keptNeighbours(CrowdView(crowd), i, plan, ts, SIZE_MAX, k.neighbours);
+                }
+                return same() ? &k.neighbours : nullptr;
+            };
+            auto tryCandidate = [&](std::size_t c, std::vector<ActionInstance> plan, const std::vector<std::size_t>* kept) {
                 Tried out;
                 const RatPatch& patch = ways1[c].patch;
-                const auto& way = ways[static_cast<std::size_t>(patch.way)];
                 const double ts = b.passTime - patch.lead;
-                const RootXf root = b.at * lib.rootAt(way.front(), 0).inverse();
-                auto plan = planMove(b.at, ts, way, 0.0, root, false, until);
                 const double settled = until;  // everyone stands still afterwards: touching later counts too
-                const auto [other, when] = firstTouch(CrowdView(crowd), i, plan, ts, settled);
+                const auto [other, when] = firstTouch(CrowdView(crowd), i, plan, ts, settled, SIZE_MAX, kept);
                 if (other >= 0) {
                     CrowdView trial(crowd);
                     trial.set(i, plan);
@@ -1041,8 +1082,20 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                 }
                 if (batch.empty()) break;
                 tried.assign(batch.size(), {});
-                tbb::parallel_for(std::size_t{0}, batch.size(), [&](std::size_t k) { tried[k] = tryCandidate(bases[batch[k]].second); },
-                                  tbb::simple_partitioner{});
+                // The plans, and the neighbours their first test keeps, before the batch runs.
+                std::vector<std::vector<ActionInstance>> plans(batch.size());
+                std::vector<const std::vector<std::size_t>*> kept(batch.size());
+                for (std::size_t k = 0; k < batch.size(); ++k) {
+                    const RatPatch& patch = ways1[bases[batch[k]].second].patch;
+                    const auto& way = ways[static_cast<std::size_t>(patch.way)];
+                    const double ts = b.passTime - patch.lead;
+                    plans[k] = planMove(b.at, ts, way, 0.0, b.at * lib.rootAt(way.front(), 0).inverse(), false, until);
+                    kept[k] = keptFor(plans[k], ts, static_cast<std::size_t>(patch.way));
+                }
+                tbb::parallel_for(
+                    std::size_t{0}, batch.size(),
+                    [&](std::size_t k) { tried[k] = tryCandidate(bases[batch[k]].second, std::move(plans[k]), kept[k]); },
+                    tbb::simple_partitioner{});
                 bool stop = false;
                 for (std::size_t k = 0; k < batch.size(); ++k) {
                     const auto& [base, c] = bases[batch[k]];
