@@ -524,29 +524,55 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     };
     static inline std::atomic<std::uint64_t> generations{0};
     std::uint64_t generation = ++generations;
-    void placedBoxes(const detail::CoreBody& body) const {
-        if (body.hasBoxes()) return;
-        constexpr std::size_t kSlots = 2048;
-        thread_local std::vector<PlacedCore> table(kSlots);
-        const detail::BodyPose& pose = body.pose();
-        const int sample = lib.sampleAt(pose.action, pose.tau);
+    static constexpr std::size_t kPlacedSlots = 2048;
+    using PlacedTable = std::vector<PlacedCore>;
+    static PlacedTable& placedTable() {
+        thread_local PlacedTable table(kPlacedSlots);
+        return table;
+    }
+    std::size_t placedSlot(const detail::BodyPose& pose, int sample) const {
         std::uint64_t h = generation * 0x9E3779B97F4A7C15ull;
         std::uint32_t x, z;
         std::uint64_t hd;
         std::memcpy(&x, &pose.root.pos.x, 4), std::memcpy(&z, &pose.root.pos.y, 4), std::memcpy(&hd, &pose.root.heading, 8);
-        for (const std::uint64_t v : {static_cast<std::uint64_t>(static_cast<std::uint32_t>(pose.action)), static_cast<std::uint64_t>(static_cast<std::uint32_t>(sample)),
-                                      static_cast<std::uint64_t>(x), static_cast<std::uint64_t>(z), hd}) {
+        for (const std::uint64_t v : {static_cast<std::uint64_t>(static_cast<std::uint32_t>(pose.action)),
+                                      static_cast<std::uint64_t>(static_cast<std::uint32_t>(sample)), static_cast<std::uint64_t>(x),
+                                      static_cast<std::uint64_t>(z), hd}) {
             h = (h ^ v) * 0x100000001b3ull;
         }
-        PlacedCore& e = table[static_cast<std::size_t>((h ^ (h >> 31)) % kSlots)];
-        if (e.generation == generation && e.action == pose.action && e.sample == sample && e.pos == pose.root.pos &&
-            std::memcmp(&e.heading, &pose.root.heading, 8) == 0) {
-            body.adoptBoxes(e.boxes, e.radii);
-            return;
-        }
+        return static_cast<std::size_t>((h ^ (h >> 31)) % kPlacedSlots);
+    }
+    bool holds(const PlacedCore& e, const detail::BodyPose& pose, int sample) const {
+        return e.generation == generation && e.action == pose.action && e.sample == sample && e.pos == pose.root.pos &&
+               std::memcmp(&e.heading, &pose.root.heading, 8) == 0;
+    }
+    void fillPlaced(PlacedCore& e, const detail::CoreBody& body, int sample) const {
+        const detail::BodyPose& pose = body.pose();
         e.boxes = body.boxes();
         e.radii = body.radii();
         e.generation = generation, e.action = pose.action, e.sample = sample, e.pos = pose.root.pos, e.heading = pose.root.heading;
+    }
+    // coreBodiesOverlap(a, b) for two bodies whose pelvises are within the
+    // pelvis reach (the caller's test, the same as its first), their boxes
+    // from the table or placed into it.
+    bool coresOverlap(const detail::CoreBody& a, const detail::CoreBody& b) const {
+        PlacedTable& table = placedTable();
+        const int sa = lib.sampleAt(a.pose().action, a.pose().tau), sb = lib.sampleAt(b.pose().action, b.pose().tau);
+        const std::size_t ia = placedSlot(a.pose(), sa), ib = placedSlot(b.pose(), sb);
+        PlacedCore& ea = table[ia];
+        if (!holds(ea, a.pose(), sa)) fillPlaced(ea, a, sa);
+        PlacedCore spare;  // both in one slot: b's beside it
+        PlacedCore* eb = &table[ib];
+        if (ib == ia && !holds(*eb, b.pose(), sb)) eb = &spare;
+        if (!holds(*eb, b.pose(), sb)) fillPlaced(*eb, b, sb);
+        for (std::size_t i = 0; i < ea.boxes.size(); ++i) {
+            for (std::size_t j = 0; j < eb->boxes.size(); ++j) {
+                const glm::vec3 c = eb->boxes[j].centre - ea.boxes[i].centre;
+                const float r = ea.radii[i] + eb->radii[j];
+                if (glm::dot(c, c) <= r * r && overlapsBeyondSpheres(ea.boxes[i], eb->boxes[j])) return true;
+            }
+        }
+        return false;
     }
 
     // A disc round the pelvis paths (pelvisPaths) of the instances of `p`
@@ -646,8 +672,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             const glm::vec2 d = a.pelvis() - b.pelvis();
             if (glm::dot(d, d) > kReach * kReach) return false;
             if (detail::CoreDiscs::apart(aDisc, discs->placed(b))) return false;
-            placedBoxes(a), placedBoxes(b);
-            return detail::coreBodiesOverlap(a, b, kReach);
+            return coresOverlap(a, b);  // coreBodiesOverlap(a, b, kReach)
         };
         // Someone's pelvis at t is certainly beyond the pelvis reach of p:
         // standing, it keeps within holdWander of its spot; following a plan,
