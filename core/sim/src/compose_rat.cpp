@@ -33,6 +33,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         // (pathDiscOf, hullsDiscOf from its first instance): firstTouch's
         // first test, kept with the plan (refreshDiscs).
         detail::CoreDiscs::Disc pathAll, hullsAll;
+        RootXf standRoot;  // at * holdRootInverse: where its standing clip is placed
     };
 
     // The crowd as a trial sees it: everyone's plan, with the few plans the
@@ -199,12 +200,16 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         return keys;
     }
 
+    // The standing clip's first root, inverted: someone standing at `at` plays it from `at * holdRootInverse`.
+    RootXf holdRootInverse;
+    // The body of someone standing (the clip looped from `root`) at time t.
+    detail::BodyPose standingBody(const RootXf& root, double t) const {
+        const double tau = std::fmod(std::max(t, 0.0), act(hold).duration);
+        return {hold, tau, root};
+    }
     // The body of someone following `plan` (or standing at `at` when it is empty) at time t.
     detail::BodyPose bodyIn(const std::vector<ActionInstance>& plan, const RootXf& at, double t) const {
-        if (plan.empty()) {
-            const double tau = std::fmod(std::max(t, 0.0), act(hold).duration);
-            return {hold, tau, at * lib.rootAt(hold, 0).inverse()};
-        }
+        if (plan.empty()) return standingBody(at * holdRootInverse, t);
         const auto& inst = plan[static_cast<std::size_t>(instanceIndexAt(plan, t))];
         return {inst.action, inst.clipTimeAt(t), inst.root};
     }
@@ -666,7 +671,10 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         if (kept) close = *kept;
         else keptNeighbours(crowd, self, plan, from, ignore, close);
         constexpr float kReach = 1.2f;  // coreBodiesOverlap's pelvis reach
-        auto bodyOf = [&](std::size_t o, double t) { return detail::CoreBody(lib, bodyIn(crowd.plan(o), crowd[o].at, t), kShrink); };
+        auto bodyOf = [&](std::size_t o, double t) {
+            const auto& theirs = crowd.plan(o);
+            return detail::CoreBody(lib, theirs.empty() ? standingBody(crowd[o].standRoot, t) : bodyIn(theirs, crowd[o].at, t), kShrink);
+        };
         // The pelvis test, then the discs round the core boxes (the same answer as the boxes alone).
         auto overlap = [&](const detail::CoreBody& a, const detail::CoreDiscs::Disc& aDisc, const detail::CoreBody& b) {
             const glm::vec2 d = a.pelvis() - b.pelvis();
@@ -898,6 +906,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         }
         pushedPool = rules.emplace(lib).addPool(pushed);
         measureHoldWander();
+        holdRootInverse = lib.rootAt(hold, 0).inverse();
         discs.emplace(lib, kTouchShrink);
         measurePelvisPaths();
         measureCoreHulls();
@@ -936,6 +945,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         if (crowd.empty()) return makeError("rat: nobody could stand near the trajectory (widen band or lower spacing)");
         for (std::size_t k = 0; k < crowd.size(); ++k) spotGrid.insert(static_cast<int>(k), crowd[k].spot);
         for (auto& b : crowd) {
+            b.standRoot = b.at * holdRootInverse;
             b.standHull = placedHull(hold, b.at * lib.rootAt(hold, 0).inverse());
             refreshDiscs(b);
         }
@@ -1029,6 +1039,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             // highest score, the first of equals, as a pass over all in order.
             std::stable_sort(bases.begin(), bases.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
             std::size_t bestC = SIZE_MAX;
+            std::vector<std::size_t> order1(ways1.size());  // per candidate: its place in `bases`
             // One candidate's body tests against the crowd as it stands (read
             // only: each candidate starts from the same crowd, so candidates can
             // be tried in parallel). Empty `plan`: it bumps someone it may not.
@@ -1089,58 +1100,58 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                 out.plan = std::move(plan);
                 return out;
             };
-            // The candidates in `bases` order, a batch at a time: the batch's
-            // body tests in parallel, then its results taken in order by the
-            // same rules as one candidate after another (the same best, the
-            // same bytes, whatever the number of threads; a batch may test a
-            // few candidates past the point where the rules stop).
+            // The candidates in `bases` order. The result is the candidate of
+            // the highest score, the first of equals, among those whose trial
+            // keeps a plan: whatever order they are tried in, as long as every
+            // one that could still win is tried. A way out whose neighbours
+            // firstTouch keeps none of (keptFor) touches nobody: its trial
+            // keeps its plan with no bump, so it is taken at its base score
+            // here. The others are tried a batch at a time, the batch's body
+            // tests in parallel (the same best, the same bytes, whatever the
+            // number of threads; a batch may test a few candidates that can
+            // no longer win).
+            std::vector<std::size_t> batch;  // candidates
+            std::vector<std::vector<ActionInstance>> plans;
+            std::vector<const std::vector<std::size_t>*> kept;
             std::vector<Tried> tried;
-            for (std::size_t p = 0; p < bases.size();) {
-                // The batch: from p on, those the rules would still test with the best so far.
-                std::vector<std::size_t> batch;
-                std::size_t q = p;
-                for (; q < bases.size() && batch.size() < kCandidateBatch; ++q) {
-                    const double reach = bases[q].first + std::max(0.0, bumpBonus);
-                    if (reach < best.score) break;
-                    if (reach == best.score && bases[q].second > bestC) continue;
-                    batch.push_back(q);
+            auto take = [&](std::size_t c, double score, std::vector<ActionInstance>&& plan, std::vector<Push>&& pushes) {
+                if (score > best.score || (score == best.score && c < bestC)) {
+                    best = {score, std::move(plan), b.passTime - ways1[c].patch.lead, ways1[c].clear, std::move(pushes)};
+                    bestC = c;
                 }
-                if (batch.empty()) break;
+            };
+            auto runBatch = [&] {
                 tried.assign(batch.size(), {});
-                // The plans, and the neighbours their first test keeps, before the batch runs.
-                std::vector<std::vector<ActionInstance>> plans(batch.size());
-                std::vector<const std::vector<std::size_t>*> kept(batch.size());
-                for (std::size_t k = 0; k < batch.size(); ++k) {
-                    const RatPatch& patch = ways1[bases[batch[k]].second].patch;
-                    const auto& way = ways[static_cast<std::size_t>(patch.way)];
-                    const double ts = b.passTime - patch.lead;
-                    plans[k] = planMove(b.at, ts, way, 0.0, b.at * lib.rootAt(way.front(), 0).inverse(), false, until);
-                    kept[k] = keptFor(plans[k], ts, static_cast<std::size_t>(patch.way));
-                }
                 tbb::parallel_for(
-                    std::size_t{0}, batch.size(),
-                    [&](std::size_t k) { tried[k] = tryCandidate(bases[batch[k]].second, std::move(plans[k]), kept[k]); },
+                    std::size_t{0}, batch.size(), [&](std::size_t k) { tried[k] = tryCandidate(batch[k], std::move(plans[k]), kept[k]); },
                     tbb::simple_partitioner{});
-                bool stop = false;
                 for (std::size_t k = 0; k < batch.size(); ++k) {
-                    const auto& [base, c] = bases[batch[k]];
-                    const double reach = base + std::max(0.0, bumpBonus);
-                    if (reach < best.score) {
-                        stop = true;  // nor can any after it
-                        break;
-                    }
-                    if (reach == best.score && c > bestC) continue;  // cannot win
                     Tried& r = tried[k];
-                    if (r.plan.empty()) continue;
-                    const double score = base + (r.pushes.empty() ? 0.0 : bumpBonus);
-                    if (score > best.score || (score == best.score && c < bestC)) {
-                        best = {score, std::move(r.plan), b.passTime - ways1[c].patch.lead, ways1[c].clear, std::move(r.pushes)};
-                        bestC = c;
-                    }
+                    if (r.plan.empty()) continue;  // it bumps someone it may not
+                    const double base = bases[order1[batch[k]]].first;
+                    take(batch[k], base + (r.pushes.empty() ? 0.0 : bumpBonus), std::move(r.plan), std::move(r.pushes));
                 }
-                if (stop) break;
-                p = q;
+                batch.clear(), plans.clear(), kept.clear();
+            };
+            for (std::size_t q = 0; q < bases.size(); ++q) {
+                const auto& [base, c] = bases[q];
+                const double reach = base + std::max(0.0, bumpBonus);  // the most it can score
+                if (reach < best.score) break;                          // nor can any after it
+                if (reach == best.score && c > bestC) continue;         // cannot win
+                const RatPatch& patch = ways1[c].patch;
+                const auto& way = ways[static_cast<std::size_t>(patch.way)];
+                const double ts = b.passTime - patch.lead;
+                auto plan = planMove(b.at, ts, way, 0.0, b.at * lib.rootAt(way.front(), 0).inverse(), false, until);
+                const auto* near = keptFor(plan, ts, static_cast<std::size_t>(patch.way));
+                if (near && near->empty()) {
+                    take(c, base, std::move(plan), {});
+                    continue;
+                }
+                order1[c] = q;
+                batch.push_back(c), plans.push_back(std::move(plan)), kept.push_back(near);
+                if (batch.size() == kCandidateBatch) runBatch();
             }
+            if (!batch.empty()) runBatch();
             if (!best.plan.empty()) {
                 b.plan = std::move(best.plan);
                 refreshDiscs(b);
@@ -1270,6 +1281,7 @@ Result<std::vector<RatAvoidPatch>> ratAvoidPatches(const ActionLibrary& lib, con
     RatComposer c(lib, none, spec, st);
     if (c.hold < 0) return makeError("the project has no idle action (characters need one to wait)");
     if (!c.findWays()) return makeError(RatComposer::kNoWays);
+    c.holdRootInverse = lib.rootAt(c.hold, 0).inverse();
     c.makeRatPatches();
     std::vector<RatAvoidPatch> out;
     for (int l = -c.ratLaterals; l <= c.ratLaterals; ++l) {
