@@ -200,6 +200,14 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         return keys;
     }
 
+    // instanceIndexAt for a plan (not empty; its instances in time order):
+    // the last that starts at or before t, or the first. Plans hold a few
+    // instances, so from the end.
+    static std::size_t playingAt(const std::vector<ActionInstance>& plan, double t) {
+        std::size_t k = plan.size() - 1;
+        while (k > 0 && plan[k].start > t) --k;
+        return k;
+    }
     // The standing clip's first root, inverted: someone standing at `at` plays it from `at * holdRootInverse`.
     RootXf holdRootInverse;
     // The body of someone standing (the clip looped from `root`) at time t.
@@ -210,7 +218,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     // The body of someone following `plan` (or standing at `at` when it is empty) at time t.
     detail::BodyPose bodyIn(const std::vector<ActionInstance>& plan, const RootXf& at, double t) const {
         if (plan.empty()) return standingBody(at * holdRootInverse, t);
-        const auto& inst = plan[static_cast<std::size_t>(instanceIndexAt(plan, t))];
+        const auto& inst = plan[playingAt(plan, t)];
         return {inst.action, inst.clipTimeAt(t), inst.root};
     }
 
@@ -239,12 +247,18 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         for (const auto& sample : feet) {
             const RootXf r = ratAt(t);
             const glm::vec2 fwd = headingVector(r.heading);
+            std::array<glm::vec2, 3> rat{};
+            int k = 0;
+            for (float along : {0.0f, 0.5f, 1.0f}) rat[static_cast<std::size_t>(k++)] = r.pos + fwd * (along * kRatLength);
+            // rectDistance squared: the root of the least square is the least distance.
+            float least = std::numeric_limits<float>::max();
             for (const SweptBox& box : sample) {
-                for (float along : {0.0f, 0.5f, 1.0f}) {
-                    const double d = static_cast<double>(rectDistance(box, r.pos + fwd * (along * kRatLength))) - 0.04;  // the rat's girth
-                    best = std::min(best, d);
+                for (const glm::vec2& p : rat) {
+                    const glm::vec2 d = glm::max(glm::max(box.lo - p, p - box.hi), glm::vec2(0.0f));
+                    least = std::min(least, glm::dot(d, d));
                 }
             }
+            best = std::min(best, static_cast<double>(std::sqrt(least)) - 0.04);  // the rat's girth
             if (best < enough) break;
             t += 1.0 / kSampleRate;
         }
@@ -418,7 +432,11 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             SweptBox hull;              // round the feet and shins at every sample (footHulls placed, with a margin)
             std::vector<double> apart;  // per rat sample: the distance from the rat to `hull` (NaN: not measured yet)
         };
-        std::vector<Slot> slots(1 + 4 * ways.size());  // the standing idle, then per way its plan's instances 1-3
+        // The standing idle, then per way its plan's instances 1-3 (kept per
+        // thread from person to person, emptied: no clearWays runs inside another on a thread).
+        thread_local std::vector<Slot> slots;
+        slots.resize(1 + 4 * ways.size());
+        for (Slot& slot : slots) slot.action = -1;
         std::array<SweptBox, 5> scratch{};
         // The slot of an instance, or none when the slot holds another instance.
         auto slotOf = [&](std::size_t slot, const ActionInstance& inst) -> Slot* {
@@ -646,7 +664,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         // from then and round all of theirs (or their spot and holdWander)
         // are apart (so neither loop below would find them touching).
         using Disc = detail::CoreDiscs::Disc;
-        const std::size_t k0 = plan.empty() ? 0 : static_cast<std::size_t>(instanceIndexAt(plan, from));
+        const std::size_t k0 = plan.empty() ? 0 : playingAt(plan, from);
         const Disc mine = pathDiscOf(plan, k0, crowd[self].spot);
         // Likewise the discs round the core discs of every sample of the
         // instances (coreHulls): apart, no sample of theirs meets one of its.
@@ -690,7 +708,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             glm::vec2 centre = crowd[o].spot;
             float wander = holdWander;
             if (!theirs.empty()) {
-                const ActionInstance& inst = theirs[static_cast<std::size_t>(instanceIndexAt(theirs, t))];
+                const ActionInstance& inst = theirs[playingAt(theirs, t)];
                 const detail::CoreDiscs::Disc& path = pelvisPaths[static_cast<std::size_t>(inst.action)];
                 centre = inst.root.pos + FloorRotation(inst.root.heading)(path.centre);
                 wander = path.radius;
@@ -703,7 +721,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         auto hullApart = [&](std::size_t o, double t, const detail::CoreDiscs::Disc& meDisc) {
             const auto& theirs = crowd.plan(o);
             if (theirs.empty()) return apartFromHull(meDisc, crowd[o].standHull);
-            const ActionInstance& inst = theirs[static_cast<std::size_t>(instanceIndexAt(theirs, t))];
+            const ActionInstance& inst = theirs[playingAt(theirs, t)];
             return apartFromHull(meDisc, placedHull(inst.action, inst.root));
         };
         auto touches = [&](std::size_t o, double t) {
@@ -732,10 +750,10 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         auto instanceApart = [&](std::size_t c, std::size_t k, double t) {
             const auto& theirs = crowd.plan(close[c]);
             if (theirs.empty()) return standApart[c * plan.size() + k] != 0;
-            const ActionInstance& inst = theirs[static_cast<std::size_t>(instanceIndexAt(theirs, t))];
+            const ActionInstance& inst = theirs[playingAt(theirs, t)];
             return apartFromHull(ownHulls[k], placedHull(inst.action, inst.root));
         };
-        auto ownInstance = [&](double t) { return static_cast<std::size_t>(instanceIndexAt(plan, t)); };
+        auto ownInstance = [&](double t) { return playingAt(plan, t); };
         const double settle = std::min(until, std::max(from, movingWindow(plan).second) + dt);
         for (double t = from; t <= settle + 1e-9; t += dt) {
             if (!plan.empty()) {
@@ -1060,7 +1078,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             std::vector<Kept> keptOf(ways.size());
             auto keptFor = [&](const std::vector<ActionInstance>& plan, double ts, std::size_t way) -> const std::vector<std::size_t>* {
                 Kept& k = keptOf[way];
-                const auto k0 = static_cast<std::size_t>(instanceIndexAt(plan, ts));
+                const auto k0 = playingAt(plan, ts);
                 auto same = [&] {
                     if (k.from.size() != plan.size() - k0) return false;
                     for (std::size_t j = k0; j < plan.size(); ++j) {
