@@ -331,6 +331,23 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         ratLaterals = static_cast<int>(std::ceil(own.reach / kRatLateralStep - 1e-9)) + 1;  // a cell beyond reach, to look up either side
         ratTable.assign(static_cast<std::size_t>((2 * ratLaterals + 1) * kRatFacings), {});
         constexpr double kPass = 3.0;  // patch time of the rat's closest approach
+        // footBoxes' sample times, and an order from the closest approach
+        // outwards: the least distance comes early, and a sample whose box
+        // round the four is no closer is passed over (the same least
+        // distance, so the same clearance whenever it reaches kRatClear).
+        std::vector<double> times;
+        for (double t = kPass - 0.6; t <= kPass + 0.6; t += 1.0 / kSampleRate) times.push_back(t);
+        std::vector<std::size_t> outwards;
+        for (std::size_t d = 0; outwards.size() < times.size(); ++d) {
+            const std::size_t mid = times.size() / 2;
+            if (mid + d < times.size()) outwards.push_back(mid + d);
+            if (d > 0 && d <= mid) outwards.push_back(mid - d);
+        }
+        auto square = [](const SweptBox& r, const glm::vec2& p) {
+            const glm::vec2 d = glm::max(glm::max(r.lo - p, p - r.hi), glm::vec2(0.0f));
+            return glm::dot(d, d);
+        };
+        auto distance = [](float squared) { return static_cast<double>(std::sqrt(squared)) - 0.04; };  // the rat's girth
         tbb::parallel_for(0, kRatFacings, [&](int f) {
             const RootXf at{glm::vec2(0.0f), ratFacingAt(f)};
             for (std::size_t w = 0; w < ways.size(); ++w) {
@@ -341,12 +358,32 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                 for (int k = 1; k * kRatLeadStep <= std::min(duration + 0.6, kPass - 0.2) + 1e-9; ++k) {
                     const double lead = k * kRatLeadStep;
                     const FootBoxes feet = footBoxes(planMove(at, kPass - lead, way, 0.0, root, false, kPass + 1.0), at, kPass);
+                    std::vector<SweptBox> around(feet.size(), SweptBox::empty());
+                    for (std::size_t i = 0; i < feet.size(); ++i) {
+                        for (const SweptBox& box : feet[i]) around[i].add(box);
+                    }
                     for (int l = -ratLaterals; l <= ratLaterals; ++l) {
                         // The person stands l * 0.2 m to the left of the rat's line.
                         const glm::vec2 line = -static_cast<float>(l * kRatLateralStep) * leftOf(0.0);
-                        const double clear = clearanceOf(
-                            feet, [&](double t) { return RootXf{line + headingVector(0.0) * static_cast<float>(own.ratSpeed * (t - kPass)), 0.0}; },
-                            kPass, kRatClear);
+                        // clearanceOf(feet, the straight rat, kPass, kRatClear), the samples in `outwards` order.
+                        double clear = std::numeric_limits<double>::max();
+                        for (const std::size_t i : outwards) {
+                            if (i >= feet.size()) continue;
+                            const RootXf r{line + headingVector(0.0) * static_cast<float>(own.ratSpeed * (times[i] - kPass)), 0.0};
+                            const glm::vec2 fwd = headingVector(r.heading);
+                            std::array<glm::vec2, 3> rat{};
+                            int q = 0;
+                            for (float along : {0.0f, 0.5f, 1.0f}) rat[static_cast<std::size_t>(q++)] = r.pos + fwd * (along * kRatLength);
+                            float bound = std::numeric_limits<float>::max();
+                            for (const glm::vec2& p : rat) bound = std::min(bound, square(around[i], p));
+                            if (distance(bound) >= clear) continue;
+                            float least = std::numeric_limits<float>::max();
+                            for (const SweptBox& box : feet[i]) {
+                                for (const glm::vec2& p : rat) least = std::min(least, square(box, p));
+                            }
+                            clear = std::min(clear, distance(least));
+                            if (clear < kRatClear) break;
+                        }
                         if (clear >= kRatClear) ratTable[ratCell(l, f)].push_back({static_cast<int>(w), lead, clear, k});
                     }
                 }
