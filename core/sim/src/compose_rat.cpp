@@ -200,6 +200,14 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         return keys;
     }
 
+    // lib.sampleAt(action, t), inline: the floor of t * kSampleRate (+1e-9)
+    // by truncation (clip times are finite and far inside an int), clamped.
+    int sampleOf(int action, double t) const {
+        const double x = t * kSampleRate + 1e-9;
+        int s = static_cast<int>(x);
+        if (static_cast<double>(s) > x) --s;
+        return std::clamp(s, 0, act(action).sampleCount - 1);
+    }
     // instanceIndexAt for a plan (not empty; its instances in time order):
     // the last that starts at or before t, or the first. Plans hold a few
     // instances, so from the end.
@@ -541,7 +549,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                     }
                     if (apart >= best) continue;
                 }
-                const auto& boxes = boxesOf(s, inst, lib.sampleAt(inst.action, inst.clipTimeAt(t)));
+                const auto& boxes = boxesOf(s, inst, sampleOf(inst.action, inst.clipTimeAt(t)));
                 float bound = std::numeric_limits<float>::max();
                 for (const glm::vec2& p : rat[i]) bound = std::min(bound, square(boxes[4], p));
                 if (distance(bound) >= best) continue;  // no box of the four comes closer than the best so far
@@ -617,7 +625,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     // from the table or placed into it.
     bool coresOverlap(const detail::CoreBody& a, const detail::CoreBody& b) const {
         PlacedTable& table = placedTable();
-        const int sa = lib.sampleAt(a.pose().action, a.pose().tau), sb = lib.sampleAt(b.pose().action, b.pose().tau);
+        const int sa = sampleOf(a.pose().action, a.pose().tau), sb = sampleOf(b.pose().action, b.pose().tau);
         const std::size_t ia = placedSlot(a.pose(), sa), ib = placedSlot(b.pose(), sb);
         PlacedCore& ea = table[ia];
         if (!holds(ea, a.pose(), sa)) fillPlaced(ea, a, sa);
@@ -1029,9 +1037,31 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             for (std::size_t k = b0; k < b1; ++k) blk.radius = std::max(blk.radius, static_cast<double>(glm::length(samplePos[k] - blk.centre)));
             blocks.push_back(blk);
         }
+        // And the blocks in groups of kBlock with a circle round theirs: a
+        // group that cannot come closer than the best so far is passed over whole.
+        std::vector<Block> groups;
+        for (std::size_t g0 = 0; g0 < blocks.size(); g0 += kBlock) {
+            const std::size_t g1 = std::min(blocks.size(), g0 + kBlock);
+            const std::size_t k0 = g0 * kBlock, k1 = std::min(samplePos.size(), g1 * kBlock);
+            glm::vec2 lo2 = samplePos[k0], hi2 = lo2;
+            for (std::size_t k = k0; k < k1; ++k) lo2 = glm::min(lo2, samplePos[k]), hi2 = glm::max(hi2, samplePos[k]);
+            Block grp{0.5f * (lo2 + hi2), 0.0};
+            for (std::size_t k = k0; k < k1; ++k) grp.radius = std::max(grp.radius, static_cast<double>(glm::length(samplePos[k] - grp.centre)));
+            groups.push_back(grp);
+        }
         tbb::parallel_for(std::size_t{0}, crowd.size(), [&](std::size_t i) {
             Bystander& b = crowd[i];
             for (std::size_t blk = 0; blk < blocks.size(); ++blk) {
+                if (blk % kBlock == 0) {
+                    // Every sample of the group is at least this far (the same margin as a block's).
+                    const Block& grp = groups[blk / kBlock];
+                    const double scale = static_cast<double>(glm::length(grp.centre)) + static_cast<double>(glm::length(b.spot));
+                    const double bound = static_cast<double>(glm::length(grp.centre - b.spot)) - grp.radius - 1e-3 - 1e-5 * scale;
+                    if (bound > b.passDistance) {
+                        blk += kBlock - 1;
+                        continue;
+                    }
+                }
                 // A sample of the block is at least this far (a margin for the float rounding).
                 const double scale = static_cast<double>(glm::length(blocks[blk].centre)) + static_cast<double>(glm::length(b.spot));
                 const double bound = static_cast<double>(glm::length(blocks[blk].centre - b.spot)) - blocks[blk].radius - 1e-3 - 1e-5 * scale;
