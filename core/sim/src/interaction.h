@@ -67,14 +67,6 @@ public:
     const std::array<Obb, kCoreSegments.size()>& boxes() const;
     // Their bounding-sphere radii (valid after boxes()).
     const std::array<float, kCoreSegments.size()>& radii() const { return radii_; }
-    // Boxes placed already (by boxes())?
-    bool hasBoxes() const { return boxes_.has_value(); }
-    // Takes boxes() and radii() of a body in the same pose, placed earlier
-    // with the same shrink (a cache of placed bodies): boxes() returns them.
-    void adoptBoxes(const std::array<Obb, kCoreSegments.size()>& boxes, const std::array<float, kCoreSegments.size()>& radii) const {
-        boxes_ = boxes;
-        radii_ = radii;
-    }
 
 private:
     const ActionLibrary* lib_;
