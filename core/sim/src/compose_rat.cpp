@@ -1,5 +1,6 @@
 // The rat scene: people step out of the way of a rat and bump into their neighbours (SPEC 4.5).
-#include <set>
+#include <atomic>
+#include <cstring>
 
 #include <tbb/parallel_for.h>
 
@@ -28,6 +29,11 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         bool near = false;
         std::vector<ActionInstance> plan;    // empty: stands all along
         detail::CoreDiscs::Disc standHull;   // standing: a disc round its core discs at every sample of the idle (coreHulls)
+        // Its plan's discs round its pelvis paths and round its core hulls
+        // (pathDiscOf, hullsDiscOf from its first instance): firstTouch's
+        // first test, kept with the plan (refreshDiscs).
+        detail::CoreDiscs::Disc pathAll, hullsAll;
+        RootXf standRoot;  // at * holdRootInverse: where its standing clip is placed
     };
 
     // The crowd as a trial sees it: everyone's plan, with the few plans the
@@ -44,6 +50,12 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                 if (who == o) return p;
             }
             return (*base)[o].plan;
+        }
+        bool isChanged(std::size_t o) const {
+            for (const auto& [who, p] : changed) {
+                if (who == o) return true;
+            }
+            return false;
         }
         void set(std::size_t o, std::vector<ActionInstance> p) {
             for (auto& [who, q] : changed) {
@@ -114,6 +126,18 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             h.radius += 1e-3f;
         }
     }
+    // Per action: the box round the floor boxes of its feet and shins at
+    // every sample, in the clip's frame (clearWays' first test).
+    std::vector<SweptBox> footHulls;
+    void measureFootHulls() {
+        footHulls.assign(static_cast<std::size_t>(lib.size()), SweptBox::empty());
+        for (int a = 0; a < lib.size(); ++a) {
+            for (int k = 0; k < act(a).sampleCount; ++k) {
+                const Obb* boxes = lib.boxesAt(a, k);
+                for (int seg : {kLeftFoot, kRightFoot, kLeftShin, kRightShin}) footHulls[static_cast<std::size_t>(a)].add(floorBox(boxes[seg]));
+            }
+        }
+    }
     detail::CoreDiscs::Disc placedHull(int action, const RootXf& root) const {
         const auto& h = coreHulls[static_cast<std::size_t>(action)];
         return {root.pos + FloorRotation(root.heading)(h.centre), h.radius};
@@ -176,13 +200,33 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         return keys;
     }
 
+    // lib.sampleAt(action, t), inline: the floor of t * kSampleRate (+1e-9)
+    // by truncation (clip times are finite and far inside an int), clamped.
+    int sampleOf(int action, double t) const {
+        const double x = t * kSampleRate + 1e-9;
+        int s = static_cast<int>(x);
+        if (static_cast<double>(s) > x) --s;
+        return std::clamp(s, 0, act(action).sampleCount - 1);
+    }
+    // instanceIndexAt for a plan (not empty; its instances in time order):
+    // the last that starts at or before t, or the first. Plans hold a few
+    // instances, so from the end.
+    static std::size_t playingAt(const std::vector<ActionInstance>& plan, double t) {
+        std::size_t k = plan.size() - 1;
+        while (k > 0 && plan[k].start > t) --k;
+        return k;
+    }
+    // The standing clip's first root, inverted: someone standing at `at` plays it from `at * holdRootInverse`.
+    RootXf holdRootInverse;
+    // The body of someone standing (the clip looped from `root`) at time t.
+    detail::BodyPose standingBody(const RootXf& root, double t) const {
+        const double tau = std::fmod(std::max(t, 0.0), act(hold).duration);
+        return {hold, tau, root};
+    }
     // The body of someone following `plan` (or standing at `at` when it is empty) at time t.
     detail::BodyPose bodyIn(const std::vector<ActionInstance>& plan, const RootXf& at, double t) const {
-        if (plan.empty()) {
-            const double tau = std::fmod(std::max(t, 0.0), act(hold).duration);
-            return {hold, tau, at * lib.rootAt(hold, 0).inverse()};
-        }
-        const auto& inst = plan[static_cast<std::size_t>(instanceIndexAt(plan, t))];
+        if (plan.empty()) return standingBody(at * holdRootInverse, t);
+        const auto& inst = plan[playingAt(plan, t)];
         return {inst.action, inst.clipTimeAt(t), inst.root};
     }
 
@@ -211,12 +255,18 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         for (const auto& sample : feet) {
             const RootXf r = ratAt(t);
             const glm::vec2 fwd = headingVector(r.heading);
+            std::array<glm::vec2, 3> rat{};
+            int k = 0;
+            for (float along : {0.0f, 0.5f, 1.0f}) rat[static_cast<std::size_t>(k++)] = r.pos + fwd * (along * kRatLength);
+            // rectDistance squared: the root of the least square is the least distance.
+            float least = std::numeric_limits<float>::max();
             for (const SweptBox& box : sample) {
-                for (float along : {0.0f, 0.5f, 1.0f}) {
-                    const double d = static_cast<double>(rectDistance(box, r.pos + fwd * (along * kRatLength))) - 0.04;  // the rat's girth
-                    best = std::min(best, d);
+                for (const glm::vec2& p : rat) {
+                    const glm::vec2 d = glm::max(glm::max(box.lo - p, p - box.hi), glm::vec2(0.0f));
+                    least = std::min(least, glm::dot(d, d));
                 }
             }
+            best = std::min(best, static_cast<double>(std::sqrt(least)) - 0.04);  // the rat's girth
             if (best < enough) break;
             t += 1.0 / kSampleRate;
         }
@@ -269,6 +319,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         int way = 0;           // index into `ways`
         double lead = 0;       // s
         double clearance = 0;  // m, against the straight rat
+        int step = 0;          // lead / kRatLeadStep
         double score() const { return std::min(clearance, 0.25) - 0.01 * lead; }  // clear by a safe margin, at the last moment
     };
     static constexpr double kRatLateralStep = 0.2, kRatLeadStep = 0.1;
@@ -276,6 +327,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     int ratLaterals = 0;                    // cells either side of the line
     std::vector<std::vector<RatPatch>> ratTable;  // per (lateral, facing) cell, best first
     std::vector<std::vector<int>> ways;      // ways out: one or two avoiding or stepping actions
+    int ratSteps = 1;                        // above every patch's lead step
 
     static glm::vec2 leftOf(double heading) { return headingVector(heading + 0.5 * std::numbers::pi); }
     static double ratFacingAt(int f) { return wrapAngle((f - kRatFacings / 2) * 2 * std::numbers::pi / kRatFacings); }
@@ -287,6 +339,23 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         ratLaterals = static_cast<int>(std::ceil(own.reach / kRatLateralStep - 1e-9)) + 1;  // a cell beyond reach, to look up either side
         ratTable.assign(static_cast<std::size_t>((2 * ratLaterals + 1) * kRatFacings), {});
         constexpr double kPass = 3.0;  // patch time of the rat's closest approach
+        // footBoxes' sample times, and an order from the closest approach
+        // outwards: the least distance comes early, and a sample whose box
+        // round the four is no closer is passed over (the same least
+        // distance, so the same clearance whenever it reaches kRatClear).
+        std::vector<double> times;
+        for (double t = kPass - 0.6; t <= kPass + 0.6; t += 1.0 / kSampleRate) times.push_back(t);
+        std::vector<std::size_t> outwards;
+        for (std::size_t d = 0; outwards.size() < times.size(); ++d) {
+            const std::size_t mid = times.size() / 2;
+            if (mid + d < times.size()) outwards.push_back(mid + d);
+            if (d > 0 && d <= mid) outwards.push_back(mid - d);
+        }
+        auto square = [](const SweptBox& r, const glm::vec2& p) {
+            const glm::vec2 d = glm::max(glm::max(r.lo - p, p - r.hi), glm::vec2(0.0f));
+            return glm::dot(d, d);
+        };
+        auto distance = [](float squared) { return static_cast<double>(std::sqrt(squared)) - 0.04; };  // the rat's girth
         tbb::parallel_for(0, kRatFacings, [&](int f) {
             const RootXf at{glm::vec2(0.0f), ratFacingAt(f)};
             for (std::size_t w = 0; w < ways.size(); ++w) {
@@ -297,17 +366,41 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                 for (int k = 1; k * kRatLeadStep <= std::min(duration + 0.6, kPass - 0.2) + 1e-9; ++k) {
                     const double lead = k * kRatLeadStep;
                     const FootBoxes feet = footBoxes(planMove(at, kPass - lead, way, 0.0, root, false, kPass + 1.0), at, kPass);
+                    std::vector<SweptBox> around(feet.size(), SweptBox::empty());
+                    for (std::size_t i = 0; i < feet.size(); ++i) {
+                        for (const SweptBox& box : feet[i]) around[i].add(box);
+                    }
                     for (int l = -ratLaterals; l <= ratLaterals; ++l) {
                         // The person stands l * 0.2 m to the left of the rat's line.
                         const glm::vec2 line = -static_cast<float>(l * kRatLateralStep) * leftOf(0.0);
-                        const double clear = clearanceOf(
-                            feet, [&](double t) { return RootXf{line + headingVector(0.0) * static_cast<float>(own.ratSpeed * (t - kPass)), 0.0}; },
-                            kPass, kRatClear);
-                        if (clear >= kRatClear) ratTable[ratCell(l, f)].push_back({static_cast<int>(w), lead, clear});
+                        // clearanceOf(feet, the straight rat, kPass, kRatClear), the samples in `outwards` order.
+                        double clear = std::numeric_limits<double>::max();
+                        for (const std::size_t i : outwards) {
+                            if (i >= feet.size()) continue;
+                            const RootXf r{line + headingVector(0.0) * static_cast<float>(own.ratSpeed * (times[i] - kPass)), 0.0};
+                            const glm::vec2 fwd = headingVector(r.heading);
+                            std::array<glm::vec2, 3> rat{};
+                            int q = 0;
+                            for (float along : {0.0f, 0.5f, 1.0f}) rat[static_cast<std::size_t>(q++)] = r.pos + fwd * (along * kRatLength);
+                            float bound = std::numeric_limits<float>::max();
+                            for (const glm::vec2& p : rat) bound = std::min(bound, square(around[i], p));
+                            if (distance(bound) >= clear) continue;
+                            float least = std::numeric_limits<float>::max();
+                            for (const SweptBox& box : feet[i]) {
+                                for (const glm::vec2& p : rat) least = std::min(least, square(box, p));
+                            }
+                            clear = std::min(clear, distance(least));
+                            if (clear < kRatClear) break;
+                        }
+                        if (clear >= kRatClear) ratTable[ratCell(l, f)].push_back({static_cast<int>(w), lead, clear, k});
                     }
                 }
             }
         });
+        ratSteps = 1;
+        for (const auto& cell : ratTable) {
+            for (const RatPatch& p : cell) ratSteps = std::max(ratSteps, p.step + 1);
+        }
         for (auto& cell : ratTable) {
             std::stable_sort(cell.begin(), cell.end(), [](const RatPatch& a, const RatPatch& b) { return a.score() > b.score(); });
             ownStats.ratPatches += static_cast<int>(cell.size());
@@ -322,12 +415,14 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         const double facing = (wrapAngle(b.at.heading - r.heading) + std::numbers::pi) / (2 * std::numbers::pi / kRatFacings);
         const int l0 = static_cast<int>(std::floor(lateral)), f0 = static_cast<int>(std::floor(facing));
         std::vector<RatPatch> out;
-        std::set<std::pair<int, double>> seen;  // (way, lead): the cells share the 0.1 s lead grid exactly
+        // (way, lead) once: the cells share the 0.1 s lead grid exactly (lead = step * 0.1).
+        std::vector<char> seen(ways.size() * static_cast<std::size_t>(ratSteps), 0);
         for (int l : {l0, l0 + 1}) {
             if (l < -ratLaterals || l > ratLaterals) continue;
             for (int f : {f0, f0 + 1}) {
                 for (const RatPatch& p : ratTable[ratCell(l, ((f % kRatFacings) + kRatFacings) % kRatFacings)]) {
-                    if (seen.emplace(p.way, p.lead).second) out.push_back(p);
+                    char& s = seen[static_cast<std::size_t>(p.way) * static_cast<std::size_t>(ratSteps) + static_cast<std::size_t>(p.step)];
+                    if (!s) s = 1, out.push_back(p);
                 }
             }
         }
@@ -335,7 +430,9 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     }
 
     // A way out of one person that keeps the rat clear of the feet and shins:
-    // its candidate (way, lead) and exactly ratClearance's value for its plan.
+    // its candidate (way, lead) and exactly min(ratClearance's value for its
+    // plan, kClearScored), what its score reads.
+    static constexpr double kClearScored = 0.25;
     struct ClearWay {
         RatPatch patch;
         double clear = 0;
@@ -354,24 +451,57 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     // minimum, and the value, are the same).
     std::vector<ClearWay> clearWays(const Bystander& b, double until) const {
         constexpr double dt = 1.0 / kSampleRate;
-        std::vector<std::array<glm::vec2, 3>> rat;  // the rat's tail, middle and nose at footBoxes' sample times
+        std::vector<double> times;                  // footBoxes' sample times
+        std::vector<std::array<glm::vec2, 3>> rat;  // the rat's tail, middle and nose then
         for (double t = b.passTime - 0.6; t <= b.passTime + 0.6; t += dt) {
             const RootXf r = creatureAt(ratBody, t);
             const glm::vec2 fwd = headingVector(r.heading);
             std::array<glm::vec2, 3> pts{};
             int k = 0;
             for (float along : {0.0f, 0.5f, 1.0f}) pts[static_cast<std::size_t>(k++)] = r.pos + fwd * (along * kRatLength);
+            times.push_back(t);
             rat.push_back(pts);
         }
+        // rectDistance squared: the square root is monotone, so the least
+        // distance is the root of the least square (one root, the same value).
+        auto square = [](const SweptBox& r, const glm::vec2& p) {
+            const glm::vec2 d = glm::max(glm::max(r.lo - p, p - r.hi), glm::vec2(0.0f));
+            return glm::dot(d, d);
+        };
+        auto distance = [](float squared) { return static_cast<double>(std::sqrt(squared)) - 0.04; };  // the rat's girth
         struct Slot {
             int action = -1;
             RootXf root;
             std::vector<std::array<SweptBox, 5>> boxes;  // per sample: feet, shins, and the box around the four
             std::vector<char> have;
+            SweptBox hull;              // round the feet and shins at every sample (footHulls placed, with a margin)
+            std::vector<double> apart;  // per rat sample: the distance from the rat to `hull` (NaN: not measured yet)
         };
-        std::vector<Slot> slots(1 + 4 * ways.size());  // the standing idle, then per way its plan's instances 1-3
+        // The standing idle, then per way its plan's instances 1-3 (kept per
+        // thread from person to person, emptied: no clearWays runs inside another on a thread).
+        thread_local std::vector<Slot> slots;
+        slots.resize(1 + 4 * ways.size());
+        for (Slot& slot : slots) slot.action = -1;
         std::array<SweptBox, 5> scratch{};
-        auto boxesOf = [&](std::size_t slot, const ActionInstance& inst, int sample) -> const std::array<SweptBox, 5>& {
+        // The slot of an instance, or none when the slot holds another instance.
+        auto slotOf = [&](std::size_t slot, const ActionInstance& inst) -> Slot* {
+            Slot* s = slot < slots.size() ? &slots[slot] : nullptr;
+            if (s && s->action < 0) {
+                s->action = inst.action;
+                s->root = inst.root;
+                s->boxes.resize(static_cast<std::size_t>(act(inst.action).sampleCount));
+                s->have.assign(s->boxes.size(), 0);
+                // placedBox holds the placed boxes' floor boxes (a rectangle
+                // round the rotated rectangle); the margin covers the rounding.
+                s->hull = placedBox(footHulls[static_cast<std::size_t>(inst.action)], inst.root);
+                const float margin = 1e-3f + 1e-5f * (std::fabs(inst.root.pos.x) + std::fabs(inst.root.pos.y));
+                s->hull.lo -= glm::vec2(margin), s->hull.hi += glm::vec2(margin);
+                s->apart.assign(rat.size(), std::numeric_limits<double>::quiet_NaN());
+            }
+            const bool same = s && s->action == inst.action && s->root.pos == inst.root.pos && s->root.heading == inst.root.heading;
+            return same ? s : nullptr;
+        };
+        auto boxesOf = [&](Slot* s, const ActionInstance& inst, int sample) -> const std::array<SweptBox, 5>& {
             auto fill = [&](std::array<SweptBox, 5>& out) {
                 const Obb* boxes = lib.boxesAt(inst.action, sample);
                 int k = 0;
@@ -381,15 +511,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                     out[4].add(out[static_cast<std::size_t>(k++)]);
                 }
             };
-            Slot* s = slot < slots.size() ? &slots[slot] : nullptr;
-            if (s && s->action < 0) {
-                s->action = inst.action;
-                s->root = inst.root;
-                s->boxes.resize(static_cast<std::size_t>(act(inst.action).sampleCount));
-                s->have.assign(s->boxes.size(), 0);
-            }
-            const bool same = s && s->action == inst.action && s->root.pos == inst.root.pos && s->root.heading == inst.root.heading;
-            if (!same) {
+            if (!s) {
                 fill(scratch);  // not the slot's instance: placed afresh
                 return scratch;
             }
@@ -398,25 +520,44 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             return s->boxes[i];
         };
         std::vector<ClearWay> out;
+        SmallPlan plan;
         for (const RatPatch& patch : ratCandidates(b)) {
             const auto& way = ways[static_cast<std::size_t>(patch.way)];
             const double ts = b.passTime - patch.lead;
             if (ts < 0.2) continue;
             const RootXf root = b.at * lib.rootAt(way.front(), 0).inverse();
-            const auto plan = planMove(b.at, ts, way, 0.0, root, false, until);
-            double best = std::numeric_limits<double>::max();
-            double t = b.passTime - 0.6;
-            for (std::size_t i = 0; i < rat.size(); ++i, t += dt) {
-                const auto k = static_cast<std::size_t>(instanceIndexAt(plan, t));
+            plan.clear();
+            planMoveInto(plan, b.at, ts, way, 0.0, root, false, until);
+            // Only min(clearance, kClearScored) counts for the score: a sample
+            // no closer than that changes nothing (the chosen way's own
+            // clearance is measured again in full, for the stats).
+            double best = kClearScored;
+            std::size_t k = 0;  // instanceIndexAt(plan, t): the times increase
+            for (std::size_t i = 0; i < rat.size(); ++i) {
+                const double t = times[i];
+                while (k + 1 < plan.size() && plan[k + 1].start <= t) ++k;
                 const ActionInstance& inst = plan[k];
                 const std::size_t slot = k == 0 ? 0 : (k <= 3 ? 1 + 4 * static_cast<std::size_t>(patch.way) + k - 1 : SIZE_MAX);
-                const auto& boxes = boxesOf(slot, inst, lib.sampleAt(inst.action, inst.clipTimeAt(t)));
-                double bound = std::numeric_limits<double>::max();
-                for (const glm::vec2& p : rat[i]) bound = std::min(bound, static_cast<double>(rectDistance(boxes[4], p)) - 0.04);
-                if (bound >= best) continue;  // no box of the four comes closer than the best so far
-                for (std::size_t seg = 0; seg < 4; ++seg) {
-                    for (const glm::vec2& p : rat[i]) best = std::min(best, static_cast<double>(rectDistance(boxes[seg], p)) - 0.04);
+                Slot* s = slotOf(slot, inst);
+                if (s) {
+                    // Nothing of the instance at any sample comes closer than the best so far.
+                    double& apart = s->apart[i];
+                    if (std::isnan(apart)) {
+                        float least = std::numeric_limits<float>::max();
+                        for (const glm::vec2& p : rat[i]) least = std::min(least, square(s->hull, p));
+                        apart = distance(least);
+                    }
+                    if (apart >= best) continue;
                 }
+                const auto& boxes = boxesOf(s, inst, sampleOf(inst.action, inst.clipTimeAt(t)));
+                float bound = std::numeric_limits<float>::max();
+                for (const glm::vec2& p : rat[i]) bound = std::min(bound, square(boxes[4], p));
+                if (distance(bound) >= best) continue;  // no box of the four comes closer than the best so far
+                float least = std::numeric_limits<float>::max();
+                for (std::size_t seg = 0; seg < 4; ++seg) {
+                    for (const glm::vec2& p : rat[i]) least = std::min(least, square(boxes[seg], p));
+                }
+                best = std::min(best, distance(least));
                 if (best < kRatClear) break;
             }
             if (best >= kRatClear) out.push_back({patch, best});
@@ -436,28 +577,173 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         return w;
     }
 
+    // Core bodies placed (CoreBody::boxes, shrunk by kTouchShrink), kept
+    // per thread in a table by (action, sample, root): the same pose places
+    // the same boxes, and firstTouch meets the same poses again and again
+    // (a neighbour's idle, a way out's samples at every lead). `generation`
+    // tells this composition's entries from another's.
+    struct PlacedCore {
+        std::uint64_t generation = 0;
+        int action = -1, sample = -1;
+        glm::vec2 pos{0.0f};
+        double heading = 0;
+        std::array<Obb, kCoreSegments.size()> boxes;
+        std::array<float, kCoreSegments.size()> radii;
+    };
+    static inline std::atomic<std::uint64_t> generations{0};
+    std::uint64_t generation = ++generations;
+    static constexpr std::size_t kPlacedSlots = 2048;
+    using PlacedTable = std::vector<PlacedCore>;
+    static PlacedTable& placedTable() {
+        thread_local PlacedTable table(kPlacedSlots);
+        return table;
+    }
+    std::size_t placedSlot(const detail::BodyPose& pose, int sample) const {
+        std::uint64_t h = generation * 0x9E3779B97F4A7C15ull;
+        std::uint32_t x, z;
+        std::uint64_t hd;
+        std::memcpy(&x, &pose.root.pos.x, 4), std::memcpy(&z, &pose.root.pos.y, 4), std::memcpy(&hd, &pose.root.heading, 8);
+        for (const std::uint64_t v : {static_cast<std::uint64_t>(static_cast<std::uint32_t>(pose.action)),
+                                      static_cast<std::uint64_t>(static_cast<std::uint32_t>(sample)), static_cast<std::uint64_t>(x),
+                                      static_cast<std::uint64_t>(z), hd}) {
+            h = (h ^ v) * 0x100000001b3ull;
+        }
+        return static_cast<std::size_t>((h ^ (h >> 31)) % kPlacedSlots);
+    }
+    bool holds(const PlacedCore& e, const detail::BodyPose& pose, int sample) const {
+        return e.generation == generation && e.action == pose.action && e.sample == sample && e.pos == pose.root.pos &&
+               std::memcmp(&e.heading, &pose.root.heading, 8) == 0;
+    }
+    void fillPlaced(PlacedCore& e, const detail::CoreBody& body, int sample) const {
+        const detail::BodyPose& pose = body.pose();
+        e.boxes = body.boxes();
+        e.radii = body.radii();
+        e.generation = generation, e.action = pose.action, e.sample = sample, e.pos = pose.root.pos, e.heading = pose.root.heading;
+    }
+    // coreBodiesOverlap(a, b) for two bodies whose pelvises are within the
+    // pelvis reach (the caller's test, the same as its first), their boxes
+    // from the table or placed into it.
+    bool coresOverlap(const detail::CoreBody& a, const detail::CoreBody& b) const {
+        PlacedTable& table = placedTable();
+        const int sa = sampleOf(a.pose().action, a.pose().tau), sb = sampleOf(b.pose().action, b.pose().tau);
+        const std::size_t ia = placedSlot(a.pose(), sa), ib = placedSlot(b.pose(), sb);
+        PlacedCore& ea = table[ia];
+        if (!holds(ea, a.pose(), sa)) fillPlaced(ea, a, sa);
+        PlacedCore spare;  // both in one slot: b's beside it
+        PlacedCore* eb = &table[ib];
+        if (ib == ia && !holds(*eb, b.pose(), sb)) eb = &spare;
+        if (!holds(*eb, b.pose(), sb)) fillPlaced(*eb, b, sb);
+        for (std::size_t i = 0; i < ea.boxes.size(); ++i) {
+            for (std::size_t j = 0; j < eb->boxes.size(); ++j) {
+                const glm::vec3 c = eb->boxes[j].centre - ea.boxes[i].centre;
+                const float r = ea.radii[i] + eb->radii[j];
+                if (glm::dot(c, c) <= r * r && overlapsBeyondSpheres(ea.boxes[i], eb->boxes[j])) return true;
+            }
+        }
+        return false;
+    }
+
+    // A disc round the pelvis paths (pelvisPaths) of the instances of `p`
+    // from k0 on (standing at `spot`: holdWander round it).
+    detail::CoreDiscs::Disc pathDiscOf(const std::vector<ActionInstance>& p, std::size_t k0, const glm::vec2& spot) const {
+        using Disc = detail::CoreDiscs::Disc;
+        if (p.empty()) return Disc{spot, holdWander};
+        auto placed = [&](std::size_t k) {
+            const Disc& path = pelvisPaths[static_cast<std::size_t>(p[k].action)];
+            return Disc{p[k].root.pos + FloorRotation(p[k].root.heading)(path.centre), path.radius};
+        };
+        SweptBox around = SweptBox::empty();
+        for (std::size_t k = k0; k < p.size(); ++k) {
+            const Disc d = placed(k);
+            around.add({d.centre, d.centre});
+        }
+        Disc out{0.5f * (around.lo + around.hi), 0.0f};
+        for (std::size_t k = k0; k < p.size(); ++k) {
+            const Disc d = placed(k);
+            out.radius = std::max(out.radius, glm::length(d.centre - out.centre) + d.radius);
+        }
+        return out;
+    }
+    // A disc round the core hulls (coreHulls) of the instances of `p` from k0 on (standing: `standing`).
+    detail::CoreDiscs::Disc hullsDiscOf(const std::vector<ActionInstance>& p, std::size_t k0, const detail::CoreDiscs::Disc& standing) const {
+        using Disc = detail::CoreDiscs::Disc;
+        if (p.empty()) return standing;
+        SweptBox around = SweptBox::empty();
+        for (std::size_t k = k0; k < p.size(); ++k) {
+            const Disc d = placedHull(p[k].action, p[k].root);
+            around.add({d.centre, d.centre});
+        }
+        Disc out{0.5f * (around.lo + around.hi), 0.0f};
+        for (std::size_t k = k0; k < p.size(); ++k) {
+            const Disc d = placedHull(p[k].action, p[k].root);
+            out.radius = std::max(out.radius, glm::length(d.centre - out.centre) + d.radius);
+        }
+        out.radius += 1e-3f;
+        return out;
+    }
+    void refreshDiscs(Bystander& o) const {
+        o.pathAll = pathDiscOf(o.plan, 0, o.spot);
+        o.hullsAll = hullsDiscOf(o.plan, 0, o.standHull);
+    }
+
     // First time someone following `plan` from `from` to `until` touches
     // another bystander's body: {who, when}; {-1, 0} when nobody. Two people
     // standing still do not start touching, so once this plan has settled only
     // the others' moving windows are sampled.
-    std::pair<int, double> firstTouch(const CrowdView& crowd, std::size_t self, const std::vector<ActionInstance>& plan,
-                                      double from, double until, std::size_t ignore = SIZE_MAX) const {
-        constexpr float kShrink = kTouchShrink;
-        constexpr double dt = 1.0 / kSampleRate;
+    // The neighbours firstTouch looks at, ascending: those within 3 m (but
+    // `ignore`) whose pelvis can come within the pelvis reach of its pelvis
+    // from `from` on and whose core hulls meet its. It reads the plan's
+    // instances from the one playing at `from` on (their actions and roots
+    // only), so the ways out of a person at every lead share it.
+    void keptNeighbours(const CrowdView& crowd, std::size_t self, const std::vector<ActionInstance>& plan, double from,
+                        std::size_t ignore, std::vector<std::size_t>& close) const {
+        constexpr float kReach = 1.2f;  // coreBodiesOverlap's pelvis reach
         // Those within 3 m, ascending (the grid's query is a superset; the
         // same test as a pass over everyone then keeps the same ones).
-        std::vector<std::size_t> close;
+        close.clear();
         for (const std::size_t k : within3m[self]) {
             if (k != ignore) close.push_back(k);
         }
+        // Drop those who never come within the pelvis reach of its pelvis
+        // from `from` on: the discs round the pelvis paths of its instances
+        // from then and round all of theirs (or their spot and holdWander)
+        // are apart (so neither loop below would find them touching).
+        using Disc = detail::CoreDiscs::Disc;
+        const std::size_t k0 = plan.empty() ? 0 : playingAt(plan, from);
+        const Disc mine = pathDiscOf(plan, k0, crowd[self].spot);
+        // Likewise the discs round the core discs of every sample of the
+        // instances (coreHulls): apart, no sample of theirs meets one of its.
+        const Disc myHulls = hullsDiscOf(plan, k0, crowd[self].standHull);
+        std::erase_if(close, [&](std::size_t o) {
+            // (The crowd's own plans' discs are kept with them; a trial's are made here.)
+            const bool changed = crowd.isChanged(o);
+            const Disc theirs = changed ? pathDiscOf(crowd.plan(o), 0, crowd[o].spot) : crowd[o].pathAll;
+            const float scale = std::fabs(mine.centre.x) + std::fabs(mine.centre.y) + std::fabs(theirs.centre.x) + std::fabs(theirs.centre.y);
+            if (glm::length(mine.centre - theirs.centre) > kReach + mine.radius + theirs.radius + 0.02f + 1e-5f * scale) return true;
+            return apartFromHull(myHulls, changed ? hullsDiscOf(crowd.plan(o), 0, crowd[o].standHull) : crowd[o].hullsAll);
+        });
+    }
+
+    // `kept`, when given: keptNeighbours' answer for these arguments, worked out already.
+    std::pair<int, double> firstTouch(const CrowdView& crowd, std::size_t self, const std::vector<ActionInstance>& plan,
+                                      double from, double until, std::size_t ignore = SIZE_MAX,
+                                      const std::vector<std::size_t>* kept = nullptr) const {
+        constexpr float kShrink = kTouchShrink;
+        constexpr double dt = 1.0 / kSampleRate;
+        thread_local std::vector<std::size_t> close;  // (no firstTouch runs inside another on a thread)
+        if (kept) close = *kept;
+        else keptNeighbours(crowd, self, plan, from, ignore, close);
         constexpr float kReach = 1.2f;  // coreBodiesOverlap's pelvis reach
-        auto bodyOf = [&](std::size_t o, double t) { return detail::CoreBody(lib, bodyIn(crowd.plan(o), crowd[o].at, t), kShrink); };
+        auto bodyOf = [&](std::size_t o, double t) {
+            const auto& theirs = crowd.plan(o);
+            return detail::CoreBody(lib, theirs.empty() ? standingBody(crowd[o].standRoot, t) : bodyIn(theirs, crowd[o].at, t), kShrink);
+        };
         // The pelvis test, then the discs round the core boxes (the same answer as the boxes alone).
         auto overlap = [&](const detail::CoreBody& a, const detail::CoreDiscs::Disc& aDisc, const detail::CoreBody& b) {
             const glm::vec2 d = a.pelvis() - b.pelvis();
             if (glm::dot(d, d) > kReach * kReach) return false;
             if (detail::CoreDiscs::apart(aDisc, discs->placed(b))) return false;
-            return detail::coreBodiesOverlap(a, b, kReach);
+            return coresOverlap(a, b);  // coreBodiesOverlap(a, b, kReach)
         };
         // Someone's pelvis at t is certainly beyond the pelvis reach of p:
         // standing, it keeps within holdWander of its spot; following a plan,
@@ -467,7 +753,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             glm::vec2 centre = crowd[o].spot;
             float wander = holdWander;
             if (!theirs.empty()) {
-                const ActionInstance& inst = theirs[static_cast<std::size_t>(instanceIndexAt(theirs, t))];
+                const ActionInstance& inst = theirs[playingAt(theirs, t)];
                 const detail::CoreDiscs::Disc& path = pelvisPaths[static_cast<std::size_t>(inst.action)];
                 centre = inst.root.pos + FloorRotation(inst.root.heading)(path.centre);
                 wander = path.radius;
@@ -480,7 +766,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         auto hullApart = [&](std::size_t o, double t, const detail::CoreDiscs::Disc& meDisc) {
             const auto& theirs = crowd.plan(o);
             if (theirs.empty()) return apartFromHull(meDisc, crowd[o].standHull);
-            const ActionInstance& inst = theirs[static_cast<std::size_t>(instanceIndexAt(theirs, t))];
+            const ActionInstance& inst = theirs[playingAt(theirs, t)];
             return apartFromHull(meDisc, placedHull(inst.action, inst.root));
         };
         auto touches = [&](std::size_t o, double t) {
@@ -490,58 +776,37 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             if (hullApart(o, t, meDisc)) return false;
             return overlap(me, meDisc, bodyOf(o, t));
         };
-        // Drop those who never come within the pelvis reach of its pelvis
-        // from `from` on: the discs round the pelvis paths of its instances
-        // from then and round all of theirs (or their spot and holdWander)
-        // are apart (so neither loop below would find them touching).
         using Disc = detail::CoreDiscs::Disc;
-        auto pathDisc = [&](const std::vector<ActionInstance>& p, std::size_t k0, const glm::vec2& spot) {
-            if (p.empty()) return Disc{spot, holdWander};
-            auto placed = [&](std::size_t k) {
-                const Disc& path = pelvisPaths[static_cast<std::size_t>(p[k].action)];
-                return Disc{p[k].root.pos + FloorRotation(p[k].root.heading)(path.centre), path.radius};
-            };
-            SweptBox around = SweptBox::empty();
-            for (std::size_t k = k0; k < p.size(); ++k) {
-                const Disc d = placed(k);
-                around.add({d.centre, d.centre});
-            }
-            Disc out{0.5f * (around.lo + around.hi), 0.0f};
-            for (std::size_t k = k0; k < p.size(); ++k) {
-                const Disc d = placed(k);
-                out.radius = std::max(out.radius, glm::length(d.centre - out.centre) + d.radius);
-            }
-            return out;
-        };
-        const std::size_t k0 = plan.empty() ? 0 : static_cast<std::size_t>(instanceIndexAt(plan, from));
-        const Disc mine = pathDisc(plan, k0, crowd[self].spot);
-        // Likewise the discs round the core discs of every sample of the
-        // instances (coreHulls): apart, no sample of theirs meets one of its.
-        auto hullsOf = [&](const std::vector<ActionInstance>& p, std::size_t from0, const Disc& standing) {
-            if (p.empty()) return standing;
-            SweptBox around = SweptBox::empty();
-            for (std::size_t k = from0; k < p.size(); ++k) {
-                const Disc d = placedHull(p[k].action, p[k].root);
-                around.add({d.centre, d.centre});
-            }
-            Disc out{0.5f * (around.lo + around.hi), 0.0f};
-            for (std::size_t k = from0; k < p.size(); ++k) {
-                const Disc d = placedHull(p[k].action, p[k].root);
-                out.radius = std::max(out.radius, glm::length(d.centre - out.centre) + d.radius);
-            }
-            out.radius += 1e-3f;
-            return out;
-        };
-        const Disc myHulls = hullsOf(plan, k0, crowd[self].standHull);
-        std::erase_if(close, [&](std::size_t o) {
-            const Disc theirs = pathDisc(crowd.plan(o), 0, crowd[o].spot);
-            const float scale = std::fabs(mine.centre.x) + std::fabs(mine.centre.y) + std::fabs(theirs.centre.x) + std::fabs(theirs.centre.y);
-            if (glm::length(mine.centre - theirs.centre) > kReach + mine.radius + theirs.radius + 0.02f + 1e-5f * scale) return true;
-            return apartFromHull(myHulls, hullsOf(crowd.plan(o), 0, crowd[o].standHull));
-        });
         if (close.empty()) return {-1, 0.0};
+        // Per instance of the plan, the disc round its core hulls (coreHulls);
+        // per neighbour left who stands, whether it is apart from theirs
+        // (standHull): a moment whose instance is apart from everyone's is
+        // passed over without placing its body (hullApart's test, for the
+        // whole instance at once).
+        thread_local std::vector<Disc> ownHulls;
+        thread_local std::vector<char> standApart;  // [neighbour * plan.size() + instance]
+        ownHulls.clear(), standApart.assign(close.size() * plan.size(), 0);
+        for (const ActionInstance& inst : plan) ownHulls.push_back(placedHull(inst.action, inst.root));
+        for (std::size_t c = 0; c < close.size(); ++c) {
+            if (!crowd.plan(close[c]).empty()) continue;
+            for (std::size_t k = 0; k < plan.size(); ++k) standApart[c * plan.size() + k] = apartFromHull(ownHulls[k], crowd[close[c]].standHull);
+        }
+        // Is neighbour close[c] at t certainly apart from the instance k of the plan?
+        auto instanceApart = [&](std::size_t c, std::size_t k, double t) {
+            const auto& theirs = crowd.plan(close[c]);
+            if (theirs.empty()) return standApart[c * plan.size() + k] != 0;
+            const ActionInstance& inst = theirs[playingAt(theirs, t)];
+            return apartFromHull(ownHulls[k], placedHull(inst.action, inst.root));
+        };
+        auto ownInstance = [&](double t) { return playingAt(plan, t); };
         const double settle = std::min(until, std::max(from, movingWindow(plan).second) + dt);
         for (double t = from; t <= settle + 1e-9; t += dt) {
+            if (!plan.empty()) {
+                const std::size_t k = ownInstance(t);
+                bool anyone = false;
+                for (std::size_t c = 0; c < close.size() && !anyone; ++c) anyone = !instanceApart(c, k, t);
+                if (!anyone) continue;
+            }
             // Its own body once per moment (its boxes placed only when someone is near).
             const detail::CoreBody me(lib, bodyIn(plan, crowd[self].at, t), kShrink);
             const detail::CoreDiscs::Disc meDisc = discs->placed(me);
@@ -552,9 +817,11 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             }
         }
         std::pair<int, double> first{-1, std::numeric_limits<double>::infinity()};
-        for (std::size_t o : close) {
+        for (std::size_t c = 0; c < close.size(); ++c) {
+            const std::size_t o = close[c];
             const auto [w0, w1] = movingWindow(crowd.plan(o));
             for (double t = std::max(settle, w0 - dt); t <= std::min({until, w1 + dt, first.second}) + 1e-9; t += dt) {
+                if (!plan.empty() && instanceApart(c, ownInstance(t), t)) continue;
                 if (touches(o, t)) {
                     first = {static_cast<int>(o), t};
                     break;
@@ -589,7 +856,15 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     // clip time `offset`, placed at `root`), then stands where they leave off until `until`.
     std::vector<ActionInstance> planMove(const RootXf& at, double from, const std::vector<int>& actions, double offset,
                                          const RootXf& root, bool forced, double until) const {
-        std::vector<ActionInstance> plan = standing(at, from);
+        std::vector<ActionInstance> plan;
+        planMoveInto(plan, at, from, actions, offset, root, forced, until);
+        return plan;
+    }
+    // The same plan into `plan` (a vector, or a SmallPlan for a way out: no heap).
+    template <class Plan>
+    void planMoveInto(Plan& plan, const RootXf& at, double from, const std::vector<int>& actions, double offset,
+                      const RootXf& root, bool forced, double until) const {
+        if (auto inst = loopedIdle(hold, 0.0, from, at * lib.rootAt(hold, 0).inverse())) plan.push_back(*inst);  // standing(at, from)
         double t = from;
         RootXf place = root;
         for (std::size_t k = 0; k < actions.size(); ++k) {
@@ -601,8 +876,17 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         }
         const int idle = idleAfter(actions.back());
         if (auto inst = loopedIdle(idle, t, until, place * lib.rootAt(idle, 0).inverse())) plan.push_back(*inst);
-        return plan;
     }
+    // A way out's plan on the stack: standing, at most kMaxWayActions actions, the idle after.
+    static constexpr std::size_t kMaxWayActions = 2;
+    struct SmallPlan {
+        std::array<ActionInstance, kMaxWayActions + 2> inst{};
+        std::size_t n = 0;
+        void clear() { n = 0; }
+        void push_back(const ActionInstance& a) { inst[n++] = a; }
+        std::size_t size() const { return n; }
+        const ActionInstance& operator[](std::size_t k) const { return inst[k]; }
+    };
 
     // Someone pushed into a reaction: by a bystander (index) or the rat (SIZE_MAX), when, and their new plan.
     struct Push {
@@ -654,6 +938,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     void commit(std::vector<Bystander>& crowd, Push&& m, std::vector<Push>& log) {
         Bystander& o = crowd[m.who];
         o.plan = m.plan;
+        refreshDiscs(o);
         if (m.by != SIZE_MAX) ++ownStats.bumps;
         log.push_back(std::move(m));
     }
@@ -684,9 +969,11 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         }
         pushedPool = rules.emplace(lib).addPool(pushed);
         measureHoldWander();
+        holdRootInverse = lib.rootAt(hold, 0).inverse();
         discs.emplace(lib, kTouchShrink);
         measurePelvisPaths();
         measureCoreHulls();
+        measureFootHulls();
         if (!findWays()) return makeError(kNoWays);
         makeRatPatches();
 
@@ -720,7 +1007,11 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         }
         if (crowd.empty()) return makeError("rat: nobody could stand near the trajectory (widen band or lower spacing)");
         for (std::size_t k = 0; k < crowd.size(); ++k) spotGrid.insert(static_cast<int>(k), crowd[k].spot);
-        for (auto& b : crowd) b.standHull = placedHull(hold, b.at * lib.rootAt(hold, 0).inverse());
+        for (auto& b : crowd) {
+            b.standRoot = b.at * holdRootInverse;
+            b.standHull = placedHull(hold, b.at * lib.rootAt(hold, 0).inverse());
+            refreshDiscs(b);
+        }
         findNeighbours(crowd);
         // The rat's closest approach to each person, sampled every 0.02 s:
         // the samples once for everyone, in blocks with a bounding circle, so
@@ -746,9 +1037,31 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             for (std::size_t k = b0; k < b1; ++k) blk.radius = std::max(blk.radius, static_cast<double>(glm::length(samplePos[k] - blk.centre)));
             blocks.push_back(blk);
         }
+        // And the blocks in groups of kBlock with a circle round theirs: a
+        // group that cannot come closer than the best so far is passed over whole.
+        std::vector<Block> groups;
+        for (std::size_t g0 = 0; g0 < blocks.size(); g0 += kBlock) {
+            const std::size_t g1 = std::min(blocks.size(), g0 + kBlock);
+            const std::size_t k0 = g0 * kBlock, k1 = std::min(samplePos.size(), g1 * kBlock);
+            glm::vec2 lo2 = samplePos[k0], hi2 = lo2;
+            for (std::size_t k = k0; k < k1; ++k) lo2 = glm::min(lo2, samplePos[k]), hi2 = glm::max(hi2, samplePos[k]);
+            Block grp{0.5f * (lo2 + hi2), 0.0};
+            for (std::size_t k = k0; k < k1; ++k) grp.radius = std::max(grp.radius, static_cast<double>(glm::length(samplePos[k] - grp.centre)));
+            groups.push_back(grp);
+        }
         tbb::parallel_for(std::size_t{0}, crowd.size(), [&](std::size_t i) {
             Bystander& b = crowd[i];
             for (std::size_t blk = 0; blk < blocks.size(); ++blk) {
+                if (blk % kBlock == 0) {
+                    // Every sample of the group is at least this far (the same margin as a block's).
+                    const Block& grp = groups[blk / kBlock];
+                    const double scale = static_cast<double>(glm::length(grp.centre)) + static_cast<double>(glm::length(b.spot));
+                    const double bound = static_cast<double>(glm::length(grp.centre - b.spot)) - grp.radius - 1e-3 - 1e-5 * scale;
+                    if (bound > b.passDistance) {
+                        blk += kBlock - 1;
+                        continue;
+                    }
+                }
                 // A sample of the block is at least this far (a margin for the float rounding).
                 const double scale = static_cast<double>(glm::length(blocks[blk].centre)) + static_cast<double>(glm::length(b.spot));
                 const double bound = static_cast<double>(glm::length(blocks[blk].centre - b.spot)) - blocks[blk].radius - 1e-3 - 1e-5 * scale;
@@ -811,6 +1124,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             // highest score, the first of equals, as a pass over all in order.
             std::stable_sort(bases.begin(), bases.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
             std::size_t bestC = SIZE_MAX;
+            std::vector<std::size_t> order1(ways1.size());  // per candidate: its place in `bases`
             // One candidate's body tests against the crowd as it stands (read
             // only: each candidate starts from the same crowd, so candidates can
             // be tried in parallel). Empty `plan`: it bumps someone it may not.
@@ -818,15 +1132,41 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                 std::vector<ActionInstance> plan;
                 std::vector<Push> pushes;
             };
-            auto tryCandidate = [&](std::size_t c) {
+            // Per way: the neighbours firstTouch keeps for its plans against
+            // the crowd as it stands (the same at every lead: the plans from
+            // the way's start on share their actions and roots), with those
+            // instances to tell a plan that differs (its last idle left out
+            // near the scene's end).
+            struct Kept {
+                bool made = false;
+                std::vector<std::pair<int, RootXf>> from;  // the plan's instances from the way's start on
+                std::vector<std::size_t> neighbours;
+            };
+            std::vector<Kept> keptOf(ways.size());
+            auto keptFor = [&](const std::vector<ActionInstance>& plan, double ts, std::size_t way) -> const std::vector<std::size_t>* {
+                Kept& k = keptOf[way];
+                const auto k0 = playingAt(plan, ts);
+                auto same = [&] {
+                    if (k.from.size() != plan.size() - k0) return false;
+                    for (std::size_t j = k0; j < plan.size(); ++j) {
+                        const auto& [action, root] = k.from[j - k0];
+                        if (action != plan[j].action || root.pos != plan[j].root.pos || root.heading != plan[j].root.heading) return false;
+                    }
+                    return true;
+                };
+                if (!k.made) {
+                    k.made = true;
+                    for (std::size_t j = k0; j < plan.size(); ++j) k.from.emplace_back(plan[j].action, plan[j].root);
+                    keptNeighbours(CrowdView(crowd), i, plan, ts, SIZE_MAX, k.neighbours);
+                }
+                return same() ? &k.neighbours : nullptr;
+            };
+            auto tryCandidate = [&](std::size_t c, std::vector<ActionInstance> plan, const std::vector<std::size_t>* kept) {
                 Tried out;
                 const RatPatch& patch = ways1[c].patch;
-                const auto& way = ways[static_cast<std::size_t>(patch.way)];
                 const double ts = b.passTime - patch.lead;
-                const RootXf root = b.at * lib.rootAt(way.front(), 0).inverse();
-                auto plan = planMove(b.at, ts, way, 0.0, root, false, until);
                 const double settled = until;  // everyone stands still afterwards: touching later counts too
-                const auto [other, when] = firstTouch(CrowdView(crowd), i, plan, ts, settled);
+                const auto [other, when] = firstTouch(CrowdView(crowd), i, plan, ts, settled, SIZE_MAX, kept);
                 if (other >= 0) {
                     CrowdView trial(crowd);
                     trial.set(i, plan);
@@ -845,51 +1185,66 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                 out.plan = std::move(plan);
                 return out;
             };
-            // The candidates in `bases` order, a batch at a time: the batch's
-            // body tests in parallel, then its results taken in order by the
-            // same rules as one candidate after another (the same best, the
-            // same bytes, whatever the number of threads; a batch may test a
-            // few candidates past the point where the rules stop).
+            // The candidates in `bases` order. The result is the candidate of
+            // the highest score, the first of equals, among those whose trial
+            // keeps a plan: whatever order they are tried in, as long as every
+            // one that could still win is tried. A way out whose neighbours
+            // firstTouch keeps none of (keptFor) touches nobody: its trial
+            // keeps its plan with no bump, so it is taken at its base score
+            // here. The others are tried a batch at a time, the batch's body
+            // tests in parallel (the same best, the same bytes, whatever the
+            // number of threads; a batch may test a few candidates that can
+            // no longer win).
+            std::vector<std::size_t> batch;  // candidates
+            std::vector<std::vector<ActionInstance>> plans;
+            std::vector<const std::vector<std::size_t>*> kept;
             std::vector<Tried> tried;
-            for (std::size_t p = 0; p < bases.size();) {
-                // The batch: from p on, those the rules would still test with the best so far.
-                std::vector<std::size_t> batch;
-                std::size_t q = p;
-                for (; q < bases.size() && batch.size() < kCandidateBatch; ++q) {
-                    const double reach = bases[q].first + std::max(0.0, bumpBonus);
-                    if (reach < best.score) break;
-                    if (reach == best.score && bases[q].second > bestC) continue;
-                    batch.push_back(q);
+            auto take = [&](std::size_t c, double score, std::vector<ActionInstance>&& plan, std::vector<Push>&& pushes) {
+                if (score > best.score || (score == best.score && c < bestC)) {
+                    best = {score, std::move(plan), b.passTime - ways1[c].patch.lead, ways1[c].clear, std::move(pushes)};
+                    bestC = c;
                 }
-                if (batch.empty()) break;
+            };
+            auto runBatch = [&] {
                 tried.assign(batch.size(), {});
-                tbb::parallel_for(std::size_t{0}, batch.size(), [&](std::size_t k) { tried[k] = tryCandidate(bases[batch[k]].second); },
-                                  tbb::simple_partitioner{});
-                bool stop = false;
+                tbb::parallel_for(
+                    std::size_t{0}, batch.size(), [&](std::size_t k) { tried[k] = tryCandidate(batch[k], std::move(plans[k]), kept[k]); },
+                    tbb::simple_partitioner{});
                 for (std::size_t k = 0; k < batch.size(); ++k) {
-                    const auto& [base, c] = bases[batch[k]];
-                    const double reach = base + std::max(0.0, bumpBonus);
-                    if (reach < best.score) {
-                        stop = true;  // nor can any after it
-                        break;
-                    }
-                    if (reach == best.score && c > bestC) continue;  // cannot win
                     Tried& r = tried[k];
-                    if (r.plan.empty()) continue;
-                    const double score = base + (r.pushes.empty() ? 0.0 : bumpBonus);
-                    if (score > best.score || (score == best.score && c < bestC)) {
-                        best = {score, std::move(r.plan), b.passTime - ways1[c].patch.lead, ways1[c].clear, std::move(r.pushes)};
-                        bestC = c;
-                    }
+                    if (r.plan.empty()) continue;  // it bumps someone it may not
+                    const double base = bases[order1[batch[k]]].first;
+                    take(batch[k], base + (r.pushes.empty() ? 0.0 : bumpBonus), std::move(r.plan), std::move(r.pushes));
                 }
-                if (stop) break;
-                p = q;
+                batch.clear(), plans.clear(), kept.clear();
+            };
+            for (std::size_t q = 0; q < bases.size(); ++q) {
+                const auto& [base, c] = bases[q];
+                const double reach = base + std::max(0.0, bumpBonus);  // the most it can score
+                if (reach < best.score) break;                          // nor can any after it
+                if (reach == best.score && c > bestC) continue;         // cannot win
+                const RatPatch& patch = ways1[c].patch;
+                const auto& way = ways[static_cast<std::size_t>(patch.way)];
+                const double ts = b.passTime - patch.lead;
+                auto plan = planMove(b.at, ts, way, 0.0, b.at * lib.rootAt(way.front(), 0).inverse(), false, until);
+                const auto* near = keptFor(plan, ts, static_cast<std::size_t>(patch.way));
+                if (near && near->empty()) {
+                    take(c, base, std::move(plan), {});
+                    continue;
+                }
+                order1[c] = q;
+                batch.push_back(c), plans.push_back(std::move(plan)), kept.push_back(near);
+                if (batch.size() == kCandidateBatch) runBatch();
             }
+            if (!batch.empty()) runBatch();
             if (!best.plan.empty()) {
                 b.plan = std::move(best.plan);
+                refreshDiscs(b);
                 ++ownStats.ratAvoided;
                 ++stats.patchesUsed;
-                ownStats.ratClearance = ownStats.ratClearance < 0 ? best.clearance : std::min(ownStats.ratClearance, best.clearance);
+                // clearWays measured it up to kClearScored: beyond, measured in full.
+                const double clearance = best.clearance < kClearScored ? best.clearance : ratClearance(b, b.plan);
+                ownStats.ratClearance = ownStats.ratClearance < 0 ? clearance : std::min(ownStats.ratClearance, clearance);
                 for (auto& m : best.pushes) {
                     if (crowd[m.who].near) ++ownStats.ratPushed;
                     commit(crowd, std::move(m), log);
@@ -1011,6 +1366,7 @@ Result<std::vector<RatAvoidPatch>> ratAvoidPatches(const ActionLibrary& lib, con
     RatComposer c(lib, none, spec, st);
     if (c.hold < 0) return makeError("the project has no idle action (characters need one to wait)");
     if (!c.findWays()) return makeError(RatComposer::kNoWays);
+    c.holdRootInverse = lib.rootAt(c.hold, 0).inverse();
     c.makeRatPatches();
     std::vector<RatAvoidPatch> out;
     for (int l = -c.ratLaterals; l <= c.ratLaterals; ++l) {
