@@ -26,6 +26,8 @@ def main():
     ap.add_argument("--matches", type=int, default=20)
     ap.add_argument("--seconds", type=float, default=20.0)
     ap.add_argument("--leaf-budget", type=int, default=None, help="leaves one decision may visit (the spec's leaf_budget)")
+    ap.add_argument("--root-beam", type=int, default=None,
+                    help="root children the deepest search pass keeps (the spec's root_beam; 0: the exact search)")
     args = ap.parse_args()
     wins = 0
     total = [0, 0]
@@ -40,6 +42,8 @@ def main():
                          "start": {"x": 1.1, "z": 0, "heading_deg": -90}}]}
             if args.leaf_budget:
                 spec["leaf_budget"] = args.leaf_budget
+            if args.root_beam is not None:
+                spec["root_beam"] = args.root_beam
             scene, planning = simulate(args.cli, args.project, spec, tmp)
             hits = [0, 0]
             for h in scene["hits"]:

@@ -65,10 +65,18 @@ first = at[0]
 assert first["action"]["name"] == "front_kick", ("the pinned kick is not there", first)
 assert first["start"] <= T + late and not first["forced"], first
 assert abs(first["start"] - T) < 1e-9, ("the kick moved", first["start"], T)   # the punch's decision itself
-# Everything decided before the pin's time is planned as it was.
+# Everything decided before the pin's time is planned as it was. An action
+# still running at the pin's time can end another way (a blow of the old
+# scene after the pin cut it short: in the demo duel under the root beam
+# blue blocks from 16.82 s and red's cross at 17.29 s, the punch pinned here,
+# ends that block at 17.36 s; the kick does not), so its end is compared only
+# when it came before the pin.
+def decided(e):
+    return {k: v for k, v in e.items() if k != "end" or v < T - early}
 for a, b in zip(orig["characters"], pinned["characters"]):
     before = [e for e in a["track"] if e["start"] < T - early]
-    assert b["track"][:len(before)] == before, a["name"] + ": the track before the pin changed"
+    assert [decided(e) for e in b["track"][:len(before)]] == [decided(e) for e in before], \
+        a["name"] + ": the track before the pin changed"
 # ... and after it the scene was planned again around the kick.
 assert orig["characters"][1]["track"] != pinned["characters"][1]["track"], "blue did not re-plan"
 assert pinned["spec"]["pins"] == [{"character": "red", "time": T, "action": "front_kick"}], pinned["spec"].get("pins")

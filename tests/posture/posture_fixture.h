@@ -25,10 +25,12 @@ inline std::string readText(const std::string& path) {
 }
 
 // A planned scene from a spec file of resources/demo (tree expansion).
-inline sim::Scene plannedScene(const std::string& specPath) {
+// rootBeam >= 0 replaces the spec's root beam (0: the exact search).
+inline sim::Scene plannedScene(const std::string& specPath, int rootBeam = -1) {
     const auto& w = demoWorld();
     auto spec = sim::parseSceneSpec(readText(specPath), specPath, w.library, sim::builtinPresets());
     if (!spec) throw std::runtime_error(spec.error().message);
+    if (rootBeam >= 0) spec->options.rootBeam = rootBeam;
     auto scene = sim::simulate(w.library, w.project.combos, *spec);
     if (!scene) throw std::runtime_error(scene.error().message);
     return std::move(*scene);

@@ -559,9 +559,12 @@ struct SearchScratch {
 // most 0, the fastest blow its effector can land, nothing received).
 // Candidates are then taken best key first: a key no better than the best
 // edge found cannot win, so it and the rest are skipped without their
-// pruning tests. Only the value changes with the order (the fail-soft bound
-// of a cutoff), never the exact minimax value, so root choices are those of
-// the plain frontier. Returns nothing when no candidate passes every
+// pruning tests. Once the best found is outside the window (at most alpha
+// at a max node, at least beta at a min node), a key that cannot bring it
+// back in ends the node too, with that key as its fail-soft bound. Only the
+// value changes with the order (the fail-soft bound of a cutoff or of a
+// node outside the window), never an exact minimax value inside the window,
+// so root choices are those of the plain frontier. Returns nothing when no candidate passes every
 // criterion (the caller then applies the full rule with its fallbacks).
 std::optional<Value> boundedFrontier(const Context& ctx, const GroupState& g, int who, bool mx, const Pruner& pruner,
                                      double alpha, double beta, const Value& acc, Stats& stats, PlacementMemo& oppAt,
@@ -589,6 +592,11 @@ std::optional<Value> boundedFrontier(const Context& ctx, const GroupState& g, in
         for (; i < entry.count && !done; ++i) {
             const FrontierStep& st = memo.steps[entry.begin + i];
             if (have && (mx ? acc.comp + st.key <= best.comp : acc.comp - st.key >= best.comp)) {
+                done = true;
+                break;
+            }
+            if (have && (mx ? acc.comp + st.key <= alpha : acc.comp - st.key >= beta)) {
+                best.comp = mx ? acc.comp + st.key : acc.comp - st.key;  // as the run below stops
                 done = true;
                 break;
             }
@@ -647,6 +655,13 @@ std::optional<Value> boundedFrontier(const Context& ctx, const GroupState& g, in
         FrontierStep& step = memo.steps.emplace_back();
         step.key = k.key;
         if (have && (mx ? acc.comp + k.key <= best.comp : acc.comp - k.key >= best.comp)) break;
+        // Outside the window already (best at most alpha, here at a max node)
+        // and no remaining key can bring it back in: the node fails low with
+        // the remaining keys' bound as its fail-soft value (an upper bound).
+        if (have && (mx ? acc.comp + k.key <= alpha : acc.comp - k.key >= beta)) {
+            best.comp = mx ? acc.comp + k.key : acc.comp - k.key;
+            break;
+        }
         step.examined = true;
         if (!pruner.cheapCriteria(action) || !pruner.penetrationFree(action, false)) continue;
         step.legal = true;
@@ -815,7 +830,10 @@ Value search(const Context& ctx, const GroupState& g, int depth, double alpha, d
 // its immediate score) is searched with the full window; its value bounds
 // the others, which then run in parallel with that fixed bound. A child that
 // does not beat the bound cannot be chosen, one that does has an exact value:
-// the choice is the same whatever the thread timing.
+// the choice is the same whatever the thread timing. With a root beam
+// (SimOptions::rootBeam) the deepest pass searches only the children the
+// pass before ranked best; which ones is fixed by that pass's values, so the
+// choice is still the same whatever the thread timing.
 int decide(const Context& ctx, const GroupState& g, int depth, Stats& stats, bool& fellBack, const CandidateFilter* filter) {
     const int who = chooserOf(g);
     const int rootSide = specOf(ctx, who).side;
@@ -854,6 +872,13 @@ int decide(const Context& ctx, const GroupState& g, int depth, Stats& stats, boo
     std::vector<std::size_t> order(children.size());
     std::iota(order.begin(), order.end(), std::size_t{0});
     std::size_t chosen = 0;
+    // Root beam (SimOptions::rootBeam): the last pass searches only the
+    // first `live` children of `order`, those the pass before ranked best.
+    std::size_t live = children.size();
+    const auto beam = static_cast<std::size_t>(std::max(ctx.opt->rootBeam, 0));
+    // Not at depth 3: a 2-level pass ranks the children too poorly (the
+    // depth-3 style matches lost their order with it).
+    const bool beamed = ab && beam > 0 && depth >= 4;
     tbb::enumerable_thread_specific<SearchScratch> scratch;  // per thread, for this decision's searches
     for (int d = 2; d <= depth; ++d) {
         std::vector<Value> values(children.size());
@@ -875,13 +900,16 @@ int decide(const Context& ctx, const GroupState& g, int depth, Stats& stats, boo
             values[i] = search(ctx, children[i].state, d - 1, floor[i], kInf, children[i].acc, rootSide, childStats[i], local);
         };
         if (ctx.opt->parallel) {
-            tbb::parallel_for(std::size_t{1}, children.size(), run);
+            tbb::parallel_for(std::size_t{1}, live, run);
         } else {
-            for (std::size_t k = 1; k < children.size(); ++k) run(k);
+            for (std::size_t k = 1; k < live; ++k) run(k);
         }
+        std::vector<char> searched(children.size(), 0);
+        for (std::size_t k = 0; k < live; ++k) searched[order[k]] = 1;
         bool exhausted = false;
         std::size_t best = first;
         for (std::size_t i = 0; i < children.size(); ++i) {
+            if (!searched[i]) continue;
             stats.add(childStats[i]);
             exhausted = exhausted || childStats[i].exhausted;
             if (i == first) continue;
@@ -898,6 +926,15 @@ int decide(const Context& ctx, const GroupState& g, int depth, Stats& stats, boo
         });
         // The chosen child first (a failed-low bound can equal its value).
         std::rotate(order.begin(), std::find(order.begin(), order.end(), chosen), std::find(order.begin(), order.end(), chosen) + 1);
+        if (beamed && d + 1 == depth) {
+            // Before the last pass: keep the `beam` best of this pass and
+            // every child whose value (a failed-low child: its bound) equals
+            // the chosen one's, which this pass cannot tell apart from it.
+            const double top = values[chosen].comp;
+            std::size_t keep = 0;
+            while (keep < live && (keep < beam || values[order[keep]].comp >= top)) ++keep;
+            live = keep;
+        }
     }
     return children[chosen].action;
 }

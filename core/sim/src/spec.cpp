@@ -299,6 +299,13 @@ Status parseSimOptions(const JsonReader& rd, const json& j, SimOptions& o) {
         }
         o.leafBudget = static_cast<std::int64_t>(v->get<std::uint64_t>());
     }
+    if (auto v = j.find("root_beam"); v != j.end()) {
+        // Root children the last search pass keeps (0: all, the exact search).
+        if (!v->is_number_unsigned() || v->get<std::uint64_t>() > 100000) {
+            return rd.error("/root_beam", "must be an integer from 0 to 100000 (root children the deepest search pass keeps; 0: all)");
+        }
+        o.rootBeam = static_cast<int>(v->get<std::uint64_t>());
+    }
     if (auto v = j.find("start_jitter"); v != j.end()) {
         if (!v->is_object()) return rd.error("/start_jitter", "must be {distance, angle_deg}");
         if (auto d = v->find("distance"); d != v->end()) {
@@ -622,7 +629,7 @@ Result<SceneSpec> parseSceneSpec(std::string_view text, std::string_view fileNam
     static const char* const kTopKeys[] = {"version",   "duration",     "seed",         "pruning",      "alpha_beta",
                                            "parallel",  "catch_radius", "stop_on_catch", "fall_impulse", "start_jitter",
                                            "checkpoint_radius", "arena", "characters", "description", "leaf_budget", "pins",
-                                           "pins_in_tree"};
+                                           "pins_in_tree", "root_beam"};
     for (auto it = j.begin(); it != j.end(); ++it) {
         if (std::find_if(std::begin(kTopKeys), std::end(kTopKeys), [&](const char* k) { return it.key() == k; }) ==
             std::end(kTopKeys)) {

@@ -95,6 +95,15 @@ struct SimOptions {
     // (iterative deepening); when one would exceed the budget the last
     // complete depth decides (counted in PlannerStats::shallower).
     std::int64_t leafBudget = 2000000;
+    // Root beam (the spec's "root_beam"; docs/TREE_EXPANSION.md "Root beam"):
+    // under alpha-beta, a decision searched 4 or more levels deep gives its
+    // last iterative-deepening pass only to the `rootBeam` root children that
+    // came first in the pass before (and to every child whose value there
+    // equals the best's); the others cannot be chosen. 0: every child is
+    // searched at full depth, the exact min-max choice. The default 16 plans
+    // the demo duel with well under half the CPU time and kept the deeper
+    // boxer's wins (docs/BENCHMARKS.md "Duel speed pass 5").
+    int rootBeam = 16;
     double catchRadius = 0.6;      // m, pelvis to pelvis
     bool stopOnCatch = false;      // a group's simulation ends at its first catch
     double fallImpulse = 30;       // N s: a stronger hit knocks down, a weaker one pushes
