@@ -880,6 +880,18 @@ void typeOver(QWidget* edit, const QString& text) {
     QTest::keyClick(edit, Qt::Key_Return);
 }
 
+// A short duel, so each re-plan takes a moment: 6 s, red 2 decisions ahead
+// (typed into the Setup box).
+void shortenDemoDuel(MainWindow* w) {
+    typeOver(child<QDoubleSpinBox>(w, "plan_duration"), "6");
+    typeOver(child<QSpinBox>(w, "plan_characters_0_depth"), "2");
+}
+
+// Waits until the scene `before` has been re-planned into a new one.
+bool replannedFrom(MainWindow* w, const fray::cli::SceneStage* before) {
+    return QTest::qWaitFor([&] { return w->scene() != before && !w->replanPending() && !w->busy(); }, 60000) && w->scene();
+}
+
 // A duel's characters in the Setup box (preset, a weight, the action set):
 // each change typed or clicked is one undo step that re-plans the scene, undo
 // gives the project back bit for bit, and a weight that is not a finite
@@ -889,15 +901,11 @@ TEST(SceneSetups, PresetWeightAndActionsAreEditedInTheSetupBox) {
     auto w = openWithDemoDuelSetup(dir);
     ASSERT_NE(w, nullptr);
     auto* doc = w->document();
-    // A short duel, so each re-plan takes a moment: 6 s, red 2 decisions ahead.
-    typeOver(child<QDoubleSpinBox>(w.get(), "plan_duration"), "6");
-    typeOver(child<QSpinBox>(w.get(), "plan_characters_0_depth"), "2");
+    shortenDemoDuel(w.get());
     ASSERT_EQ(fray::setup::parameter(*doc->sceneSetup("duel"), "/duration").value_or(""), "6");
     generateAndWait(w.get());
     ASSERT_NE(w->scene(), nullptr) << w->lastError().toStdString();
-    const auto replanned = [&](const fray::cli::SceneStage* before) {
-        return QTest::qWaitFor([&] { return w->scene() != before && !w->replanPending() && !w->busy(); }, 60000) && w->scene();
-    };
+    const auto replanned = [&](const fray::cli::SceneStage* before) { return replannedFrom(w.get(), before); };
     auto* character = child<QComboBox>(w.get(), "plan_character");
     auto* preset = child<QComboBox>(w.get(), "plan_preset");
     auto* key = child<QComboBox>(w.get(), "plan_weightKey");
@@ -1012,13 +1020,10 @@ TEST(SceneSetups, ReactionsAreEditedInTheSetupBox) {
     auto w = openWithDemoDuelSetup(dir);
     ASSERT_NE(w, nullptr);
     auto* doc = w->document();
-    typeOver(child<QDoubleSpinBox>(w.get(), "plan_duration"), "6");
-    typeOver(child<QSpinBox>(w.get(), "plan_characters_0_depth"), "2");
+    shortenDemoDuel(w.get());
     generateAndWait(w.get());
     ASSERT_NE(w->scene(), nullptr) << w->lastError().toStdString();
-    const auto replanned = [&](const fray::cli::SceneStage* before) {
-        return QTest::qWaitFor([&] { return w->scene() != before && !w->replanPending() && !w->busy(); }, 60000) && w->scene();
-    };
+    const auto replanned = [&](const fray::cli::SceneStage* before) { return replannedFrom(w.get(), before); };
     auto* character = child<QComboBox>(w.get(), "plan_character");
     auto* reactions = child<QListWidget>(w.get(), "plan_reactions");
     ASSERT_TRUE(character && reactions);

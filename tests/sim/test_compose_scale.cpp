@@ -167,18 +167,23 @@ TEST(ComposeScale, DominoCrowdFillsALargeField) {
     EXPECT_EQ(sceneToJson(*again, lib), sceneToJson(*scene, lib));
 }
 
-// Many football runs at once: every carrier gets past its tacklers to the
-// goal line, the runs keep clear of each other, and composing them in
-// parallel gives the same bytes as on one thread.
-TEST(ComposeScale, FootballRunsSideBySide) {
-    const auto& lib = footballWorld().library;
-    PatchLibrary patches;
+// The football library's run-tackle-avoid patches with their connection tables.
+void footballRunPatches(const ActionLibrary& lib, PatchLibrary& patches) {
     for (const auto& p : defaultPatterns()) {
         if (p.name == "run-tackle-avoid") {
             ASSERT_TRUE(generatePatches(lib, p, PatternSet{}, patches));
         }
     }
     buildConnections(lib, patches);
+}
+
+// Many football runs at once: every carrier gets past its tacklers to the
+// goal line, the runs keep clear of each other, and composing them in
+// parallel gives the same bytes as on one thread.
+TEST(ComposeScale, FootballRunsSideBySide) {
+    const auto& lib = footballWorld().library;
+    PatchLibrary patches;
+    ASSERT_NO_FATAL_FAILURE(footballRunPatches(lib, patches));
     FootballSpec football;
     football.runs = 24;
     football.tacklers = 4;
@@ -257,12 +262,7 @@ TEST(ComposeScale, FootballRunsSideBySide) {
 TEST(ComposeScale, FootballCrowdRunsMissTheCarrierCleanly) {
     const auto& lib = footballWorld().library;
     PatchLibrary patches;
-    for (const auto& p : defaultPatterns()) {
-        if (p.name == "run-tackle-avoid") {
-            ASSERT_TRUE(generatePatches(lib, p, PatternSet{}, patches));
-        }
-    }
-    buildConnections(lib, patches);
+    ASSERT_NO_FATAL_FAILURE(footballRunPatches(lib, patches));
     FootballSpec football;
     football.runs = 60;
     football.tacklers = 6;
