@@ -1103,8 +1103,13 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         tbb::task_group ahead;
         struct WaitAhead {
             tbb::task_group& group;
-            ~WaitAhead() { group.wait(); }
-        } waitAhead{ahead};  // (every way out of the loop waits for it)
+            ~WaitAhead() {
+                try {
+                    group.wait();
+                } catch (...) {  // leaving already (cancelled, or thrown): what it threw is dropped
+                }
+            }
+        } waitAhead{ahead};  // (every way out of the loop waits for it; the loop's own waits rethrow)
         for (std::size_t oi = 0; oi < order.size(); ++oi) {
             if (oi % kBlockPeople == 0) {
                 if (oi == 0) blockWays(0);
