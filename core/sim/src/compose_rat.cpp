@@ -3,6 +3,8 @@
 #include <cstring>
 
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+#include <tbb/task_group.h>
 
 #include "compose_grid.h"
 #include "compose_kinds.h"
@@ -1085,14 +1087,34 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         // out in parallel a block of people at a time (in the order the rat
         // reaches them); the crowd then decides among them one person after another.
         constexpr std::size_t kBlockPeople = 256;
+        // The next block's are worked out while this block's people decide
+        // (clearWays reads a person's spot, placement and closest approach,
+        // which no decision changes; each writes its own clearOf), so a core
+        // idle during the decisions has work; a decision's own batches run
+        // isolated, never waiting on a block's people.
         std::vector<std::vector<ClearWay>> clearOf(crowd.size());
+        auto blockWays = [&](std::size_t o0) {
+            const std::size_t o1 = std::min(order.size(), o0 + kBlockPeople);
+            tbb::parallel_for(o0, o1, [&](std::size_t o) {
+                const Bystander& q = crowd[order[o]];
+                if (q.near) clearOf[order[o]] = clearWays(q, until);
+            });
+        };
+        tbb::task_group ahead;
+        struct WaitAhead {
+            tbb::task_group& group;
+            ~WaitAhead() {
+                try {
+                    group.wait();
+                } catch (...) {  // leaving already (cancelled, or thrown): what it threw is dropped
+                }
+            }
+        } waitAhead{ahead};  // (every way out of the loop waits for it; the loop's own waits rethrow)
         for (std::size_t oi = 0; oi < order.size(); ++oi) {
             if (oi % kBlockPeople == 0) {
-                const std::size_t o1 = std::min(order.size(), oi + kBlockPeople);
-                tbb::parallel_for(oi, o1, [&](std::size_t o) {
-                    const Bystander& q = crowd[order[o]];
-                    if (q.near) clearOf[order[o]] = clearWays(q, until);
-                });
+                if (oi == 0) blockWays(0);
+                else ahead.wait();
+                if (oi + kBlockPeople < order.size()) ahead.run([&blockWays, next = oi + kBlockPeople] { blockWays(next); });
             }
             const std::size_t i = order[oi];
             const std::vector<ClearWay> ways1 = std::move(clearOf[i]);
@@ -1207,9 +1229,11 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             };
             auto runBatch = [&] {
                 tried.assign(batch.size(), {});
-                tbb::parallel_for(
-                    std::size_t{0}, batch.size(), [&](std::size_t k) { tried[k] = tryCandidate(batch[k], std::move(plans[k]), kept[k]); },
-                    tbb::simple_partitioner{});
+                tbb::this_task_arena::isolate([&] {
+                    tbb::parallel_for(
+                        std::size_t{0}, batch.size(), [&](std::size_t k) { tried[k] = tryCandidate(batch[k], std::move(plans[k]), kept[k]); },
+                        tbb::simple_partitioner{});
+                });
                 for (std::size_t k = 0; k < batch.size(); ++k) {
                     Tried& r = tried[k];
                     if (r.plan.empty()) continue;  // it bumps someone it may not
