@@ -274,16 +274,22 @@ void MainWindow::refreshPlanCharacterRows(const setup::SceneSetup* s) {
         for (const auto& a : m.actions.actions)
             if (!(sim::actionFlags(a.annotations) & sim::kReactive)) words.insert(a.annotations.begin(), a.annotations.end());
     }
-    const json actionsJ = specValue(*s, at + "/actions");
-    const std::vector<std::string> actions = strings(actionsJ);
-    std::vector<std::string> items;
-    for (const auto& w : project.vocabulary)
-        if (words.contains(w)) items.push_back("@" + w);
-    for (const auto& a : actions)
-        if (std::find(items.begin(), items.end(), a) == items.end()) items.push_back(a);
-    fillCheckList(planActions_, items, [&](const std::string& a) {
-        return actionsJ.is_null() || std::find(actions.begin(), actions.end(), a) != actions.end();
-    });
+    // A check list of "@word" for the project's words in `found` (in the
+    // vocabulary's order), then what the setup stores at `field` beyond them;
+    // all checked while the setup stores no list.
+    const auto fillWords = [&](QListWidget* list, const std::set<std::string>& found, const char* field) {
+        const json storedJ = specValue(*s, at + field);
+        const std::vector<std::string> stored = strings(storedJ);
+        std::vector<std::string> items;
+        for (const auto& w : project.vocabulary)
+            if (found.contains(w)) items.push_back("@" + w);
+        for (const auto& a : stored)
+            if (std::find(items.begin(), items.end(), a) == items.end()) items.push_back(a);
+        fillCheckList(list, items, [&](const std::string& a) {
+            return storedJ.is_null() || std::find(stored.begin(), stored.end(), a) != stored.end();
+        });
+    };
+    fillWords(planActions_, words, "/actions");
     // Reactions: "@word" for each annotation of a reaction (pushed, falling...)
     // in the chosen takes, or in any take when they hold none (as simulate
     // falls back), then what the setup stores beyond them.
@@ -298,16 +304,7 @@ void MainWindow::refreshPlanCharacterRows(const setup::SceneSetup* s) {
             }
         }
     }
-    const json reactionsJ = specValue(*s, at + "/reactions");
-    const std::vector<std::string> reactions = strings(reactionsJ);
-    std::vector<std::string> reactionItems;
-    for (const auto& w : project.vocabulary)
-        if (reactive.contains(w)) reactionItems.push_back("@" + w);
-    for (const auto& a : reactions)
-        if (std::find(reactionItems.begin(), reactionItems.end(), a) == reactionItems.end()) reactionItems.push_back(a);
-    fillCheckList(planReactions_, reactionItems, [&](const std::string& a) {
-        return reactionsJ.is_null() || std::find(reactions.begin(), reactions.end(), a) != reactions.end();
-    });
+    fillWords(planReactions_, reactive, "/reactions");
 }
 
 }  // namespace fray::editor

@@ -87,23 +87,8 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     float holdWander = 0;
     // Per action: a disc round its pelvis path in the clip's frame (rootAt
     // interpolates between samples: the samples bound it; a millimetre more
-    // covers the rounding).
+    // covers the rounding): Composer::pelvisPathDiscs.
     std::vector<detail::CoreDiscs::Disc> pelvisPaths;
-    void measurePelvisPaths() {
-        pelvisPaths.assign(static_cast<std::size_t>(lib.size()), {});
-        for (int a = 0; a < lib.size(); ++a) {
-            const int n = act(a).sampleCount;
-            glm::vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-            for (int k = 0; k < n; ++k) {
-                const glm::vec2 p = lib.rootAt(a, k / kSampleRate).pos;
-                lo = glm::min(lo, p), hi = glm::max(hi, p);
-            }
-            auto& d = pelvisPaths[static_cast<std::size_t>(a)];
-            d.centre = n > 0 ? 0.5f * (lo + hi) : glm::vec2(0.0f);
-            for (int k = 0; k < n; ++k) d.radius = std::max(d.radius, glm::length(lib.rootAt(a, k / kSampleRate).pos - d.centre));
-            d.radius += 1e-3f;
-        }
-    }
     // Per action: a disc round the core-box discs (CoreDiscs) of all its
     // samples, in the clip's frame (a millimetre more covers the rounding).
     // Apart from it by a margin, a body is apart from the discs of every
@@ -973,7 +958,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         measureHoldWander();
         holdRootInverse = lib.rootAt(hold, 0).inverse();
         discs.emplace(lib, kTouchShrink);
-        measurePelvisPaths();
+        pelvisPaths = pelvisPathDiscs(lib);
         measureCoreHulls();
         measureFootHulls();
         if (!findWays()) return makeError(kNoWays);
