@@ -28,6 +28,7 @@ inline constexpr double kArriveDistance = 0.25;          // m: locomotion is don
 inline constexpr double kArriveHeading = 25 * std::numbers::pi / 180;
 inline constexpr int kMaxLocomotionSteps = 60;
 inline constexpr float kClearance = 0.2f;               // m between a new patch's newcomer and anyone present
+inline constexpr double kJoinBlend = 0.15;               // s: ScenePoser's blend at a seam between two actions (scene.h)
 
 struct Composer {
     const ActionLibrary& lib;
@@ -472,6 +473,12 @@ struct Composer {
                                                          const glm::vec2& centre) {
         constexpr double kMaxJunction = 0.3;
         const auto& first = p.tracks[static_cast<std::size_t>(role)].front();
+        // The walk's last step blends into the patch's first action over
+        // kJoinBlend; an action shorter than that is gone before the blend is
+        // done, and the next one starts from its raw pose (ScenePoser), the
+        // walk's pose and up to kMaxJunction of root error dropped in one
+        // frame: such a patch is no place to walk into.
+        if (first.end - first.start < kJoinBlend) return std::nullopt;
         const RootXf goal = xf * first.root;
         glm::vec2 radial = goal.pos - centre;
         if (glm::length(radial) < 1e-3f) radial = -headingVector(goal.heading);
@@ -509,7 +516,11 @@ struct Composer {
                 if (w.start < 0) w.offset = -w.start, w.start = 0;
                 out.push_back(w);
             }
-            if (penetrates(out, c)) continue;
+            // At the scene's samples (the times the metrics look at): the
+            // walk is shifted to end on time, so its own samples fall between
+            // them, and at a seam of someone else's (the main character's step
+            // into its patch) the two can see different actions.
+            if (penetrates(out, c, true)) continue;
             stats.maxJunctionError = std::max(stats.maxJunctionError, error);
             stats.locomotionSteps += static_cast<int>(out.size());
             return out;

@@ -351,9 +351,16 @@ struct OneVsManyComposer : KindComposer<OneVsManySpec> {
                 const RootXf from = mv >= 0 ? at * act(mv).end : at;
                 const double t = mv >= 0 ? t0 + act(mv).duration : t0;
                 const RootXf xf = from * p.tracks[0].front().root.inverse();
-                if (auto walk = planEntry(enemy, mainC, p, 1, t, xf, from.pos)) {
-                    bestI = static_cast<int>(options[o].patch), bestMove = mv, entry = std::move(*walk);
-                }
+                // The newcomer's walk is tested against the main character as
+                // it will move meanwhile (its step, then its part of the
+                // patch), not standing where its last action left it: both
+                // are placed for the test and taken away after it.
+                const std::size_t mainLength = track(mainC).size();
+                if (mv >= 0) append(mainC, mv, t0, at);
+                placeTrack(p, 0, mainC, t, xf);
+                auto walk = planEntry(enemy, mainC, p, 1, t, xf, from.pos);
+                track(mainC).erase(track(mainC).begin() + static_cast<std::ptrdiff_t>(mainLength), track(mainC).end());
+                if (walk) bestI = static_cast<int>(options[o].patch), bestMove = mv, entry = std::move(*walk);
             }
             if (bestI < 0) scene.characters.pop_back();
             if (bestI < 0 && sampledFirst && moves >= 1) {
