@@ -522,6 +522,14 @@ struct FrontierMemo {
         }
     }
 
+    // Empty, keeping the storage (the table's slots emptied).
+    void clear() {
+        std::fill(slots.begin(), slots.end(), Slot{});
+        states.clear();
+        entries.clear();
+        steps.clear();
+    }
+
 private:
     void grow() {
         std::vector<Slot> old(std::max<std::size_t>(1024, 2 * slots.size()));
@@ -826,6 +834,12 @@ Value search(const Context& ctx, const GroupState& g, int depth, double alpha, d
 
 }  // namespace
 
+// Context::memory: per thread, the searches' storage.
+struct SearchMemory {
+    tbb::enumerable_thread_specific<SearchScratch> threads;
+};
+std::shared_ptr<SearchMemory> makeSearchMemory() { return std::make_shared<SearchMemory>(); }
+
 // The real choice of the character due at g.time. The first child (best by
 // its immediate score) is searched with the full window; its value bounds
 // the others, which then run in parallel with that fixed bound. A child that
@@ -879,7 +893,12 @@ int decide(const Context& ctx, const GroupState& g, int depth, Stats& stats, boo
     // Not at depth 3: a 2-level pass ranks the children too poorly (the
     // depth-3 style matches lost their order with it).
     const bool beamed = ab && beam > 0 && depth >= 4;
-    tbb::enumerable_thread_specific<SearchScratch> scratch;  // per thread, for this decision's searches
+    // Per thread, the searches' storage: the group's (Context::memory),
+    // emptied, or this decision's own. Either way the frontier memo holds
+    // only this decision's states.
+    tbb::enumerable_thread_specific<SearchScratch> own;
+    tbb::enumerable_thread_specific<SearchScratch>& scratch = ctx.memory ? ctx.memory->threads : own;
+    for (auto& local : scratch) local.frontier.clear();
     for (int d = 2; d <= depth; ++d) {
         std::vector<Value> values(children.size());
         std::vector<double> floor(children.size(), -kInf);
