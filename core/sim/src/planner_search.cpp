@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numeric>
 #include <optional>
+#include <unordered_map>
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -142,6 +143,9 @@ public:
     bool fallback() const { return fallback_; }
     bool active() const { return opp_ >= 0; }
     const std::vector<int>& base() const { return *list_; }
+    // The member's list itself (Member::legal or folded) when this node
+    // did not change it, else null.
+    const std::vector<int>* memberList() const { return list_ == &base_ ? nullptr : list_; }
 
     // 1. The bodies do not penetrate (over the time both actions are known).
     bool penetrationFree(int a, bool lastFrameOnly) const {
@@ -388,16 +392,21 @@ bool better(bool mx, const Value& a, const Value& b) {
 // and recency terms, the fastest blow it can land and nothing else (the
 // movement and stage terms are never positive, a blow received only costs).
 // A small slack covers the different order of the floating-point sums.
-double edgeBound(const Context& ctx, const GroupState& g, int who, int action) {
+// (With the recency given: the static key order below computes it with none.)
+double edgeBound(const Context& ctx, int who, int action, double recent, int theirs) {
     const auto& w = specOf(ctx, who).weights;
     const auto& x = act(ctx, action);
-    double bound = -w.wRecency * recency(ctx, g.c[static_cast<std::size_t>(who)], action);
+    double bound = -w.wRecency * recent;
     if (ctx.combo) {
         bound += w.wCombo * static_cast<double>((*ctx.combo)[static_cast<std::size_t>(action) * static_cast<std::size_t>(ctx.comboN) +
-                                                  static_cast<std::size_t>(g.c[static_cast<std::size_t>(1 - who)].action)]);
+                                                  static_cast<std::size_t>(theirs)]);
     }
     if (x.is(kAttack) && x.effector >= 0) bound += (x.is(kKick) ? w.wHitLong : w.wHitShort) * ctx.maxHitSpeed[static_cast<std::size_t>(action)];
     return bound;
+}
+double edgeBound(const Context& ctx, const GroupState& g, int who, int action) {
+    return edgeBound(ctx, who, action, recency(ctx, g.c[static_cast<std::size_t>(who)], action),
+                     g.c[static_cast<std::size_t>(1 - who)].action);
 }
 double withSlack(double bound) { return bound + 1e-6 * (1.0 + std::fabs(bound)); }
 
@@ -547,12 +556,66 @@ private:
 // Storage one search reuses from node to node (no allocation per node once
 // warm): per remaining depth the inner node's children and their order, the
 // opponent's placed bodies of its pruner; a frontier's keys and child.
+// A bounded frontier's first keys are its candidates' bounds (edgeBound),
+// which are, but for the recency term, functions of the candidate list, the
+// opponent's action and whether the opponent can still land a blow. For each
+// such triple met, the keys with no recency term in the frontier's order
+// (key descending, then position), and the list's positions by name; a node
+// then needs the keys of the few candidates whose names are recent.
+struct StaticKeys {
+    std::vector<Pending> order;                        // keys without recency, first in order first
+    std::vector<std::pair<std::int16_t, int>> byName;  // (Context::nameId, position), ascending
+};
+class StaticKeyTable {
+public:
+    // The keys of `list`, a member's list of `who`, against their action `theirs`.
+    const StaticKeys& of(const Context& ctx, const std::vector<int>& list, int who, int theirs, bool oppCanHit) {
+        const auto [it, added] = table_.try_emplace(Key{&list, theirs, oppCanHit});
+        if (added) build(ctx, list, who, theirs, oppCanHit, it->second);
+        return it->second;
+    }
+
+private:
+    struct Key {
+        const std::vector<int>* list = nullptr;
+        int theirs = 0;
+        bool oppCanHit = false;
+        bool operator==(const Key&) const = default;
+    };
+    struct KeyHash {
+        std::size_t operator()(const Key& k) const {
+            const std::uint64_t x = (static_cast<std::uint64_t>(reinterpret_cast<std::uintptr_t>(k.list)) * 0x9e3779b97f4a7c15ull) ^
+                                    (static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.theirs)) << 1) ^ (k.oppCanHit ? 1u : 0u);
+            return static_cast<std::size_t>(x ^ (x >> 31));
+        }
+    };
+    static void build(const Context& ctx, const std::vector<int>& list, int who, int theirs, bool oppCanHit, StaticKeys& out) {
+        out.order.resize(list.size());
+        out.byName.resize(list.size());
+        for (std::size_t i = 0; i < list.size(); ++i) {
+            const int a = list[i];
+            const auto& x = act(ctx, a);
+            const bool exactKey = !(x.is(kAttack) && x.effector >= 0) && !oppCanHit;
+            // As the frontier computes a key whose recency is 0.
+            const double bound = edgeBound(ctx, who, a, 0.0, theirs);
+            out.order[i] = {exactKey ? withSlack(bound) : bound, static_cast<int>(i), exactKey};
+            out.byName[i] = {static_cast<std::int16_t>(ctx.nameId[static_cast<std::size_t>(a)]), static_cast<int>(i)};
+        }
+        std::sort(out.order.begin(), out.order.end(), pendingBefore);
+        std::sort(out.byName.begin(), out.byName.end());
+    }
+    std::unordered_map<Key, StaticKeys, KeyHash> table_;
+};
+
 struct SearchScratch {
     std::vector<std::vector<Child>> children;
     std::vector<std::vector<Pending>> pending;
     std::vector<std::vector<OpponentBody>> bodies;
     Child child;
     FrontierMemo frontier;
+    StaticKeyTable staticKeys;
+    std::vector<std::uint32_t> recentAt;  // per list position: the node number while its name is recent
+    std::uint32_t node = 0;
     void reserveDepth(int depth) {
         const auto n = static_cast<std::size_t>(std::max(depth, 1)) + 1;
         if (children.size() < n) children.resize(n), pending.resize(n), bodies.resize(n);
@@ -629,24 +692,69 @@ std::optional<Value> boundedFrontier(const Context& ctx, const GroupState& g, in
     const auto recordBegin = static_cast<std::uint32_t>(memo.steps.size());
     // Keys: the edge score itself when nothing can land (computed only when
     // it may come first: its bound until then), else the bound (final).
+    // When the candidates are a member's list, the keys without recency come
+    // in order from the StaticKeyTable and the heap holds only the recent
+    // candidates' keys and the exact keys; otherwise the heap holds every key.
+    // Either way the next key is the first of all pending ones in the order.
     std::vector<Pending>& keys = scratch.pending[0];
     const auto& base = pruner.base();
-    keys.resize(base.size());  // (written in place: no growth check per key)
-    for (std::size_t i = 0; i < base.size(); ++i) {
-        const int a = base[i];
-        const auto& x = act(ctx, a);
-        const bool attack = x.is(kAttack) && x.effector >= 0;
-        const bool exactKey = !attack && !oppCanHit;
-        const double bound = edgeBound(ctx, g, who, a);
-        keys[i] = {exactKey ? withSlack(bound) : bound, static_cast<int>(i), exactKey};
+    const StaticKeys* fixed = nullptr;
+    std::size_t next = 0;  // the next of fixed->order
+    const std::uint32_t node = ++scratch.node;
+    if (const auto* list = pruner.memberList()) {
+        fixed = &scratch.staticKeys.of(ctx, *list, who, o.action, oppCanHit);
+        if (scratch.recentAt.size() < base.size()) scratch.recentAt.resize(base.size(), 0);
+        if (node == 0) std::fill(scratch.recentAt.begin(), scratch.recentAt.end(), 0u), scratch.node = 1;
+        const std::uint32_t mark = scratch.node;
+        keys.clear();
+        const auto& me = g.c[static_cast<std::size_t>(who)];
+        for (int r = 0; r < me.recentCount; ++r) {
+            const std::int16_t name = me.recent[static_cast<std::size_t>(r)];
+            if (std::find(me.recent.begin(), me.recent.begin() + r, name) != me.recent.begin() + r) continue;
+            auto it = std::lower_bound(fixed->byName.begin(), fixed->byName.end(), std::pair<std::int16_t, int>{name, 0});
+            for (; it != fixed->byName.end() && it->first == name; ++it) {
+                const int pos = it->second;
+                const int a = base[static_cast<std::size_t>(pos)];
+                const auto& x = act(ctx, a);
+                const bool exactKey = !(x.is(kAttack) && x.effector >= 0) && !oppCanHit;
+                const double bound = edgeBound(ctx, g, who, a);
+                keys.push_back({exactKey ? withSlack(bound) : bound, pos, exactKey});
+                scratch.recentAt[static_cast<std::size_t>(pos)] = mark;
+            }
+        }
+    } else {
+        keys.resize(base.size());  // (written in place: no growth check per key)
+        for (std::size_t i = 0; i < base.size(); ++i) {
+            const int a = base[i];
+            const auto& x = act(ctx, a);
+            const bool attack = x.is(kAttack) && x.effector >= 0;
+            const bool exactKey = !attack && !oppCanHit;
+            const double bound = edgeBound(ctx, g, who, a);
+            keys[i] = {exactKey ? withSlack(bound) : bound, static_cast<int>(i), exactKey};
+        }
     }
     std::make_heap(keys.begin(), keys.end(), heapLess);
+    const std::uint32_t mark = scratch.node;
+    // The static keys still pending, past those of recent candidates.
+    auto fixedLeft = [&] {
+        if (!fixed) return false;
+        while (next < fixed->order.size() && scratch.recentAt[static_cast<std::size_t>(fixed->order[next].pos)] == mark) ++next;
+        return next < fixed->order.size();
+    };
     Value best;
     bool have = false;
     Child& ch = scratch.child;
-    while (!keys.empty()) {
-        std::pop_heap(keys.begin(), keys.end(), heapLess);
-        Pending k = keys.back();
+    for (;;) {
+        Pending k;
+        if (fixedLeft() && (keys.empty() || pendingBefore(fixed->order[next], keys.front()))) {
+            k = fixed->order[next++];
+        } else if (!keys.empty()) {
+            std::pop_heap(keys.begin(), keys.end(), heapLess);
+            k = keys.back();
+            keys.pop_back();
+        } else {
+            break;
+        }
         const int action = base[static_cast<std::size_t>(k.pos)];
         if (k.bound) {
             // Only the exact key needs the launched state.
@@ -654,11 +762,10 @@ std::optional<Value> boundedFrontier(const Context& ctx, const GroupState& g, in
             GroupState after = g;
             launch(ctx, after, who, action, g.time);
             after.time = std::min(after.c[0].end, after.c[1].end);
-            keys.back() = {edgeScore(ctx, g, after, who, action, Events{}, oppAt).comp, k.pos, false};
+            keys.push_back({edgeScore(ctx, g, after, who, action, Events{}, oppAt).comp, k.pos, false});
             std::push_heap(keys.begin(), keys.end(), heapLess);
             continue;
         }
-        keys.pop_back();
         const bool exact = !(act(ctx, action).is(kAttack) && act(ctx, action).effector >= 0) && !oppCanHit;
         FrontierStep& step = memo.steps.emplace_back();
         step.key = k.key;
@@ -698,7 +805,7 @@ std::optional<Value> boundedFrontier(const Context& ctx, const GroupState& g, in
     auto& entry = memo.at(g, stateHash);
     entry.begin = recordBegin;
     entry.count = static_cast<std::uint32_t>(memo.steps.size()) - recordBegin;
-    entry.complete = keys.empty();
+    entry.complete = keys.empty() && !fixedLeft();
     if (!have) return std::nullopt;
     return best;
 }
