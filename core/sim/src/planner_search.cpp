@@ -179,12 +179,22 @@ public:
             if (!them.laidOut) them.layOut();
             const auto& theirs = them.body.boxes();
             for (std::size_t i = 0; i < body.boxes.size(); ++i) {
-                unsigned meet = them.spheresMeet(body.boxes[i].placedCentre(start_, startRotation_), body.radii[i]);
+                const Obb& mine = body.boxes[i];
+                const glm::vec3 centre = mine.placedCentre(start_, startRotation_);
+                unsigned meet = them.spheresMeet(centre, body.radii[i]);
                 if (meet == 0) continue;
-                // Any overlapping pair answers, whichever is found first.
-                const Obb placed = body.boxes[i].placed(start_, startRotation_);
+                // Any overlapping pair answers, whichever is found first. The
+                // box's axes are placed (as Obb::placed places them) when a
+                // test first needs each.
+                std::array<glm::vec3, 3> axes;
+                unsigned placedAxes = 0;
+                const auto axis = [&](int n) -> const glm::vec3& {
+                    const auto j = static_cast<std::size_t>(n);
+                    if (!(placedAxes >> j & 1u)) axes[j] = startRotation_(mine.axes[n]), placedAxes |= 1u << j;
+                    return axes[j];
+                };
                 for (; meet != 0; meet &= meet - 1) {
-                    if (overlapsBeyondSpheres(placed, theirs[static_cast<std::size_t>(std::countr_zero(meet))])) return false;
+                    if (overlapsBeyondSpheresWith(centre, axis, mine.half, theirs[static_cast<std::size_t>(std::countr_zero(meet))])) return false;
                 }
             }
         }
