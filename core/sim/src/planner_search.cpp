@@ -25,20 +25,67 @@ namespace {
 // lane by lane (x, y, z, r; the unused lanes far away), so one candidate box
 // is tested against all of its spheres at once: the same float operations
 // as the box-by-box test, so the same answers.
+// A body's placed core boxes are a function of its clip, the clip's sample
+// and its placement (and the shrink): the opponent's body at the penetration
+// test's times is the same for every node below its launch, at the node
+// times that fall on the same sample. A per-thread direct-mapped table of
+// them (about 1 MB; keys compared bit for bit, a miss places them afresh).
+struct BodyCache {
+    struct Entry {
+        int action = -1, sample = 0;
+        RootXf root;
+        float shrink = 0;
+        std::array<Obb, kCoreSegments.size()> boxes;
+        std::array<float, kCoreSegments.size()> radii{};
+    };
+    static constexpr std::size_t kSize = 2048;
+    std::vector<Entry> slots = std::vector<Entry>(kSize);
+    static bool same(float a, float b) { return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b); }
+    // The placed boxes and radii of `body` (CoreBody::boxes' values).
+    const Entry& of(const ActionLibrary& lib, const detail::CoreBody& body, float shrink) {
+        const auto& pose = body.pose();
+        const int sample = lib.sampleAt(pose.action, pose.tau);
+        std::uint64_t h = static_cast<std::uint64_t>(static_cast<std::uint32_t>(pose.action)) * 0x9e3779b97f4a7c15ull;
+        h ^= static_cast<std::uint64_t>(static_cast<std::uint32_t>(sample)) + 0x7f4a7c15ull + (h << 6) + (h >> 2);
+        h ^= (static_cast<std::uint64_t>(std::bit_cast<std::uint32_t>(pose.root.pos.x)) << 32 | std::bit_cast<std::uint32_t>(pose.root.pos.y)) * 0xff51afd7ed558ccdull;
+        h ^= std::bit_cast<std::uint64_t>(pose.root.heading) * 0xc4ceb9fe1a85ec53ull;
+        Entry& e = slots[static_cast<std::size_t>(h ^ (h >> 29)) & (kSize - 1)];
+        if (e.action != pose.action || e.sample != sample || !same(e.root.pos.x, pose.root.pos.x) ||
+            !same(e.root.pos.y, pose.root.pos.y) || std::bit_cast<std::uint64_t>(e.root.heading) != std::bit_cast<std::uint64_t>(pose.root.heading) ||
+            !same(e.shrink, shrink)) {
+            e.boxes = body.boxes();
+            e.radii = body.radii();
+            e.action = pose.action, e.sample = sample, e.root = pose.root, e.shrink = shrink;
+        }
+        return e;
+    }
+};
+
 struct OpponentBody {
     static constexpr std::size_t kLanes = 8;
     detail::CoreBody body;
+    std::array<Obb, kCoreSegments.size()> boxes;  // body.boxes(), once laid out
     std::array<float, kLanes> x{}, y{}, z{}, r{};
     bool laidOut = false;
-    OpponentBody(const ActionLibrary& lib, const detail::BodyPose& pose, float shrink) : body(lib, pose, shrink) {}
-    void layOut() {
-        const auto& boxes = body.boxes();
+    float shrink;
+    OpponentBody(const ActionLibrary& lib, const detail::BodyPose& pose, float s) : body(lib, pose, s), shrink(s) {}
+    // cache: where to look the boxes up (null: placed here).
+    void layOut(const ActionLibrary& lib, BodyCache* cache) {
+        const std::array<float, kCoreSegments.size()>* radii = nullptr;
+        if (cache) {
+            const auto& e = cache->of(lib, body, shrink);
+            boxes = e.boxes;
+            radii = &e.radii;
+        } else {
+            boxes = body.boxes();
+            radii = &body.radii();
+        }
         for (std::size_t j = 0; j < kLanes; ++j) {
             const bool used = j < boxes.size();
             x[j] = used ? boxes[j].centre.x : 1e18f;
             y[j] = used ? boxes[j].centre.y : 1e18f;
             z[j] = used ? boxes[j].centre.z : 1e18f;
-            r[j] = used ? body.radii()[j] : 0.0f;
+            r[j] = used ? (*radii)[j] : 0.0f;
         }
         laidOut = true;
     }
@@ -83,8 +130,10 @@ bool bodiesPenetrate(const Context& ctx, const RootXf& place, int action, double
 class Pruner {
 public:
     // bodies: where to keep the opponent's placed bodies (reused storage), else the pruner's own.
-    Pruner(const Context& ctx, const GroupState& g, int who, bool root, std::vector<OpponentBody>* bodies = nullptr)
-        : ctx_(ctx), g_(g), who_(who), opponentBodies_(bodies ? *bodies : ownBodies_) {
+    // cache: the thread's table of placed bodies (null: none).
+    Pruner(const Context& ctx, const GroupState& g, int who, bool root, std::vector<OpponentBody>* bodies = nullptr,
+           BodyCache* cache = nullptr)
+        : ctx_(ctx), g_(g), who_(who), opponentBodies_(bodies ? *bodies : ownBodies_), bodyCache_(cache) {
         opponentBodies_.clear();
         const auto& spec = specOf(ctx, who);
         const auto& s = g.c[static_cast<std::size_t>(who)];
@@ -176,8 +225,8 @@ public:
             const glm::vec2 d = start_.pos + startRotation_(ctx_.testPelvis[pelvisBegin + k]) - them.body.pelvis();
             if (glm::dot(d, d) > kPenetrationReach * kPenetrationReach) continue;
             const auto& body = ctx_.testBodies[pelvisBegin + k];
-            if (!them.laidOut) them.layOut();
-            const auto& theirs = them.body.boxes();
+            if (!them.laidOut) them.layOut(*ctx_.lib, bodyCache_);
+            const auto& theirs = them.boxes;
             for (std::size_t i = 0; i < body.boxes.size(); ++i) {
                 const Obb& mine = body.boxes[i];
                 const glm::vec3 centre = mine.placedCentre(start_, startRotation_);
@@ -353,6 +402,7 @@ private:
     FloorRotation startRotation_{0.0};
     mutable std::vector<OpponentBody> ownBodies_;
     std::vector<OpponentBody>& opponentBodies_;
+    BodyCache* bodyCache_;
     mutable std::optional<glm::vec2> oppEnd_;  // the opponent where its action ends (facing)
     double r_ = 0;
     bool oppAttacking_ = false;
@@ -624,6 +674,7 @@ struct SearchScratch {
     Child child;
     FrontierMemo frontier;
     StaticKeyTable staticKeys;
+    BodyCache bodyCache;
     std::vector<std::uint32_t> recentAt;  // per list position: the node number while its name is recent
     std::uint32_t node = 0;
     void reserveDepth(int depth) {
@@ -836,7 +887,7 @@ Value search(const Context& ctx, const GroupState& g, int depth, double alpha, d
     const bool mx = isMax(ctx, who, rootSide);
     const bool ab = ctx.opt->alphaBeta && !ctx.cooperative;
     const auto level = static_cast<std::size_t>(std::max(depth, 1));
-    const Pruner pruner(ctx, g, who, false, &scratch.bodies[level]);
+    const Pruner pruner(ctx, g, who, false, &scratch.bodies[level], &scratch.bodyCache);
     PlacementMemo oppAt;
     if (depth <= 1) {
         if (ab && ctx.boundedFrontier && pruner.active()) {
