@@ -214,8 +214,14 @@ inline int chooserOf(const GroupState& g) {
 
 inline bool enemies(const Context& ctx, int a, int b) { return specOf(ctx, a).side != specOf(ctx, b).side; }
 
+inline int opponentOfInGroup(const Context& ctx, const GroupState& g, int who, double t);
+// Whom `who` fights at time t: in a duel the other, else its explicit
+// opponent or the nearest enemy (opponentOfInGroup).
 inline int opponentOf(const Context& ctx, const GroupState& g, int who, double t) {
     if (ctx.duel) return 1 - who;
+    return opponentOfInGroup(ctx, g, who, t);
+}
+inline int opponentOfInGroup(const Context& ctx, const GroupState& g, int who, double t) {
     const int explicitOpp = specOf(ctx, who).opponent;
     if (explicitOpp >= 0) {
         for (int i = 0; i < g.n; ++i) {
