@@ -6,7 +6,7 @@
 #include <cmath>
 #include <numeric>
 #include <optional>
-#include <unordered_map>
+#include <deque>
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -29,7 +29,8 @@ namespace {
 // and its placement (and the shrink): the opponent's body at the penetration
 // test's times is the same for every node below its launch, at the node
 // times that fall on the same sample. A per-thread direct-mapped table of
-// them (about 1 MB; keys compared bit for bit, a miss places them afresh).
+// them (about 200 kB, made on first use; keys compared bit for bit, a miss
+// places them afresh).
 struct BodyCache {
     struct Entry {
         int action = -1, sample = 0;
@@ -38,8 +39,8 @@ struct BodyCache {
         std::array<Obb, kCoreSegments.size()> boxes;
         std::array<float, kCoreSegments.size()> radii{};
     };
-    static constexpr std::size_t kSize = 2048;
-    std::vector<Entry> slots = std::vector<Entry>(kSize);
+    static constexpr std::size_t kSize = 512;
+    std::vector<Entry> slots;
     static bool same(float a, float b) { return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b); }
     // The placed boxes and radii of `body` (CoreBody::boxes' values).
     const Entry& of(const ActionLibrary& lib, const detail::CoreBody& body, float shrink) {
@@ -49,6 +50,7 @@ struct BodyCache {
         h ^= static_cast<std::uint64_t>(static_cast<std::uint32_t>(sample)) + 0x7f4a7c15ull + (h << 6) + (h >> 2);
         h ^= (static_cast<std::uint64_t>(std::bit_cast<std::uint32_t>(pose.root.pos.x)) << 32 | std::bit_cast<std::uint32_t>(pose.root.pos.y)) * 0xff51afd7ed558ccdull;
         h ^= std::bit_cast<std::uint64_t>(pose.root.heading) * 0xc4ceb9fe1a85ec53ull;
+        if (slots.empty()) slots.resize(kSize);
         Entry& e = slots[static_cast<std::size_t>(h ^ (h >> 29)) & (kSize - 1)];
         if (e.action != pose.action || e.sample != sample || !same(e.root.pos.x, pose.root.pos.x) ||
             !same(e.root.pos.y, pose.root.pos.y) || std::bit_cast<std::uint64_t>(e.root.heading) != std::bit_cast<std::uint64_t>(pose.root.heading) ||
@@ -630,25 +632,43 @@ class StaticKeyTable {
 public:
     // The keys of `list`, a member's list of `who`, against their action `theirs`.
     const StaticKeys& of(const Context& ctx, const std::vector<int>& list, int who, int theirs, bool oppCanHit) {
-        const auto [it, added] = table_.try_emplace(Key{&list, theirs, oppCanHit});
-        if (added) build(ctx, list, who, theirs, oppCanHit, it->second);
-        return it->second;
+        std::uint64_t h = static_cast<std::uint64_t>(reinterpret_cast<std::uintptr_t>(&list)) * 0x9e3779b97f4a7c15ull;
+        h ^= (static_cast<std::uint64_t>(static_cast<std::uint32_t>(theirs)) << 1 | (oppCanHit ? 1u : 0u)) * 0xff51afd7ed558ccdull;
+        h ^= h >> 32;
+        if (2 * (keys_.size() + 1) > slots_.size()) grow();
+        const std::size_t mask = slots_.size() - 1;
+        for (std::size_t i = static_cast<std::size_t>(h) & mask;; i = (i + 1) & mask) {
+            Slot& s = slots_[i];
+            if (s.index == 0) {
+                s = {&list, theirs, oppCanHit, static_cast<std::uint32_t>(keys_.size() + 1), h};
+                build(ctx, list, who, theirs, oppCanHit, keys_.emplace_back());
+                return keys_.back();
+            }
+            if (s.hash == h && s.list == &list && s.theirs == theirs && s.oppCanHit == oppCanHit) return keys_[s.index - 1];
+        }
     }
 
 private:
-    struct Key {
+    // An open-addressing table (linear probing, at most half full) of the
+    // lists met; the keys in a deque (they stay where they are).
+    struct Slot {
         const std::vector<int>* list = nullptr;
         int theirs = 0;
         bool oppCanHit = false;
-        bool operator==(const Key&) const = default;
+        std::uint32_t index = 0;  // 1 + the place in keys_; 0: empty
+        std::uint64_t hash = 0;
     };
-    struct KeyHash {
-        std::size_t operator()(const Key& k) const {
-            const std::uint64_t x = (static_cast<std::uint64_t>(reinterpret_cast<std::uintptr_t>(k.list)) * 0x9e3779b97f4a7c15ull) ^
-                                    (static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.theirs)) << 1) ^ (k.oppCanHit ? 1u : 0u);
-            return static_cast<std::size_t>(x ^ (x >> 31));
+    void grow() {
+        std::vector<Slot> old(std::max<std::size_t>(256, 2 * slots_.size()));
+        old.swap(slots_);
+        const std::size_t mask = slots_.size() - 1;
+        for (const Slot& s : old) {
+            if (s.index == 0) continue;
+            std::size_t i = static_cast<std::size_t>(s.hash) & mask;
+            while (slots_[i].index != 0) i = (i + 1) & mask;
+            slots_[i] = s;
         }
-    };
+    }
     static void build(const Context& ctx, const std::vector<int>& list, int who, int theirs, bool oppCanHit, StaticKeys& out) {
         out.order.resize(list.size());
         out.byName.resize(list.size());
@@ -664,7 +684,8 @@ private:
         std::sort(out.order.begin(), out.order.end(), pendingBefore);
         std::sort(out.byName.begin(), out.byName.end());
     }
-    std::unordered_map<Key, StaticKeys, KeyHash> table_;
+    std::vector<Slot> slots_;
+    std::deque<StaticKeys> keys_;
 };
 
 struct SearchScratch {
@@ -887,7 +908,8 @@ Value search(const Context& ctx, const GroupState& g, int depth, double alpha, d
     const bool mx = isMax(ctx, who, rootSide);
     const bool ab = ctx.opt->alphaBeta && !ctx.cooperative;
     const auto level = static_cast<std::size_t>(std::max(depth, 1));
-    const Pruner pruner(ctx, g, who, false, &scratch.bodies[level], &scratch.bodyCache);
+    // (The table of placed bodies only where the storage outlives the decision.)
+    const Pruner pruner(ctx, g, who, false, &scratch.bodies[level], ctx.memory ? &scratch.bodyCache : nullptr);
     PlacementMemo oppAt;
     if (depth <= 1) {
         if (ab && ctx.boundedFrontier && pruner.active()) {
