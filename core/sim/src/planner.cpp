@@ -324,6 +324,7 @@ Result<Scene> run(const ActionLibrary& lib, const prep::ComboTable& combos, cons
                    (specOf(ctx, 0).opponent < 0 || specOf(ctx, 0).opponent == ctx.members[1].global) &&
                    (specOf(ctx, 1).opponent < 0 || specOf(ctx, 1).opponent == ctx.members[0].global);
         ctx.boundedFrontier = ctx.duel && !catches;
+        ctx.memory = makeSearchMemory();
         PinGuide pins(ctx, spec);
         // The group's share of the scene so far (kept states count from here).
         const std::size_t hitsBegin = scene.hits.size(), catchesBegin = scene.catches.size();

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numeric>
 #include <optional>
+#include <deque>
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -24,20 +25,69 @@ namespace {
 // lane by lane (x, y, z, r; the unused lanes far away), so one candidate box
 // is tested against all of its spheres at once: the same float operations
 // as the box-by-box test, so the same answers.
+// A body's placed core boxes are a function of its clip, the clip's sample
+// and its placement (and the shrink): the opponent's body at the penetration
+// test's times is the same for every node below its launch, at the node
+// times that fall on the same sample. A per-thread direct-mapped table of
+// them (about 200 kB, made on first use; keys compared bit for bit, a miss
+// places them afresh).
+struct BodyCache {
+    struct Entry {
+        int action = -1, sample = 0;
+        RootXf root;
+        float shrink = 0;
+        std::array<Obb, kCoreSegments.size()> boxes;
+        std::array<float, kCoreSegments.size()> radii{};
+    };
+    static constexpr std::size_t kSize = 512;
+    std::vector<Entry> slots;
+    static bool same(float a, float b) { return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b); }
+    // The placed boxes and radii of `body` (CoreBody::boxes' values).
+    const Entry& of(const ActionLibrary& lib, const detail::CoreBody& body, float shrink) {
+        const auto& pose = body.pose();
+        const int sample = lib.sampleAt(pose.action, pose.tau);
+        std::uint64_t h = static_cast<std::uint64_t>(static_cast<std::uint32_t>(pose.action)) * 0x9e3779b97f4a7c15ull;
+        h ^= static_cast<std::uint64_t>(static_cast<std::uint32_t>(sample)) + 0x7f4a7c15ull + (h << 6) + (h >> 2);
+        h ^= (static_cast<std::uint64_t>(std::bit_cast<std::uint32_t>(pose.root.pos.x)) << 32 | std::bit_cast<std::uint32_t>(pose.root.pos.y)) * 0xff51afd7ed558ccdull;
+        h ^= std::bit_cast<std::uint64_t>(pose.root.heading) * 0xc4ceb9fe1a85ec53ull;
+        if (slots.empty()) slots.resize(kSize);
+        Entry& e = slots[static_cast<std::size_t>(h ^ (h >> 29)) & (kSize - 1)];
+        if (e.action != pose.action || e.sample != sample || !same(e.root.pos.x, pose.root.pos.x) ||
+            !same(e.root.pos.y, pose.root.pos.y) || std::bit_cast<std::uint64_t>(e.root.heading) != std::bit_cast<std::uint64_t>(pose.root.heading) ||
+            !same(e.shrink, shrink)) {
+            e.boxes = body.boxes();
+            e.radii = body.radii();
+            e.action = pose.action, e.sample = sample, e.root = pose.root, e.shrink = shrink;
+        }
+        return e;
+    }
+};
+
 struct OpponentBody {
     static constexpr std::size_t kLanes = 8;
     detail::CoreBody body;
+    std::array<Obb, kCoreSegments.size()> boxes;  // body.boxes(), once laid out
     std::array<float, kLanes> x{}, y{}, z{}, r{};
     bool laidOut = false;
-    OpponentBody(const ActionLibrary& lib, const detail::BodyPose& pose, float shrink) : body(lib, pose, shrink) {}
-    void layOut() {
-        const auto& boxes = body.boxes();
+    float shrink;
+    OpponentBody(const ActionLibrary& lib, const detail::BodyPose& pose, float s) : body(lib, pose, s), shrink(s) {}
+    // cache: where to look the boxes up (null: placed here).
+    void layOut(const ActionLibrary& lib, BodyCache* cache) {
+        const std::array<float, kCoreSegments.size()>* radii = nullptr;
+        if (cache) {
+            const auto& e = cache->of(lib, body, shrink);
+            boxes = e.boxes;
+            radii = &e.radii;
+        } else {
+            boxes = body.boxes();
+            radii = &body.radii();
+        }
         for (std::size_t j = 0; j < kLanes; ++j) {
             const bool used = j < boxes.size();
             x[j] = used ? boxes[j].centre.x : 1e18f;
             y[j] = used ? boxes[j].centre.y : 1e18f;
             z[j] = used ? boxes[j].centre.z : 1e18f;
-            r[j] = used ? body.radii()[j] : 0.0f;
+            r[j] = used ? (*radii)[j] : 0.0f;
         }
         laidOut = true;
     }
@@ -82,8 +132,10 @@ bool bodiesPenetrate(const Context& ctx, const RootXf& place, int action, double
 class Pruner {
 public:
     // bodies: where to keep the opponent's placed bodies (reused storage), else the pruner's own.
-    Pruner(const Context& ctx, const GroupState& g, int who, bool root, std::vector<OpponentBody>* bodies = nullptr)
-        : ctx_(ctx), g_(g), who_(who), opponentBodies_(bodies ? *bodies : ownBodies_) {
+    // cache: the thread's table of placed bodies (null: none).
+    Pruner(const Context& ctx, const GroupState& g, int who, bool root, std::vector<OpponentBody>* bodies = nullptr,
+           BodyCache* cache = nullptr)
+        : ctx_(ctx), g_(g), who_(who), opponentBodies_(bodies ? *bodies : ownBodies_), bodyCache_(cache) {
         opponentBodies_.clear();
         const auto& spec = specOf(ctx, who);
         const auto& s = g.c[static_cast<std::size_t>(who)];
@@ -142,6 +194,9 @@ public:
     bool fallback() const { return fallback_; }
     bool active() const { return opp_ >= 0; }
     const std::vector<int>& base() const { return *list_; }
+    // The member's list itself (Member::legal or folded) when this node
+    // did not change it, else null.
+    const std::vector<int>* memberList() const { return list_ == &base_ ? nullptr : list_; }
 
     // 1. The bodies do not penetrate (over the time both actions are known).
     bool penetrationFree(int a, bool lastFrameOnly) const {
@@ -172,15 +227,25 @@ public:
             const glm::vec2 d = start_.pos + startRotation_(ctx_.testPelvis[pelvisBegin + k]) - them.body.pelvis();
             if (glm::dot(d, d) > kPenetrationReach * kPenetrationReach) continue;
             const auto& body = ctx_.testBodies[pelvisBegin + k];
-            if (!them.laidOut) them.layOut();
-            const auto& theirs = them.body.boxes();
+            if (!them.laidOut) them.layOut(*ctx_.lib, bodyCache_);
+            const auto& theirs = them.boxes;
             for (std::size_t i = 0; i < body.boxes.size(); ++i) {
-                unsigned meet = them.spheresMeet(body.boxes[i].placedCentre(start_, startRotation_), body.radii[i]);
+                const Obb& mine = body.boxes[i];
+                const glm::vec3 centre = mine.placedCentre(start_, startRotation_);
+                unsigned meet = them.spheresMeet(centre, body.radii[i]);
                 if (meet == 0) continue;
-                // Any overlapping pair answers, whichever is found first.
-                const Obb placed = body.boxes[i].placed(start_, startRotation_);
+                // Any overlapping pair answers, whichever is found first. The
+                // box's axes are placed (as Obb::placed places them) when a
+                // test first needs each.
+                std::array<glm::vec3, 3> axes;
+                unsigned placedAxes = 0;
+                const auto axis = [&](int n) -> const glm::vec3& {
+                    const auto j = static_cast<std::size_t>(n);
+                    if (!(placedAxes >> j & 1u)) axes[j] = startRotation_(mine.axes[n]), placedAxes |= 1u << j;
+                    return axes[j];
+                };
                 for (; meet != 0; meet &= meet - 1) {
-                    if (overlapsBeyondSpheres(placed, theirs[static_cast<std::size_t>(std::countr_zero(meet))])) return false;
+                    if (overlapsBeyondSpheresWith(centre, axis, mine.half, theirs[static_cast<std::size_t>(std::countr_zero(meet))])) return false;
                 }
             }
         }
@@ -339,6 +404,7 @@ private:
     FloorRotation startRotation_{0.0};
     mutable std::vector<OpponentBody> ownBodies_;
     std::vector<OpponentBody>& opponentBodies_;
+    BodyCache* bodyCache_;
     mutable std::optional<glm::vec2> oppEnd_;  // the opponent where its action ends (facing)
     double r_ = 0;
     bool oppAttacking_ = false;
@@ -388,16 +454,21 @@ bool better(bool mx, const Value& a, const Value& b) {
 // and recency terms, the fastest blow it can land and nothing else (the
 // movement and stage terms are never positive, a blow received only costs).
 // A small slack covers the different order of the floating-point sums.
-double edgeBound(const Context& ctx, const GroupState& g, int who, int action) {
+// (With the recency given: the static key order below computes it with none.)
+double edgeBound(const Context& ctx, int who, int action, double recent, int theirs) {
     const auto& w = specOf(ctx, who).weights;
     const auto& x = act(ctx, action);
-    double bound = -w.wRecency * recency(ctx, g.c[static_cast<std::size_t>(who)], action);
+    double bound = -w.wRecency * recent;
     if (ctx.combo) {
         bound += w.wCombo * static_cast<double>((*ctx.combo)[static_cast<std::size_t>(action) * static_cast<std::size_t>(ctx.comboN) +
-                                                  static_cast<std::size_t>(g.c[static_cast<std::size_t>(1 - who)].action)]);
+                                                  static_cast<std::size_t>(theirs)]);
     }
     if (x.is(kAttack) && x.effector >= 0) bound += (x.is(kKick) ? w.wHitLong : w.wHitShort) * ctx.maxHitSpeed[static_cast<std::size_t>(action)];
     return bound;
+}
+double edgeBound(const Context& ctx, const GroupState& g, int who, int action) {
+    return edgeBound(ctx, who, action, recency(ctx, g.c[static_cast<std::size_t>(who)], action),
+                     g.c[static_cast<std::size_t>(1 - who)].action);
 }
 double withSlack(double bound) { return bound + 1e-6 * (1.0 + std::fabs(bound)); }
 
@@ -522,6 +593,14 @@ struct FrontierMemo {
         }
     }
 
+    // Empty, keeping the storage (the table's slots emptied).
+    void clear() {
+        std::fill(slots.begin(), slots.end(), Slot{});
+        states.clear();
+        entries.clear();
+        steps.clear();
+    }
+
 private:
     void grow() {
         std::vector<Slot> old(std::max<std::size_t>(1024, 2 * slots.size()));
@@ -539,12 +618,86 @@ private:
 // Storage one search reuses from node to node (no allocation per node once
 // warm): per remaining depth the inner node's children and their order, the
 // opponent's placed bodies of its pruner; a frontier's keys and child.
+// A bounded frontier's first keys are its candidates' bounds (edgeBound),
+// which are, but for the recency term, functions of the candidate list, the
+// opponent's action and whether the opponent can still land a blow. For each
+// such triple met, the keys with no recency term in the frontier's order
+// (key descending, then position), and the list's positions by name; a node
+// then needs the keys of the few candidates whose names are recent.
+struct StaticKeys {
+    std::vector<Pending> order;                        // keys without recency, first in order first
+    std::vector<std::pair<std::int16_t, int>> byName;  // (Context::nameId, position), ascending
+};
+class StaticKeyTable {
+public:
+    // The keys of `list`, a member's list of `who`, against their action `theirs`.
+    const StaticKeys& of(const Context& ctx, const std::vector<int>& list, int who, int theirs, bool oppCanHit) {
+        std::uint64_t h = static_cast<std::uint64_t>(reinterpret_cast<std::uintptr_t>(&list)) * 0x9e3779b97f4a7c15ull;
+        h ^= (static_cast<std::uint64_t>(static_cast<std::uint32_t>(theirs)) << 1 | (oppCanHit ? 1u : 0u)) * 0xff51afd7ed558ccdull;
+        h ^= h >> 32;
+        if (2 * (keys_.size() + 1) > slots_.size()) grow();
+        const std::size_t mask = slots_.size() - 1;
+        for (std::size_t i = static_cast<std::size_t>(h) & mask;; i = (i + 1) & mask) {
+            Slot& s = slots_[i];
+            if (s.index == 0) {
+                s = {&list, theirs, oppCanHit, static_cast<std::uint32_t>(keys_.size() + 1), h};
+                build(ctx, list, who, theirs, oppCanHit, keys_.emplace_back());
+                return keys_.back();
+            }
+            if (s.hash == h && s.list == &list && s.theirs == theirs && s.oppCanHit == oppCanHit) return keys_[s.index - 1];
+        }
+    }
+
+private:
+    // An open-addressing table (linear probing, at most half full) of the
+    // lists met; the keys in a deque (they stay where they are).
+    struct Slot {
+        const std::vector<int>* list = nullptr;
+        int theirs = 0;
+        bool oppCanHit = false;
+        std::uint32_t index = 0;  // 1 + the place in keys_; 0: empty
+        std::uint64_t hash = 0;
+    };
+    void grow() {
+        std::vector<Slot> old(std::max<std::size_t>(256, 2 * slots_.size()));
+        old.swap(slots_);
+        const std::size_t mask = slots_.size() - 1;
+        for (const Slot& s : old) {
+            if (s.index == 0) continue;
+            std::size_t i = static_cast<std::size_t>(s.hash) & mask;
+            while (slots_[i].index != 0) i = (i + 1) & mask;
+            slots_[i] = s;
+        }
+    }
+    static void build(const Context& ctx, const std::vector<int>& list, int who, int theirs, bool oppCanHit, StaticKeys& out) {
+        out.order.resize(list.size());
+        out.byName.resize(list.size());
+        for (std::size_t i = 0; i < list.size(); ++i) {
+            const int a = list[i];
+            const auto& x = act(ctx, a);
+            const bool exactKey = !(x.is(kAttack) && x.effector >= 0) && !oppCanHit;
+            // As the frontier computes a key whose recency is 0.
+            const double bound = edgeBound(ctx, who, a, 0.0, theirs);
+            out.order[i] = {exactKey ? withSlack(bound) : bound, static_cast<int>(i), exactKey};
+            out.byName[i] = {static_cast<std::int16_t>(ctx.nameId[static_cast<std::size_t>(a)]), static_cast<int>(i)};
+        }
+        std::sort(out.order.begin(), out.order.end(), pendingBefore);
+        std::sort(out.byName.begin(), out.byName.end());
+    }
+    std::vector<Slot> slots_;
+    std::deque<StaticKeys> keys_;
+};
+
 struct SearchScratch {
     std::vector<std::vector<Child>> children;
     std::vector<std::vector<Pending>> pending;
     std::vector<std::vector<OpponentBody>> bodies;
     Child child;
     FrontierMemo frontier;
+    StaticKeyTable staticKeys;
+    BodyCache bodyCache;
+    std::vector<std::uint32_t> recentAt;  // per list position: the node number while its name is recent
+    std::uint32_t node = 0;
     void reserveDepth(int depth) {
         const auto n = static_cast<std::size_t>(std::max(depth, 1)) + 1;
         if (children.size() < n) children.resize(n), pending.resize(n), bodies.resize(n);
@@ -621,24 +774,69 @@ std::optional<Value> boundedFrontier(const Context& ctx, const GroupState& g, in
     const auto recordBegin = static_cast<std::uint32_t>(memo.steps.size());
     // Keys: the edge score itself when nothing can land (computed only when
     // it may come first: its bound until then), else the bound (final).
+    // When the candidates are a member's list, the keys without recency come
+    // in order from the StaticKeyTable and the heap holds only the recent
+    // candidates' keys and the exact keys; otherwise the heap holds every key.
+    // Either way the next key is the first of all pending ones in the order.
     std::vector<Pending>& keys = scratch.pending[0];
     const auto& base = pruner.base();
-    keys.resize(base.size());  // (written in place: no growth check per key)
-    for (std::size_t i = 0; i < base.size(); ++i) {
-        const int a = base[i];
-        const auto& x = act(ctx, a);
-        const bool attack = x.is(kAttack) && x.effector >= 0;
-        const bool exactKey = !attack && !oppCanHit;
-        const double bound = edgeBound(ctx, g, who, a);
-        keys[i] = {exactKey ? withSlack(bound) : bound, static_cast<int>(i), exactKey};
+    const StaticKeys* fixed = nullptr;
+    std::size_t next = 0;  // the next of fixed->order
+    const std::uint32_t node = ++scratch.node;
+    if (const auto* list = pruner.memberList()) {
+        fixed = &scratch.staticKeys.of(ctx, *list, who, o.action, oppCanHit);
+        if (scratch.recentAt.size() < base.size()) scratch.recentAt.resize(base.size(), 0);
+        if (node == 0) std::fill(scratch.recentAt.begin(), scratch.recentAt.end(), 0u), scratch.node = 1;
+        const std::uint32_t mark = scratch.node;
+        keys.clear();
+        const auto& me = g.c[static_cast<std::size_t>(who)];
+        for (int r = 0; r < me.recentCount; ++r) {
+            const std::int16_t name = me.recent[static_cast<std::size_t>(r)];
+            if (std::find(me.recent.begin(), me.recent.begin() + r, name) != me.recent.begin() + r) continue;
+            auto it = std::lower_bound(fixed->byName.begin(), fixed->byName.end(), std::pair<std::int16_t, int>{name, 0});
+            for (; it != fixed->byName.end() && it->first == name; ++it) {
+                const int pos = it->second;
+                const int a = base[static_cast<std::size_t>(pos)];
+                const auto& x = act(ctx, a);
+                const bool exactKey = !(x.is(kAttack) && x.effector >= 0) && !oppCanHit;
+                const double bound = edgeBound(ctx, g, who, a);
+                keys.push_back({exactKey ? withSlack(bound) : bound, pos, exactKey});
+                scratch.recentAt[static_cast<std::size_t>(pos)] = mark;
+            }
+        }
+    } else {
+        keys.resize(base.size());  // (written in place: no growth check per key)
+        for (std::size_t i = 0; i < base.size(); ++i) {
+            const int a = base[i];
+            const auto& x = act(ctx, a);
+            const bool attack = x.is(kAttack) && x.effector >= 0;
+            const bool exactKey = !attack && !oppCanHit;
+            const double bound = edgeBound(ctx, g, who, a);
+            keys[i] = {exactKey ? withSlack(bound) : bound, static_cast<int>(i), exactKey};
+        }
     }
     std::make_heap(keys.begin(), keys.end(), heapLess);
+    const std::uint32_t mark = scratch.node;
+    // The static keys still pending, past those of recent candidates.
+    auto fixedLeft = [&] {
+        if (!fixed) return false;
+        while (next < fixed->order.size() && scratch.recentAt[static_cast<std::size_t>(fixed->order[next].pos)] == mark) ++next;
+        return next < fixed->order.size();
+    };
     Value best;
     bool have = false;
     Child& ch = scratch.child;
-    while (!keys.empty()) {
-        std::pop_heap(keys.begin(), keys.end(), heapLess);
-        Pending k = keys.back();
+    for (;;) {
+        Pending k;
+        if (fixedLeft() && (keys.empty() || pendingBefore(fixed->order[next], keys.front()))) {
+            k = fixed->order[next++];
+        } else if (!keys.empty()) {
+            std::pop_heap(keys.begin(), keys.end(), heapLess);
+            k = keys.back();
+            keys.pop_back();
+        } else {
+            break;
+        }
         const int action = base[static_cast<std::size_t>(k.pos)];
         if (k.bound) {
             // Only the exact key needs the launched state.
@@ -646,11 +844,10 @@ std::optional<Value> boundedFrontier(const Context& ctx, const GroupState& g, in
             GroupState after = g;
             launch(ctx, after, who, action, g.time);
             after.time = std::min(after.c[0].end, after.c[1].end);
-            keys.back() = {edgeScore(ctx, g, after, who, action, Events{}, oppAt).comp, k.pos, false};
+            keys.push_back({edgeScore(ctx, g, after, who, action, Events{}, oppAt).comp, k.pos, false});
             std::push_heap(keys.begin(), keys.end(), heapLess);
             continue;
         }
-        keys.pop_back();
         const bool exact = !(act(ctx, action).is(kAttack) && act(ctx, action).effector >= 0) && !oppCanHit;
         FrontierStep& step = memo.steps.emplace_back();
         step.key = k.key;
@@ -690,7 +887,7 @@ std::optional<Value> boundedFrontier(const Context& ctx, const GroupState& g, in
     auto& entry = memo.at(g, stateHash);
     entry.begin = recordBegin;
     entry.count = static_cast<std::uint32_t>(memo.steps.size()) - recordBegin;
-    entry.complete = keys.empty();
+    entry.complete = keys.empty() && !fixedLeft();
     if (!have) return std::nullopt;
     return best;
 }
@@ -711,7 +908,8 @@ Value search(const Context& ctx, const GroupState& g, int depth, double alpha, d
     const bool mx = isMax(ctx, who, rootSide);
     const bool ab = ctx.opt->alphaBeta && !ctx.cooperative;
     const auto level = static_cast<std::size_t>(std::max(depth, 1));
-    const Pruner pruner(ctx, g, who, false, &scratch.bodies[level]);
+    // (The table of placed bodies only where the storage outlives the decision.)
+    const Pruner pruner(ctx, g, who, false, &scratch.bodies[level], ctx.memory ? &scratch.bodyCache : nullptr);
     PlacementMemo oppAt;
     if (depth <= 1) {
         if (ab && ctx.boundedFrontier && pruner.active()) {
@@ -826,6 +1024,12 @@ Value search(const Context& ctx, const GroupState& g, int depth, double alpha, d
 
 }  // namespace
 
+// Context::memory: per thread, the searches' storage.
+struct SearchMemory {
+    tbb::enumerable_thread_specific<SearchScratch> threads;
+};
+std::shared_ptr<SearchMemory> makeSearchMemory() { return std::make_shared<SearchMemory>(); }
+
 // The real choice of the character due at g.time. The first child (best by
 // its immediate score) is searched with the full window; its value bounds
 // the others, which then run in parallel with that fixed bound. A child that
@@ -879,7 +1083,12 @@ int decide(const Context& ctx, const GroupState& g, int depth, Stats& stats, boo
     // Not at depth 3: a 2-level pass ranks the children too poorly (the
     // depth-3 style matches lost their order with it).
     const bool beamed = ab && beam > 0 && depth >= 4;
-    tbb::enumerable_thread_specific<SearchScratch> scratch;  // per thread, for this decision's searches
+    // Per thread, the searches' storage: the group's (Context::memory),
+    // emptied, or this decision's own. Either way the frontier memo holds
+    // only this decision's states.
+    tbb::enumerable_thread_specific<SearchScratch> own;
+    tbb::enumerable_thread_specific<SearchScratch>& scratch = ctx.memory ? ctx.memory->threads : own;
+    for (auto& local : scratch) local.frontier.clear();
     for (int d = 2; d <= depth; ++d) {
         std::vector<Value> values(children.size());
         std::vector<double> floor(children.size(), -kInf);

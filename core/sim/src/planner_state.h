@@ -13,6 +13,7 @@
 #include <functional>
 #include <string>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "fray/sim/planner.h"
@@ -99,6 +100,8 @@ std::vector<std::vector<int>> legalChoices(const ActionLibrary& lib, const Chara
 // The same with one representative per variant class.
 std::vector<std::vector<int>> foldVariants(const ActionLibrary& lib, const std::vector<std::vector<int>>& legal);
 
+struct SearchMemory;
+
 struct Context {
     const ActionLibrary* lib = nullptr;
     const std::vector<float>* combo = nullptr;  // combo[mine * n + theirs]
@@ -137,7 +140,14 @@ struct Context {
     struct ReadMarks* reads = nullptr;
     bool duel = false;                   // two members on opposite sides: each one's opponent is the other
     bool boundedFrontier = false;        // a duel scored by blows: frontier edges can be bounded (boundedFrontier)
+    // The searches' per-thread storage (children, keys, the frontier memo's
+    // tables), kept from one decision of the group to the next so that it is
+    // allocated once, not per decision; what it holds is cleared before each
+    // decision. Null: each decision allocates its own.
+    std::shared_ptr<SearchMemory> memory;
 };
+// A group's SearchMemory (Context::memory), empty.
+std::shared_ptr<SearchMemory> makeSearchMemory();
 
 // What one step of the scene loop (a decision's searches and the advance to
 // the next node) read of the inputs an edit may change (docs/TREE_EXPANSION.md
@@ -204,8 +214,14 @@ inline int chooserOf(const GroupState& g) {
 
 inline bool enemies(const Context& ctx, int a, int b) { return specOf(ctx, a).side != specOf(ctx, b).side; }
 
+inline int opponentOfInGroup(const Context& ctx, const GroupState& g, int who, double t);
+// Whom `who` fights at time t: in a duel the other, else its explicit
+// opponent or the nearest enemy (opponentOfInGroup).
 inline int opponentOf(const Context& ctx, const GroupState& g, int who, double t) {
     if (ctx.duel) return 1 - who;
+    return opponentOfInGroup(ctx, g, who, t);
+}
+inline int opponentOfInGroup(const Context& ctx, const GroupState& g, int who, double t) {
     const int explicitOpp = specOf(ctx, who).opponent;
     if (explicitOpp >= 0) {
         for (int i = 0; i < g.n; ++i) {

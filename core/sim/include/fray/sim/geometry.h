@@ -143,6 +143,47 @@ inline glm::vec2 floorHalfExtents(const Obb& b) {
 bool overlaps(const Obb& a, const Obb& b);
 // The same after the caller's own bounding-sphere test passed.
 bool overlapsBeyondSpheres(const Obb& a, const Obb& b);
+// overlapsBeyondSpheres with box a given by its centre, its half extents and
+// axis(i) -> a's i-th axis, asked for only when a test needs it (a caller
+// can place a's axes lazily). The axes are tried in the order that
+// separates the planner's bodies soonest (a's third axis, the depth of a
+// segment box, separates about half of them); each test is the same float
+// computation in any order, so the answer is that of any order.
+template <class AxisOfA>
+bool overlapsBeyondSpheresWith(const glm::vec3& aCentre, AxisOfA&& axis, const glm::vec3& aHalf, const Obb& b) {
+    const glm::vec3 d = b.centre - aCentre;
+    // R[i][j] = a.axis i . b.axis j, in a's frame; epsilon guards parallel edges.
+    float R[3][3], absR[3][3], t[3];
+    constexpr float kEps = 1e-6f;
+    const float ah[3] = {aHalf.x, aHalf.y, aHalf.z};
+    const float bh[3] = {b.half.x, b.half.y, b.half.z};
+    for (int i = 2; i >= 0; --i) {  // a's face axes, each with its row of R
+        const glm::vec3& ai = axis(i);
+        for (int j = 0; j < 3; ++j) {
+            R[i][j] = glm::dot(ai, b.axes[j]);
+            absR[i][j] = std::fabs(R[i][j]) + kEps;
+        }
+        t[i] = glm::dot(d, ai);
+        const float rb = bh[0] * absR[i][0] + bh[1] * absR[i][1] + bh[2] * absR[i][2];
+        if (std::fabs(t[i]) > ah[i] + rb) return false;
+    }
+    for (int j = 2; j >= 0; --j) {  // b's face axes
+        const float ra = ah[0] * absR[0][j] + ah[1] * absR[1][j] + ah[2] * absR[2][j];
+        const float tj = t[0] * R[0][j] + t[1] * R[1][j] + t[2] * R[2][j];
+        if (std::fabs(tj) > ra + bh[j]) return false;
+    }
+    for (int i = 0; i < 3; ++i) {  // edge x edge
+        const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+        for (int j = 0; j < 3; ++j) {
+            const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+            const float ra = ah[i1] * absR[i2][j] + ah[i2] * absR[i1][j];
+            const float rb = bh[j1] * absR[i][j2] + bh[j2] * absR[i][j1];
+            const float tl = t[i2] * R[i1][j] - t[i1] * R[i2][j];
+            if (std::fabs(tl) > ra + rb) return false;
+        }
+    }
+    return true;
+}
 
 // Box around the segment p0 -> p1 with the given cross-section half sizes
 // (side, depth) and pad added beyond both ends. `side` is a hint for the
