@@ -28,7 +28,7 @@ inline constexpr double kArriveDistance = 0.25;          // m: locomotion is don
 inline constexpr double kArriveHeading = 25 * std::numbers::pi / 180;
 inline constexpr int kMaxLocomotionSteps = 60;
 inline constexpr float kClearance = 0.2f;               // m between a new patch's newcomer and anyone present
-inline constexpr double kJoinBlend = 0.15;               // s: ScenePoser's blend at a seam between two actions (scene.h)
+inline constexpr double kSeamBlend = 0.15;              // s: ScenePoser's default blend at a seam between two actions (scene.h)
 
 struct Composer {
     const ActionLibrary& lib;
@@ -474,11 +474,11 @@ struct Composer {
         constexpr double kMaxJunction = 0.3;
         const auto& first = p.tracks[static_cast<std::size_t>(role)].front();
         // The walk's last step blends into the patch's first action over
-        // kJoinBlend; an action shorter than that is gone before the blend is
+        // kSeamBlend; an action shorter than that is gone before the blend is
         // done, and the next one starts from its raw pose (ScenePoser), the
         // walk's pose and up to kMaxJunction of root error dropped in one
         // frame: such a patch is no place to walk into.
-        if (first.end - first.start < kJoinBlend) return std::nullopt;
+        if (first.end - first.start < kSeamBlend) return std::nullopt;
         const RootXf goal = xf * first.root;
         glm::vec2 radial = goal.pos - centre;
         if (glm::length(radial) < 1e-3f) radial = -headingVector(goal.heading);
