@@ -95,6 +95,29 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     // sample, so coreBodiesOverlap's answer is known without placing the
     // other body (firstTouch's test before the pelvis).
     std::vector<detail::CoreDiscs::Disc> coreHulls;
+    // Per action and sample: the bounding spheres of the core boxes shrunk by
+    // kTouchShrink (CoreBody::boxes' radii), their centres in the clip's frame.
+    struct CoreSphere {
+        std::array<glm::vec3, kCoreSegments.size()> centre;
+        std::array<float, kCoreSegments.size()> radius;
+    };
+    std::vector<CoreSphere> coreSpheres;
+    std::vector<int> firstSphere;  // per action: its first sample's
+    void measureCoreSpheres() {
+        coreSpheres.clear(), firstSphere.clear();
+        for (int a = 0; a < lib.size(); ++a) {
+            firstSphere.push_back(static_cast<int>(coreSpheres.size()));
+            for (int k = 0; k < act(a).sampleCount; ++k) {
+                const Obb* local = lib.boxesAt(a, k);
+                CoreSphere& sp = coreSpheres.emplace_back();
+                for (std::size_t i = 0; i < kCoreSegments.size(); ++i) {
+                    const Obb& box = local[kCoreSegments[i]];
+                    sp.centre[i] = box.centre;
+                    sp.radius[i] = box.shrunk(kTouchShrink).radius();  // placing keeps the half extents
+                }
+            }
+        }
+    }
     void measureCoreHulls() {
         coreHulls.assign(static_cast<std::size_t>(lib.size()), {});
         const FloorRotation none(0.0);
@@ -289,6 +312,12 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                 }
             }
         }
+        sameStart.clear();
+        for (std::size_t w = 0; w < ways.size(); ++w) {
+            std::size_t first = w;
+            while (first > 0 && ways[first - 1].front() == ways[w].front()) --first;
+            sameStart.push_back(first);
+        }
         return !ways.empty();
     }
 
@@ -314,6 +343,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     int ratLaterals = 0;                    // cells either side of the line
     std::vector<std::vector<RatPatch>> ratTable;  // per (lateral, facing) cell, best first
     std::vector<std::vector<int>> ways;      // ways out: one or two avoiding or stepping actions
+    std::vector<std::size_t> sameStart;      // per way: the first way that starts with the same action (they follow one another)
     int ratSteps = 1;                        // above every patch's lead step
 
     static glm::vec2 leftOf(double heading) { return headingVector(heading + 0.5 * std::numbers::pi); }
@@ -524,7 +554,9 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                 const double t = times[i];
                 while (k + 1 < plan.size() && plan[k + 1].start <= t) ++k;
                 const ActionInstance& inst = plan[k];
-                const std::size_t slot = k == 0 ? 0 : (k <= 3 ? 1 + 4 * static_cast<std::size_t>(patch.way) + k - 1 : SIZE_MAX);
+                // (The ways that begin with the same action share its instance: the same action at the same root.)
+                const std::size_t w = k == 1 ? sameStart[static_cast<std::size_t>(patch.way)] : static_cast<std::size_t>(patch.way);
+                const std::size_t slot = k == 0 ? 0 : (k <= 3 ? 1 + 4 * w + k - 1 : SIZE_MAX);
                 Slot* s = slotOf(slot, inst);
                 if (s) {
                     // Nothing of the instance at any sample comes closer than the best so far.
@@ -611,8 +643,36 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     // pelvis reach (the caller's test, the same as its first), their boxes
     // from the table or placed into it.
     bool coresOverlap(const detail::CoreBody& a, const detail::CoreBody& b) const {
-        PlacedTable& table = placedTable();
         const int sa = sampleOf(a.pose().action, a.pose().tau), sb = sampleOf(b.pose().action, b.pose().tau);
+        // The bounding-sphere tests first, from the spheres in the clip's
+        // frame (coreSpheres): the centres placed as Obb::placed places them
+        // and the radii of the shrunk boxes, so the same floats and the same
+        // answers as the placed boxes'. Most pairs that come this far have
+        // no two spheres that meet, and need no boxes at all.
+        {
+            const CoreSphere* la = &coreSpheres[static_cast<std::size_t>(firstSphere[static_cast<std::size_t>(a.pose().action)] + sa)];
+            const CoreSphere* lb = &coreSpheres[static_cast<std::size_t>(firstSphere[static_cast<std::size_t>(b.pose().action)] + sb)];
+            const RootXf& ra = a.pose().root;
+            const RootXf& rb = b.pose().root;
+            std::array<glm::vec3, kCoreSegments.size()> ca, cb;
+            for (std::size_t i = 0; i < ca.size(); ++i) {
+                ca[i] = a.rotation()(la->centre[i]) + glm::vec3(ra.pos.x, 0.0f, ra.pos.y);
+                cb[i] = b.rotation()(lb->centre[i]) + glm::vec3(rb.pos.x, 0.0f, rb.pos.y);
+            }
+            bool any = false;
+            for (std::size_t i = 0; i < ca.size() && !any; ++i) {
+                for (std::size_t j = 0; j < cb.size(); ++j) {
+                    const glm::vec3 c = cb[j] - ca[i];
+                    const float r = la->radius[i] + lb->radius[j];
+                    if (glm::dot(c, c) <= r * r) {
+                        any = true;
+                        break;
+                    }
+                }
+            }
+            if (!any) return false;
+        }
+        PlacedTable& table = placedTable();
         const std::size_t ia = placedSlot(a.pose(), sa), ib = placedSlot(b.pose(), sb);
         PlacedCore& ea = table[ia];
         if (!holds(ea, a.pose(), sa)) fillPlaced(ea, a, sa);
@@ -960,6 +1020,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         discs.emplace(lib, kTouchShrink);
         pelvisPaths = pelvisPathDiscs(lib);
         measureCoreHulls();
+        measureCoreSpheres();
         measureFootHulls();
         if (!findWays()) return makeError(kNoWays);
         makeRatPatches();
