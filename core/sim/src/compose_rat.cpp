@@ -96,18 +96,23 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     // other body (firstTouch's test before the pelvis).
     std::vector<detail::CoreDiscs::Disc> coreHulls;
     // Per action and sample: the bounding spheres of the core boxes shrunk by
-    // kTouchShrink (CoreBody::boxes' radii), their centres in the clip's frame.
+    // kTouchShrink (CoreBody::boxes' radii, coresOverlap's first test), their
+    // centres in the clip's frame.
     struct CoreSphere {
         std::array<glm::vec3, kCoreSegments.size()> centre;
         std::array<float, kCoreSegments.size()> radius;
     };
     std::vector<CoreSphere> coreSpheres;
     std::vector<int> firstSphere;  // per action: its first sample's
+    // Per action: per core segment, a sphere round that segment's sphere at
+    // every sample (a millimetre more covers the rounding).
+    std::vector<CoreSphere> sweptSpheres;
     void measureCoreSpheres() {
-        coreSpheres.clear(), firstSphere.clear();
+        coreSpheres.clear(), firstSphere.clear(), sweptSpheres.clear();
         for (int a = 0; a < lib.size(); ++a) {
             firstSphere.push_back(static_cast<int>(coreSpheres.size()));
-            for (int k = 0; k < act(a).sampleCount; ++k) {
+            const int n = act(a).sampleCount;
+            for (int k = 0; k < n; ++k) {
                 const Obb* local = lib.boxesAt(a, k);
                 CoreSphere& sp = coreSpheres.emplace_back();
                 for (std::size_t i = 0; i < kCoreSegments.size(); ++i) {
@@ -116,7 +121,39 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                     sp.radius[i] = box.shrunk(kTouchShrink).radius();  // placing keeps the half extents
                 }
             }
+            CoreSphere& swept = sweptSpheres.emplace_back();
+            const CoreSphere* first = coreSpheres.data() + firstSphere.back();
+            for (std::size_t i = 0; i < kCoreSegments.size(); ++i) {
+                glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+                for (int k = 0; k < n; ++k) lo = glm::min(lo, first[k].centre[i]), hi = glm::max(hi, first[k].centre[i]);
+                swept.centre[i] = n > 0 ? 0.5f * (lo + hi) : glm::vec3(0.0f);
+                swept.radius[i] = 0;
+                for (int k = 0; k < n; ++k) {
+                    swept.radius[i] = std::max(swept.radius[i], glm::length(first[k].centre[i] - swept.centre[i]) + first[k].radius[i]);
+                }
+                swept.radius[i] += 1e-3f;
+            }
         }
+    }
+    // Certainly no sphere of the core body `mine` (its centres placed) meets
+    // a sphere of `theirs` (an action's swept spheres, placed at `root`), so
+    // coresOverlap finds no pair of boxes to test at any sample of that
+    // action there: the distances in double with a margin for the rounding
+    // of placing either.
+    bool spheresApart(const std::array<glm::vec3, kCoreSegments.size()>& mine, const CoreSphere& myRadii, const CoreSphere& swept,
+                      const RootXf& root) const {
+        const FloorRotation rot(root.heading);
+        for (std::size_t j = 0; j < kCoreSegments.size(); ++j) {
+            const glm::vec3 c = rot(swept.centre[j]) + glm::vec3(root.pos.x, 0.0f, root.pos.y);
+            for (std::size_t i = 0; i < kCoreSegments.size(); ++i) {
+                const glm::dvec3 d = glm::dvec3(mine[i]) - glm::dvec3(c);
+                const double scale = std::fabs(static_cast<double>(c.x)) + std::fabs(static_cast<double>(c.z)) +
+                                     std::fabs(static_cast<double>(mine[i].x)) + std::fabs(static_cast<double>(mine[i].z));
+                const double r = static_cast<double>(myRadii.radius[i]) + static_cast<double>(swept.radius[j]) + 2e-3 + 2e-5 * scale;
+                if (glm::dot(d, d) <= r * r) return false;
+            }
+        }
+        return true;
     }
     void measureCoreHulls() {
         coreHulls.assign(static_cast<std::size_t>(lib.size()), {});
@@ -644,34 +681,6 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     // from the table or placed into it.
     bool coresOverlap(const detail::CoreBody& a, const detail::CoreBody& b) const {
         const int sa = sampleOf(a.pose().action, a.pose().tau), sb = sampleOf(b.pose().action, b.pose().tau);
-        // The bounding-sphere tests first, from the spheres in the clip's
-        // frame (coreSpheres): the centres placed as Obb::placed places them
-        // and the radii of the shrunk boxes, so the same floats and the same
-        // answers as the placed boxes'. Most pairs that come this far have
-        // no two spheres that meet, and need no boxes at all.
-        {
-            const CoreSphere* la = &coreSpheres[static_cast<std::size_t>(firstSphere[static_cast<std::size_t>(a.pose().action)] + sa)];
-            const CoreSphere* lb = &coreSpheres[static_cast<std::size_t>(firstSphere[static_cast<std::size_t>(b.pose().action)] + sb)];
-            const RootXf& ra = a.pose().root;
-            const RootXf& rb = b.pose().root;
-            std::array<glm::vec3, kCoreSegments.size()> ca, cb;
-            for (std::size_t i = 0; i < ca.size(); ++i) {
-                ca[i] = a.rotation()(la->centre[i]) + glm::vec3(ra.pos.x, 0.0f, ra.pos.y);
-                cb[i] = b.rotation()(lb->centre[i]) + glm::vec3(rb.pos.x, 0.0f, rb.pos.y);
-            }
-            bool any = false;
-            for (std::size_t i = 0; i < ca.size() && !any; ++i) {
-                for (std::size_t j = 0; j < cb.size(); ++j) {
-                    const glm::vec3 c = cb[j] - ca[i];
-                    const float r = la->radius[i] + lb->radius[j];
-                    if (glm::dot(c, c) <= r * r) {
-                        any = true;
-                        break;
-                    }
-                }
-            }
-            if (!any) return false;
-        }
         PlacedTable& table = placedTable();
         const std::size_t ia = placedSlot(a.pose(), sa), ib = placedSlot(b.pose(), sb);
         PlacedCore& ea = table[ia];
@@ -771,10 +780,56 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         });
     }
 
-    // `kept`, when given: keptNeighbours' answer for these arguments, worked out already.
+    // What is known without the moment for one person's ways out that
+    // share their instances from the way's start on (every lead of a way:
+    // the same actions at the same roots) against the neighbours firstTouch
+    // keeps for them, the crowd as it stands: per (instance, sample) of the
+    // plan, a bit per neighbour and instance of theirs (a slot) that is set
+    // when that instance of theirs cannot touch the person's body at that
+    // sample, whatever its own sample: the person's core disc then
+    // (CoreDiscs::placed: its action, sample and root alone) is apart from
+    // the instance's core hull (hullApart's test), or no core sphere of the
+    // person's meets one of the instance's swept spheres (spheresApart: then
+    // coresOverlap meets no pair of boxes to test). A set bit passes over
+    // the pair as hullApart or coresOverlap would have, so firstTouch finds
+    // the same first touch; the bits are worked out once for every lead
+    // instead of once a moment, as the tests meet the samples, by whichever
+    // thread gets there (the same value either way).
+    struct ApartMemo {
+        static constexpr std::uint64_t kDone = std::uint64_t{1} << 63;
+        static constexpr std::size_t kMaxSlots = 63;
+        std::vector<std::size_t> first;     // per instance from the way's start on: its first entry
+        std::vector<std::size_t> slotBase;  // per kept neighbour: its first slot
+        std::unique_ptr<std::atomic<std::uint64_t>[]> bits;  // 0: not worked out yet; else kDone | the slots apart
+    };
+    // The memo for plans whose instances from k0 on are those of `plan`
+    // against the neighbours `close` of the crowd as it stands; none when
+    // they have more than kMaxSlots instances in all.
+    std::unique_ptr<ApartMemo> apartMemo(const std::vector<Bystander>& crowd, const std::vector<ActionInstance>& plan, std::size_t k0,
+                                         const std::vector<std::size_t>& close) const {
+        auto m = std::make_unique<ApartMemo>();
+        std::size_t slots = 0;
+        for (const std::size_t o : close) {
+            m->slotBase.push_back(slots);
+            slots += crowd[o].plan.empty() ? 1 : crowd[o].plan.size();
+        }
+        if (slots > ApartMemo::kMaxSlots) return nullptr;
+        std::size_t entries = 0;
+        for (std::size_t j = k0; j < plan.size(); ++j) {
+            m->first.push_back(entries);
+            entries += static_cast<std::size_t>(act(plan[j].action).sampleCount);
+        }
+        m->bits = std::make_unique<std::atomic<std::uint64_t>[]>(entries);
+        for (std::size_t e = 0; e < entries; ++e) m->bits[e].store(0, std::memory_order_relaxed);
+        return m;
+    }
+
+    // `kept`, when given: keptNeighbours' answer for these arguments, worked
+    // out already; `memo`, when given, made for `kept` and the plan's
+    // instances (the crowd as it stands, unchanged: no trial).
     std::pair<int, double> firstTouch(const CrowdView& crowd, std::size_t self, const std::vector<ActionInstance>& plan,
                                       double from, double until, std::size_t ignore = SIZE_MAX,
-                                      const std::vector<std::size_t>* kept = nullptr) const {
+                                      const std::vector<std::size_t>* kept = nullptr, const ApartMemo* memo = nullptr) const {
         constexpr float kShrink = kTouchShrink;
         constexpr double dt = 1.0 / kSampleRate;
         thread_local std::vector<std::size_t> close;  // (no firstTouch runs inside another on a thread)
@@ -846,20 +901,74 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             return apartFromHull(ownHulls[k], placedHull(inst.action, inst.root));
         };
         auto ownInstance = [&](double t) { return playingAt(plan, t); };
+        // The memo's bits for the moment t, instance k of the plan: 0 when
+        // there is no memo for it (nothing known), else kDone | the slots apart.
+        const std::size_t memoBase = memo ? plan.size() - memo->first.size() : 0;  // the plan's instance of memo->first[0]
+        auto apartBits = [&](std::size_t k, double t) -> std::uint64_t {
+            if (!memo || k < memoBase) return 0;
+            const ActionInstance& inst = plan[k];
+            const double tau = inst.clipTimeAt(t);
+            std::atomic<std::uint64_t>& e = memo->bits[memo->first[k - memoBase] + static_cast<std::size_t>(sampleOf(inst.action, tau))];
+            std::uint64_t v = e.load(std::memory_order_relaxed);
+            if (v) return v;
+            // discs->placed(me) for the body bodyIn gives at t: it reads the action, sample and root alone.
+            const FloorRotation rot(inst.root.heading);
+            const int sample = sampleOf(inst.action, tau);
+            const detail::CoreDiscs::Disc meDisc = discs->placed(detail::BodyPose{inst.action, tau, inst.root}, rot);
+            // And its core spheres, placed as Obb::placed places the boxes' centres.
+            const CoreSphere& local = coreSpheres[static_cast<std::size_t>(firstSphere[static_cast<std::size_t>(inst.action)] + sample)];
+            std::array<glm::vec3, kCoreSegments.size()> mine;
+            for (std::size_t i = 0; i < mine.size(); ++i) mine[i] = rot(local.centre[i]) + glm::vec3(inst.root.pos.x, 0.0f, inst.root.pos.y);
+            v = ApartMemo::kDone;
+            for (std::size_t c = 0; c < close.size(); ++c) {
+                const auto& theirs = crowd.plan(close[c]);
+                const std::size_t base = memo->slotBase[c];
+                if (theirs.empty()) {
+                    if (apartFromHull(meDisc, crowd[close[c]].standHull) ||
+                        spheresApart(mine, local, sweptSpheres[static_cast<std::size_t>(hold)], crowd[close[c]].standRoot)) {
+                        v |= std::uint64_t{1} << base;
+                    }
+                    continue;
+                }
+                for (std::size_t j = 0; j < theirs.size(); ++j) {
+                    if (apartFromHull(meDisc, placedHull(theirs[j].action, theirs[j].root)) ||
+                        spheresApart(mine, local, sweptSpheres[static_cast<std::size_t>(theirs[j].action)], theirs[j].root)) {
+                        v |= std::uint64_t{1} << (base + j);
+                    }
+                }
+            }
+            e.store(v, std::memory_order_relaxed);
+            return v;
+        };
+        // Is neighbour close[c] at t certainly not touching, by the memo's bits?
+        auto slotApart = [&](std::uint64_t bits, std::size_t c, double t) {
+            const auto& theirs = crowd.plan(close[c]);
+            const std::size_t slot = memo->slotBase[c] + (theirs.empty() ? 0 : playingAt(theirs, t));
+            return ((bits >> slot) & 1) != 0;
+        };
         const double settle = std::min(until, std::max(from, movingWindow(plan).second) + dt);
         for (double t = from; t <= settle + 1e-9; t += dt) {
+            std::uint64_t bits = 0;
             if (!plan.empty()) {
                 const std::size_t k = ownInstance(t);
                 bool anyone = false;
                 for (std::size_t c = 0; c < close.size() && !anyone; ++c) anyone = !instanceApart(c, k, t);
                 if (!anyone) continue;
+                // Nobody can touch it at this sample: no body to place.
+                bits = apartBits(k, t);
+                if (bits) {
+                    anyone = false;
+                    for (std::size_t c = 0; c < close.size() && !anyone; ++c) anyone = !slotApart(bits, c, t);
+                    if (!anyone) continue;
+                }
             }
             // Its own body once per moment (its boxes placed only when someone is near).
             const detail::CoreBody me(lib, bodyIn(plan, crowd[self].at, t), kShrink);
             const detail::CoreDiscs::Disc meDisc = discs->placed(me);
-            for (std::size_t o : close) {
+            for (std::size_t c = 0; c < close.size(); ++c) {
+                const std::size_t o = close[c];
+                if (bits ? slotApart(bits, c, t) : hullApart(o, t, meDisc)) continue;
                 if (surelyApart(o, t, me.pelvis())) continue;
-                if (hullApart(o, t, meDisc)) continue;
                 if (overlap(me, meDisc, bodyOf(o, t))) return {static_cast<int>(o), t};
             }
         }
@@ -868,7 +977,11 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             const std::size_t o = close[c];
             const auto [w0, w1] = movingWindow(crowd.plan(o));
             for (double t = std::max(settle, w0 - dt); t <= std::min({until, w1 + dt, first.second}) + 1e-9; t += dt) {
-                if (!plan.empty() && instanceApart(c, ownInstance(t), t)) continue;
+                if (!plan.empty()) {
+                    const std::size_t k = ownInstance(t);
+                    if (instanceApart(c, k, t)) continue;
+                    if (const std::uint64_t bits = apartBits(k, t); bits && slotApart(bits, c, t)) continue;  // touches would say no
+                }
                 if (touches(o, t)) {
                     first = {static_cast<int>(o), t};
                     break;
@@ -1209,9 +1322,10 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                 bool made = false;
                 std::vector<std::pair<int, RootXf>> from;  // the plan's instances from the way's start on
                 std::vector<std::size_t> neighbours;
+                std::unique_ptr<ApartMemo> memo;  // hullApart's answers for them (none: too many slots)
             };
             std::vector<Kept> keptOf(ways.size());
-            auto keptFor = [&](const std::vector<ActionInstance>& plan, double ts, std::size_t way) -> const std::vector<std::size_t>* {
+            auto keptFor = [&](const std::vector<ActionInstance>& plan, double ts, std::size_t way) -> const Kept* {
                 Kept& k = keptOf[way];
                 const auto k0 = playingAt(plan, ts);
                 auto same = [&] {
@@ -1226,15 +1340,17 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                     k.made = true;
                     for (std::size_t j = k0; j < plan.size(); ++j) k.from.emplace_back(plan[j].action, plan[j].root);
                     keptNeighbours(CrowdView(crowd), i, plan, ts, SIZE_MAX, k.neighbours);
+                    if (!k.neighbours.empty()) k.memo = apartMemo(crowd, plan, k0, k.neighbours);
                 }
-                return same() ? &k.neighbours : nullptr;
+                return same() ? &k : nullptr;
             };
-            auto tryCandidate = [&](std::size_t c, std::vector<ActionInstance> plan, const std::vector<std::size_t>* kept) {
+            auto tryCandidate = [&](std::size_t c, std::vector<ActionInstance> plan, const Kept* kept) {
                 Tried out;
                 const RatPatch& patch = ways1[c].patch;
                 const double ts = b.passTime - patch.lead;
                 const double settled = until;  // everyone stands still afterwards: touching later counts too
-                const auto [other, when] = firstTouch(CrowdView(crowd), i, plan, ts, settled, SIZE_MAX, kept);
+                const auto [other, when] = firstTouch(CrowdView(crowd), i, plan, ts, settled, SIZE_MAX, kept ? &kept->neighbours : nullptr,
+                                                      kept ? kept->memo.get() : nullptr);
                 if (other >= 0) {
                     CrowdView trial(crowd);
                     trial.set(i, plan);
@@ -1265,7 +1381,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             // no longer win).
             std::vector<std::size_t> batch;  // candidates
             std::vector<std::vector<ActionInstance>> plans;
-            std::vector<const std::vector<std::size_t>*> kept;
+            std::vector<const Kept*> kept;
             std::vector<Tried> tried;
             auto take = [&](std::size_t c, double score, std::vector<ActionInstance>&& plan, std::vector<Push>&& pushes) {
                 if (score > best.score || (score == best.score && c < bestC)) {
@@ -1298,7 +1414,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                 const double ts = b.passTime - patch.lead;
                 auto plan = planMove(b.at, ts, way, 0.0, b.at * lib.rootAt(way.front(), 0).inverse(), false, until);
                 const auto* near = keptFor(plan, ts, static_cast<std::size_t>(patch.way));
-                if (near && near->empty()) {
+                if (near && near->neighbours.empty()) {
                     take(c, base, std::move(plan), {});
                     continue;
                 }
