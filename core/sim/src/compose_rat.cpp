@@ -135,21 +135,19 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             }
         }
     }
-    // Certainly no sphere of the core body `mine` (its centres placed) meets
-    // a sphere of `theirs` (an action's swept spheres, placed at `root`), so
-    // coresOverlap finds no pair of boxes to test at any sample of that
-    // action there: the distances in double with a margin for the rounding
-    // of placing either.
-    bool spheresApart(const std::array<glm::vec3, kCoreSegments.size()>& mine, const CoreSphere& myRadii, const CoreSphere& swept,
-                      const RootXf& root) const {
-        const FloorRotation rot(root.heading);
+    // Certainly no sphere of the core body `mine` (its centres placed as
+    // Obb::placed places them, the largest |x| + |z| among them `scale`)
+    // meets a swept sphere of the slot, so coresOverlap finds no pair of
+    // boxes to test at any sample of the slot's instance: a margin of 2 mm
+    // and 2e-5 of the coordinates covers the rounding of placing either.
+    template <class Slot>
+    static bool spheresApart(const std::array<glm::vec3, kCoreSegments.size()>& mine, const CoreSphere& myRadii, float scale,
+                             const Slot& slot) {
+        const float margin = 2e-3f + 2e-5f * (scale + slot.scale);
         for (std::size_t j = 0; j < kCoreSegments.size(); ++j) {
-            const glm::vec3 c = rot(swept.centre[j]) + glm::vec3(root.pos.x, 0.0f, root.pos.y);
             for (std::size_t i = 0; i < kCoreSegments.size(); ++i) {
-                const glm::dvec3 d = glm::dvec3(mine[i]) - glm::dvec3(c);
-                const double scale = std::fabs(static_cast<double>(c.x)) + std::fabs(static_cast<double>(c.z)) +
-                                     std::fabs(static_cast<double>(mine[i].x)) + std::fabs(static_cast<double>(mine[i].z));
-                const double r = static_cast<double>(myRadii.radius[i]) + static_cast<double>(swept.radius[j]) + 2e-3 + 2e-5 * scale;
+                const glm::vec3 d = mine[i] - slot.centre[j];
+                const float r = myRadii.radius[i] + slot.radius[j] + margin;
                 if (glm::dot(d, d) <= r * r) return false;
             }
         }
@@ -801,7 +799,28 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         std::vector<std::size_t> first;     // per instance from the way's start on: its first entry
         std::vector<std::size_t> slotBase;  // per kept neighbour: its first slot
         std::unique_ptr<std::atomic<std::uint64_t>[]> bits;  // 0: not worked out yet; else kDone | the slots apart
+        // Per slot: its instance's core hull (placedHull; standing: standHull)
+        // and swept spheres placed, with the largest |x| + |z| of their centres.
+        struct Slot {
+            detail::CoreDiscs::Disc hull;
+            std::array<glm::vec3, kCoreSegments.size()> centre;
+            std::array<float, kCoreSegments.size()> radius;
+            float scale = 0;
+        };
+        std::vector<Slot> slots;
     };
+    ApartMemo::Slot memoSlot(int action, const RootXf& root, const detail::CoreDiscs::Disc& hull) const {
+        ApartMemo::Slot out;
+        out.hull = hull;
+        const CoreSphere& swept = sweptSpheres[static_cast<std::size_t>(action)];
+        const FloorRotation rot(root.heading);
+        for (std::size_t j = 0; j < out.centre.size(); ++j) {
+            out.centre[j] = rot(swept.centre[j]) + glm::vec3(root.pos.x, 0.0f, root.pos.y);
+            out.radius[j] = swept.radius[j];
+            out.scale = std::max(out.scale, std::fabs(out.centre[j].x) + std::fabs(out.centre[j].z));
+        }
+        return out;
+    }
     // The memo for plans whose instances from k0 on are those of `plan`
     // against the neighbours `close` of the crowd as it stands; none when
     // they have more than kMaxSlots instances in all.
@@ -814,6 +833,11 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             slots += crowd[o].plan.empty() ? 1 : crowd[o].plan.size();
         }
         if (slots > ApartMemo::kMaxSlots) return nullptr;
+        for (const std::size_t o : close) {
+            const auto& theirs = crowd[o].plan;
+            if (theirs.empty()) m->slots.push_back(memoSlot(hold, crowd[o].standRoot, crowd[o].standHull));
+            for (const ActionInstance& inst : theirs) m->slots.push_back(memoSlot(inst.action, inst.root, placedHull(inst.action, inst.root)));
+        }
         std::size_t entries = 0;
         for (std::size_t j = k0; j < plan.size(); ++j) {
             m->first.push_back(entries);
@@ -897,8 +921,10 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         auto instanceApart = [&](std::size_t c, std::size_t k, double t) {
             const auto& theirs = crowd.plan(close[c]);
             if (theirs.empty()) return standApart[c * plan.size() + k] != 0;
-            const ActionInstance& inst = theirs[playingAt(theirs, t)];
-            return apartFromHull(ownHulls[k], placedHull(inst.action, inst.root));
+            const std::size_t j = playingAt(theirs, t);
+            // (The memo holds the same placedHull.)
+            if (memo) return apartFromHull(ownHulls[k], memo->slots[memo->slotBase[c] + j].hull);
+            return apartFromHull(ownHulls[k], placedHull(theirs[j].action, theirs[j].root));
         };
         auto ownInstance = [&](double t) { return playingAt(plan, t); };
         // The memo's bits for the moment t, instance k of the plan: 0 when
@@ -918,24 +944,15 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             // And its core spheres, placed as Obb::placed places the boxes' centres.
             const CoreSphere& local = coreSpheres[static_cast<std::size_t>(firstSphere[static_cast<std::size_t>(inst.action)] + sample)];
             std::array<glm::vec3, kCoreSegments.size()> mine;
-            for (std::size_t i = 0; i < mine.size(); ++i) mine[i] = rot(local.centre[i]) + glm::vec3(inst.root.pos.x, 0.0f, inst.root.pos.y);
+            float scale = 0;
+            for (std::size_t i = 0; i < mine.size(); ++i) {
+                mine[i] = rot(local.centre[i]) + glm::vec3(inst.root.pos.x, 0.0f, inst.root.pos.y);
+                scale = std::max(scale, std::fabs(mine[i].x) + std::fabs(mine[i].z));
+            }
             v = ApartMemo::kDone;
-            for (std::size_t c = 0; c < close.size(); ++c) {
-                const auto& theirs = crowd.plan(close[c]);
-                const std::size_t base = memo->slotBase[c];
-                if (theirs.empty()) {
-                    if (apartFromHull(meDisc, crowd[close[c]].standHull) ||
-                        spheresApart(mine, local, sweptSpheres[static_cast<std::size_t>(hold)], crowd[close[c]].standRoot)) {
-                        v |= std::uint64_t{1} << base;
-                    }
-                    continue;
-                }
-                for (std::size_t j = 0; j < theirs.size(); ++j) {
-                    if (apartFromHull(meDisc, placedHull(theirs[j].action, theirs[j].root)) ||
-                        spheresApart(mine, local, sweptSpheres[static_cast<std::size_t>(theirs[j].action)], theirs[j].root)) {
-                        v |= std::uint64_t{1} << (base + j);
-                    }
-                }
+            for (std::size_t q = 0; q < memo->slots.size(); ++q) {
+                const ApartMemo::Slot& slot = memo->slots[q];
+                if (apartFromHull(meDisc, slot.hull) || spheresApart(mine, local, scale, slot)) v |= std::uint64_t{1} << q;
             }
             e.store(v, std::memory_order_relaxed);
             return v;
