@@ -556,10 +556,21 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         auto boxesOf = [&](Slot* s, const ActionInstance& inst, int sample) -> const std::array<SweptBox, 5>& {
             auto fill = [&](std::array<SweptBox, 5>& out) {
                 const Obb* boxes = lib.boxesAt(inst.action, sample);
+                const FloorRotation rot(inst.root.heading);
                 int k = 0;
                 out[4] = SweptBox::empty();
                 for (int seg : {kLeftFoot, kRightFoot, kLeftShin, kRightShin}) {
-                    out[static_cast<std::size_t>(k)] = floorBox(boxes[seg].placed(inst.root));
+                    // floorBox(boxes[seg].placed(inst.root)), the same operations on what it reads (the centre, the axes' x and z).
+                    const Obb& box = boxes[seg];
+                    const glm::vec3 centre = rot(box.centre) + glm::vec3(inst.root.pos.x, 0.0f, inst.root.pos.y);
+                    glm::vec2 h(0.0f);
+                    for (int a = 0; a < 3; ++a) {
+                        const glm::vec3 axis = rot(box.axes[a]);
+                        h.x += std::fabs(axis.x) * box.half[a];
+                        h.y += std::fabs(axis.z) * box.half[a];
+                    }
+                    const glm::vec2 c(centre.x, centre.z);
+                    out[static_cast<std::size_t>(k)] = {c - h, c + h};
                     out[4].add(out[static_cast<std::size_t>(k++)]);
                 }
             };
@@ -585,14 +596,18 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             // clearance is measured again in full, for the stats).
             double best = kClearScored;
             std::size_t k = 0;  // instanceIndexAt(plan, t): the times increase
+            std::size_t slotK = SIZE_MAX;  // the instance whose slot `s` is
+            Slot* s = nullptr;
             for (std::size_t i = 0; i < rat.size(); ++i) {
                 const double t = times[i];
                 while (k + 1 < plan.size() && plan[k + 1].start <= t) ++k;
                 const ActionInstance& inst = plan[k];
-                // (The ways that begin with the same action share its instance: the same action at the same root.)
-                const std::size_t w = k == 1 ? sameStart[static_cast<std::size_t>(patch.way)] : static_cast<std::size_t>(patch.way);
-                const std::size_t slot = k == 0 ? 0 : (k <= 3 ? 1 + 4 * w + k - 1 : SIZE_MAX);
-                Slot* s = slotOf(slot, inst);
+                if (k != slotK) {
+                    // (The ways that begin with the same action share its instance: the same action at the same root.)
+                    const std::size_t w = k == 1 ? sameStart[static_cast<std::size_t>(patch.way)] : static_cast<std::size_t>(patch.way);
+                    s = slotOf(k == 0 ? 0 : (k <= 3 ? 1 + 4 * w + k - 1 : SIZE_MAX), inst);
+                    slotK = k;
+                }
                 if (s) {
                     // Nothing of the instance at any sample comes closer than the best so far.
                     double& apart = s->apart[i];
