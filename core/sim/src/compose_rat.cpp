@@ -95,64 +95,6 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     // sample, so coreBodiesOverlap's answer is known without placing the
     // other body (firstTouch's test before the pelvis).
     std::vector<detail::CoreDiscs::Disc> coreHulls;
-    // Per action and sample: the bounding spheres of the core boxes shrunk by
-    // kTouchShrink (CoreBody::boxes' radii, coresOverlap's first test), their
-    // centres in the clip's frame.
-    struct CoreSphere {
-        std::array<glm::vec3, kCoreSegments.size()> centre;
-        std::array<float, kCoreSegments.size()> radius;
-    };
-    std::vector<CoreSphere> coreSpheres;
-    std::vector<int> firstSphere;  // per action: its first sample's
-    // Per action: per core segment, a sphere round that segment's sphere at
-    // every sample (a millimetre more covers the rounding).
-    std::vector<CoreSphere> sweptSpheres;
-    void measureCoreSpheres() {
-        coreSpheres.clear(), firstSphere.clear(), sweptSpheres.clear();
-        for (int a = 0; a < lib.size(); ++a) {
-            firstSphere.push_back(static_cast<int>(coreSpheres.size()));
-            const int n = act(a).sampleCount;
-            for (int k = 0; k < n; ++k) {
-                const Obb* local = lib.boxesAt(a, k);
-                CoreSphere& sp = coreSpheres.emplace_back();
-                for (std::size_t i = 0; i < kCoreSegments.size(); ++i) {
-                    const Obb& box = local[kCoreSegments[i]];
-                    sp.centre[i] = box.centre;
-                    sp.radius[i] = box.shrunk(kTouchShrink).radius();  // placing keeps the half extents
-                }
-            }
-            CoreSphere& swept = sweptSpheres.emplace_back();
-            const CoreSphere* first = coreSpheres.data() + firstSphere.back();
-            for (std::size_t i = 0; i < kCoreSegments.size(); ++i) {
-                glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-                for (int k = 0; k < n; ++k) lo = glm::min(lo, first[k].centre[i]), hi = glm::max(hi, first[k].centre[i]);
-                swept.centre[i] = n > 0 ? 0.5f * (lo + hi) : glm::vec3(0.0f);
-                swept.radius[i] = 0;
-                for (int k = 0; k < n; ++k) {
-                    swept.radius[i] = std::max(swept.radius[i], glm::length(first[k].centre[i] - swept.centre[i]) + first[k].radius[i]);
-                }
-                swept.radius[i] += 1e-3f;
-            }
-        }
-    }
-    // Certainly no sphere of the core body `mine` (its centres placed as
-    // Obb::placed places them, the largest |x| + |z| among them `scale`)
-    // meets a swept sphere of the slot, so coresOverlap finds no pair of
-    // boxes to test at any sample of the slot's instance: a margin of 2 mm
-    // and 2e-5 of the coordinates covers the rounding of placing either.
-    template <class Slot>
-    static bool spheresApart(const std::array<glm::vec3, kCoreSegments.size()>& mine, const CoreSphere& myRadii, float scale,
-                             const Slot& slot) {
-        const float margin = 2e-3f + 2e-5f * (scale + slot.scale);
-        for (std::size_t j = 0; j < kCoreSegments.size(); ++j) {
-            for (std::size_t i = 0; i < kCoreSegments.size(); ++i) {
-                const glm::vec3 d = mine[i] - slot.centre[j];
-                const float r = myRadii.radius[i] + slot.radius[j] + margin;
-                if (glm::dot(d, d) <= r * r) return false;
-            }
-        }
-        return true;
-    }
     void measureCoreHulls() {
         coreHulls.assign(static_cast<std::size_t>(lib.size()), {});
         const FloorRotation none(0.0);
@@ -802,7 +744,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     // sample, whatever its own sample: the person's core disc then
     // (CoreDiscs::placed: its action, sample and root alone) is apart from
     // the instance's core hull (hullApart's test), or no core sphere of the
-    // person's meets one of the instance's swept spheres (spheresApart: then
+    // person's meets one of the instance's swept spheres (CoreSpheres::apart: then
     // coresOverlap meets no pair of boxes to test). A set bit passes over
     // the pair as hullApart or coresOverlap would have, so firstTouch finds
     // the same first touch; the bits are worked out once for every lead
@@ -814,27 +756,15 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         std::vector<std::size_t> first;     // per instance from the way's start on: its first entry
         std::vector<std::size_t> slotBase;  // per kept neighbour: its first slot
         std::unique_ptr<std::atomic<std::uint64_t>[]> bits;  // 0: not worked out yet; else kDone | the slots apart
-        // Per slot: its instance's core hull (placedHull; standing: standHull)
-        // and swept spheres placed, with the largest |x| + |z| of their centres.
+        // Per slot: its instance's core hull (placedHull; standing: standHull) and swept spheres placed.
         struct Slot {
             detail::CoreDiscs::Disc hull;
-            std::array<glm::vec3, kCoreSegments.size()> centre;
-            std::array<float, kCoreSegments.size()> radius;
-            float scale = 0;
+            detail::CoreSpheres::Placed swept;
         };
         std::vector<Slot> slots;
     };
     ApartMemo::Slot memoSlot(int action, const RootXf& root, const detail::CoreDiscs::Disc& hull) const {
-        ApartMemo::Slot out;
-        out.hull = hull;
-        const CoreSphere& swept = sweptSpheres[static_cast<std::size_t>(action)];
-        const FloorRotation rot(root.heading);
-        for (std::size_t j = 0; j < out.centre.size(); ++j) {
-            out.centre[j] = rot(swept.centre[j]) + glm::vec3(root.pos.x, 0.0f, root.pos.y);
-            out.radius[j] = swept.radius[j];
-            out.scale = std::max(out.scale, std::fabs(out.centre[j].x) + std::fabs(out.centre[j].z));
-        }
-        return out;
+        return {hull, spheres->swept(action, root)};
     }
     // The memo for plans whose instances from k0 on are those of `plan`
     // against the neighbours `close` of the crowd as it stands; none when
@@ -956,18 +886,12 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             const FloorRotation rot(inst.root.heading);
             const int sample = sampleOf(inst.action, tau);
             const detail::CoreDiscs::Disc meDisc = discs->placed(detail::BodyPose{inst.action, tau, inst.root}, rot);
-            // And its core spheres, placed as Obb::placed places the boxes' centres.
-            const CoreSphere& local = coreSpheres[static_cast<std::size_t>(firstSphere[static_cast<std::size_t>(inst.action)] + sample)];
-            std::array<glm::vec3, kCoreSegments.size()> mine;
-            float scale = 0;
-            for (std::size_t i = 0; i < mine.size(); ++i) {
-                mine[i] = rot(local.centre[i]) + glm::vec3(inst.root.pos.x, 0.0f, inst.root.pos.y);
-                scale = std::max(scale, std::fabs(mine[i].x) + std::fabs(mine[i].z));
-            }
+            // And its core spheres.
+            const detail::CoreSpheres::Placed mine = spheres->placed(inst.action, sample, inst.root, rot);
             v = ApartMemo::kDone;
             for (std::size_t q = 0; q < memo->slots.size(); ++q) {
                 const ApartMemo::Slot& slot = memo->slots[q];
-                if (apartFromHull(meDisc, slot.hull) || spheresApart(mine, local, scale, slot)) v |= std::uint64_t{1} << q;
+                if (apartFromHull(meDisc, slot.hull) || detail::CoreSpheres::apart(mine, slot.swept)) v |= std::uint64_t{1} << q;
             }
             e.store(v, std::memory_order_relaxed);
             return v;
@@ -1141,6 +1065,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     std::optional<detail::InteractionEngine> rules;  // forced reactions of the pushed
     static constexpr float kTouchShrink = 0.82f;     // firstTouch's, as the composer's penetration test
     std::optional<detail::CoreDiscs> discs;          // firstTouch's first test
+    std::optional<detail::CoreSpheres> spheres;      // the memo's sphere test (ApartMemo)
     int pushedPool = 0;
     SceneCharacter ratBody;  // the rat's keys
 
@@ -1165,7 +1090,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         discs.emplace(lib, kTouchShrink);
         pelvisPaths = pelvisPathDiscs(lib);
         measureCoreHulls();
-        measureCoreSpheres();
+        spheres.emplace(lib, kTouchShrink);
         measureFootHulls();
         if (!findWays()) return makeError(kNoWays);
         makeRatPatches();
