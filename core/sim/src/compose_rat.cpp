@@ -226,11 +226,25 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         for (double t = pass - 0.6; t <= pass + 0.6; t += 1.0 / kSampleRate) {
             const detail::BodyPose body = bodyIn(plan, at, t);
             const Obb* boxes = lib.boxesAt(body.action, lib.sampleAt(body.action, body.tau));
+            const FloorRotation rot(body.root.heading);
             auto& feet = out.emplace_back();
             int k = 0;
-            for (int seg : {kLeftFoot, kRightFoot, kLeftShin, kRightShin}) feet[static_cast<std::size_t>(k++)] = floorBox(boxes[seg].placed(body.root));
+            for (int seg : {kLeftFoot, kRightFoot, kLeftShin, kRightShin}) feet[static_cast<std::size_t>(k++)] = placedFloorBox(boxes[seg], body.root, rot);
         }
         return out;
+    }
+    // floorBox(box.placed(root)), by the same operations on what it reads
+    // (the centre, the axes' x and z), the rotation of root computed once by the caller.
+    static SweptBox placedFloorBox(const Obb& box, const RootXf& root, const FloorRotation& rot) {
+        const glm::vec3 centre = rot(box.centre) + glm::vec3(root.pos.x, 0.0f, root.pos.y);
+        glm::vec2 h(0.0f);
+        for (int a = 0; a < 3; ++a) {
+            const glm::vec3 axis = rot(box.axes[a]);
+            h.x += std::fabs(axis.x) * box.half[a];
+            h.y += std::fabs(axis.z) * box.half[a];
+        }
+        const glm::vec2 c(centre.x, centre.z);
+        return {c - h, c + h};
     }
 
     // Closest the rat's body (ratAt(t): its root) comes to those boxes (m;
@@ -502,17 +516,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                 int k = 0;
                 out[4] = SweptBox::empty();
                 for (int seg : {kLeftFoot, kRightFoot, kLeftShin, kRightShin}) {
-                    // floorBox(boxes[seg].placed(inst.root)), the same operations on what it reads (the centre, the axes' x and z).
-                    const Obb& box = boxes[seg];
-                    const glm::vec3 centre = rot(box.centre) + glm::vec3(inst.root.pos.x, 0.0f, inst.root.pos.y);
-                    glm::vec2 h(0.0f);
-                    for (int a = 0; a < 3; ++a) {
-                        const glm::vec3 axis = rot(box.axes[a]);
-                        h.x += std::fabs(axis.x) * box.half[a];
-                        h.y += std::fabs(axis.z) * box.half[a];
-                    }
-                    const glm::vec2 c(centre.x, centre.z);
-                    out[static_cast<std::size_t>(k)] = {c - h, c + h};
+                    out[static_cast<std::size_t>(k)] = placedFloorBox(boxes[seg], inst.root, rot);
                     out[4].add(out[static_cast<std::size_t>(k++)]);
                 }
             };
