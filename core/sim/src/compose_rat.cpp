@@ -977,6 +977,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     std::vector<ActionInstance> planMove(const RootXf& at, double from, const std::vector<int>& actions, double offset,
                                          const RootXf& root, bool forced, double until) const {
         std::vector<ActionInstance> plan;
+        plan.reserve(actions.size() + 2);  // standing, the actions, the idle after: one allocation
         planMoveInto(plan, at, from, actions, offset, root, forced, until);
         return plan;
     }
