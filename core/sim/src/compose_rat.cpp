@@ -639,8 +639,8 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     // pelvis reach (the caller's test, the same as its first), their boxes
     // from the table or placed into it.
     bool coresOverlap(const detail::CoreBody& a, const detail::CoreBody& b) const {
-        const int sa = sampleOf(a.pose().action, a.pose().tau), sb = sampleOf(b.pose().action, b.pose().tau);
         PlacedTable& table = placedTable();
+        const int sa = sampleOf(a.pose().action, a.pose().tau), sb = sampleOf(b.pose().action, b.pose().tau);
         const std::size_t ia = placedSlot(a.pose(), sa), ib = placedSlot(b.pose(), sb);
         PlacedCore& ea = table[ia];
         if (!holds(ea, a.pose(), sa)) fillPlaced(ea, a, sa);
@@ -883,12 +883,12 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             if (!memo || k < memoBase) return 0;
             const ActionInstance& inst = plan[k];
             const double tau = inst.clipTimeAt(t);
-            std::atomic<std::uint64_t>& e = memo->bits[memo->first[k - memoBase] + static_cast<std::size_t>(sampleOf(inst.action, tau))];
+            const int sample = sampleOf(inst.action, tau);
+            std::atomic<std::uint64_t>& e = memo->bits[memo->first[k - memoBase] + static_cast<std::size_t>(sample)];
             std::uint64_t v = e.load(std::memory_order_relaxed);
             if (v) return v;
             // discs->placed(me) for the body bodyIn gives at t: it reads the action, sample and root alone.
             const FloorRotation rot(inst.root.heading);
-            const int sample = sampleOf(inst.action, tau);
             const detail::CoreDiscs::Disc meDisc = discs->placed(detail::BodyPose{inst.action, tau, inst.root}, rot);
             // And its core spheres.
             const detail::CoreSpheres::Placed mine = spheres->placed(inst.action, sample, inst.root, rot);
@@ -1284,7 +1284,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                 bool made = false;
                 std::vector<std::pair<int, RootXf>> from;  // the plan's instances from the way's start on
                 std::vector<std::size_t> neighbours;
-                std::unique_ptr<ApartMemo> memo;  // hullApart's answers for them (none: too many slots)
+                std::unique_ptr<ApartMemo> memo;  // firstTouch's bits for its plans and them (none: too many slots)
             };
             std::vector<Kept> keptOf(ways.size());
             auto keptFor = [&](const std::vector<ActionInstance>& plan, double ts, std::size_t way) -> const Kept* {
