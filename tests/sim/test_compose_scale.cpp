@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <numbers>
 #include <random>
 #include <set>
@@ -100,6 +101,53 @@ TEST(CoreDiscs, ApartBodiesNeverOverlap) {
     }
     EXPECT_GT(overlapping, 1000);  // both answers occur
     EXPECT_GT(apart, near / 4);    // the discs spare the boxes of many pairs
+}
+
+// The swept spheres (the rat's test of a neighbour's whole instance): a body
+// whose core spheres are apart from the swept spheres of a clip placed
+// somewhere overlaps by coreBodiesOverlap no body playing that clip there, at
+// any of its samples, near the origin and far out; the spheres placed are the
+// boxes' (CoreBody::boxes: the same floats), and the test tells apart many
+// pairs within the pelvis reach (it is worth making).
+TEST(CoreSpheres, ApartFromTheSweptSpheresNeverOverlaps) {
+    const auto& lib = demoWorld().library;
+    constexpr float kShrink = 0.82f;
+    const detail::CoreSpheres spheres(lib, kShrink);
+    std::mt19937 rng(12);
+    std::uniform_int_distribution<int> action(0, lib.size() - 1);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    int pairs = 0, apart = 0, overlapping = 0;
+    for (const float far : {0.0f, 3000.0f}) {
+        for (int i = 0; i < 1500; ++i) {
+            const glm::vec2 base(far, -far);
+            const int a = action(rng), b = action(rng);
+            const auto& A = lib.actions()[static_cast<std::size_t>(a)];
+            const auto& B = lib.actions()[static_cast<std::size_t>(b)];
+            const double tau = unit(rng) * A.duration;
+            const RootXf ra{base, (unit(rng) * 2 - 1) * std::numbers::pi};
+            const float d = static_cast<float>(unit(rng)) * 1.2f;
+            const RootXf rb{base + d * headingVector(unit(rng) * 2 * std::numbers::pi), (unit(rng) * 2 - 1) * std::numbers::pi};
+            const detail::CoreBody me(lib, detail::BodyPose{a, tau, ra}, kShrink);
+            const int sample = lib.sampleAt(a, tau);
+            const auto mine = spheres.placed(a, sample, ra, me.rotation());
+            for (std::size_t k = 0; k < mine.centre.size(); ++k) {
+                ASSERT_EQ(mine.centre[k], me.boxes()[k].centre);
+                ASSERT_EQ(mine.radius[k], me.radii()[k]);
+            }
+            const bool sweptApart = detail::CoreSpheres::apart(mine, spheres.swept(b, rb));
+            apart += sweptApart ? 1 : 0;
+            for (int s = 0; s < B.sampleCount; ++s) {
+                const detail::CoreBody them(lib, detail::BodyPose{b, (s + 0.5) / kSampleRate, rb}, kShrink);
+                const bool overlap = detail::coreBodiesOverlap(me, them, 1e9f);  // the spheres and boxes alone
+                ++pairs;
+                overlapping += overlap ? 1 : 0;
+                EXPECT_FALSE(sweptApart && overlap) << "pair " << i << " sample " << s << " at " << far << " m";
+            }
+        }
+    }
+    std::printf("CoreSpheres: %d pairs, %d overlapping, %d of 3000 apart\n", pairs, overlapping, apart);
+    EXPECT_GT(overlapping, pairs / 20);  // both answers occur
+    EXPECT_GT(apart, 3000 / 5);          // many bodies need no box of the clip's
 }
 
 const PatchLibrary& fallLibrary() {

@@ -226,11 +226,25 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         for (double t = pass - 0.6; t <= pass + 0.6; t += 1.0 / kSampleRate) {
             const detail::BodyPose body = bodyIn(plan, at, t);
             const Obb* boxes = lib.boxesAt(body.action, lib.sampleAt(body.action, body.tau));
+            const FloorRotation rot(body.root.heading);
             auto& feet = out.emplace_back();
             int k = 0;
-            for (int seg : {kLeftFoot, kRightFoot, kLeftShin, kRightShin}) feet[static_cast<std::size_t>(k++)] = floorBox(boxes[seg].placed(body.root));
+            for (int seg : {kLeftFoot, kRightFoot, kLeftShin, kRightShin}) feet[static_cast<std::size_t>(k++)] = placedFloorBox(boxes[seg], body.root, rot);
         }
         return out;
+    }
+    // floorBox(box.placed(root)), by the same operations on what it reads
+    // (the centre, the axes' x and z), the rotation of root computed once by the caller.
+    static SweptBox placedFloorBox(const Obb& box, const RootXf& root, const FloorRotation& rot) {
+        const glm::vec3 centre = rot(box.centre) + glm::vec3(root.pos.x, 0.0f, root.pos.y);
+        glm::vec2 h(0.0f);
+        for (int a = 0; a < 3; ++a) {
+            const glm::vec3 axis = rot(box.axes[a]);
+            h.x += std::fabs(axis.x) * box.half[a];
+            h.y += std::fabs(axis.z) * box.half[a];
+        }
+        const glm::vec2 c(centre.x, centre.z);
+        return {c - h, c + h};
     }
 
     // Closest the rat's body (ratAt(t): its root) comes to those boxes (m;
@@ -289,6 +303,12 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                 }
             }
         }
+        sameStart.clear();
+        for (std::size_t w = 0; w < ways.size(); ++w) {
+            std::size_t first = w;
+            while (first > 0 && ways[first - 1].front() == ways[w].front()) --first;
+            sameStart.push_back(first);
+        }
         return !ways.empty();
     }
 
@@ -314,6 +334,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     int ratLaterals = 0;                    // cells either side of the line
     std::vector<std::vector<RatPatch>> ratTable;  // per (lateral, facing) cell, best first
     std::vector<std::vector<int>> ways;      // ways out: one or two avoiding or stepping actions
+    std::vector<std::size_t> sameStart;      // per way: the first way that starts with the same action (they follow one another)
     int ratSteps = 1;                        // above every patch's lead step
 
     static glm::vec2 leftOf(double heading) { return headingVector(heading + 0.5 * std::numbers::pi); }
@@ -491,10 +512,11 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         auto boxesOf = [&](Slot* s, const ActionInstance& inst, int sample) -> const std::array<SweptBox, 5>& {
             auto fill = [&](std::array<SweptBox, 5>& out) {
                 const Obb* boxes = lib.boxesAt(inst.action, sample);
+                const FloorRotation rot(inst.root.heading);
                 int k = 0;
                 out[4] = SweptBox::empty();
                 for (int seg : {kLeftFoot, kRightFoot, kLeftShin, kRightShin}) {
-                    out[static_cast<std::size_t>(k)] = floorBox(boxes[seg].placed(inst.root));
+                    out[static_cast<std::size_t>(k)] = placedFloorBox(boxes[seg], inst.root, rot);
                     out[4].add(out[static_cast<std::size_t>(k++)]);
                 }
             };
@@ -520,12 +542,18 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             // clearance is measured again in full, for the stats).
             double best = kClearScored;
             std::size_t k = 0;  // instanceIndexAt(plan, t): the times increase
+            std::size_t slotK = SIZE_MAX;  // the instance whose slot `s` is
+            Slot* s = nullptr;
             for (std::size_t i = 0; i < rat.size(); ++i) {
                 const double t = times[i];
                 while (k + 1 < plan.size() && plan[k + 1].start <= t) ++k;
                 const ActionInstance& inst = plan[k];
-                const std::size_t slot = k == 0 ? 0 : (k <= 3 ? 1 + 4 * static_cast<std::size_t>(patch.way) + k - 1 : SIZE_MAX);
-                Slot* s = slotOf(slot, inst);
+                if (k != slotK) {
+                    // (The ways that begin with the same action share its instance: the same action at the same root.)
+                    const std::size_t w = k == 1 ? sameStart[static_cast<std::size_t>(patch.way)] : static_cast<std::size_t>(patch.way);
+                    s = slotOf(k == 0 ? 0 : (k <= 3 ? 1 + 4 * w + k - 1 : SIZE_MAX), inst);
+                    slotK = k;
+                }
                 if (s) {
                     // Nothing of the instance at any sample comes closer than the best so far.
                     double& apart = s->apart[i];
@@ -711,10 +739,70 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         });
     }
 
-    // `kept`, when given: keptNeighbours' answer for these arguments, worked out already.
+    // What is known without the moment for one person's ways out that
+    // share their instances from the way's start on (every lead of a way:
+    // the same actions at the same roots) against the neighbours firstTouch
+    // keeps for them, the crowd as it stands: per (instance, sample) of the
+    // plan, a bit per neighbour and instance of theirs (a slot) that is set
+    // when that instance of theirs cannot touch the person's body at that
+    // sample, whatever its own sample: the person's core disc then
+    // (CoreDiscs::placed: its action, sample and root alone) is apart from
+    // the instance's core hull (hullApart's test), or no core sphere of the
+    // person's meets one of the instance's swept spheres (CoreSpheres::apart: then
+    // coresOverlap meets no pair of boxes to test). A set bit passes over
+    // the pair as hullApart or coresOverlap would have, so firstTouch finds
+    // the same first touch; the bits are worked out once for every lead
+    // instead of once a moment, as the tests meet the samples, by whichever
+    // thread gets there (the same value either way).
+    struct ApartMemo {
+        static constexpr std::uint64_t kDone = std::uint64_t{1} << 63;
+        static constexpr std::size_t kMaxSlots = 63;
+        std::vector<std::size_t> first;     // per instance from the way's start on: its first entry
+        std::vector<std::size_t> slotBase;  // per kept neighbour: its first slot
+        std::unique_ptr<std::atomic<std::uint64_t>[]> bits;  // 0: not worked out yet; else kDone | the slots apart
+        // Per slot: its instance's core hull (placedHull; standing: standHull) and swept spheres placed.
+        struct Slot {
+            detail::CoreDiscs::Disc hull;
+            detail::CoreSpheres::Placed swept;
+        };
+        std::vector<Slot> slots;
+    };
+    ApartMemo::Slot memoSlot(int action, const RootXf& root, const detail::CoreDiscs::Disc& hull) const {
+        return {hull, spheres->swept(action, root)};
+    }
+    // The memo for plans whose instances from k0 on are those of `plan`
+    // against the neighbours `close` of the crowd as it stands; none when
+    // they have more than kMaxSlots instances in all.
+    std::unique_ptr<ApartMemo> apartMemo(const std::vector<Bystander>& crowd, const std::vector<ActionInstance>& plan, std::size_t k0,
+                                         const std::vector<std::size_t>& close) const {
+        auto m = std::make_unique<ApartMemo>();
+        std::size_t slots = 0;
+        for (const std::size_t o : close) {
+            m->slotBase.push_back(slots);
+            slots += crowd[o].plan.empty() ? 1 : crowd[o].plan.size();
+        }
+        if (slots > ApartMemo::kMaxSlots) return nullptr;
+        for (const std::size_t o : close) {
+            const auto& theirs = crowd[o].plan;
+            if (theirs.empty()) m->slots.push_back(memoSlot(hold, crowd[o].standRoot, crowd[o].standHull));
+            for (const ActionInstance& inst : theirs) m->slots.push_back(memoSlot(inst.action, inst.root, placedHull(inst.action, inst.root)));
+        }
+        std::size_t entries = 0;
+        for (std::size_t j = k0; j < plan.size(); ++j) {
+            m->first.push_back(entries);
+            entries += static_cast<std::size_t>(act(plan[j].action).sampleCount);
+        }
+        m->bits = std::make_unique<std::atomic<std::uint64_t>[]>(entries);
+        for (std::size_t e = 0; e < entries; ++e) m->bits[e].store(0, std::memory_order_relaxed);
+        return m;
+    }
+
+    // `kept`, when given: keptNeighbours' answer for these arguments, worked
+    // out already; `memo`, when given, made for `kept` and the plan's
+    // instances (the crowd as it stands, unchanged: no trial).
     std::pair<int, double> firstTouch(const CrowdView& crowd, std::size_t self, const std::vector<ActionInstance>& plan,
                                       double from, double until, std::size_t ignore = SIZE_MAX,
-                                      const std::vector<std::size_t>* kept = nullptr) const {
+                                      const std::vector<std::size_t>* kept = nullptr, const ApartMemo* memo = nullptr) const {
         constexpr float kShrink = kTouchShrink;
         constexpr double dt = 1.0 / kSampleRate;
         thread_local std::vector<std::size_t> close;  // (no firstTouch runs inside another on a thread)
@@ -782,24 +870,65 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         auto instanceApart = [&](std::size_t c, std::size_t k, double t) {
             const auto& theirs = crowd.plan(close[c]);
             if (theirs.empty()) return standApart[c * plan.size() + k] != 0;
-            const ActionInstance& inst = theirs[playingAt(theirs, t)];
-            return apartFromHull(ownHulls[k], placedHull(inst.action, inst.root));
+            const std::size_t j = playingAt(theirs, t);
+            // (The memo holds the same placedHull.)
+            if (memo) return apartFromHull(ownHulls[k], memo->slots[memo->slotBase[c] + j].hull);
+            return apartFromHull(ownHulls[k], placedHull(theirs[j].action, theirs[j].root));
         };
         auto ownInstance = [&](double t) { return playingAt(plan, t); };
+        // The memo's bits for the moment t, instance k of the plan: 0 when
+        // there is no memo for it (nothing known), else kDone | the slots apart.
+        const std::size_t memoBase = memo ? plan.size() - memo->first.size() : 0;  // the plan's instance of memo->first[0]
+        auto apartBits = [&](std::size_t k, double t) -> std::uint64_t {
+            if (!memo || k < memoBase) return 0;
+            const ActionInstance& inst = plan[k];
+            const double tau = inst.clipTimeAt(t);
+            const int sample = sampleOf(inst.action, tau);
+            std::atomic<std::uint64_t>& e = memo->bits[memo->first[k - memoBase] + static_cast<std::size_t>(sample)];
+            std::uint64_t v = e.load(std::memory_order_relaxed);
+            if (v) return v;
+            // discs->placed(me) for the body bodyIn gives at t: it reads the action, sample and root alone.
+            const FloorRotation rot(inst.root.heading);
+            const detail::CoreDiscs::Disc meDisc = discs->placed(detail::BodyPose{inst.action, tau, inst.root}, rot);
+            // And its core spheres.
+            const detail::CoreSpheres::Placed mine = spheres->placed(inst.action, sample, inst.root, rot);
+            v = ApartMemo::kDone;
+            for (std::size_t q = 0; q < memo->slots.size(); ++q) {
+                const ApartMemo::Slot& slot = memo->slots[q];
+                if (apartFromHull(meDisc, slot.hull) || detail::CoreSpheres::apart(mine, slot.swept)) v |= std::uint64_t{1} << q;
+            }
+            e.store(v, std::memory_order_relaxed);
+            return v;
+        };
+        // Is neighbour close[c] at t certainly not touching, by the memo's bits?
+        auto slotApart = [&](std::uint64_t bits, std::size_t c, double t) {
+            const auto& theirs = crowd.plan(close[c]);
+            const std::size_t slot = memo->slotBase[c] + (theirs.empty() ? 0 : playingAt(theirs, t));
+            return ((bits >> slot) & 1) != 0;
+        };
         const double settle = std::min(until, std::max(from, movingWindow(plan).second) + dt);
         for (double t = from; t <= settle + 1e-9; t += dt) {
+            std::uint64_t bits = 0;
             if (!plan.empty()) {
                 const std::size_t k = ownInstance(t);
                 bool anyone = false;
                 for (std::size_t c = 0; c < close.size() && !anyone; ++c) anyone = !instanceApart(c, k, t);
                 if (!anyone) continue;
+                // Nobody can touch it at this sample: no body to place.
+                bits = apartBits(k, t);
+                if (bits) {
+                    anyone = false;
+                    for (std::size_t c = 0; c < close.size() && !anyone; ++c) anyone = !slotApart(bits, c, t);
+                    if (!anyone) continue;
+                }
             }
             // Its own body once per moment (its boxes placed only when someone is near).
             const detail::CoreBody me(lib, bodyIn(plan, crowd[self].at, t), kShrink);
             const detail::CoreDiscs::Disc meDisc = discs->placed(me);
-            for (std::size_t o : close) {
+            for (std::size_t c = 0; c < close.size(); ++c) {
+                const std::size_t o = close[c];
+                if (bits ? slotApart(bits, c, t) : hullApart(o, t, meDisc)) continue;
                 if (surelyApart(o, t, me.pelvis())) continue;
-                if (hullApart(o, t, meDisc)) continue;
                 if (overlap(me, meDisc, bodyOf(o, t))) return {static_cast<int>(o), t};
             }
         }
@@ -808,7 +937,11 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             const std::size_t o = close[c];
             const auto [w0, w1] = movingWindow(crowd.plan(o));
             for (double t = std::max(settle, w0 - dt); t <= std::min({until, w1 + dt, first.second}) + 1e-9; t += dt) {
-                if (!plan.empty() && instanceApart(c, ownInstance(t), t)) continue;
+                if (!plan.empty()) {
+                    const std::size_t k = ownInstance(t);
+                    if (instanceApart(c, k, t)) continue;
+                    if (const std::uint64_t bits = apartBits(k, t); bits && slotApart(bits, c, t)) continue;  // touches would say no
+                }
                 if (touches(o, t)) {
                     first = {static_cast<int>(o), t};
                     break;
@@ -844,6 +977,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     std::vector<ActionInstance> planMove(const RootXf& at, double from, const std::vector<int>& actions, double offset,
                                          const RootXf& root, bool forced, double until) const {
         std::vector<ActionInstance> plan;
+        plan.reserve(actions.size() + 2);  // standing, the actions, the idle after: one allocation
         planMoveInto(plan, at, from, actions, offset, root, forced, until);
         return plan;
     }
@@ -936,6 +1070,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
     std::optional<detail::InteractionEngine> rules;  // forced reactions of the pushed
     static constexpr float kTouchShrink = 0.82f;     // firstTouch's, as the composer's penetration test
     std::optional<detail::CoreDiscs> discs;          // firstTouch's first test
+    std::optional<detail::CoreSpheres> spheres;      // the memo's sphere test (ApartMemo)
     int pushedPool = 0;
     SceneCharacter ratBody;  // the rat's keys
 
@@ -960,6 +1095,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
         discs.emplace(lib, kTouchShrink);
         pelvisPaths = pelvisPathDiscs(lib);
         measureCoreHulls();
+        spheres.emplace(lib, kTouchShrink);
         measureFootHulls();
         if (!findWays()) return makeError(kNoWays);
         makeRatPatches();
@@ -1148,9 +1284,10 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                 bool made = false;
                 std::vector<std::pair<int, RootXf>> from;  // the plan's instances from the way's start on
                 std::vector<std::size_t> neighbours;
+                std::unique_ptr<ApartMemo> memo;  // firstTouch's bits for its plans and them (none: too many slots)
             };
             std::vector<Kept> keptOf(ways.size());
-            auto keptFor = [&](const std::vector<ActionInstance>& plan, double ts, std::size_t way) -> const std::vector<std::size_t>* {
+            auto keptFor = [&](const std::vector<ActionInstance>& plan, double ts, std::size_t way) -> const Kept* {
                 Kept& k = keptOf[way];
                 const auto k0 = playingAt(plan, ts);
                 auto same = [&] {
@@ -1165,15 +1302,17 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                     k.made = true;
                     for (std::size_t j = k0; j < plan.size(); ++j) k.from.emplace_back(plan[j].action, plan[j].root);
                     keptNeighbours(CrowdView(crowd), i, plan, ts, SIZE_MAX, k.neighbours);
+                    if (!k.neighbours.empty()) k.memo = apartMemo(crowd, plan, k0, k.neighbours);
                 }
-                return same() ? &k.neighbours : nullptr;
+                return same() ? &k : nullptr;
             };
-            auto tryCandidate = [&](std::size_t c, std::vector<ActionInstance> plan, const std::vector<std::size_t>* kept) {
+            auto tryCandidate = [&](std::size_t c, std::vector<ActionInstance> plan, const Kept* kept) {
                 Tried out;
                 const RatPatch& patch = ways1[c].patch;
                 const double ts = b.passTime - patch.lead;
                 const double settled = until;  // everyone stands still afterwards: touching later counts too
-                const auto [other, when] = firstTouch(CrowdView(crowd), i, plan, ts, settled, SIZE_MAX, kept);
+                const auto [other, when] = firstTouch(CrowdView(crowd), i, plan, ts, settled, SIZE_MAX, kept ? &kept->neighbours : nullptr,
+                                                      kept ? kept->memo.get() : nullptr);
                 if (other >= 0) {
                     CrowdView trial(crowd);
                     trial.set(i, plan);
@@ -1204,7 +1343,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
             // no longer win).
             std::vector<std::size_t> batch;  // candidates
             std::vector<std::vector<ActionInstance>> plans;
-            std::vector<const std::vector<std::size_t>*> kept;
+            std::vector<const Kept*> kept;
             std::vector<Tried> tried;
             auto take = [&](std::size_t c, double score, std::vector<ActionInstance>&& plan, std::vector<Push>&& pushes) {
                 if (score > best.score || (score == best.score && c < bestC)) {
@@ -1237,7 +1376,7 @@ struct RatComposer : KindComposer<RatSpec, RatStats> {
                 const double ts = b.passTime - patch.lead;
                 auto plan = planMove(b.at, ts, way, 0.0, b.at * lib.rootAt(way.front(), 0).inverse(), false, until);
                 const auto* near = keptFor(plan, ts, static_cast<std::size_t>(patch.way));
-                if (near && near->empty()) {
+                if (near && near->neighbours.empty()) {
                     take(c, base, std::move(plan), {});
                     continue;
                 }

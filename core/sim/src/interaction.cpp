@@ -102,6 +102,32 @@ CoreDiscs::CoreDiscs(const ActionLibrary& lib, float shrink) : lib_(&lib), shrin
     }
 }
 
+CoreSpheres::CoreSpheres(const ActionLibrary& lib, float shrink) {
+    for (int a = 0; a < lib.size(); ++a) {
+        first_.push_back(static_cast<int>(samples_.size()));
+        const int n = lib.actions()[static_cast<std::size_t>(a)].sampleCount;
+        for (int k = 0; k < n; ++k) {
+            const Obb* local = lib.boxesAt(a, k);
+            Local& sp = samples_.emplace_back();
+            for (std::size_t i = 0; i < kCount; ++i) {
+                const Obb& box = local[kCoreSegments[i]];
+                sp.centre[i] = box.centre;
+                sp.radius[i] = box.shrunk(shrink).radius();  // placing keeps the half extents
+            }
+        }
+        Local& swept = swept_.emplace_back();
+        const Local* of = samples_.data() + first_.back();
+        for (std::size_t i = 0; i < kCount; ++i) {
+            glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+            for (int k = 0; k < n; ++k) lo = glm::min(lo, of[k].centre[i]), hi = glm::max(hi, of[k].centre[i]);
+            swept.centre[i] = n > 0 ? 0.5f * (lo + hi) : glm::vec3(0.0f);
+            swept.radius[i] = 0;
+            for (int k = 0; k < n; ++k) swept.radius[i] = std::max(swept.radius[i], glm::length(of[k].centre[i] - swept.centre[i]) + of[k].radius[i]);
+            swept.radius[i] += 1e-3f;  // the rounding of the sum
+        }
+    }
+}
+
 bool coreBodiesOverlap(const CoreBody& a, const CoreBody& b, float pelvisReach) {
     const glm::vec2 d = a.pelvis() - b.pelvis();
     if (glm::dot(d, d) > pelvisReach * pelvisReach) return false;

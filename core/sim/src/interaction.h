@@ -5,7 +5,9 @@
 // frame) that best matches a victim's posture and the push (SPEC 2.1, 4.2).
 // InteractionEngine holds all of their state; the body-overlap tests sit
 // beside it. Internal to fray_sim.
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <deque>
 #include <memory>
@@ -114,6 +116,65 @@ private:
     std::vector<int> first_;  // per action: its first sample's disc
     std::vector<Disc> discs_;
 };
+// The bounding spheres of the core boxes (shrunk) at every sample of every
+// clip, in the clip's frame (coreBodiesOverlap's first test), and per clip a
+// sphere per core segment round that segment's at every sample (its swept
+// spheres): a body none of whose spheres meets a swept sphere of a clip
+// placed somewhere fails every bounding-sphere test of coreBodiesOverlap
+// against a body playing that clip there, at any of its samples.
+class CoreSpheres {
+public:
+    static constexpr std::size_t kCount = kCoreSegments.size();
+    // Spheres placed, with the largest |x| + |z| of their centres.
+    struct Placed {
+        std::array<glm::vec3, kCount> centre;
+        std::array<float, kCount> radius;
+        float scale = 0;
+    };
+    CoreSpheres(const ActionLibrary& lib, float shrink);
+    // A body's spheres at a sample of its clip (the centres placed as
+    // Obb::placed places the boxes', the radii of the shrunk boxes: the same
+    // floats as CoreBody::boxes' centres and radii).
+    Placed placed(int action, int sample, const RootXf& root, const FloorRotation& rotate) const {
+        return place(samples_[static_cast<std::size_t>(first_[static_cast<std::size_t>(action)] + sample)], root, rotate);
+    }
+    // A clip's swept spheres placed at `root`.
+    Placed swept(int action, const RootXf& root) const {
+        return place(swept_[static_cast<std::size_t>(action)], root, FloorRotation(root.heading));
+    }
+    // Certainly no sphere of `body` meets one of `swept`: a margin of 2 mm
+    // and 2e-5 of the coordinates covers the rounding of placing either.
+    static bool apart(const Placed& body, const Placed& swept) {
+        const float margin = 2e-3f + 2e-5f * (body.scale + swept.scale);
+        for (std::size_t j = 0; j < kCount; ++j) {
+            for (std::size_t i = 0; i < kCount; ++i) {
+                const glm::vec3 d = body.centre[i] - swept.centre[j];
+                const float r = body.radius[i] + swept.radius[j] + margin;
+                if (glm::dot(d, d) <= r * r) return false;
+            }
+        }
+        return true;
+    }
+
+private:
+    struct Local {
+        std::array<glm::vec3, kCount> centre;
+        std::array<float, kCount> radius;
+    };
+    static Placed place(const Local& l, const RootXf& root, const FloorRotation& rotate) {
+        Placed out;
+        for (std::size_t i = 0; i < kCount; ++i) {
+            out.centre[i] = rotate(l.centre[i]) + glm::vec3(root.pos.x, 0.0f, root.pos.y);
+            out.radius[i] = l.radius[i];
+            out.scale = std::max(out.scale, std::fabs(out.centre[i].x) + std::fabs(out.centre[i].z));
+        }
+        return out;
+    }
+    std::vector<int> first_;     // per action: its first sample's
+    std::vector<Local> samples_;
+    std::vector<Local> swept_;   // per action
+};
+
 inline BodyPose bodyAt(const Playing& p, double t) { return {p.action, p.clipTime(t), p.root}; }
 
 // Earliest hit in [t0, t1] of one attacker on one defender; time < 0 if none.
