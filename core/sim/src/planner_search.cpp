@@ -538,6 +538,22 @@ struct StateHash {
 // with its key, whether it passed pruning and its edge score. A later visit
 // replays the loop over them with its own path sum and window, and runs the
 // node afresh when it needs a candidate the first visit did not reach.
+// Doubles an open-addressing table (linear probing; a slot with index 0 is
+// empty; at least `least` slots, a power of two) and puts its slots back by
+// their hash.
+template <class Slot>
+void growSlots(std::vector<Slot>& slots, std::size_t least) {
+    std::vector<Slot> old(std::max(least, 2 * slots.size()));
+    old.swap(slots);
+    const std::size_t mask = slots.size() - 1;
+    for (const Slot& s : old) {
+        if (s.index == 0) continue;
+        std::size_t i = static_cast<std::size_t>(s.hash) & mask;
+        while (slots[i].index != 0) i = (i + 1) & mask;
+        slots[i] = s;
+    }
+}
+
 struct FrontierStep {
     double key = 0;
     Value e;                // the edge score (when examined and legal)
@@ -602,17 +618,7 @@ struct FrontierMemo {
     }
 
 private:
-    void grow() {
-        std::vector<Slot> old(std::max<std::size_t>(1024, 2 * slots.size()));
-        old.swap(slots);
-        const std::size_t mask = slots.size() - 1;
-        for (const Slot& s : old) {
-            if (s.index == 0) continue;
-            std::size_t i = static_cast<std::size_t>(s.hash) & mask;
-            while (slots[i].index != 0) i = (i + 1) & mask;
-            slots[i] = s;
-        }
-    }
+    void grow() { growSlots(slots, 1024); }
 };
 
 // Storage one search reuses from node to node (no allocation per node once
@@ -658,17 +664,7 @@ private:
         std::uint32_t index = 0;  // 1 + the place in keys_; 0: empty
         std::uint64_t hash = 0;
     };
-    void grow() {
-        std::vector<Slot> old(std::max<std::size_t>(256, 2 * slots_.size()));
-        old.swap(slots_);
-        const std::size_t mask = slots_.size() - 1;
-        for (const Slot& s : old) {
-            if (s.index == 0) continue;
-            std::size_t i = static_cast<std::size_t>(s.hash) & mask;
-            while (slots_[i].index != 0) i = (i + 1) & mask;
-            slots_[i] = s;
-        }
-    }
+    void grow() { growSlots(slots_, 256); }
     static void build(const Context& ctx, const std::vector<int>& list, int who, int theirs, bool oppCanHit, StaticKeys& out) {
         out.order.resize(list.size());
         out.byName.resize(list.size());
