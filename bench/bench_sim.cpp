@@ -4,6 +4,7 @@
 // seconds per wall-clock second.
 #include <benchmark/benchmark.h>
 
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -77,6 +78,8 @@ namespace {
 // The demo duel (resources/demo/duel.json: depth 4 vs 2, 20 s) planned on the
 // in-memory demo world, both cores (issue 27 item 3: <= 0.1 s, median of 10).
 // Wall clock per plan (real time) and the process CPU time of all threads.
+// FRAY_BENCH_ROOT_BEAM=N (0 to 100000) plans it with that root beam instead
+// of the spec's (for measuring beams; docs/BENCHMARKS.md "Duel speed pass 7").
 void BM_DemoDuelPlan(benchmark::State& state) {
     const auto& w = demoWorld();
     std::ifstream in(std::string(FRAY_SOURCE_DIR) + "/resources/demo/duel.json");
@@ -86,6 +89,15 @@ void BM_DemoDuelPlan(benchmark::State& state) {
     if (!spec) {
         state.SkipWithError(spec.error().message.c_str());
         return;
+    }
+    if (const char* beam = std::getenv("FRAY_BENCH_ROOT_BEAM")) {
+        char* end = nullptr;
+        const long n = std::strtol(beam, &end, 10);
+        if (end == beam || *end != '\0' || n < 0 || n > 100000) {
+            state.SkipWithError("FRAY_BENCH_ROOT_BEAM must be an integer from 0 to 100000");
+            return;
+        }
+        spec->options.rootBeam = static_cast<int>(n);
     }
     double decisions = 0, nodes = 0;
     for (auto _ : state) {
@@ -100,6 +112,7 @@ void BM_DemoDuelPlan(benchmark::State& state) {
     }
     state.counters["decisions"] = decisions;
     state.counters["nodes"] = nodes;
+    state.counters["root_beam"] = spec->options.rootBeam;
 }
 BENCHMARK(BM_DemoDuelPlan)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime()->Iterations(1)->Repetitions(10);
 

@@ -3,11 +3,13 @@
 
 Runs N matches of two general boxers, A at depth DA from motion MA against B at
 depth DB from motion MB, each seed with a small random start offset, and counts
-the matches A wins (more successful hits than B).
+the matches A wins (more successful hits than B), those B wins and the draws,
+with standard errors: the wins' binomial one and the per-match hits' sample one.
 
   python3 scripts/duel_series.py PROJECT --depth-a 4 --depth-b 2 --matches 20 --seconds 20
 """
 import argparse
+import math
 import tempfile
 
 from series_lib import simulate
@@ -30,7 +32,9 @@ def main():
                     help="root children the deepest search pass keeps (the spec's root_beam; 0: the exact search)")
     args = ap.parse_args()
     wins = 0
+    losses = 0
     total = [0, 0]
+    per_match = []
     with tempfile.TemporaryDirectory() as tmp:
         for seed in range(1, args.matches + 1):
             spec = {"version": 1, "duration": args.seconds, "seed": seed,
@@ -52,9 +56,21 @@ def main():
             total[0] += hits[0]
             total[1] += hits[1]
             wins += hits[0] > hits[1]
+            losses += hits[1] > hits[0]
+            per_match.append(hits)
             print(f"seed {seed}: hits A {hits[0]} B {hits[1]}  ({planning.split(',')[0]})", flush=True)
     print(f"A (depth {args.depth_a}, {args.motion_a}) won {wins} of {args.matches} matches; "
           f"hits {total[0]} vs {total[1]}")
+    n = len(per_match)
+    if n > 1:
+        def se(xs):
+            m = sum(xs) / n
+            return math.sqrt(sum((x - m) ** 2 for x in xs) / (n - 1) / n)
+        p = wins / n
+        print(f"A won {wins}, B won {losses}, draws {n - wins - losses}; A's wins {wins} +- {n * math.sqrt(p * (1 - p) / n):.1f} "
+              f"(binomial standard error); hits per match A {total[0] / n:.2f} +- {se([h[0] for h in per_match]):.2f}, "
+              f"B {total[1] / n:.2f} +- {se([h[1] for h in per_match]):.2f}, A - B {(total[0] - total[1]) / n:.2f} +- "
+              f"{se([h[0] - h[1] for h in per_match]):.2f} (standard errors)")
 
 
 if __name__ == "__main__":

@@ -67,7 +67,7 @@ assert first["start"] <= T + late and not first["forced"], first
 assert abs(first["start"] - T) < 1e-9, ("the kick moved", first["start"], T)   # the punch's decision itself
 # Everything decided before the pin's time is planned as it was. An action
 # still running at the pin's time can end another way (a blow of the old
-# scene after the pin cut it short: in the demo duel under the root beam
+# scene after the pin cut it short: in the demo duel under the root beam of 16
 # blue blocks from 16.82 s and red's cross at 17.29 s, the punch pinned here,
 # ends that block at 17.36 s; the kick does not), so its end is compared only
 # when it came before the pin.

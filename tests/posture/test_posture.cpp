@@ -33,7 +33,7 @@ const sim::Scene& duel() {
 // The demo duel as the exact search plans it ("root_beam": 0), the scene two
 // tests below were written on: its fighters touch within the first 4 s, and
 // its first unblocked blow on a defender who is not attacking is the one the
-// parry test measures. Under the default root beam the duel goes another way
+// parry test measures. Under the root beam of 16 the duel goes another way
 // from 1.52 s (docs/BENCHMARKS.md "Duel speed pass 5"): no contact in the
 // first 4 s, and at its first such blow the parry leaves the nearer hand
 // 47.8 cm from the striking segment against 45.8 cm without it.

@@ -49,7 +49,7 @@ bool starts(const Scene& s, int c, const std::vector<int>& actions, double from,
 // the same spec gives the same bytes. (Pinning the depth-2 boxer's kick at
 // 4 s instead, the deeper one, now expecting it, knocks it down first and the
 // pin cannot be honoured: simulate says so.) Measured with the exact search
-// ("root_beam": 0): under the default root beam (16) the look-ahead changed
+// ("root_beam": 0): under the root beam of 16 (the default then) the look-ahead changed
 // no decision of this scene (both runs honour the pin), since the deepest
 // pass then sees only the children the depth-3 pass ranked first.
 TEST(SimPins, LookAheadExpectsThePin) {

@@ -204,7 +204,7 @@ TEST(SimSpec, BadInputNamesTheField) {
     EXPECT_EQ(beam->options.rootBeam, 0);
     auto byDefault = parseSpec(R"({"duration": 5, "characters": [{"name": "a"}]})");
     ASSERT_TRUE(byDefault) << byDefault.error().message;
-    EXPECT_EQ(byDefault->options.rootBeam, 16);
+    EXPECT_EQ(byDefault->options.rootBeam, 8);
 }
 
 // The stage: with an arena, a chase on the running take turns back at its
@@ -300,7 +300,7 @@ TEST(SimPlanner, SameBytesWhateverTheThreadCount) {
     const auto& lib = demoWorld().library;
     auto parsed = parseSpec(duelSpec(4, 2, 5, 8.0));
     ASSERT_TRUE(parsed.ok()) << parsed.error().message;
-    for (int beam : {16, 0}) {  // the default root beam and the exact search
+    for (int beam : {8, 0}) {  // the default root beam and the exact search
         parsed->options.rootBeam = beam;
         std::string first;
         for (int threads : {1, 2, 3, 4}) {
@@ -320,14 +320,14 @@ TEST(SimPlanner, SameBytesWhateverTheThreadCount) {
 // pass searches only the root children the pass before ranked best. A beam
 // wider than any root's children is the exact search byte for byte, search
 // statistics included; "root_beam": 0 is that exact search; the default
-// beam of 16 searches fewer leaves (the same whatever the thread count:
+// beam of 8 searches fewer leaves (the same whatever the thread count:
 // SameBytesWhateverTheThreadCount runs both settings).
 TEST(SimPlanner, RootBeamNarrowsTheLastPassAndZeroIsExact) {
     const auto& lib = demoWorld().library;
     std::string text = duelSpec(4, 2, 3, 8.0);
     auto beamed = parseSpec(text);
     ASSERT_TRUE(beamed.ok()) << beamed.error().message;
-    ASSERT_EQ(beamed->options.rootBeam, 16);
+    ASSERT_EQ(beamed->options.rootBeam, 8);
     text.insert(1, R"("root_beam": 0, )");
     auto exactSpec = parseSpec(text);
     ASSERT_TRUE(exactSpec.ok()) << exactSpec.error().message;
@@ -342,8 +342,8 @@ TEST(SimPlanner, RootBeamNarrowsTheLastPassAndZeroIsExact) {
     auto beam = simulate(lib, demoWorld().project.combos, *beamed);
     ASSERT_TRUE(beam.ok()) << beam.error().message;
     EXPECT_GT(beam->stats.leaves, 1000);
-    // 16,320 against 26,457 measured (this short duel's roots have few
-    // children beyond the beam; the demo duel's 20 s: 265,986 against 622,868).
+    // 11,051 against 26,457 measured (16 kept: 16,320; the demo duel's
+    // 20 s: 210,076 against 622,868, 16 kept: 265,986).
     EXPECT_LT(beam->stats.leaves, exact->stats.leaves);
     for (const Scene* scene : {&*exact, &*beam}) {
         EXPECT_EQ(scene->stats.shallower, 0);
@@ -571,12 +571,15 @@ namespace fray::sim {
 namespace {
 
 // Deeper is smarter (thesis 4.5.1): a general boxer expanding 4 levels lands
-// more blows than one expanding 2, and wins 80 % of 10 short seeded matches.
-// (The issue's 20 matches of 20 s are measured by scripts/duel_series.py,
-// too long for CI: see docs/TREE_EXPANSION.md.)
+// more than twice the blows of one expanding 2, and wins 70 % of 20 short
+// seeded matches. (The issue's matches of 20 s are measured by
+// scripts/duel_series.py, too long for CI: see docs/TREE_EXPANSION.md.)
+// Over 80 seeds of these 12 s matches the exact search wins 62, the root
+// beam of 16 61 and of 8 59; ten seeds were too few to tell them apart
+// (seeds 11-20: the exact search 6 of 10), so 20 are played.
 TEST(SimDepth, DeeperBoxerWinsMostMatches) {
     int wins = 0, matches = 0, hitsDeep = 0, hitsShallow = 0;
-    for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+    for (std::uint64_t seed = 1; seed <= 20; ++seed) {
         auto scene = test::runSpec(test::duelSpec(4, 2, seed, 12.0));
         ASSERT_TRUE(scene.ok()) << scene.error().message;
         const auto hits = test::landedHits(*scene);
@@ -587,10 +590,12 @@ TEST(SimDepth, DeeperBoxerWinsMostMatches) {
     RecordProperty("wins", wins);
     RecordProperty("hits_depth4", hitsDeep);
     RecordProperty("hits_depth2", hitsShallow);
-    // Depth 4 is searched in full under the default leaf budget; at the old
-    // 150,000 (some decisions at depth 3) this was 7 of 10.
-    EXPECT_GE(wins * 10, matches * 8) << wins << " wins of " << matches << "; hits " << hitsDeep << " vs " << hitsShallow;
-    EXPECT_GT(hitsDeep, hitsShallow);
+    // Depth 4 is searched in full under the default leaf budget (seeds 1-10
+    // at the old 150,000, some decisions at depth 3: 7 of 10). Seeds 1-20
+    // measured: exact 14 won, hits 30 vs 8; beam 16: 15, 30 vs 9; beam 8:
+    // 15, 28 vs 11.
+    EXPECT_GE(wins * 10, matches * 7) << wins << " wins of " << matches << "; hits " << hitsDeep << " vs " << hitsShallow;
+    EXPECT_GT(hitsDeep, 2 * hitsShallow) << hitsDeep << " vs " << hitsShallow;
 }
 
 // Thesis 4.5.1 (figures 4.8 and 4.9): the tired boxer, whose every action is

@@ -100,10 +100,12 @@ struct SimOptions {
     // last iterative-deepening pass only to the `rootBeam` root children that
     // came first in the pass before (and to every child whose value there
     // equals the best's); the others cannot be chosen. 0: every child is
-    // searched at full depth, the exact min-max choice. The default 16 plans
-    // the demo duel with well under half the CPU time and kept the deeper
-    // boxer's wins (docs/BENCHMARKS.md "Duel speed pass 5").
-    int rootBeam = 16;
+    // searched at full depth, the exact min-max choice. The default 8 plans
+    // the demo duel with about a third of the exact search's CPU time and
+    // kept the deeper boxer's wins and hits within noise of 16 over 160
+    // seeded matches (docs/BENCHMARKS.md "Duel speed pass 5" and "Duel
+    // speed pass 7").
+    int rootBeam = 8;
     double catchRadius = 0.6;      // m, pelvis to pelvis
     bool stopOnCatch = false;      // a group's simulation ends at its first catch
     double fallImpulse = 30;       // N s: a stronger hit knocks down, a weaker one pushes
