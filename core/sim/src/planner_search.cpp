@@ -531,13 +531,6 @@ struct StateHash {
     }
 };
 
-// What a bounded frontier node (boundedFrontier) found, for when the search
-// meets the same state again in this decision (different actions that end
-// in the same blow lead to the same node; about 40 % of the demo duel's
-// frontier visits): its candidates in key order as far as it went, each
-// with its key, whether it passed pruning and its edge score. A later visit
-// replays the loop over them with its own path sum and window, and runs the
-// node afresh when it needs a candidate the first visit did not reach.
 // Doubles an open-addressing table (linear probing; a slot with index 0 is
 // empty; at least `least` slots, a power of two) and puts its slots back by
 // their hash.
@@ -554,6 +547,13 @@ void growSlots(std::vector<Slot>& slots, std::size_t least) {
     }
 }
 
+// What a bounded frontier node (boundedFrontier) found, for when the search
+// meets the same state again in this decision (different actions that end
+// in the same blow lead to the same node; about 40 % of the demo duel's
+// frontier visits): its candidates in key order as far as it went, each
+// with its key, whether it passed pruning and its edge score. A later visit
+// replays the loop over them with its own path sum and window, and runs the
+// node afresh when it needs a candidate the first visit did not reach.
 struct FrontierStep {
     double key = 0;
     Value e;                // the edge score (when examined and legal)
